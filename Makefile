@@ -1,0 +1,33 @@
+# Every target creates .venv on first use; a fresh machine needs only python3.
+PYTHON ?= python3
+VENV := .venv
+PY := $(VENV)/bin/python
+OUT ?= out
+
+.PHONY: install test demo urdf bench lint clean
+
+$(VENV)/.installed: pyproject.toml
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -e ".[dev]"
+	touch $@
+
+install: $(VENV)/.installed
+
+test: install
+	$(PY) -m pytest -q
+
+demo: install
+	$(VENV)/bin/pasibot analyze --out $(OUT)
+
+urdf: install
+	$(VENV)/bin/pasibot build-urdf --defaults --force
+
+bench: install
+	@for script in benchmarks/*.py; do echo "== $$script"; $(PY) $$script; done
+
+lint: install
+	$(VENV)/bin/ruff check pasibot_pin tests benchmarks
+
+clean:
+	rm -rf $(VENV) $(OUT) .pytest_cache

@@ -1,0 +1,63 @@
+"""``pasibot analyze``: the main job. Runs every analysis into an output folder.
+
+Each analysis is a *step*: a function ``step(out_dir: Path, args) -> str`` that writes its
+files into ``out_dir`` and returns a Markdown section for ``report.md``. Steps are listed
+in :data:`STEPS`, in report order.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+from pathlib import Path
+from typing import Callable
+
+
+def step_model(out_dir: Path, args: argparse.Namespace) -> str:
+    """Model summaries of every variant and a side-view picture of the biped."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from ..params import VARIANTS
+    from ..plots import plot_robot
+    from ..robot import load
+
+    sections = ["## Model", ""]
+    for variant in VARIANTS:
+        for legs in (1, 2):
+            robot = load(variant, legs)
+            sections += ["```", robot.summary(), "```", ""]
+    (out_dir / "info.txt").write_text("\n\n".join(load(v, 2).summary() for v in VARIANTS) + "\n")
+    for variant in VARIANTS:
+        fig = plot_robot(load(variant, 2))
+        fig.savefig(out_dir / f"robot_{variant}.png", dpi=120)
+    sections += [f"![{v} biped at q0](robot_{v}.png)" for v in VARIANTS]
+    return "\n".join(sections)
+
+
+STEPS: list[tuple[str, Callable[[Path, argparse.Namespace], str]]] = [
+    ("model", step_model),
+]
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the subcommand."""
+    p = sub.add_parser("analyze", help="run the full analysis into an output folder (the main job)")
+    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Run every step, with progress on stdout, and write ``report.md``."""
+    out_dir: Path = args.out
+    out_dir.mkdir(parents=True, exist_ok=True)
+    parts = ["# PASIBOT analysis", ""]
+    for k, (name, step) in enumerate(STEPS, start=1):
+        start = time.perf_counter()
+        print(f"[{k}/{len(STEPS)}] {name} ...", flush=True)
+        parts += [step(out_dir, args), ""]
+        print(f"[{k}/{len(STEPS)}] {name} done in {time.perf_counter() - start:.1f} s", flush=True)
+    report = out_dir / "report.md"
+    report.write_text("\n".join(parts))
+    print(f"wrote {report}")
+    return 0

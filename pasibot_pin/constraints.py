@@ -1,0 +1,91 @@
+"""Every call to Pinocchio's constraint API lives here (it changes between major versions).
+
+Tested with PyPI ``pin`` 4.1.0. The loop closures are ``RigidConstraintModel`` CONTACT_3D
+point coincidences in ``LOCAL_WORLD_ALIGNED``; the stance-foot weld is CONTACT_6D against
+the world. Only their in-plane rows are used by :mod:`pasibot_pin.closure` (x and z for a
+point; x, z and the rotation about y for a weld): the out-of-plane rows are identically zero.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+POINT_ROWS: tuple[int, ...] = (0, 2)
+"""In-plane rows of a CONTACT_3D constraint (x, z)."""
+WELD_ROWS: tuple[int, ...] = (0, 2, 4)
+"""In-plane rows of a CONTACT_6D constraint (x, z, rotation about y)."""
+
+
+def point_constraint(model: pin.Model, frame_a: str, frame_b: str, name: str) -> pin.RigidConstraintModel:
+    """A point-coincidence (cut revolute joint) between the origins of two frames.
+
+    Args:
+        model: the Pinocchio model.
+        frame_a: frame on the first link.
+        frame_b: frame on the second link.
+        name: constraint name (``right_j2`` ...).
+
+    Returns:
+        A CONTACT_3D ``RigidConstraintModel`` in ``LOCAL_WORLD_ALIGNED``.
+    """
+    fa = model.frames[model.getFrameId(frame_a)]
+    fb = model.frames[model.getFrameId(frame_b)]
+    cmodel = pin.RigidConstraintModel(
+        pin.ContactType.CONTACT_3D,
+        model,
+        fa.parentJoint,
+        fa.placement,
+        fb.parentJoint,
+        fb.placement,
+        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED,
+    )
+    cmodel.name = name
+    return cmodel
+
+
+def weld_constraint(model: pin.Model, frame: str, target: pin.SE3, name: str) -> pin.RigidConstraintModel:
+    """A weld of ``frame`` to the world at placement ``target`` (CONTACT_6D, LOCAL_WORLD_ALIGNED)."""
+    f = model.frames[model.getFrameId(frame)]
+    cmodel = pin.RigidConstraintModel(
+        pin.ContactType.CONTACT_6D,
+        model,
+        f.parentJoint,
+        f.placement,
+        0,
+        target,
+        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED,
+    )
+    cmodel.name = name
+    return cmodel
+
+
+def is_weld(cmodel: pin.RigidConstraintModel) -> bool:
+    """True for a CONTACT_6D constraint."""
+    return cmodel.type == pin.ContactType.CONTACT_6D
+
+
+def create_datas(cmodels: list[pin.RigidConstraintModel]) -> list[pin.RigidConstraintData]:
+    """One ``RigidConstraintData`` per constraint model."""
+    return [cm.createData() for cm in cmodels]
+
+
+def pinocchio_constraint_jacobian(
+    model: pin.Model, data: pin.Data, cmodels: list[pin.RigidConstraintModel], q: np.ndarray
+) -> np.ndarray:
+    """Pinocchio's own full constraint Jacobian (all rows, 3 per point, 6 per weld).
+
+    Used to cross-check the planar Jacobians of :mod:`pasibot_pin.closure`.
+    """
+    cdatas = create_datas(cmodels)
+    pin.initConstraintDynamics(model, data, cmodels, cdatas)
+    pin.computeJointJacobians(model, data, q)
+    pin.framesForwardKinematics(model, data, q)
+    rows = sum(cm.size() for cm in cmodels)
+    jac = np.zeros((rows, model.nv))
+    start = 0
+    for cmodel, cdata in zip(cmodels, cdatas):
+        size = cmodel.size()
+        jac[start : start + size] = pin.getConstraintJacobian(model, data, cmodel, cdata)
+        start += size
+    return jac

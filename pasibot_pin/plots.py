@@ -1,0 +1,107 @@
+"""Matplotlib figures. Each function takes ``ax=None`` and returns the figure; none calls show()."""
+
+from __future__ import annotations
+
+import numpy as np
+import pinocchio as pin
+
+GROUP_COLOURS = {
+    "hoeken": "#f28c1a",
+    "pantograph": "#2673d9",
+    "extension": "#33b24d",
+    "foot": "#404040",
+    "hip": "#9a9aa6",
+}
+
+
+def link_group(link: str) -> str:
+    """Colour group of a link name: hoeken, pantograph, extension, foot or hip."""
+    name = link.split("_", 1)[-1] if link.startswith(("right_", "left_")) else link
+    if name.startswith(("l1_", "l2_", "l3_")):
+        return "hoeken"
+    if name.startswith(("l4", "l5", "l6", "l7")):
+        return "pantograph"
+    if name.startswith(("l8", "l9", "l10", "l11", "slider", "foot_bar")):
+        return "extension"
+    if name.startswith(("foot", "toe", "heel")):
+        return "foot"
+    return "hip"
+
+
+def _axes(ax):
+    import matplotlib.pyplot as plt
+
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(5, 7))
+    else:
+        fig = ax.figure
+    return fig, ax
+
+
+def robot_segments(robot, q: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
+    """Bars of the robot at ``q`` as (group, start, end) in world x-z [m].
+
+    A bar joins a link's origin to every joint or marker frame placed on that link.
+    """
+    model, data = robot.model, robot.data
+    pin.framesForwardKinematics(model, data, q)
+    segments = []
+    for fid, frame in enumerate(model.frames):
+        if frame.type not in (pin.FrameType.JOINT, pin.FrameType.FIXED_JOINT) or frame.parentFrame == 0:
+            continue
+        parent = model.frames[frame.parentFrame]
+        if parent.type != pin.FrameType.BODY or parent.name == "hip":
+            continue
+        a = data.oMf[frame.parentFrame].translation[[0, 2]]
+        b = data.oMf[fid].translation[[0, 2]]
+        if np.linalg.norm(b - a) > 1e-9:
+            segments.append((link_group(parent.name), a, b))
+    for side in ("right", "left"):
+        if model.existFrame(f"{side}_toe"):
+            toe = data.oMf[model.getFrameId(f"{side}_toe")].translation[[0, 2]]
+            heel = data.oMf[model.getFrameId(f"{side}_heel")].translation[[0, 2]]
+            segments.append(("foot", heel, toe))
+    return segments
+
+
+def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True, alpha: float = 1.0):
+    """Side view (x forward, z up) of the robot at ``q`` (default ``robot.q0``).
+
+    Args:
+        robot: a loaded robot.
+        q: configuration (default ``robot.q0``).
+        ax: axes to draw on (default: a new figure).
+        ground: draw the ground line z = 0 (two-legged robots).
+        alpha: line opacity.
+
+    Returns:
+        The matplotlib figure.
+    """
+    fig, ax = _axes(ax)
+    q = robot.q0 if q is None else q
+    model, data = robot.model, robot.data
+    for group, a, b in robot_segments(robot, q):
+        width = 4 if group == "foot" else 2.5
+        ax.plot([a[0], b[0]], [a[1], b[1]], color=GROUP_COLOURS[group], lw=width, alpha=alpha, solid_capstyle="round")
+    pin.framesForwardKinematics(model, data, q)
+    hip = [data.oMf[model.getFrameId(n)].translation[[0, 2]] for n in ("hip",)]
+    pivots = []
+    for side in ("right", "left"):
+        for joint in ("j0_crank", "j3", "j8_l6"):
+            name = f"{side}_{joint}"
+            if model.existJointName(name):
+                pivots.append(data.oMi[model.getJointId(name)].translation[[0, 2]])
+    if pivots:
+        pts = np.array(pivots)
+        ax.plot(pts[:, 0], pts[:, 1], "s", color=GROUP_COLOURS["hip"], ms=7, alpha=alpha)
+    if ground and robot.floating:
+        xs = ax.get_xlim()
+        ax.axhline(0.0, color="#8b5a2b", lw=1)
+        ax.set_xlim(xs)
+    ax.plot(*hip[0], "k+", ms=10)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("z [m]")
+    ax.set_title(f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
+    ax.grid(True, alpha=0.3)
+    return fig
