@@ -34,6 +34,7 @@ def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, 
 
     Raises:
         ValueError: naming ``loop`` and the crank angle when the circles do not meet.
+
     """
     d_vec = c2 - c1
     d = float(np.hypot(*d_vec))
@@ -63,6 +64,7 @@ def leg_points(theta: float, geometry: Geometry | None = None, variant: str = "s
 
     Raises:
         ValueError: when a loop cannot assemble (named, with the crank angle).
+
     """
     g = geometry or Geometry()
     check_variant(variant)
@@ -118,6 +120,7 @@ def leg_joint_angles(
 
     Returns:
         ``{joint name: coordinate}`` [rad], the slider coordinate in [m].
+
     """
     p = leg_points(theta, geometry, variant)
     a12 = _angle(p["p1"], p["p4"])

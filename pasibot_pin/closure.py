@@ -15,8 +15,8 @@ Angles [rad], lengths [m].
 from __future__ import annotations
 
 import math
+from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
-from typing import Iterable, Sequence
 
 import numpy as np
 import pinocchio as pin
@@ -70,6 +70,7 @@ class Prescribed:
         name: label (joint or frame name).
         kind: ``joint`` (s = q[index]) or ``pitch`` (s = planar pitch of frame ``index``).
         index: velocity/configuration index for ``joint``; frame id for ``pitch``.
+
     """
 
     name: str
@@ -206,6 +207,7 @@ def solve_configuration(
     Raises:
         ValueError: when Newton does not converge (a loop that cannot assemble), naming
             the worst constraint row and the crank angles.
+
     """
     model = robot.model
     cmodels = robot.constraint_models if cmodels is None else cmodels
@@ -241,7 +243,7 @@ def solve_configuration(
 
 
 def solve_velocity(robot, q, prescribed, rates, cmodels=None) -> np.ndarray:
-    """v on the constraint manifold: [J_c; J_s] v = [0; s_dot*]."""
+    """V on the constraint manifold: [J_c; J_s] v = [0; s_dot*]."""
     cmodels = robot.constraint_models if cmodels is None else cmodels
     _, jc, _ = _constraint_rows(robot, q, None, cmodels, False)
     _, js, _ = _prescribed_rows(robot, q, prescribed, False)
@@ -250,7 +252,7 @@ def solve_velocity(robot, q, prescribed, rates, cmodels=None) -> np.ndarray:
 
 
 def solve_acceleration(robot, q, v, prescribed, accelerations, cmodels=None) -> np.ndarray:
-    """a on the manifold: [J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v]."""
+    """A on the manifold: [J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v]."""
     cmodels = robot.constraint_models if cmodels is None else cmodels
     _, jc, dc = _constraint_rows(robot, q, v, cmodels, True)
     _, js, ds = _prescribed_rows(robot, q, prescribed, True)
@@ -299,6 +301,7 @@ def assemble(
 
     Raises:
         ValueError: a loop that cannot assemble at these crank angles (named).
+
     """
     for name, value in (("theta", theta), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not math.isfinite(value):
@@ -353,6 +356,7 @@ class Mobility:
         pairs: one-dof lower pairs: tree revolute/prismatic joints plus cut joints.
         welds: foot welds.
         leg_linkage: mobility of one leg's linkage alone (hip fixed, ankle excluded).
+
     """
 
     grubler: int
@@ -397,6 +401,7 @@ def crank_sweep(robot, thetas: Sequence[float], **assemble_kwargs) -> np.ndarray
 
     Returns:
         Array (len(thetas), nq).
+
     """
     thetas = np.asarray(thetas, dtype=float)
     if not np.all(np.isfinite(thetas)):

@@ -28,6 +28,7 @@ def point_constraint(model: pin.Model, frame_a: str, frame_b: str, name: str) ->
 
     Returns:
         A CONTACT_3D ``RigidConstraintModel`` in ``LOCAL_WORLD_ALIGNED``.
+
     """
     fa = model.frames[model.getFrameId(frame_a)]
     fb = model.frames[model.getFrameId(frame_b)]
@@ -65,6 +66,11 @@ def is_weld(cmodel: pin.RigidConstraintModel) -> bool:
     return cmodel.type == pin.ContactType.CONTACT_6D
 
 
+def constraint_size(cmodel: pin.RigidConstraintModel) -> int:
+    """Number of rows of a constraint model (3 for CONTACT_3D, 6 for CONTACT_6D)."""
+    return int(cmodel.residualSize())
+
+
 def create_datas(cmodels: list[pin.RigidConstraintModel]) -> list[pin.RigidConstraintData]:
     """One ``RigidConstraintData`` per constraint model."""
     return [cm.createData() for cm in cmodels]
@@ -75,17 +81,21 @@ def pinocchio_constraint_jacobian(
 ) -> np.ndarray:
     """Pinocchio's own full constraint Jacobian (all rows, 3 per point, 6 per weld).
 
-    Used to cross-check the planar Jacobians of :mod:`pasibot_pin.closure`.
+    Used to cross-check the planar Jacobians of :mod:`pasibot_pin.closure`. Note: in pin 4.1
+    ``getConstraintJacobian`` reads the frame placements stored by ``calc``; without that call
+    it silently returns the Jacobian of a stale pose.
     """
     cdatas = create_datas(cmodels)
     pin.initConstraintDynamics(model, data, cmodels, cdatas)
+    pin.forwardKinematics(model, data, q)
     pin.computeJointJacobians(model, data, q)
-    pin.framesForwardKinematics(model, data, q)
-    rows = sum(cm.size() for cm in cmodels)
+    for cmodel, cdata in zip(cmodels, cdatas):
+        cmodel.calc(model, data, cdata)  # sets the constraint frames' placements for this q
+    rows = sum(constraint_size(cm) for cm in cmodels)
     jac = np.zeros((rows, model.nv))
     start = 0
     for cmodel, cdata in zip(cmodels, cdatas):
-        size = cmodel.size()
+        size = constraint_size(cmodel)
         jac[start : start + size] = pin.getConstraintJacobian(model, data, cmodel, cdata)
         start += size
     return jac

@@ -50,6 +50,7 @@ class Loop:
         frame_a: marker frame on the first link.
         frame_b: marker frame on the second link.
         links: the two links the joint connects.
+
     """
 
     name: str
@@ -128,6 +129,7 @@ def render_urdf(
     Returns:
         The URDF as a string. The xacro banner names the source relative to the
         repository, so the text does not depend on where the package is installed.
+
     """
     import xacro
 

@@ -9,8 +9,8 @@ Nothing here computes kinematics or dynamics: this module only holds and validat
 from __future__ import annotations
 
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
-from typing import Mapping
 
 VARIANTS: tuple[str, ...] = ("rigid", "parallel", "spring")
 """The leg variants of the seed: foot rigid to L5 (§4.2), parallel extension (§4.3),
@@ -88,6 +88,7 @@ class Geometry:
         parallel_heel: heel behind joint 13, over L [-] (parallel variant; the seed's
             "BF 4.1L" is measured from the toe, so heel = 4.1 - 1.5).
         hip_half_width: lateral offset of each leg's plane from the hip centre [m].
+
     """
 
     L: float = 0.05
@@ -123,14 +124,16 @@ class Geometry:
             return self.K * self.L
         return self.ratios[f"r{index}"] * self.L
 
-    def with_(self, **changes: float) -> "Geometry":
+    def with_(self, **changes: float) -> Geometry:
         """Copy with some fields or link ratios changed (``r4=9.5``, ``K=2.2``, ...)."""
         ratio_changes = {k: v for k, v in changes.items() if k in SEED_LINK_RATIOS}
         other = {k: v for k, v in changes.items() if k not in SEED_LINK_RATIOS}
         valid = {f.name for f in fields(self)}
         bad = set(other) - valid
         if bad:
-            raise ValueError(f"unknown geometry parameter(s) {sorted(bad)}; valid: {sorted(valid | set(SEED_LINK_RATIOS))}")
+            raise ValueError(
+                f"unknown geometry parameter(s) {sorted(bad)}; valid: {sorted(valid | set(SEED_LINK_RATIOS))}"
+            )
         ratios = dict(self.ratios)
         ratios.update(ratio_changes)
         return replace(self, ratios=ratios, **other)
@@ -156,6 +159,7 @@ class MassModel:
         foot_com: position of the foot's centre of mass ahead of the ankle along the sole [m].
         hip_com: (x, z) of the body's centre of mass relative to joint 8, hip frame [m].
         rule: name of the rule that produced the masses.
+
     """
 
     hip: float
@@ -174,7 +178,7 @@ class MassModel:
             if not math.isfinite(float(value)):
                 raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
 
-    def with_(self, **changes: object) -> "MassModel":
+    def with_(self, **changes: object) -> MassModel:
         """Copy with some fields changed (``hip=30.0``, ``hip_com=(0.3, 0.0)``, ...)."""
         return replace(self, **changes)
 
@@ -223,6 +227,7 @@ def percentage_mass_model(
 
     Returns:
         The mass model.
+
     """
     geometry = geometry or Geometry()
     check_variant(variant)
@@ -259,6 +264,7 @@ def human_description_fractions() -> dict[str, float]:
     Returns:
         ``{'hip', 'thigh', 'shank', 'foot'}`` fractions of the total mass, and ``total``
         [kg] under the key ``'total_mass'``.
+
     """
     import xml.etree.ElementTree as ET
     from importlib.metadata import PackageNotFoundError, distribution

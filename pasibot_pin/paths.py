@@ -7,6 +7,7 @@ from pathlib import Path
 PACKAGE_ROOT: Path = Path(__file__).resolve().parent
 """The ``pasibot_pin`` package folder."""
 
+
 def _find_urdf_dir() -> Path:
     # Installed wheel: the top-level urdf/ folder is packaged as pasibot_pin/urdf.
     # Source checkout or editable install: it is the repository's top-level urdf/.
@@ -35,6 +36,7 @@ def urdf_path(variant: str = "spring", legs: int = 2) -> Path:
 
     Returns:
         The path ``urdf/pasibot_<variant>_<legs>leg.urdf`` inside the package.
+
     """
     from .params import check_legs, check_variant
 

@@ -76,6 +76,7 @@ def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True,
 
     Returns:
         The matplotlib figure.
+
     """
     fig, ax = _axes(ax)
     q = robot.q0 if q is None else q

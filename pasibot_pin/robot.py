@@ -124,6 +124,7 @@ class PasibotRobot:
         q0: a configuration that satisfies every constraint: right crank at 180 deg,
             left crank pi apart, hip level, swing foot level.
         urdf: the URDF text the model was built from.
+
     """
 
     variant: str
@@ -191,7 +192,7 @@ class PasibotRobot:
         target = pin.SE3(np.eye(3), position)
         return constraints.weld_constraint(self.model, f"{side}_foot", target, f"{side}_foot_weld")
 
-    def with_stance(self, side: str, q: np.ndarray) -> "PasibotRobot":
+    def with_stance(self, side: str, q: np.ndarray) -> PasibotRobot:
         """A shallow copy whose weld holds ``side``'s foot where it is in ``q``."""
         copy = PasibotRobot(**{k: getattr(self, k) for k in self.__dataclass_fields__})
         copy.constraint_models = list(self.loop_constraints) + [self.weld_foot(side, q)]
@@ -206,7 +207,8 @@ class PasibotRobot:
         lines = [
             f"PASIBOT variant={self.variant} legs={self.legs} L={self.geometry.L:g} m K={self.geometry.K:g}",
             f"  nq = {self.model.nq}, nv = {self.model.nv}, bodies = {self.model.nbodies - 1}",
-            f"  loops ({len(self.loops)}): " + ", ".join(f"{lp.name} [{lp.links[0]} | {lp.links[1]}]" for lp in self.loops),
+            f"  loops ({len(self.loops)}): "
+            + ", ".join(f"{lp.name} [{lp.links[0]} | {lp.links[1]}]" for lp in self.loops),
             f"  weld: {self.weld.name if self.weld is not None else 'none (hip fixed to the world)'}",
             f"  actuated joints: {', '.join(self.actuated_joints)}",
             f"  spring joints: {', '.join(self.spring_joints) or 'none'}",
@@ -254,6 +256,7 @@ def load(
     Raises:
         ValueError: unknown variant, leg count, mass rule or inertia mode; a non-positive
             or non-finite parameter; a geometry whose loops cannot assemble at q0.
+
     """
     check_variant(variant)
     check_legs(legs)

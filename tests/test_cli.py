@@ -1,0 +1,61 @@
+"""The `pasibot` command line: info, build-urdf, analyze (model step)."""
+
+from __future__ import annotations
+
+import subprocess
+import sys
+
+import pytest
+
+import pasibot_pin as pp
+from pasibot_pin.__main__ import main
+
+
+def test_info_prints_sizes_loops_and_mobility(capsys):
+    assert main(["info", "--variant", "parallel", "--legs", "1"]) == 0
+    out = capsys.readouterr().out
+    assert "nq = 13, nv = 13" in out
+    assert "right_j13 [right_l5_shank | right_foot_bar]" in out
+    assert "Gruebler DOF = 1" in out and "nv - rank(J_c) = 13 - 12 = 1" in out
+    assert "actuated joints: right_j0_crank" in out
+
+
+def test_info_rejects_unknown_variant(capsys):
+    assert main(["info", "--variant", "wheel"]) == 2
+    assert "unknown variant 'wheel'" in capsys.readouterr().err
+
+
+def test_python_dash_m_works():
+    out = subprocess.run(
+        [sys.executable, "-m", "pasibot_pin", "info", "--variant", "spring", "--legs", "2"],
+        check=True,
+        capture_output=True,
+        text=True,
+    ).stdout
+    assert "numerical mobility nv - rank(J_c) = 19 - 15 = 4" in out
+
+
+def test_build_urdf_renders_and_refuses_to_overwrite(tmp_path, capsys):
+    target = tmp_path / "leg.urdf"
+    assert main(["build-urdf", "--variant", "rigid", "--legs", "1", "--L", "0.1", "--out", str(target)]) == 0
+    text = target.read_text()
+    assert 'xyz="0.2 0 0"' in text  # joint 3 at K L = 0.2 m
+    assert main(["build-urdf", "--variant", "rigid", "--legs", "1", "--out", str(target)]) == 2
+    assert "exists" in capsys.readouterr().err
+    assert target.read_text() == text, "the user's file must be left alone"
+    assert main(["build-urdf", "--variant", "rigid", "--legs", "1", "--out", str(target), "--force"]) == 0
+    assert target.read_text() == pp.urdf_path("rigid", 1).read_text()
+
+
+def test_build_urdf_rejects_bad_ratio(capsys):
+    assert main(["build-urdf", "--ratio", "r4=-1"]) == 2
+    assert "r4" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("variant", ["spring"])
+def test_analyze_model_step_writes_pictures(tmp_path, variant):
+    from pasibot_pin.commands import analyze
+
+    section = analyze.step_model(tmp_path, None)
+    assert (tmp_path / f"robot_{variant}.png").stat().st_size > 10_000
+    assert "Gruebler DOF" in section and (tmp_path / "info.txt").is_file()
