@@ -215,6 +215,7 @@ def solve_configuration(
     q = np.array(q_guess, dtype=float)
     if q.shape != (model.nq,) or not np.all(np.isfinite(q)):
         raise ValueError(f"q_guess must be a finite vector of size nq = {model.nq}")
+    _constraint_rows(robot, q, None, cmodels, False)  # kinematics at q_guess, for frame pitches
     s_values = _prescribed_rows(robot, q, prescribed, False)[0]
     targets = s_values.copy() if targets is None else np.asarray(list(targets), dtype=float)
     if targets.shape != (len(prescribed),) or not np.all(np.isfinite(targets)):
@@ -413,6 +414,7 @@ def crank_sweep(robot, thetas: Sequence[float], **assemble_kwargs) -> np.ndarray
     if robot.floating:
         cmodels.append(robot.with_stance(stance, q).weld)
     prescribed = default_prescriptions(robot, stance)
+    _constraint_rows(robot, q, None, cmodels, False)  # kinematics at q, for frame pitches
     base_targets = _prescribed_rows(robot, q, prescribed, False)[0]
     out[0] = q
     for k in range(1, len(thetas)):

@@ -18,6 +18,7 @@ from pasibot_pin.closure import (
     crank_sweep,
     default_prescriptions,
     row_labels,
+    solve_configuration,
     solve_acceleration,
     solve_velocity,
 )
@@ -139,3 +140,14 @@ def test_assemble_reproduces_the_other_stance(robots, L):
     np.testing.assert_allclose(_xz(robot, q, "left_foot"), [0, 0], atol=1e-12)
     assert q[2] == pytest.approx(0.0, abs=1e-14)
     assert np.abs(constraint_residual(robot, q, robot.loop_constraints)).max() < 1e-12
+
+
+def test_default_targets_are_read_at_the_guess_not_from_stale_data(robots):
+    """The swing-foot pitch target defaults to its value at q_guess, whatever was computed before."""
+    robot = robots[("spring", 2)]
+    q_tilted = assemble(robot, math.pi, swing_foot_pitch=0.3)
+    assemble(robot, 2.0)  # leaves the data at another pose
+    q = solve_configuration(robot, q_tilted)
+    pin.framesForwardKinematics(robot.model, robot.data, q)
+    sole = robot.data.oMf[robot.frame_id("left_foot")].rotation[:, 0]
+    assert math.atan2(sole[2], sole[0]) == pytest.approx(0.3, abs=1e-12)
