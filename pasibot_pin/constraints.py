@@ -61,6 +61,38 @@ def weld_constraint(model: pin.Model, frame: str, target: pin.SE3, name: str) ->
     return cmodel
 
 
+def ground_point_constraint(
+    model: pin.Model, frame: str, position: np.ndarray, name: str
+) -> pin.RigidConstraintModel:
+    """A pin joint between the origin of ``frame`` and a fixed world point (CONTACT_3D).
+
+    Used for the seed's point-foot (ankle pinned) and toe-pinned biped postures: the
+    point is held, its rotation is free.
+
+    Args:
+        model: the Pinocchio model.
+        frame: the pinned frame (``right_foot``, ``left_toe`` ...).
+        position: world position of the pin [m] (3-vector).
+        name: constraint name.
+
+    Returns:
+        A CONTACT_3D ``RigidConstraintModel`` in ``LOCAL_WORLD_ALIGNED`` against the world.
+
+    """
+    f = model.frames[model.getFrameId(frame)]
+    cmodel = pin.RigidConstraintModel(
+        pin.ContactType.CONTACT_3D,
+        model,
+        f.parentJoint,
+        f.placement,
+        0,
+        pin.SE3(np.eye(3), np.asarray(position, dtype=float).reshape(3)),
+        pin.ReferenceFrame.LOCAL_WORLD_ALIGNED,
+    )
+    cmodel.name = name
+    return cmodel
+
+
 def is_weld(cmodel: pin.RigidConstraintModel) -> bool:
     """True for a CONTACT_6D constraint."""
     return cmodel.type == pin.ContactType.CONTACT_6D
