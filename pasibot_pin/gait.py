@@ -171,12 +171,16 @@ def _targets(robot, prescribed, q_prev: np.ndarray, dtheta: float) -> np.ndarray
     return targets
 
 
+def _is_int(value) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
 def _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
     if getattr(robot, "legs", None) != 2:
         raise ValueError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) to walk")
-    if isinstance(steps, bool) or not isinstance(steps, (int, np.integer)) or steps < 1:
+    if not _is_int(steps) or steps < 1:
         raise ValueError(f"parameter 'steps' must be an integer >= 1, got {steps!r}")
-    if isinstance(samples_per_step, bool) or not isinstance(samples_per_step, (int, np.integer)) or samples_per_step < 2:
+    if not _is_int(samples_per_step) or samples_per_step < 2:
         raise ValueError(f"parameter 'samples_per_step' must be an integer >= 2, got {samples_per_step!r}")
     if not math.isfinite(theta_start):
         raise ValueError(f"parameter 'theta_start' must be finite, got {theta_start!r}")
