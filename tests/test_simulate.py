@@ -1,0 +1,241 @@
+"""Forward dynamics of the spring biped: constraint rows, statics, energy, drift, impacts, walking.
+
+Expected values come from independent computations written here: finite differences of the
+constraint residual, finite differences of the potential energy along the constraint
+manifold (static multipliers), Pinocchio's own kinetic/potential energy and centre of mass,
+a null-space formula for the impact, and Carnot's theorem for the energy it dissipates.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import scipy.linalg as sl
+
+from pasibot_pin.closure import hip_pitch, joint_coordinate, solve_configuration
+from pasibot_pin.simulate import (
+    AnkleSpring,
+    BipedSimulator,
+    ConstraintSet,
+    CoordinateRow,
+    SimulationSettings,
+    foot_pose,
+    impulse,
+    mass_matrix,
+    project_configuration,
+    simulate,
+)
+
+G = 9.81
+
+
+@pytest.fixture(scope="module")
+def spring2(robots):
+    return robots[("spring", 2)]
+
+
+def _energy(robot, q, v, spring):
+    """Kinetic + gravity + spring energy [J], from Pinocchio's energy and centre-of-mass routines."""
+    model, data = robot.model, robot.data
+    kinetic = pin.computeKineticEnergy(model, data, q, v)
+    com = pin.centerOfMass(model, data, q)
+    mass = sum(model.inertias[j].mass for j in range(1, model.njoints))
+    elastic = 0.0
+    for side in ("right", "left"):
+        beta = math.pi / 2 - q[robot.idx_q(f"{side}_j13_ankle")]
+        elastic += 0.5 * spring.stiffness * (beta - spring.rest_angle) ** 2
+    return kinetic + mass * G * com[2] + elastic, kinetic
+
+
+def test_constraint_rows_match_finite_differences(spring2):
+    robot = spring2
+    rng = np.random.default_rng(3)
+    coords = [CoordinateRow("right_j0_crank", robot.idx_v("right_j0_crank"), 1.0, 0.7)]
+    cset = ConstraintSet(robot, robot.constraint_models, coords)
+    q = robot.q0 + 0.05 * rng.normal(size=robot.model.nv)
+    v = rng.normal(size=robot.model.nv)
+    phi, jac, drift, phi_t = cset.evaluate(q, v, 0.3)
+    assert phi.shape == (15 + 1,) and jac.shape == (16, robot.model.nv)
+    eps = 1e-6
+    fd_jac = np.column_stack(
+        [
+            (cset.evaluate(q + eps * e, None, 0.3)[0] - cset.evaluate(q - eps * e, None, 0.3)[0]) / (2 * eps)
+            for e in np.eye(19)
+        ]
+    )
+    assert np.max(np.abs(fd_jac - jac)) < 1e-7
+    # drift = d/ds [J(q + s v)] v
+    fd_drift = (cset.evaluate(q + eps * v, None, 0)[1] - cset.evaluate(q - eps * v, None, 0)[1]) @ v / (2 * eps)
+    assert np.max(np.abs(fd_drift - drift)) < 1e-6
+    # the rheonomic row: q_crank - (1.0 + 0.7 t)
+    assert phi[-1] == pytest.approx(q[robot.idx_q("right_j0_crank")] - 1.0 - 0.7 * 0.3, abs=1e-15)
+    assert phi_t[-1] == -0.7 and np.all(phi_t[:-1] == 0)
+    assert np.linalg.matrix_rank(jac) == 16, "the in-plane rows have full row rank"
+
+
+def test_static_multipliers_are_gradients_of_the_potential(spring2):
+    """At rest with cranks, hip and swing ankle locked, each lock's multiplier is dV/ds."""
+    robot = spring2
+    spring = AnkleSpring(331.0, math.radians(72.0))
+    theta = 2.9
+    settings = SimulationSettings(omega=0.0, spring=spring, hip="level", swing_ankle="rest", theta0=theta)
+    sim = BipedSimulator(robot, settings)
+    q, v, stance = sim.initial_state()
+    assert stance == "right" and np.allclose(v, 0)
+    cset = sim.constraint_set(stance, sim.ground_weld(stance, q))
+    a, lam, phi = sim.acceleration(cset, 0.0, q, v)
+    assert np.max(np.abs(phi)) < 1e-10 and np.max(np.abs(a)) < 1e-9, "fully locked: nothing moves"
+    labels = cset.labels
+    stance_robot = robot.with_stance(stance, q)
+    prescribed = [joint_coordinate(stance_robot, j) for j in ("right_j0_crank", "left_j0_crank")]
+    prescribed += [hip_pitch(stance_robot), joint_coordinate(stance_robot, "left_j13_ankle")]
+    base = np.array([q[p.index] for p in prescribed])
+
+    def potential(qq):
+        return _energy(robot, qq, np.zeros(19), spring)[0]
+
+    eps = 1e-5
+    for k, name in enumerate(["right_j0_crank(t)", "left_j0_crank(t)", "hip_pitch(t)", "left_j13_ankle(t)"]):
+        step = np.zeros(4)
+        step[k] = eps
+        qp = solve_configuration(stance_robot, q, prescribed, base + step)
+        qm = solve_configuration(stance_robot, q, prescribed, base - step)
+        dv_ds = (potential(qp) - potential(qm)) / (2 * eps)
+        assert lam[labels.index(name)] == pytest.approx(dv_ds, rel=1e-5, abs=1e-6), name
+
+
+def test_hip_lock_torque_is_gravity_moment_minus_spring(spring2):
+    """Hip held level at rest: lambda_hip = g sum m_i (x_i - x_ankle) - T_e (DESIGN §5 check)."""
+    robot = spring2
+    spring = AnkleSpring(331.0, math.radians(72.0))
+    sim = BipedSimulator(
+        robot, SimulationSettings(omega=0.0, spring=spring, hip="level", swing_ankle="rest", theta0=3.6)
+    )
+    q, v, stance = sim.initial_state()
+    cset = sim.constraint_set(stance, sim.ground_weld(stance, q))
+    lam = sim.acceleration(cset, 0.0, q, v)[1]
+    model, data = robot.model, robot.data
+    com = pin.centerOfMass(model, data, q)
+    total = sum(model.inertias[j].mass for j in range(1, model.njoints))
+    foot_joint = model.getJointId("right_j13_ankle")
+    foot_com = data.oMi[foot_joint].act(model.inertias[foot_joint].lever)
+    m_foot = model.inertias[foot_joint].mass
+    pin.framesForwardKinematics(model, data, q)
+    ankle_x = data.oMf[robot.frame_id("right_foot")].translation[0]
+    moment = G * (total * com[0] - m_foot * foot_com[0] - (total - m_foot) * ankle_x)
+    beta = math.pi / 2 - q[robot.idx_q("right_j13_ankle")]
+    spring_torque = -spring.stiffness * (beta - spring.rest_angle)
+    assert lam[cset.labels.index("hip_pitch(t)")] == pytest.approx(moment - spring_torque, rel=1e-9, abs=1e-9)
+
+
+@pytest.mark.parametrize(
+    ("motor", "duration", "dt"),
+    [("rheonomic", 1.0, 1e-3), ("free", 0.2, 5e-4)],
+    ids=["cranks-locked-1s", "cranks-free-0.2s"],
+)
+def test_energy_is_conserved_without_motor_damping_or_impact(spring2, motor, duration, dt):
+    robot = spring2
+    spring = AnkleSpring(300.0, math.radians(70.0), 0.0)  # not at equilibrium: the hip swings ~25 deg
+    settings = SimulationSettings(omega=0.0, motor=motor, spring=spring, dt=dt, theta0=math.pi)
+    res = simulate(robot, settings, duration=duration)
+    assert not res.fell and res.t[-1] == pytest.approx(duration)
+    energies = np.array([_energy(robot, q, v, spring) for q, v in zip(res.q, res.v)])
+    total, kinetic = energies[:, 0], energies[:, 1]
+    assert kinetic.max() > 1.0, "the test must move something"
+    assert res.max_hip_excursion > math.radians(2.0)
+    assert np.max(np.abs(total - total[0])) / abs(total[0]) < 1e-6
+    assert np.max(np.abs(total - total[0])) < 1e-4 * kinetic.max()
+    assert res.max_drift < 1e-8, "constraint drift per step, before projection [m]"
+    # after projection the stored states satisfy every constraint
+    cset = BipedSimulator(robot, settings).constraint_set("right", robot.with_stance("right", res.q[0]).weld)
+    assert max(np.max(np.abs(cset.evaluate(q, None, t)[0])) for q, t in zip(res.q[::50], res.t[::50])) < 1e-10
+
+
+def test_impact_velocity_is_the_mass_weighted_projection_and_dissipates(spring2):
+    robot = spring2
+    spring = AnkleSpring(331.0, math.radians(75.0), 1.0)
+    # the right stance is 0.1 rad of crank from its end: the left foot is about to land
+    settings = SimulationSettings(omega=2.0, spring=spring, dt=2e-3, theta0=1.5 * math.pi - 0.1)
+    sim = BipedSimulator(robot, settings)
+    res = sim.run(duration=0.05)
+    q, v, t = res.q[-1], res.v[-1], res.t[-1]
+    new = sim.constraint_set("left", sim.ground_weld("left", q))
+    q = project_configuration(robot, new, q, t)  # onto the new set: we test the velocity jump alone
+    v_plus, lam = impulse(robot, new, q, v, t)
+    _, jac, _, phi_t = new.evaluate(q, None, t)
+    assert np.max(np.abs(jac @ v_plus + phi_t)) < 1e-10
+    mass = mass_matrix(robot, q)
+    # independent: v+ = N (N^T M N)^-1 N^T M v- + particular solution; here Phi_t is not zero
+    # (the motor rows), so write v = v_p + N z with J v_p = -Phi_t
+    v_p = np.linalg.lstsq(jac, -phi_t, rcond=None)[0]
+    null = sl.null_space(jac)
+    z = np.linalg.solve(null.T @ mass @ null, null.T @ mass @ (v - v_p))
+    assert np.max(np.abs(v_p + null @ z - v_plus)) < 1e-9
+    # impulse balance M (v+ - v-) = J^T Lambda
+    assert np.max(np.abs(mass @ (v_plus - v) - jac.T @ lam)) < 1e-9
+    # with the motor locked (Phi_t = 0) the kinetic energy cannot rise; Carnot: the loss is
+    # the kinetic energy of the lost velocity
+    locked = new.with_coords([CoordinateRow(c.name, c.index, q[c.index]) for c in new.coords])
+    v_minus = v
+    v_l, _ = impulse(robot, locked, q, v_minus, t)
+    ke = 0.5 * v_minus @ mass @ v_minus
+    ke_l = 0.5 * v_l @ mass @ v_l
+    dv = v_minus - v_l
+    assert ke_l <= ke + 1e-12
+    assert ke - ke_l == pytest.approx(0.5 * dv @ mass @ dv, rel=1e-8, abs=1e-12)
+    assert ke - ke_l > 1e-4, "the impact must dissipate something"
+
+
+def test_walk_switches_stance_and_lands_on_the_ground(spring2):
+    robot = spring2
+    spring = AnkleSpring(331.0, math.radians(75.0), 1.0)
+    settings = SimulationSettings(omega=5.0, spring=spring, swing_ankle="rest", dt=1e-2)
+    res = simulate(robot, settings, steps=3)
+    assert not res.fell, res.message
+    assert [imp.side for imp in res.impacts] == ["left", "right"]
+    assert res.impacts[0].t == pytest.approx(math.pi / 5.0)
+    assert res.stance[0] == "right" and res.stance[-1] == "right" and "left" in res.stance
+    assert res.t[-1] == pytest.approx(3 * math.pi / 5.0)
+    sim = BipedSimulator(robot, settings)
+    for imp in res.impacts:
+        k = int(np.argmin(np.abs(res.t - imp.t - 1e-6) + (res.t <= imp.t) * 1e9))
+        _, z, pitch = foot_pose(robot, res.q[k], imp.side)
+        assert abs(z) < 1e-9 and abs(pitch) < 1e-9, "the landed foot is welded flat on the ground"
+        # the post-impact velocity satisfies the new constraints (motor rows included)
+        cset = sim.constraint_set(imp.side, sim.ground_weld(imp.side, res.q[k]))
+        _, jac, _, phi_t = cset.evaluate(res.q[k], None, res.t[k])
+        assert np.max(np.abs(jac @ res.v[k] + phi_t)) < 1e-9
+    # motor rows: the cranks follow theta0 + omega t exactly
+    crank = res.q[:, robot.idx_q("right_j0_crank")]
+    assert np.max(np.abs(crank - (math.pi / 2 + 5.0 * res.t))) < 1e-10
+    assert sim.settings.omega == 5.0
+
+
+@pytest.mark.parametrize(
+    ("changes", "word"),
+    [
+        ({"motor": "servo"}, "motor"),
+        ({"hip": "loose"}, "hip"),
+        ({"dt": 0.0}, "dt"),
+        ({"integrator": "verlet"}, "integrator"),
+        ({"omega": float("nan")}, "omega"),
+    ],
+)
+def test_bad_settings_raise(changes, word):
+    with pytest.raises(ValueError, match=word):
+        SimulationSettings(**changes)
+
+
+def test_bad_inputs_raise(robots):
+    with pytest.raises(ValueError, match="stiffness"):
+        AnkleSpring(-1.0, 1.2)
+    with pytest.raises(ValueError, match="spring variant"):
+        BipedSimulator(robots[("rigid", 2)], SimulationSettings())
+    sim = BipedSimulator(robots[("spring", 2)], SimulationSettings(omega=0.0))
+    with pytest.raises(ValueError, match="omega"):
+        sim.run(steps=2)
+    with pytest.raises(ValueError, match="exactly one"):
+        sim.run()
