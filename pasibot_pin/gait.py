@@ -10,12 +10,14 @@ How the stance foot holds the ground (``foot``):
 - ``flat`` (default, the physical case): the stance sole is welded level to the ground
   (a planar weld: x, z, pitch). The ``spring`` variant also keeps the hip level and the
   swing foot level. For ``rigid`` the hip then pitches with the shank (the rigid foot can be
-  level only if the body tilts), and at each exchange the body turns about the new stance
-  ankle, because the new stance foot lands tilted. :attr:`Walk.exchange_jump` records it.
+  level only if the body tilts), and at each exchange the pose jumps: the new stance foot
+  arrives tilted and off the ground, and the weld puts it flat on the ground.
+  :attr:`Walk.exchange_jump` records the jump.
 - ``point``: the seed's punctiform foot (Fig 4.2.7): the stance ankle is pinned to the
   ground and the hip is kept level.
 - ``toe``: the seed's fixed-length foot (Fig 4.2.8): the stance toe is pinned to the ground
-  and the hip is kept level; the stance sole tilts about the toe.
+  and the hip is kept level; the stance sole tilts about the toe. The new stance toe
+  arrives above the ground, so the pose jumps down at each exchange.
 
 The body orientation is the hip's pitch in the world, from ``atan2`` of its rotation matrix
 (:func:`body_pitch`), not the seed's ``arccos((tr R - 1) / 2)``, which loses the sign
@@ -140,12 +142,18 @@ class Walk:
 
 
 def _contact(robot, side: str, foot: str, q: np.ndarray) -> pin.RigidConstraintModel:
-    """The stance contact for ``side`` at its pose in ``q``."""
-    if foot == "flat":
-        return robot.weld_foot(side, q)
-    frame = f"{side}_foot" if foot == "point" else f"{side}_toe"
+    """The stance contact for ``side``: its x and y from ``q``, on the ground z = 0.
+
+    ``flat`` welds the foot level (pitch 0); ``point`` and ``toe`` pin the ankle or the toe.
+    Where the foot lands on the ground and level (``spring``, ``parallel``, ``point``) the
+    contact holds it exactly where it is; otherwise the pose jumps onto the ground.
+    """
+    frame = {"flat": f"{side}_foot", "point": f"{side}_foot", "toe": f"{side}_toe"}[foot]
     pin.framesForwardKinematics(robot.model, robot.data, q)
     position = robot.data.oMf[robot.frame_id(frame)].translation.copy()
+    position[2] = 0.0
+    if foot == "flat":
+        return constraints.weld_constraint(robot.model, frame, pin.SE3(np.eye(3), position), f"{side}_foot_weld")
     return constraints.ground_point_constraint(robot.model, frame, position, f"{frame}_pin")
 
 
