@@ -7,7 +7,5 @@ COMMANDS: list[str] = [
     "info",
     "build_urdf",
     "analyze",
-    "view",
-    "export_html",
     "gait",
 ]
