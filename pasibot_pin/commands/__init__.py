@@ -7,5 +7,7 @@ COMMANDS: list[str] = [
     "info",
     "build_urdf",
     "analyze",
+    "view",
+    "export_html",
     "gait",
 ]

@@ -35,8 +35,16 @@ def step_model(out_dir: Path, args: argparse.Namespace) -> str:
     return "\n".join(sections)
 
 
+def step_animation(out_dir: Path, args: argparse.Namespace) -> str:
+    """The walk in 3-D (``gait.html``, meshcat) and as a 2-D stick GIF (``gait.gif``)."""
+    from .export_html import analyze_step
+
+    return analyze_step(out_dir, args)
+
+
 STEPS: list[tuple[str, Callable[[Path, argparse.Namespace], str]]] = [
     ("model", step_model),
+    ("animation", step_animation),
 ]
 
 
