@@ -42,8 +42,16 @@ def step_animation(out_dir: Path, args: argparse.Namespace) -> str:
     return analyze_step(out_dir, args)
 
 
+def step_kinematics(out_dir: Path, args: argparse.Namespace) -> str:
+    """Leg paths of every variant, K sweep, biped walks (plots + CSV); see ``commands/gait.py``."""
+    from .gait import analyze_step
+
+    return analyze_step(out_dir, args)
+
+
 STEPS: list[tuple[str, Callable[[Path, argparse.Namespace], str]]] = [
     ("model", step_model),
+    ("kinematics", step_kinematics),
     ("animation", step_animation),
 ]
 
