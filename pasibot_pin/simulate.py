@@ -388,6 +388,8 @@ class SimulationSettings:
         dt: largest integration step [s].
         integrator: ``rk4`` or ``euler`` (semi-implicit).
         theta0: initial right crank angle [rad] (default pi/2: the right foot just landed).
+        initial_pitch: hip pitch at t = 0 [rad] (the hip starts still at this pitch; see
+            :func:`static_equilibrium` for the pitch where the robot stands still).
         feedforward: extra generalised force tau_ff(t, q, v) (nv,) or ``None``.
         fall_limit: the run stops (``fell``) when |hip pitch| exceeds this [rad].
         record_every: keep one sample every this many steps.
@@ -402,6 +404,7 @@ class SimulationSettings:
     dt: float = 2e-3
     integrator: str = "rk4"
     theta0: float = math.pi / 2
+    initial_pitch: float = 0.0
     feedforward: Feedforward | None = None
     fall_limit: float = math.radians(60.0)
     record_every: int = 1
@@ -417,6 +420,7 @@ class SimulationSettings:
                 raise ValueError(f"unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")
         _check_finite("omega", self.omega)
         _check_finite("theta0", self.theta0)
+        _check_finite("initial_pitch", self.initial_pitch)
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"parameter 'dt' must be a positive finite step [s], got {self.dt!r}")
         if not (math.isfinite(self.fall_limit) and self.fall_limit > 0):
@@ -600,7 +604,7 @@ class BipedSimulator:
 
     # ---- initial state
     def initial_state(self, stance: str | None = None) -> tuple[np.ndarray, np.ndarray, str]:
-        """A consistent start: cranks at theta0 (left pi ahead), hip level and still, stance foot flat.
+        """A consistent start: cranks at theta0 (left pi ahead), hip still at ``initial_pitch``, stance foot flat.
 
         The swing ankle starts at the spring's rest angle (square to the shank without a
         spring); every free coordinate starts at rest except the cranks (rate omega).
@@ -611,7 +615,7 @@ class BipedSimulator:
         if stance is None:
             phase = (s.theta0 - math.pi / 2) % (2 * math.pi)
             stance = "right" if phase < math.pi - 1e-9 else "left"
-        q = assemble(self.robot, s.theta0, hip_pitch_value=0.0, stance=stance)
+        q = assemble(self.robot, s.theta0, hip_pitch_value=s.initial_pitch, stance=stance)
         swing = _other(stance)
         beta0 = s.spring.rest_angle if s.spring is not None else math.pi / 2
         q[self.ankles[swing]] = math.pi / 2 - beta0
@@ -767,3 +771,96 @@ class BipedSimulator:
 def simulate(robot, settings: SimulationSettings, steps: int | None = None, duration: float | None = None, **kwargs):
     """Shortcut: ``BipedSimulator(robot, settings).run(steps, duration, **kwargs)``."""
     return BipedSimulator(robot, settings).run(steps=steps, duration=duration, **kwargs)
+
+
+# --------------------------------------------------------------------------- statics (the omega -> 0 limit)
+@dataclass
+class StaticEquilibrium:
+    """Hip pitch at static equilibrium along the crank cycle (cranks still, swing foot at rest angle).
+
+    Attributes:
+        theta: right crank angles (n,) [rad].
+        hip_pitch: equilibrium hip pitch (n,) [rad]; NaN where there is none within the search range.
+        stiffness: d(holding torque)/d(pitch) at the equilibrium, i.e. d^2V/dpitch^2 (n,)
+            [N.m/rad]: positive when the equilibrium is stable, negative when the robot falls away.
+        found: True where an equilibrium was found.
+
+    """
+
+    theta: np.ndarray
+    hip_pitch: np.ndarray
+    stiffness: np.ndarray
+    found: np.ndarray
+
+    @property
+    def max_excursion(self) -> float:
+        """Largest |equilibrium hip pitch| [rad] (inf when some crank angle has no stable equilibrium)."""
+        if not np.all(self.found) or np.any(self.stiffness <= 0):
+            return math.inf
+        return float(np.max(np.abs(self.hip_pitch)))
+
+
+def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
+    """Torque needed on the hip pitch to hold the robot still at crank angle ``theta`` and ``pitch``.
+
+    The cranks are locked (the motor holds them), the swing ankle sits at the spring's rest
+    angle, the stance foot (from ``theta``) is welded flat. Zero at a static equilibrium.
+
+    Returns:
+        (torque [N.m], q).
+
+    """
+    settings = SimulationSettings(
+        omega=0.0,
+        spring=spring if spring is not None else AnkleSpring(0.0, math.pi / 2),
+        hip="level",
+        swing_ankle="rest",
+        theta0=theta,
+    )
+    sim = BipedSimulator(robot, settings)
+    q_level, _, stance = sim.initial_state()
+    q = q_level if q_guess is None else np.array(q_guess, dtype=float)
+    coords = [c for c in sim.coordinate_rows(stance) if c.name != "hip_pitch"]
+    coords.append(CoordinateRow("hip_pitch", 2, pitch))
+    cset = ConstraintSet(robot, list(robot.loop_constraints) + [sim.ground_weld(stance, q_level)], coords)
+    q = project_configuration(robot, cset, q, 0.0)
+    _, lam, _ = sim.acceleration(cset, 0.0, q, np.zeros(robot.model.nv))
+    return float(lam[cset.labels.index("hip_pitch(t)")]), q
+
+
+def static_equilibrium(
+    robot, spring: AnkleSpring | None, thetas: Sequence[float], search: float = math.radians(30.0)
+) -> StaticEquilibrium:
+    """Equilibrium hip pitch at each crank angle (the quasi-static limit omega -> 0).
+
+    For each crank angle, the hip-holding torque tau(pitch) of :func:`static_hip_torque` is
+    driven to zero by the secant method from pitch = 0, within +-``search``.
+    """
+    thetas = np.asarray(thetas, dtype=float)
+    pitch = np.full(len(thetas), np.nan)
+    stiff = np.full(len(thetas), np.nan)
+    found = np.zeros(len(thetas), dtype=bool)
+    for k, theta in enumerate(thetas):
+        try:
+            p0, p1 = 0.0, 1e-3
+            f0, q = static_hip_torque(robot, spring, theta, p0)
+            f1, q = static_hip_torque(robot, spring, theta, p1, q)
+            for _ in range(30):
+                if f1 == f0:
+                    break
+                p2 = p1 - f1 * (p1 - p0) / (f1 - f0)
+                if abs(p2) > search:
+                    break
+                p0, f0 = p1, f1
+                p1 = p2
+                f1, q = static_hip_torque(robot, spring, theta, p1, q)
+                if abs(p1 - p0) < 1e-12:
+                    break
+            if abs(f1) < 1e-8 and abs(p1) <= search:
+                eps = 1e-5
+                fp = static_hip_torque(robot, spring, theta, p1 + eps, q)[0]
+                fm = static_hip_torque(robot, spring, theta, p1 - eps, q)[0]
+                pitch[k], stiff[k], found[k] = p1, (fp - fm) / (2 * eps), True
+        except ValueError:
+            continue
+    return StaticEquilibrium(thetas, pitch, stiff, found)
