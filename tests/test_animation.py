@@ -1,0 +1,75 @@
+"""The 2-D stick animation: a GIF with one frame per configuration, drawn in the group colours."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+from PIL import Image
+
+from pasibot_pin import animation, gait
+
+STEPS, SAMPLES, FPS, DPI = 1, 8, 10.0, 50
+
+
+@pytest.fixture(scope="module")
+def walk(robots):
+    return gait.walk(robots[("spring", 2)], steps=STEPS, samples_per_step=SAMPLES)
+
+
+@pytest.fixture(scope="module")
+def gif(walk, tmp_path_factory):
+    out = tmp_path_factory.mktemp("gif") / "walk.gif"
+    animation.save_gif(walk.robot, walk.q, out, fps=FPS, dpi=DPI)
+    return out
+
+
+def frames_rgb(path):
+    im = Image.open(path)
+    out = []
+    for k in range(im.n_frames):
+        im.seek(k)
+        out.append(np.asarray(im.convert("RGB")).astype(int))
+    return im, out
+
+
+def test_gif_has_one_frame_per_configuration(gif):
+    im, frames = frames_rgb(gif)
+    assert im.format == "GIF"
+    assert im.n_frames == STEPS * SAMPLES + 1
+    assert im.size == (round(6.4 * DPI), round(5.0 * DPI))
+    assert im.info["duration"] == pytest.approx(1000.0 / FPS, abs=10)
+    for a, b in zip(frames, frames[1:]):
+        assert np.abs(a - b).max(axis=2).astype(bool).sum() > 50  # every frame moves
+
+
+def test_gif_draws_the_links_in_group_colours(gif):
+    _, frames = frames_rgb(gif)
+    rgb = frames[len(frames) // 2].reshape(-1, 3)
+    hoeken = np.abs(rgb - [0xF2, 0x8C, 0x1A]).max(axis=1) < 30
+    pantograph = np.abs(rgb - [0x26, 0x73, 0xD9]).max(axis=1) < 30
+    assert hoeken.sum() > 30 and pantograph.sum() > 200
+
+
+def test_ankle_paths_match_the_walk(walk):
+    paths = animation.ankle_paths_xz(walk.robot, walk.q)
+    for side in ("right", "left"):
+        np.testing.assert_allclose(paths[side], walk.positions(f"{side}_foot")[:, [0, 2]], atol=1e-12)
+    # the right foot is in stance during the first step: it does not move
+    assert np.ptp(paths["right"], axis=0).max() < 1e-9
+    assert np.ptp(paths["left"][:, 0]) > 0.2
+
+
+def test_save_gif_refuses_to_overwrite_and_bad_input(walk, tmp_path):
+    out = tmp_path / "mine.gif"
+    out.write_bytes(b"keep")
+    with pytest.raises(FileExistsError):
+        animation.save_gif(walk.robot, walk.q, out)
+    assert out.read_bytes() == b"keep"
+    with pytest.raises(ValueError, match="qs"):
+        animation.save_gif(walk.robot, walk.q[:1], tmp_path / "a.gif")
+    with pytest.raises(ValueError, match="qs"):
+        animation.save_gif(walk.robot, walk.q[:, :5], tmp_path / "a.gif")
+    with pytest.raises(ValueError, match="fps"):
+        animation.save_gif(walk.robot, walk.q, tmp_path / "a.gif", fps=-1.0)
+    with pytest.raises(ValueError, match="out"):
+        animation.save_gif(walk.robot, walk.q, tmp_path / "a.png")

@@ -1,0 +1,291 @@
+"""The meshcat viewer: loopback-only server, the exported animation's poses, colours, forces, CLI.
+
+The exported HTML is decoded here (base64 msgpack commands, as meshcat's page reads them), so
+the checks are on what a browser receives, not on the Python objects that produced it.
+"""
+
+from __future__ import annotations
+
+import base64
+import re
+import subprocess
+import sys
+import urllib.request
+
+import numpy as np
+import pinocchio as pin
+import pytest
+import umsgpack
+
+from pasibot_pin import closure, viewer
+from pasibot_pin.__main__ import main
+from pasibot_pin.plots import GROUP_COLOURS, link_group
+
+LOOPBACK_HEX = "0100007F"  # 127.0.0.1 as /proc/net/tcp prints it (little-endian)
+
+
+# --------------------------------------------------------------------------- helpers
+
+
+def listening_addresses(port: int) -> set[str]:
+    """Local addresses of the sockets LISTENing on TCP ``port``, from /proc/net/tcp{,6}."""
+    found = set()
+    for table in ("/proc/net/tcp", "/proc/net/tcp6"):
+        try:
+            lines = open(table).read().splitlines()[1:]
+        except FileNotFoundError:
+            continue
+        for line in lines:
+            fields = line.split()
+            address, port_hex = fields[1].split(":")
+            if fields[3] == "0A" and int(port_hex, 16) == port:  # 0A = LISTEN
+                found.add(address)
+    return found
+
+
+def decode_commands(html: str) -> list[dict]:
+    """Every meshcat command embedded in a static_html() page."""
+    blobs = re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)", html)
+    return [umsgpack.unpackb(base64.b64decode(b)) for b in blobs]
+
+
+def animation_poses(commands: list[dict]) -> tuple[dict[str, list[np.ndarray]], dict]:
+    """Per animated node path: the 4x4 pose at each keyframe; and the raw clip dicts."""
+    anims = [c for c in commands if c["type"] == "set_animation"]
+    assert len(anims) == 1
+    poses, clips = {}, {}
+    for entry in anims[0]["animations"]:
+        clip = entry["clip"]
+        clips[entry["path"]] = clip
+        tracks = {t["name"]: t for t in clip["tracks"]}
+        if ".position" not in tracks:
+            continue
+        out = []
+        for kp, kq in zip(tracks[".position"]["keys"], tracks[".quaternion"]["keys"]):
+            assert kp["time"] == kq["time"]
+            x, y, z, w = kq["value"]
+            T = np.eye(4)
+            T[:3, :3] = pin.Quaternion(w, x, y, z).toRotationMatrix()
+            T[:3, 3] = kp["value"]
+            out.append(T)
+        poses[entry["path"]] = out
+    return poses, clips
+
+
+@pytest.fixture(scope="module")
+def robot():
+    import pasibot_pin as pp
+
+    return pp.load("spring", legs=2)
+
+
+@pytest.fixture(scope="module")
+def exported(robot, tmp_path_factory):
+    out = tmp_path_factory.mktemp("export") / "walk.html"
+    export = viewer.export_html(out, robot, steps=2, samples_per_step=10, fps=20.0)
+    return export, out.read_text()
+
+
+@pytest.fixture(scope="module")
+def server():
+    srv = viewer.start_server()
+    yield srv
+    srv.close()
+
+
+# --------------------------------------------------------------------------- server
+
+
+def test_own_server_listens_on_loopback_only(server):
+    assert server.web_url.startswith("http://127.0.0.1:")
+    assert server.zmq_url.startswith("tcp://127.0.0.1:")
+    for port in (server.web_port, server.zmq_port):
+        addresses = listening_addresses(port)
+        assert addresses == {LOOPBACK_HEX}, (port, addresses)
+    page = urllib.request.urlopen(server.web_url, timeout=10).read().decode()
+    assert "main.min.js" in page  # it is meshcat's page
+
+
+def test_stock_meshcat_server_listens_on_all_interfaces():
+    """The premise (and a check that listening_addresses can see a wildcard bind)."""
+    from meshcat.servers.zmqserver import start_zmq_server_as_subprocess
+
+    proc, _zmq_url, web_url = start_zmq_server_as_subprocess()
+    try:
+        port = int(web_url.split(":")[2].split("/")[0])
+        addresses = listening_addresses(port)
+        assert addresses and addresses != {LOOPBACK_HEX}, addresses
+        assert addresses & {"00000000", "00000000000000000000000000000000"}
+    finally:
+        proc.kill()
+        proc.wait()
+
+
+def test_reuses_a_running_server_and_leaves_it_running(robot, server):
+    v = viewer.WalkViewer(robot, zmq_url=server.zmq_url)
+    assert v.server is None
+    assert v.url == server.web_url
+    html = v.jupyter_cell(height=300).data
+    assert server.web_url in html and "iframe" in html
+    v.close()
+    assert server.process.poll() is None
+
+
+def test_bad_zmq_url(robot):
+    with pytest.raises(ValueError, match="zmq_url"):
+        viewer.WalkViewer(robot, zmq_url="localhost:6000")
+
+
+# --------------------------------------------------------------------------- exported animation
+
+
+def test_exported_frames_satisfy_the_loops(robot, exported):
+    export, _ = exported
+    walk = export.walk
+    assert export.q.shape == (2 * 10 + 1, robot.model.nq)
+    worst_loops, worst_all = 0.0, 0.0
+    for k, q in enumerate(export.q):
+        worst_loops = max(worst_loops, np.abs(closure.constraint_residual(robot, q, robot.loop_constraints)).max())
+        contacts = walk.contacts[walk.step[k]]
+        worst_all = max(worst_all, np.abs(closure.constraint_residual(robot, q, contacts)).max())
+    assert worst_loops < 1e-9
+    assert worst_all < 1e-9
+    # the walk moves: frames are not all one pose, and the hip advances
+    assert np.ptp(export.q[:, 0]) > 0.2
+
+
+def test_html_animation_closes_the_loops(robot, exported):
+    """Rebuild each cut joint from the animated link poses in the HTML: both sides coincide."""
+    export, html = exported
+    poses, clips = animation_poses(decode_commands(html))
+    model = robot.model
+    n = len(export.q)
+    by_joint = {}
+    for obj in robot.visual_model.geometryObjects:
+        path = f"/meshcat/{viewer.ROOT}/visuals/{obj.name}"
+        assert len(poses[path]) == n
+        by_joint[obj.parentJoint] = (path, obj.placement)
+    for clip in clips.values():
+        assert clip["fps"] == pytest.approx(20.0)
+    worst = 0.0
+    for loop in robot.loops:
+        for k in range(n):
+            points = []
+            for frame_name in (loop.frame_a, loop.frame_b):
+                frame = model.frames[model.getFrameId(frame_name)]
+                path, g_in_joint = by_joint[frame.parentJoint]
+                oMj = pin.SE3(poses[path][k]) * g_in_joint.inverse()
+                points.append((oMj * frame.placement).translation)
+            worst = max(worst, np.linalg.norm(points[0] - points[1]))
+    assert worst < 1e-9
+    # the stance foot does not move during a step
+    for side in ("right", "left"):
+        path = f"/meshcat/{viewer.ROOT}/visuals/{side}_foot_0"
+        stance = [k for k in range(n) if export.walk.stance[k] == side]
+        assert stance
+        p = np.array([poses[path][k][:3, 3] for k in stance if export.walk.step[k] == export.walk.step[stance[0]]])
+        assert np.ptp(p, axis=0).max() < 1e-9
+        assert abs(p[:, 2].mean()) < 0.05  # on the ground
+
+
+def test_html_matches_the_returned_configurations(robot, exported):
+    export, html = exported
+    poses, _ = animation_poses(decode_commands(html))
+    data = robot.model.createData()
+    gdata = pin.GeometryData(robot.visual_model)
+    for k in (0, len(export.q) // 2, len(export.q) - 1):
+        pin.forwardKinematics(robot.model, data, export.q[k])
+        pin.updateGeometryPlacements(robot.model, data, robot.visual_model, gdata)
+        for gid, obj in enumerate(robot.visual_model.geometryObjects):
+            np.testing.assert_allclose(
+                poses[f"/meshcat/{viewer.ROOT}/visuals/{obj.name}"][k], gdata.oMg[gid].homogeneous, atol=1e-12
+            )
+
+
+def test_html_is_self_contained_with_group_colours_paths_and_ground(robot, exported):
+    _, html = exported
+    assert "<script src=" not in html and "http://" not in html.split("<script>")[0]
+    assert "new MeshCat.Viewer" in html and viewer.SEEK_SCRIPT.strip() in html
+    objects = {c["path"]: c["object"] for c in decode_commands(html) if c["type"] == "set_object"}
+    for obj in robot.visual_model.geometryObjects:
+        group = link_group(robot.model.frames[obj.parentFrame].name)
+        material = objects[f"/meshcat/{viewer.ROOT}/visuals/{obj.name}"]["materials"][0]
+        assert material["color"] == int(GROUP_COLOURS[group][1:], 16), obj.name
+    assert f"/meshcat/{viewer.ROOT}/ground" in objects
+    for name in ("right", "left", "hip"):
+        line = objects[f"/meshcat/{viewer.ROOT}/paths/{name}"]
+        assert line["object"]["type"] == "Line"
+
+
+def test_foot_paths_follow_the_ankles(robot, exported):
+    export, _ = exported
+    right = export.walk.positions("right_foot")
+    np.testing.assert_allclose(export.paths["right"], right, atol=1e-12)
+    # a stance ankle stays put, the swing ankle lifts
+    assert np.ptp(right[: 11, 0]) < 1e-9
+    assert export.paths["left"][:11, 2].max() > 0.05
+
+
+def test_export_refuses_to_overwrite(robot, tmp_path, capsys):
+    out = tmp_path / "mine.html"
+    out.write_text("keep me")
+    with pytest.raises(FileExistsError):
+        viewer.export_html(out, robot, steps=1, samples_per_step=3)
+    assert main(["export-html", "--out", str(out), "--steps", "1", "--samples-per-step", "3"]) == 2
+    assert "--force" in capsys.readouterr().err
+    assert out.read_text() == "keep me"
+    assert main(["export-html", "--out", str(out), "--steps", "1", "--samples-per-step", "3", "--force"]) == 0
+    assert "new MeshCat.Viewer" in out.read_text()
+
+
+def test_export_rejects_bad_input(robot, tmp_path):
+    with pytest.raises(ValueError, match="fps"):
+        viewer.export_html(tmp_path / "a.html", robot, fps=0.0)
+    with pytest.raises(ValueError, match="out"):
+        viewer.export_html(tmp_path / "a.txt", robot)
+    assert not list(tmp_path.iterdir())
+
+
+# --------------------------------------------------------------------------- forces, live play, CLI
+
+
+def test_force_arrows_are_scaled_and_aimed(robot, server):
+    v = viewer.WalkViewer(robot, zmq_url=server.zmq_url)
+    qs = np.array([robot.q0, robot.q0, robot.q0])
+    points = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.2, 0.0, 0.05]])
+    forces = np.array([[0.0, 0.0, 400.0], [30.0, 0.0, 300.0], [-50.0, 0.0, 120.0]])
+    scale = 1e-3
+    v.add_force("ground", viewer.ForceTrack(points, forces, scale))
+    anim = v.walk_animation(qs, fps=10.0)
+    lowered = {entry["path"]: entry["clip"] for entry in anim.lower()}
+    tracks = {t["name"]: t["keys"] for t in lowered[f"/meshcat/{viewer.ROOT}/forces/ground"]["tracks"]}
+    for k in range(3):
+        length = tracks[".scale"][k]["value"][0]
+        assert length == pytest.approx(np.linalg.norm(forces[k]) * scale, rel=1e-12)
+        np.testing.assert_allclose(tracks[".position"][k]["value"], points[k], atol=1e-15)
+        x, y, z, w = tracks[".quaternion"][k]["value"]
+        tip = pin.Quaternion(w, x, y, z).toRotationMatrix() @ np.array([length, 0.0, 0.0])
+        np.testing.assert_allclose(tip, forces[k] * scale, atol=1e-12)
+    with pytest.raises(ValueError, match="frames"):
+        v.walk_animation(qs[:2], fps=10.0)
+    with pytest.raises(ValueError, match="scale"):
+        viewer.ForceTrack(points, forces, -1.0)
+    v.play(qs, fps=200.0)  # live: sends the frames (arrows included) and returns
+    v.close()
+
+
+def test_view_command_plays_once_and_exits():
+    proc = subprocess.run(
+        [sys.executable, "-m", "pasibot_pin", "view", "--steps", "1", "--samples-per-step", "4", "--fps", "40"],
+        capture_output=True,
+        text=True,
+        timeout=60,
+    )
+    assert proc.returncode == 0, proc.stderr
+    assert "viewer: http://127.0.0.1:" in proc.stdout
+    assert "playing 1 steps (5 frames" in proc.stdout
+
+
+def test_view_rejects_bad_options(capsys):
+    assert main(["view", "--repeat", "0"]) == 2
+    assert "--repeat" in capsys.readouterr().err
