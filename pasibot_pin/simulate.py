@@ -864,3 +864,146 @@ def static_equilibrium(
         except ValueError:
             continue
     return StaticEquilibrium(thetas, pitch, stiff, found)
+
+
+# --------------------------------------------------------------------------- the spring study
+SPRING_CASES: tuple[tuple[str, float], ...] = (
+    ("fitted", 1.0),
+    ("no spring", 0.0),
+    ("half K_e", 0.5),
+    ("twice K_e", 2.0),
+)
+"""The stiffness cases of the study: label and factor on the fitted K_e."""
+
+
+def default_dt(swing_ankle: str) -> float:
+    """Integration step [s]: 10 ms with the swing foot at rest angle, 2 ms with its 100 Hz spring mode."""
+    return 0.01 if swing_ankle == "rest" else 0.002
+
+
+def standing_pitch(robot, spring: AnkleSpring | None, theta0: float) -> float:
+    """The hip pitch where the robot stands still at crank angle ``theta0`` [rad] (0 if none is stable)."""
+    eq = static_equilibrium(robot, spring, [theta0])
+    if eq.found[0] and eq.stiffness[0] > 0:
+        return float(eq.hip_pitch[0])
+    return 0.0
+
+
+@dataclass
+class SpringStudy:
+    """Does the spring hold the hip? One scenario, several springs.
+
+    Attributes:
+        name: scenario label.
+        omega: crank rate [rad/s] (0: quasi-static, answered by static equilibria).
+        fitted: the inverse-dynamics spring.
+        excursion: case label -> largest |hip pitch| [rad] (inf: fell / no stable equilibrium).
+        runs: case label -> SimulationResult (dynamic scenarios).
+        statics: case label -> StaticEquilibrium (always computed: the omega -> 0 reference).
+        sweep_stiffness: K_e grid [N.m/rad].
+        sweep_rest: beta0 grid [rad].
+        sweep_excursion: (len(sweep_rest), len(sweep_stiffness)) largest |hip pitch| [rad].
+        sweep_method: ``dynamic`` or ``static``.
+        best: the most level (K_e, beta0) of the sweep.
+
+    """
+
+    name: str
+    omega: float
+    fitted: AnkleSpring
+    excursion: dict[str, float] = field(default_factory=dict)
+    runs: dict[str, SimulationResult] = field(default_factory=dict)
+    statics: dict[str, StaticEquilibrium] = field(default_factory=dict)
+    sweep_stiffness: np.ndarray | None = None
+    sweep_rest: np.ndarray | None = None
+    sweep_excursion: np.ndarray | None = None
+    sweep_method: str = ""
+    best: tuple[float, float] | None = None
+
+
+def _run_excursion(res: SimulationResult) -> float:
+    return math.inf if res.fell else res.max_hip_excursion
+
+
+def spring_study(
+    robot,
+    omega: float,
+    fitted: AnkleSpring,
+    name: str = "",
+    steps: int = 2,
+    swing_ankle: str = "rest",
+    dt: float | None = None,
+    sweep_stiffness: Sequence[float] | None = None,
+    sweep_rest: Sequence[float] | None = None,
+    sweep_method: str | None = None,
+    static_samples: int = 19,
+) -> SpringStudy:
+    """Hip-pitch excursion with the fitted spring, none, half and twice the stiffness; and a sweep.
+
+    Args:
+        robot: the scenario's robot (``spring``, two legs, the scenario's masses).
+        omega: crank rate [rad/s]; 0 answers with static equilibria only.
+        fitted: the inverse-dynamics spring (K_e, beta0, damping).
+        name: label.
+        steps: stance phases to walk per run.
+        swing_ankle: ``rest`` or ``spring`` (see :class:`SimulationSettings`).
+        dt: integration step [s] (default :func:`default_dt`).
+        sweep_stiffness: K_e grid [N.m/rad] (default 0.6 to 1.6 times the fit, 6 values);
+            empty: no sweep.
+        sweep_rest: beta0 grid [rad] (default the fit +-8 deg, 5 values).
+        sweep_method: ``dynamic`` (a walk per pair) or ``static`` (the equilibrium path,
+            omega -> 0); default static for omega <= 0.1 rad/s, dynamic above.
+        static_samples: crank angles over one stance for the static paths.
+
+    Returns:
+        The :class:`SpringStudy`.
+
+    """
+    _check_finite("omega", omega, 0.0)
+    dt = default_dt(swing_ankle) if dt is None else dt
+    study = SpringStudy(name=name, omega=omega, fitted=fitted)
+    thetas = np.linspace(math.pi / 2, 1.5 * math.pi, static_samples, endpoint=False)
+    for label, factor in SPRING_CASES:
+        spring = fitted.scaled(factor)  # factor 0: no spring (the swing foot kept as in the other cases)
+        study.statics[label] = static_equilibrium(robot, spring, thetas)
+        if omega > 0:
+            settings = SimulationSettings(
+                omega=omega,
+                spring=spring,
+                swing_ankle=swing_ankle,
+                dt=dt,
+                initial_pitch=standing_pitch(robot, spring, math.pi / 2),
+            )
+            res = simulate(robot, settings, steps=steps)
+            study.runs[label] = res
+            study.excursion[label] = _run_excursion(res)
+        else:
+            study.excursion[label] = study.statics[label].max_excursion
+    ks = fitted.stiffness * np.linspace(0.6, 1.6, 6) if sweep_stiffness is None else np.asarray(sweep_stiffness)
+    bs = fitted.rest_angle + np.radians(np.linspace(-8, 8, 5)) if sweep_rest is None else np.asarray(sweep_rest)
+    if len(ks) and len(bs):
+        method = sweep_method or ("static" if omega <= 0.1 else "dynamic")
+        if method not in ("static", "dynamic"):
+            raise ValueError(f"unknown sweep_method {method!r}; valid: static, dynamic")
+        if method == "dynamic" and omega <= 0:
+            raise ValueError("a dynamic sweep needs omega > 0")
+        grid = np.full((len(bs), len(ks)), math.inf)
+        for i, beta0 in enumerate(bs):
+            for j, k in enumerate(ks):
+                spring = AnkleSpring(float(k), float(beta0), fitted.damping)
+                if method == "static":
+                    grid[i, j] = static_equilibrium(robot, spring, thetas).max_excursion
+                else:
+                    settings = SimulationSettings(
+                        omega=omega,
+                        spring=spring,
+                        swing_ankle=swing_ankle,
+                        dt=dt,
+                        initial_pitch=standing_pitch(robot, spring, math.pi / 2),
+                    )
+                    grid[i, j] = _run_excursion(simulate(robot, settings, steps=steps))
+        study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, study.sweep_method = ks, bs, grid, method
+        if np.any(np.isfinite(grid)):
+            i, j = np.unravel_index(int(np.argmin(grid)), grid.shape)
+            study.best = (float(ks[j]), float(bs[i]))
+    return study

@@ -27,6 +27,7 @@ from pasibot_pin.simulate import (
     mass_matrix,
     project_configuration,
     simulate,
+    static_equilibrium,
 )
 
 G = 9.81
@@ -239,3 +240,30 @@ def test_bad_inputs_raise(robots):
         sim.run(steps=2)
     with pytest.raises(ValueError, match="exactly one"):
         sim.run()
+
+
+def test_static_equilibrium_stands_still_and_its_stability_sign_is_right(spring2):
+    robot = spring2
+    theta = 2.8
+    spring = AnkleSpring(331.0, math.radians(72.0), 1.0)
+    for spr, stable in ((spring, True), (spring.scaled(0.0), False)):
+        eq = static_equilibrium(robot, spr, [theta])
+        assert eq.found[0]
+        assert (eq.stiffness[0] > 0) == stable
+        # start the (cranks locked) simulation there, nudged by 1 mrad
+        settings = SimulationSettings(
+            omega=0.0,
+            spring=spr,
+            swing_ankle="rest",
+            theta0=theta,
+            dt=5e-3,
+            initial_pitch=float(eq.hip_pitch[0]),
+        )
+        still = simulate(robot, settings, duration=0.3)
+        assert np.max(np.abs(still.hip_pitch - eq.hip_pitch[0])) < 1e-7, "at equilibrium nothing moves"
+        nudged = simulate(robot, settings.with_(initial_pitch=float(eq.hip_pitch[0]) + 1e-3), duration=1.5)
+        away = np.max(np.abs(nudged.hip_pitch - eq.hip_pitch[0]))
+        if stable:
+            assert away < 1.5e-3, "a stable equilibrium keeps a small nudge small"
+        else:
+            assert away > 1e-2, "with no spring the nudge grows: the robot falls"
