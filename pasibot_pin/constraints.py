@@ -131,3 +131,41 @@ def pinocchio_constraint_jacobian(
         jac[start : start + size] = pin.getConstraintJacobian(model, data, cmodel, cdata)
         start += size
     return jac
+
+
+def anchor_points(cmodel: pin.RigidConstraintModel) -> tuple[tuple[int, pin.SE3], tuple[int, pin.SE3]]:
+    """The two frames a constraint model ties together: ((joint1, placement1), (joint2, placement2)).
+
+    Joint 0 is the world (the weld's target placement).
+    """
+    first = (int(cmodel.joint1_id), cmodel.joint1_placement.copy())
+    second = (int(cmodel.joint2_id), cmodel.joint2_placement.copy())
+    return first, second
+
+
+def proximal_forward_dynamics(
+    model: pin.Model,
+    data: pin.Data,
+    cmodels: list[pin.RigidConstraintModel],
+    q: np.ndarray,
+    v: np.ndarray,
+    tau: np.ndarray,
+    mu: float = 1e-10,
+    accuracy: float = 1e-13,
+    max_iter: int = 100,
+) -> np.ndarray:
+    """Pinocchio's own constrained forward dynamics (``constraintDynamics``) with proximal settings.
+
+    The planar 3-D contacts make the stacked constraint Jacobian rank-deficient, so ``mu`` must
+    be positive (with mu = 0 pin 4.1 returns NaN). Used to cross-check the simulator's KKT solve.
+
+    Returns:
+        The joint accelerations (nv,).
+
+    """
+    if not mu > 0:
+        raise ValueError(f"parameter 'mu' must be positive (rank-deficient planar contacts), got {mu!r}")
+    cdatas = create_datas(cmodels)
+    pin.initConstraintDynamics(model, data, cmodels, cdatas)
+    settings = pin.ProximalSettings(accuracy, mu, max_iter)
+    return np.array(pin.constraintDynamics(model, data, q, v, tau, cmodels, cdatas, settings))

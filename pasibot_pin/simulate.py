@@ -152,8 +152,8 @@ class ConstraintSet:
         self.coords = list(coords)
         joints, trans, rots = [], [], []
         for cm in self.cmodels:
-            for joint, placement in ((cm.joint1_id, cm.joint1_placement), (cm.joint2_id, cm.joint2_placement)):
-                joints.append(int(joint))
+            for joint, placement in constraints.anchor_points(cm):
+                joints.append(joint)
                 trans.append(np.array(placement.translation))
                 rots.append(np.array(placement.rotation))
         self._joints = np.array(joints, dtype=int)

@@ -15,6 +15,7 @@ import pinocchio as pin
 import pytest
 import scipy.linalg as sl
 
+from pasibot_pin import constraints
 from pasibot_pin.closure import hip_pitch, joint_coordinate, solve_configuration
 from pasibot_pin.simulate import (
     AnkleSpring,
@@ -75,6 +76,23 @@ def test_constraint_rows_match_finite_differences(spring2):
     assert phi[-1] == pytest.approx(q[robot.idx_q("right_j0_crank")] - 1.0 - 0.7 * 0.3, abs=1e-15)
     assert phi_t[-1] == -0.7 and np.all(phi_t[:-1] == 0)
     assert np.linalg.matrix_rank(jac) == 16, "the in-plane rows have full row rank"
+
+
+def test_kkt_accelerations_match_pinocchio_constraint_dynamics(spring2):
+    """Our KKT solve against Pinocchio's constraintDynamics (proximal, mu > 0) on loops + weld."""
+    robot = spring2
+    spring = AnkleSpring(300.0, math.radians(75.0), 0.5)
+    sim = BipedSimulator(robot, SimulationSettings(omega=0.0, motor="free", spring=spring, theta0=2.5))
+    q, _, stance = sim.initial_state()
+    cset = sim.constraint_set(stance, robot.with_stance(stance, q).weld)
+    assert not cset.coords, "free motor, free hip: only Pinocchio constraint models"
+    rng = np.random.default_rng(1)
+    v = impulse(robot, cset, q, rng.normal(size=robot.model.nv), 0.0)[0]  # a consistent velocity
+    a, _, _ = sim.acceleration(cset, 0.0, q, v)
+    tau = sim.forces(0.0, q, v)
+    a_pin = constraints.proximal_forward_dynamics(robot.model, robot.model.createData(), cset.cmodels, q, v, tau)
+    assert np.max(np.abs(a)) > 10.0
+    assert np.max(np.abs(a_pin - a)) < 1e-9 * np.max(np.abs(a))
 
 
 def test_static_multipliers_are_gradients_of_the_potential(spring2):
