@@ -21,9 +21,11 @@ Lengths [m], forces [N], time [s].
 from __future__ import annotations
 
 import atexit
+import base64
 import contextlib
 import io
 import math
+import re
 import subprocess
 import sys
 import time
@@ -49,7 +51,7 @@ GROUND_COLOUR = "#cfc8b8"
 FORCE_COLOUR = "#e6007e"
 
 GROUND_THICKNESS = 0.01
-"""Thickness of the ground slab [m]; its top face is the plane z = 0."""
+"""Thickness of the ground slab [m]."""
 
 LOOP_REPETITIONS = 1_000_000
 """Repetitions of the exported animation (it loops for as long as anyone watches)."""
@@ -61,17 +63,55 @@ SEEK_SCRIPT = """
   var match = /[#&]t=([0-9.eE+-]+)/.exec(window.location.hash);
   if (!match) { return; }
   var seconds = parseFloat(match[1]);
-  function seekWhenLoaded() {
-    var animator = (typeof viewer !== "undefined") ? viewer.animator : null;
-    if (!animator || animator.actions.length === 0) { window.setTimeout(seekWhenLoaded, 20); return; }
-    animator.pause();
-    animator.seek(seconds);
+  var handle = viewer.handle_command.bind(viewer);
+  var animation = null;
+  function seek() {
+    viewer.animator.pause();
+    viewer.animator.seek(seconds);
     document.title = "pasibot t=" + seconds;
   }
-  seekWhenLoaded();
+  viewer.handle_command = function (command) {
+    if (command.type === "set_animation") {
+      animation = JSON.stringify(command);
+      handle(command);
+      seek();
+      return;
+    }
+    handle(command);
+    if (animation !== null) {
+      // A static pose arrived after the animation: three.js writes a keyframe value only when it
+      // changes, so rebuild the animation (a fresh mixer) and seek again.
+      handle(JSON.parse(animation));
+      seek();
+    }
+  };
 })();
 </script>
 """
+
+
+_COMMAND = re.compile(
+    r'fetch\("data:application/octet-binary;base64,(?P<data>[A-Za-z0-9+/=]+)"\)\s*'
+    r"\.then\(res => res\.arrayBuffer\(\)\)\s*"
+    r"\.then\(buffer => viewer\.handle_command_bytearray\(new Uint8Array\(buffer\)\)\);"
+)
+
+
+def _animation_last(html: str) -> str:
+    """Move the ``set_animation`` command(s) of a meshcat static page after every other command."""
+    import umsgpack
+
+    commands = list(_COMMAND.finditer(html))
+    if not commands:
+        raise RuntimeError("no meshcat commands found in static_html()")
+    moved = [m for m in commands if umsgpack.unpackb(base64.b64decode(m["data"]))["type"] == "set_animation"]
+    if not moved:
+        return html
+    end = commands[-1].end()
+    kept = html[:end]
+    for m in reversed(moved):
+        kept = kept[: m.start()] + kept[m.end() :]
+    return kept + "\n" + "\n".join(m.group(0) for m in moved) + html[end:]
 
 
 def _rgba(colour: str) -> np.ndarray:
@@ -205,6 +245,22 @@ def coloured_visual_model(robot) -> pin.GeometryModel:
     return visual
 
 
+def sole_depth(robot) -> float:
+    """How far the foot visuals reach below their sole plane (the foot frame's z = 0) [m]."""
+    depth = 0.0
+    for obj in robot.visual_model.geometryObjects:
+        if not robot.model.frames[obj.parentFrame].name.endswith("_foot"):
+            continue
+        half = getattr(obj.geometry, "halfSide", None)
+        if half is None:
+            continue
+        corners = np.array([[sx, sy, sz] for sx in (-1, 1) for sy in (-1, 1) for sz in (-1, 1)]) * half
+        in_foot = robot.model.frames[obj.parentFrame].placement.inverse() * obj.placement  # placement: joint frame
+        z = (corners @ in_foot.rotation.T + in_foot.translation)[:, 2]
+        depth = max(depth, -float(z.min()))
+    return depth
+
+
 def frame_paths(robot, qs: np.ndarray, frames: Sequence[str]) -> dict[str, np.ndarray]:
     """World positions of ``frames`` over a trajectory: ``{frame: (N, 3)}`` [m]."""
     qs = _check_trajectory(robot, qs)
@@ -280,6 +336,39 @@ class ForceTrack:
             raise ValueError("ForceTrack: parameters 'points' and 'forces' must be finite")
         if not (math.isfinite(self.scale) and self.scale > 0):
             raise ValueError(f"ForceTrack: parameter 'scale' must be a positive [m/N], got {self.scale}")
+
+
+def quasi_static_ground_reaction(robot, qs: np.ndarray, stance: Sequence[str], scale: float = 5e-4) -> ForceTrack:
+    """The ground's total force on the robot when it walks slowly (omega -> 0), per frame.
+
+    With negligible accelerations the only external forces are gravity and the ground, so the
+    ground pushes up with the whole weight, along the vertical through the centre of mass
+    (the centre of pressure lies below the COM). The arrow starts on the ground (z = 0) below
+    the COM, in the stance leg's plane.
+
+    Args:
+        robot: a two-legged robot.
+        qs: configurations (N, nq).
+        stance: the stance side at each frame (``'right'`` / ``'left'``), e.g. ``walk.stance``.
+        scale: arrow length per newton [m/N].
+
+    Returns:
+        A :class:`ForceTrack` with forces (0, 0, m g) [N].
+
+    """
+    qs = _check_trajectory(robot, qs)
+    if len(stance) != len(qs) or any(s not in ("right", "left") for s in stance):
+        raise ValueError("parameter 'stance' must give 'right' or 'left' for every frame")
+    data = robot.model.createData()
+    mass = sum(inertia.mass for inertia in robot.model.inertias)
+    weight = mass * float(np.linalg.norm(robot.model.gravity.linear))
+    points = np.zeros((len(qs), 3))
+    for k, q in enumerate(qs):
+        com = pin.centerOfMass(robot.model, data, q)
+        pin.framesForwardKinematics(robot.model, data, q)
+        points[k] = [com[0], data.oMf[robot.frame_id(f"{stance[k]}_foot")].translation[1], 0.0]
+    forces = np.tile([0.0, 0.0, weight], (len(qs), 1))
+    return ForceTrack(points, forces, scale)
 
 
 # --------------------------------------------------------------------------- viewer
@@ -364,8 +453,17 @@ class WalkViewer:
 
     # ---- static scene
 
-    def add_ground(self, x_range: tuple[float, float], width: float = 0.6) -> None:
-        """A ground slab spanning ``x_range`` [m] and ``width`` across [m]; its top face is z = 0."""
+    def add_ground(self, x_range: tuple[float, float], width: float = 0.6, top: float | None = None) -> None:
+        """A ground slab spanning ``x_range`` [m] and ``width`` across [m].
+
+        Args:
+            x_range: (start, end) of the slab along x [m].
+            width: extent across (y) [m].
+            top: height of its top face [m]; default :func:`sole_depth` below z = 0: the
+                URDF's foot box hangs below the sole (the contact plane z = 0), so the slab
+                sits under it instead of hiding the stance foot.
+
+        """
         import meshcat.geometry as mg
 
         x0, x1 = float(x_range[0]), float(x_range[1])
@@ -373,11 +471,12 @@ class WalkViewer:
             raise ValueError(f"parameter 'x_range' must be an increasing pair of finite x [m], got {x_range!r}")
         if not width > 0:
             raise ValueError(f"parameter 'width' must be > 0 m, got {width!r}")
+        top = -sole_depth(self.robot) if top is None else float(top)
         node = self.meshcat[f"{ROOT}/ground"]
         material = mg.MeshLambertMaterial(color=_hex_int(GROUND_COLOUR))
         node.set_object(mg.Box([x1 - x0, width, GROUND_THICKNESS]), material)
         T = np.eye(4)
-        T[:3, 3] = [(x0 + x1) / 2, 0.0, -GROUND_THICKNESS / 2]
+        T[:3, 3] = [(x0 + x1) / 2, 0.0, top - GROUND_THICKNESS / 2]
         node.set_transform(T)
 
     def add_path(self, name: str, points: np.ndarray, colour: str) -> None:
@@ -412,7 +511,8 @@ class WalkViewer:
         def along_x(geometry, centre):
             T = y_to_x.copy()
             T[0, 3] = centre
-            return type("AlongX", (type(geometry),), {"intrinsic_transform": lambda self: T})
+            # meshcat writes this matrix row by row; three.js reads it column by column.
+            return type("AlongX", (type(geometry),), {"intrinsic_transform": lambda self: T.T})
 
         shaft = mg.Cylinder(0.8, radius)
         shaft.__class__ = along_x(shaft, 0.4)
@@ -505,8 +605,13 @@ class WalkViewer:
         return anim
 
     def static_html(self) -> str:
-        """The whole scene, with its animation, as one self-contained HTML page (plus the ``#t=`` seek)."""
-        html = self.meshcat.static_html()
+        """The whole scene, with its animation, as one self-contained HTML page.
+
+        meshcat's page replays the scene tree's commands in tree order, and the animation sits
+        on the root node, so it would come first and the nodes' static poses after it. The
+        animation command is moved to the end here, and the ``#t=`` seek script is added.
+        """
+        html = _animation_last(self.meshcat.static_html())
         marker = "</body>"
         at = html.rfind(marker)
         if at < 0:
@@ -599,6 +704,7 @@ def export_html(
     force: bool = False,
     show_robot: bool = True,
     forces: Mapping[str, ForceTrack] | None = None,
+    ground_reaction: bool = False,
     zmq_url: str | None = None,
 ) -> Export:
     """Write one self-contained HTML file with the walk animated in meshcat.
@@ -613,6 +719,8 @@ def export_html(
         force: overwrite an existing file.
         show_robot: ``False`` hides the robot (ground and paths only; a reference picture).
         forces: optional force arrows, one :class:`ForceTrack` per name, one row per frame.
+        ground_reaction: add the quasi-static ground reaction arrow
+            (:func:`quasi_static_ground_reaction`, 0.5 mm per N).
         zmq_url: reuse a running meshcat server instead of starting one.
 
     Returns:
@@ -634,6 +742,8 @@ def export_html(
 
         robot = load(variant, legs=2)
     walk = walk_trajectory(robot, steps=steps, samples_per_step=samples_per_step)
+    if ground_reaction:
+        forces = {**(forces or {}), "ground": quasi_static_ground_reaction(robot, walk.q, walk.stance)}
     viewer = WalkViewer(robot, zmq_url=zmq_url)
     try:
         paths = build_walk_scene(viewer, walk.q, fps, forces)

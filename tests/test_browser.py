@@ -41,7 +41,7 @@ FLAGS = [
     "--hide-scrollbars",
     f"--window-size={WIDTH},{HEIGHT}",
 ]
-T_EARLY, T_LATE = 0.2, 1.6  # [s], within one play of the 2 s walk
+T_EARLY, T_MID, T_LATE = 0.2, 0.9, 1.6  # [s], within one play of the 2 s walk
 CHANGED = 40  # a pixel "differs" when a channel moves by more than this (of 255)
 
 
@@ -84,6 +84,7 @@ def shots(tmp_path_factory):
     shutil.copy(with_robot.path, ARTIFACTS / "walk.html")
     jobs = {
         "robot_early": (with_robot.path, f"#t={T_EARLY}", 3000),
+        "robot_mid": (with_robot.path, f"#t={T_MID}", 3000),
         "robot_late": (with_robot.path, f"#t={T_LATE}", 3000),
         "empty_early": (without.path, f"#t={T_EARLY}", 3000),
         "empty_late": (without.path, f"#t={T_LATE}", 3000),
@@ -138,6 +139,24 @@ def test_the_robot_walks_forward_between_the_two_times(shots):
     hip_advance = np.interp([T_EARLY, T_LATE], np.arange(len(export.q)) / export.fps, export.q[:, 0])
     assert hip_advance[1] - hip_advance[0] > 0.3
     assert shift_px > 40, f"the robot moved {shift_px:.0f} px, expected it to the right"
+
+
+def test_the_seek_lands_at_the_requested_time(shots):
+    """The robot's place on screen follows the hip's x at the three requested times.
+
+    The hip block is most of the robot's pixels, and the camera looks square at the walking
+    plane, so the median column of the robot's pixels moves in proportion to the hip's x.
+    """
+    images, export = shots
+    times = (T_EARLY, T_MID, T_LATE)
+    hip_x = np.interp(times, np.arange(len(export.q)) / export.fps, export.q[:, 0])
+    column = []
+    for name in ("robot_early", "robot_mid", "robot_late"):
+        mask = changed(images[name], images["empty_early"])
+        column.append(np.median(np.flatnonzero(mask) % WIDTH))
+    expected = (hip_x[1] - hip_x[0]) / (hip_x[2] - hip_x[0])
+    seen = (column[1] - column[0]) / (column[2] - column[0])
+    assert seen == pytest.approx(expected, abs=0.08), (column, hip_x)
 
 
 def test_the_page_plays_by_itself(shots):

@@ -217,6 +217,43 @@ def test_html_is_self_contained_with_group_colours_paths_and_ground(robot, expor
         assert line["object"]["type"] == "Line"
 
 
+def test_animation_is_replayed_after_the_static_poses(exported):
+    """meshcat stores the animation on the root node (replayed first); the export moves it last."""
+    _, html = exported
+    types = [c["type"] for c in decode_commands(html)]
+    assert types.count("set_animation") == 1
+    assert types[-1] == "set_animation"
+    assert "set_transform" in types[:-1]
+
+
+def test_ground_slab_sits_under_the_foot_boxes(robot, exported, L):
+    """The URDF's foot box (0.1 L thick) hangs below the sole; the slab's top is there."""
+    _, html = exported
+    assert viewer.sole_depth(robot) == pytest.approx(0.1 * L, abs=1e-12)
+    transforms = {c["path"]: c["matrix"] for c in decode_commands(html) if c["type"] == "set_transform"}
+    ground = np.array(transforms[f"/meshcat/{viewer.ROOT}/ground"]).reshape(4, 4).T  # column-major
+    assert ground[2, 3] + viewer.GROUND_THICKNESS / 2 == pytest.approx(-0.1 * L, abs=1e-7)
+
+
+def test_quasi_static_ground_reaction_is_the_weight_below_the_com(robot, exported):
+    export, _ = exported
+    walk = export.walk
+    track = viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance)
+    model = robot.model
+    data = model.createData()
+    assert np.linalg.norm(model.gravity.linear) == pytest.approx(9.81)
+    for k in (0, 7, 15, 20):
+        pin.forwardKinematics(model, data, walk.q[k])
+        masses = np.array([model.inertias[i].mass for i in range(model.njoints)])
+        coms = np.array([data.oMi[i].act(model.inertias[i].lever) for i in range(model.njoints)])
+        np.testing.assert_allclose(track.forces[k], [0.0, 0.0, 9.81 * masses.sum()], rtol=1e-12)
+        assert track.points[k][0] == pytest.approx(masses @ coms[:, 0] / masses.sum(), abs=1e-12)
+        assert track.points[k][2] == 0.0
+        assert track.points[k][1] == pytest.approx(-0.1 if walk.stance[k] == "right" else 0.1, abs=1e-9)
+    with pytest.raises(ValueError, match="stance"):
+        viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance[:-1])
+
+
 def test_foot_paths_follow_the_ankles(robot, exported):
     export, _ = exported
     right = export.walk.positions("right_foot")
@@ -244,6 +281,15 @@ def test_export_rejects_bad_input(robot, tmp_path):
     with pytest.raises(ValueError, match="out"):
         viewer.export_html(tmp_path / "a.txt", robot)
     assert not list(tmp_path.iterdir())
+
+
+def test_export_html_cli_with_ground_reaction(tmp_path, capsys):
+    out = tmp_path / "g.html"
+    assert main(["export-html", "--out", str(out), "--steps", "1", "--samples-per-step", "4", "--ground-reaction"]) == 0
+    assert "5 frames at 30 fps" in capsys.readouterr().out
+    paths = {entry["path"] for c in decode_commands(out.read_text()) if c["type"] == "set_animation"
+             for entry in c["animations"]}
+    assert f"/meshcat/{viewer.ROOT}/forces/ground" in paths
 
 
 # --------------------------------------------------------------------------- forces, live play, CLI
