@@ -25,6 +25,9 @@ from PIL import Image
 
 from pasibot_pin import viewer
 
+# meshcat imports pyzmq's deprecated eventloop module; not ours to fix.
+pytestmark = pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")
+
 ARTIFACTS = Path(__file__).resolve().parent / "artifacts" / "browser"
 WIDTH, HEIGHT = 800, 600
 FLAGS = [

@@ -21,6 +21,9 @@ from pasibot_pin import closure, viewer
 from pasibot_pin.__main__ import main
 from pasibot_pin.plots import GROUP_COLOURS, link_group
 
+# meshcat imports pyzmq's deprecated eventloop module; not ours to fix.
+pytestmark = pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")
+
 LOOPBACK_HEX = "0100007F"  # 127.0.0.1 as /proc/net/tcp prints it (little-endian)
 
 
