@@ -519,9 +519,11 @@ def inverse_dynamics(
     for k, theta in enumerate(thetas):
         side = stance_side(theta) if stance == "auto" else stance
         if side != current:
-            if q_prev is not None:  # the landing foot becomes the stance foot where it is
-                pin.framesForwardKinematics(model, robot.data, q_prev)
-                stance_x = float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
+            if q_prev is not None:  # the landing foot becomes the stance foot where it lands
+                switch = math.pi / 2 + math.pi * math.floor((theta - math.pi / 2) / math.pi)
+                q_land = rows.solve(q_prev, [switch, switch + math.pi, 0.0, 0.0])
+                pin.framesForwardKinematics(model, rs.data, q_land)
+                stance_x = float(rs.data.oMf[rs.frame_id(f"{side}_foot")].translation[0])
             q_start = closure.assemble(robot, float(theta), stance=side, ankle_x=stance_x)
             rs = robot.with_stance(side, q_start)
             prescribed = _prescriptions(rs, side, swing_foot)
