@@ -49,6 +49,7 @@ PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad", "hip": "#
 
 GROUND_COLOUR = "#cfc8b8"
 FORCE_COLOUR = "#e6007e"
+CUT_FORCE_COLOUR = "#ffd400"
 
 GROUND_THICKNESS = 0.01
 """Thickness of the ground slab [m]."""
@@ -369,6 +370,57 @@ def quasi_static_ground_reaction(robot, qs: np.ndarray, stance: Sequence[str], s
         points[k] = [com[0], data.oMf[robot.frame_id(f"{stance[k]}_foot")].translation[1], 0.0]
     forces = np.tile([0.0, 0.0, weight], (len(qs), 1))
     return ForceTrack(points, forces, scale)
+
+
+def reaction_forces(
+    robot, walk, omega: float = 0.0, ground_scale: float = 5e-4, cut_scale: float | None = None
+) -> dict[str, ForceTrack]:
+    """Ground reaction and cut-joint forces along a walk, from :func:`pasibot_pin.dynamics.inverse_dynamics`.
+
+    The ground's in-plane wrench on the stance foot (Fx, Fz and the moment about the ankle)
+    is drawn as one force through the centre of pressure, on the ground. Each cut joint's
+    force on the first link of its pair is drawn at the joint.
+
+    Args:
+        robot: the two-legged ``spring`` robot.
+        walk: a :class:`pasibot_pin.gait.Walk` of that robot (flat feet).
+        omega: crank speed [rad/s]; 0 = quasi-static.
+        ground_scale: arrow length per newton of the ground reaction [m/N].
+        cut_scale: arrow length per newton of the cut forces [m/N]; default: the largest
+            cut force is drawn 0.15 m long.
+
+    Returns:
+        ``{'ground': ..., 'stance_j2': ..., 'swing_j5': ...}`` :class:`ForceTrack` objects.
+
+    """
+    from . import dynamics
+
+    res = dynamics.inverse_dynamics(robot, walk.theta, omega)
+    data = robot.model.createData()
+    n = len(walk.q)
+    ground_points, ground_forces = np.zeros((n, 3)), np.zeros((n, 3))
+    cut_points = {name: np.zeros((n, 3)) for name in res.cuts}
+    for k, q in enumerate(walk.q):
+        pin.framesForwardKinematics(robot.model, data, q)
+        side = res.stance[k]
+        fx, fz, moment = res.ground[k]
+        if not abs(fz) > 1e-9:
+            raise ValueError(f"no vertical ground reaction at frame {k}: the centre of pressure is undefined")
+        ankle = data.oMf[robot.frame_id(f"{side}_foot")].translation
+        ground_points[k] = [ankle[0] + moment / fz, ankle[1], 0.0]
+        ground_forces[k] = [fx, 0.0, fz]
+        for name in res.cuts:
+            role, joint = name.split("_", 1)
+            leg = side if role == "stance" else ("left" if side == "right" else "right")
+            cut_points[name][k] = data.oMf[robot.frame_id(f"{leg}_loop_{joint}_a")].translation
+    tracks = {"ground": ForceTrack(ground_points, ground_forces, ground_scale)}
+    largest = max(float(np.linalg.norm(f, axis=1).max()) for f in res.cuts.values()) if res.cuts else 0.0
+    if cut_scale is None:
+        cut_scale = 0.15 / largest if largest > 0 else 1.0
+    for name, f in res.cuts.items():
+        forces = np.column_stack([f[:, 0], np.zeros(n), f[:, 1]])
+        tracks[name] = ForceTrack(cut_points[name], forces, cut_scale, colour=CUT_FORCE_COLOUR)
+    return tracks
 
 
 # --------------------------------------------------------------------------- viewer
@@ -705,6 +757,7 @@ def export_html(
     show_robot: bool = True,
     forces: Mapping[str, ForceTrack] | None = None,
     ground_reaction: bool = False,
+    reactions: float | None = None,
     zmq_url: str | None = None,
 ) -> Export:
     """Write one self-contained HTML file with the walk animated in meshcat.
@@ -721,6 +774,8 @@ def export_html(
         forces: optional force arrows, one :class:`ForceTrack` per name, one row per frame.
         ground_reaction: add the quasi-static ground reaction arrow
             (:func:`quasi_static_ground_reaction`, 0.5 mm per N).
+        reactions: crank speed [rad/s] at which to draw the ground reaction and the cut-joint
+            forces of :func:`reaction_forces` (``spring`` only); ``None``: none.
         zmq_url: reuse a running meshcat server instead of starting one.
 
     Returns:
@@ -744,6 +799,8 @@ def export_html(
     walk = walk_trajectory(robot, steps=steps, samples_per_step=samples_per_step)
     if ground_reaction:
         forces = {**(forces or {}), "ground": quasi_static_ground_reaction(robot, walk.q, walk.stance)}
+    if reactions is not None:
+        forces = {**(forces or {}), **reaction_forces(robot, walk, omega=reactions)}
     viewer = WalkViewer(robot, zmq_url=zmq_url)
     try:
         paths = build_walk_scene(viewer, walk.q, fps, forces)

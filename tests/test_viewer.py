@@ -257,6 +257,39 @@ def test_quasi_static_ground_reaction_is_the_weight_below_the_com(robot, exporte
         viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance[:-1])
 
 
+def test_dynamics_ground_reaction_agrees_with_the_weight_below_the_com(robot, exported):
+    """Two independent routes at omega = 0: constrained inverse dynamics vs the COM."""
+    from pasibot_pin import dynamics
+
+    walk = exported[0].walk
+    tracks = viewer.reaction_forces(robot, walk, omega=0.0)
+    simple = viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance)
+    np.testing.assert_allclose(tracks["ground"].forces, simple.forces, atol=1e-9)
+    np.testing.assert_allclose(tracks["ground"].points[:, [0, 2]], simple.points[:, [0, 2]], atol=1e-9)
+    same_stance = [k for k in range(walk.n) if dynamics.stance_side(walk.theta[k]) == walk.stance[k]]
+    assert len(same_stance) >= walk.n - 1
+    np.testing.assert_allclose(tracks["ground"].points[same_stance], simple.points[same_stance], atol=1e-9)
+
+
+def test_cut_force_arrows_sit_on_the_cut_joints(robot, exported):
+    walk = exported[0].walk
+    tracks = viewer.reaction_forces(robot, walk, omega=np.pi)
+    cuts = {name: t for name, t in tracks.items() if name != "ground"}
+    assert set(cuts) == {f"{role}_j{j}" for role in ("stance", "swing") for j in (2, 5, 7)}
+    longest = max(np.linalg.norm(t.forces, axis=1).max() * t.scale for t in cuts.values())
+    assert longest == pytest.approx(0.15)
+    data = robot.model.createData()
+    for k in (0, 12):
+        pin.framesForwardKinematics(robot.model, data, walk.q[k])
+        swing = "left" if walk.stance[k] == "right" else "right"
+        for name, track in cuts.items():
+            role, joint = name.split("_", 1)
+            leg = walk.stance[k] if role == "stance" else swing
+            b = data.oMf[robot.frame_id(f"{leg}_loop_{joint}_b")].translation
+            np.testing.assert_allclose(track.points[k], b, atol=1e-9)  # the cut joint, from either side
+            assert track.forces[k][1] == 0.0 and np.linalg.norm(track.forces[k]) > 1.0
+
+
 def test_foot_paths_follow_the_ankles(robot, exported):
     export, _ = exported
     right = export.walk.positions("right_foot")

@@ -29,6 +29,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--ground-reaction", action="store_true", help="draw the quasi-static ground reaction (0.5 mm per N)"
     )
+    p.add_argument(
+        "--reactions",
+        type=float,
+        default=None,
+        metavar="OMEGA",
+        help="draw the ground reaction and cut-joint forces at crank speed OMEGA [rad/s] (spring variant)",
+    )
     p.add_argument("--force", action="store_true", help="overwrite an existing file")
     p.set_defaults(func=run)
 
@@ -45,6 +52,7 @@ def run(args: argparse.Namespace) -> int:
         fps=args.fps,
         force=args.force,
         ground_reaction=args.ground_reaction,
+        reactions=args.reactions,
     )
     size = export.path.stat().st_size / 1e6
     print(
@@ -56,6 +64,8 @@ def run(args: argparse.Namespace) -> int:
 
 def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
     """``pasibot analyze`` step: ``gait.html`` (3-D, meshcat) and ``gait.gif`` (2-D stick figure)."""
+    import math
+
     import numpy as np
 
     from ..animation import save_gif
@@ -65,8 +75,9 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
 
     variant, steps, samples, fps = "spring", 2, 30, 30.0
     robot = load(variant, legs=2)
+    omega = math.pi * fps / samples  # the crank speed at which the animation plays [rad/s]
     export = export_html(
-        out_dir / "gait.html", robot, steps=steps, samples_per_step=samples, fps=fps, force=True, ground_reaction=True
+        out_dir / "gait.html", robot, steps=steps, samples_per_step=samples, fps=fps, force=True, reactions=omega
     )
     gif_samples = 12
     gif_qs = export.q[:: samples // gif_samples]
@@ -79,8 +90,10 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
             f"The {variant} biped walks {steps} steps (one step per half crank turn; the stance foot is welded flat).",
             f"[gait.html](gait.html) is one self-contained page (meshcat, {len(export.q)} frames at {fps:g} fps,"
             " looping; open it in any browser, add `#t=1.0` to the address to pause at 1 s).",
-            f"Largest loop-closure residual over the exported frames: {worst:.1e} m. The magenta arrow is the"
-            " quasi-static ground reaction (the weight, through the centre of pressure below the COM; 0.5 mm/N).",
+            f"Largest loop-closure residual over the exported frames: {worst:.1e} m.",
+            f"Arrows (from the constrained inverse dynamics at the playback crank speed {omega:.3f} rad/s):"
+            " magenta, the ground reaction through the centre of pressure (0.5 mm/N); yellow, the force"
+            " on the first link of each cut joint (the largest drawn 0.15 m long).",
             "",
             f"![2-D stick animation, {len(gif_qs)} frames](gait.gif)",
         ]
