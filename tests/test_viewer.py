@@ -368,6 +368,33 @@ def test_view_command_plays_once_and_exits():
     assert "playing 1 steps (5 frames" in proc.stdout
 
 
+def test_view_command_with_reactions_live(capsys):
+    args = ["view", "--steps", "1", "--samples-per-step", "3", "--fps", "60", "--reactions", "1.0"]
+    assert main(args) == 0
+    assert "viewer: http://127.0.0.1:" in capsys.readouterr().out
+
+
+def test_analyze_step_writes_gait_html_and_gif(tmp_path):
+    from PIL import Image
+
+    from pasibot_pin.commands.analyze import STEPS
+
+    step = dict(STEPS)["animation"]
+    section = step(tmp_path, None)
+    assert (tmp_path / "gait.html").stat().st_size > 500_000
+    with Image.open(tmp_path / "gait.gif") as gif:
+        assert gif.n_frames == 2 * 30 // 2 + 1  # 2 steps of 30 samples, every other one
+        assert gif.info["duration"] == pytest.approx(1000 / 15, abs=10)  # 15 fps: the HTML's 30 fps speed
+    assert "(gait.html)" in section and "(gait.gif)" in section
+    forces = {
+        entry["path"]
+        for c in decode_commands((tmp_path / "gait.html").read_text())
+        if c["type"] == "set_animation"
+        for entry in c["animations"]
+    }
+    assert f"/meshcat/{viewer.ROOT}/forces/ground" in forces
+
+
 def test_view_rejects_bad_options(capsys):
     assert main(["view", "--repeat", "0"]) == 2
     assert "--repeat" in capsys.readouterr().err

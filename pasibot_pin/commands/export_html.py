@@ -79,9 +79,9 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
     export = export_html(
         out_dir / "gait.html", robot, steps=steps, samples_per_step=samples, fps=fps, force=True, reactions=omega
     )
-    gif_samples = 12
-    gif_qs = export.q[:: samples // gif_samples]
-    save_gif(robot, gif_qs, out_dir / "gait.gif", fps=gif_samples, force=True)
+    stride = 2  # every other frame: 15 GIF frames per step, played at the same speed as the HTML
+    gif_qs = export.q[::stride]
+    save_gif(robot, gif_qs, out_dir / "gait.gif", fps=fps / stride, force=True)
     worst = max(float(np.abs(constraint_residual(robot, q, robot.loop_constraints)).max()) for q in export.q)
     return "\n".join(
         [

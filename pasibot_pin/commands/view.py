@@ -23,6 +23,13 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--hold", type=float, default=0.0, help="seconds to serve after the last play (default 0; -1: until Ctrl-C)"
     )
+    p.add_argument(
+        "--reactions",
+        type=float,
+        default=None,
+        metavar="OMEGA",
+        help="draw the ground reaction and cut-joint forces at crank speed OMEGA [rad/s] (spring variant)",
+    )
     p.add_argument("--zmq-url", default=None, help="reuse a running meshcat-server (e.g. tcp://127.0.0.1:6000)")
     p.set_defaults(func=run)
 
@@ -30,7 +37,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Start the viewer, play the walk live, hold, exit."""
     from ..robot import load
-    from ..viewer import WalkViewer, build_walk_scene, walk_trajectory
+    from ..viewer import WalkViewer, build_walk_scene, reaction_forces, walk_trajectory
 
     if args.repeat < 1:
         raise ValueError(f"--repeat must be >= 1, got {args.repeat}")
@@ -38,9 +45,11 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--hold must be >= 0 s or -1 (until Ctrl-C), got {args.hold}")
     robot = load(args.variant, legs=2)
     walk = walk_trajectory(robot, steps=args.steps, samples_per_step=args.samples_per_step)
+    forces = None if args.reactions is None else reaction_forces(robot, walk, omega=args.reactions)
     viewer = WalkViewer(robot, zmq_url=args.zmq_url, open=args.open)
     try:
-        build_walk_scene(viewer, walk.q, args.fps, play=False, repetitions=1)  # animation: scrub it in the GUI
+        # the walk is also stored as an animation, paused: scrub it in the viewer's controls
+        build_walk_scene(viewer, walk.q, args.fps, forces=forces, play=False, repetitions=1)
         print(f"viewer: {viewer.url}", flush=True)
         if args.open:
             time.sleep(2.0)  # let the page connect before the first frame
