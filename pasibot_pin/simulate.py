@@ -875,6 +875,11 @@ SPRING_CASES: tuple[tuple[str, float], ...] = (
 )
 """The stiffness cases of the study: label and factor on the fitted K_e."""
 
+SWEEP_FACTORS: tuple[float, ...] = (0.8, 1.0, 1.25, 1.5, 2.0, 2.5, 3.0, 4.0)
+"""Default sweep of K_e, as factors on the fitted stiffness."""
+SWEEP_OFFSETS_DEG: tuple[float, ...] = (-6.0, -3.0, 0.0, 3.0, 6.0)
+"""Default sweep of beta0, as offsets from the fitted rest angle [deg]."""
+
 
 def default_dt(swing_ankle: str) -> float:
     """Integration step [s]: 10 ms with the swing foot at rest angle, 2 ms with its 100 Hz spring mode."""
@@ -948,9 +953,9 @@ def spring_study(
         steps: stance phases to walk per run.
         swing_ankle: ``rest`` or ``spring`` (see :class:`SimulationSettings`).
         dt: integration step [s] (default :func:`default_dt`).
-        sweep_stiffness: K_e grid [N.m/rad] (default 0.6 to 1.6 times the fit, 6 values);
+        sweep_stiffness: K_e grid [N.m/rad] (default :data:`SWEEP_FACTORS` times the fit);
             empty: no sweep.
-        sweep_rest: beta0 grid [rad] (default the fit +-8 deg, 5 values).
+        sweep_rest: beta0 grid [rad] (default the fit + :data:`SWEEP_OFFSETS_DEG`).
         sweep_method: ``dynamic`` (a walk per pair) or ``static`` (the equilibrium path,
             omega -> 0); default static for omega <= 0.1 rad/s, dynamic above.
         static_samples: crank angles over one stance for the static paths.
@@ -979,8 +984,8 @@ def spring_study(
             study.excursion[label] = _run_excursion(res)
         else:
             study.excursion[label] = study.statics[label].max_excursion
-    ks = fitted.stiffness * np.linspace(0.6, 1.6, 6) if sweep_stiffness is None else np.asarray(sweep_stiffness)
-    bs = fitted.rest_angle + np.radians(np.linspace(-8, 8, 5)) if sweep_rest is None else np.asarray(sweep_rest)
+    ks = fitted.stiffness * np.array(SWEEP_FACTORS) if sweep_stiffness is None else np.asarray(sweep_stiffness)
+    bs = fitted.rest_angle + np.radians(SWEEP_OFFSETS_DEG) if sweep_rest is None else np.asarray(sweep_rest)
     if len(ks) and len(bs):
         method = sweep_method or ("static" if omega <= 0.1 else "dynamic")
         if method not in ("static", "dynamic"):
@@ -1007,3 +1012,58 @@ def spring_study(
             i, j = np.unravel_index(int(np.argmin(grid)), grid.shape)
             study.best = (float(ks[j]), float(bs[i]))
     return study
+
+
+# --------------------------------------------------------------------------- the seed's scenarios
+@dataclass
+class ScenarioInputs:
+    """What a simulation of a seed scenario needs, from the inverse dynamics.
+
+    Attributes:
+        name: scenario key (``quasi-static``, ``run1`` ... ``run4``).
+        omega: crank rate [rad/s].
+        robot: the scenario's robot (its body mass and COM).
+        fit: the inverse-dynamics spring (K_e, beta0) with the foot's critical damping.
+        spring_fit: the full fit (:class:`pasibot_pin.spring.SpringFit`: R^2, residuals).
+
+    """
+
+    name: str
+    omega: float
+    robot: object
+    fit: AnkleSpring
+    spring_fit: object
+
+
+def scenario_key(name: str) -> str:
+    """``1`` -> ``run1``; ``quasi-static`` and ``runN`` unchanged (ValueError for unknown ones)."""
+    from .scenarios import SCENARIOS
+
+    key = str(name)
+    if key not in SCENARIOS and f"run{key}" in SCENARIOS:
+        key = f"run{key}"
+    if key not in SCENARIOS:
+        raise ValueError(f"unknown scenario {name!r}; valid: {', '.join(SCENARIOS)} (or 1..4)")
+    return key
+
+
+def scenario_inputs(name: str, preset: str = "default", damping: float | None = None) -> ScenarioInputs:
+    """Robot, crank rate and fitted spring of a seed scenario (inverse dynamics of :mod:`pasibot_pin.dynamics`).
+
+    Args:
+        name: ``quasi-static``, ``run1`` .. ``run4`` (or ``1`` .. ``4``).
+        preset: modelling choices of the inverse dynamics (``default``, ``seed``, ``seed-clean``).
+        damping: ankle damping [N.m.s/rad] (default :func:`critical_foot_damping` of the fit).
+
+    """
+    from .dynamics import run_scenario, scenario_robot
+    from .scenarios import get_preset, get_scenario
+    from .spring import fit_result
+
+    key = scenario_key(name)
+    scenario, choices = get_scenario(key), get_preset(preset)
+    result = run_scenario(scenario, choices)
+    fit = fit_result(result, choices.fit_thetas, warn=False)
+    robot = scenario_robot(scenario, choices)
+    c = critical_foot_damping(robot, fit.K_e) if damping is None else damping
+    return ScenarioInputs(key, scenario.omega, robot, AnkleSpring(fit.K_e, fit.beta0, c), fit)

@@ -16,7 +16,7 @@ import pytest
 import scipy.linalg as sl
 
 from pasibot_pin import constraints
-from pasibot_pin.closure import hip_pitch, joint_coordinate, solve_configuration
+from pasibot_pin.closure import assemble, hip_pitch, joint_coordinate, solve_configuration
 from pasibot_pin.simulate import (
     AnkleSpring,
     BipedSimulator,
@@ -285,3 +285,113 @@ def test_static_equilibrium_stands_still_and_its_stability_sign_is_right(spring2
             assert away < 1.5e-3, "a stable equilibrium keeps a small nudge small"
         else:
             assert away > 1e-2, "with no spring the nudge grows: the robot falls"
+
+
+# --------------------------------------------------------------------------- with the inverse dynamics
+def test_static_stability_margin_is_spring_minus_gravity_moment_of_height(spring2):
+    """Rigid rotation about the stance ankle: d2V/dpitch2 = K_e - g sum m_i (z_i - z_ankle)."""
+    robot = spring2
+    theta = 3.3
+    spring = AnkleSpring(400.0, math.radians(72.0))
+    eq = static_equilibrium(robot, spring, [theta])
+    assert eq.found[0]
+    q = assemble(robot, theta, hip_pitch_value=float(eq.hip_pitch[0]))
+    q[robot.idx_q("left_j13_ankle")] = math.pi / 2 - spring.rest_angle
+    model, data = robot.model, robot.data
+    com = pin.centerOfMass(model, data, q)
+    total = sum(model.inertias[j].mass for j in range(1, model.njoints))
+    foot = model.getJointId("right_j13_ankle")
+    m_foot = model.inertias[foot].mass
+    foot_com = data.oMi[foot].act(model.inertias[foot].lever)
+    pin.framesForwardKinematics(model, data, q)
+    z_ankle = data.oMf[robot.frame_id("right_foot")].translation[2]
+    gravity_stiffness = G * (total * com[2] - m_foot * foot_com[2] - (total - m_foot) * z_ankle)
+    assert 250.0 < gravity_stiffness < 350.0
+    assert eq.stiffness[0] == pytest.approx(spring.stiffness - gravity_stiffness, rel=1e-4)
+
+
+def _inverse_feedforward(robot, result, h):
+    """Feed-forward torques of the inverse dynamics on the RK4 stage grid t = k h / 2."""
+    taus = np.zeros((len(result.t), robot.model.nv))
+    taus[:, robot.idx_v("right_j0_crank")] = result.Ta
+    taus[:, robot.idx_v("left_j0_crank")] = result.Ta_swing
+    taus[:, robot.idx_v("right_j13_ankle")] = -result.Te  # T_e acts on beta = pi/2 - q_ankle
+    taus[:, robot.idx_v("left_j13_ankle")] = -result.Te_swing
+
+    def feedforward(t, q, v):
+        k = int(round(t / (h / 2)))
+        assert abs(k * h / 2 - t) < 1e-9, "stage times are on the grid"
+        return taus[k]
+
+    return feedforward
+
+
+def test_forward_of_inverse_dynamics_is_the_identity():
+    """Scenario 4 (omega = 5 rad/s): the inverse-dynamics crank and ankle torques, applied as pure
+    feed-forward (no servo) with the hip pitch held level, reproduce the prescribed walk over one
+    step to 1e-6 rad, and the hip needs no holding torque."""
+    from pasibot_pin.dynamics import inverse_dynamics, scenario_robot
+    from pasibot_pin.scenarios import PRESETS, SCENARIOS
+
+    scenario = SCENARIOS["run4"]
+    robot = scenario_robot(scenario, PRESETS["default"])
+    omega = scenario.omega
+    duration = math.pi / omega  # one step: right stance, theta from pi/2 to 3 pi/2
+    n = 500
+    h = duration / n
+    thetas = math.pi / 2 + omega * (h / 2) * np.arange(2 * n + 1)
+    ideal = inverse_dynamics(robot, thetas, omega, swing_foot="level", stance="right")
+    settings = SimulationSettings(
+        omega=omega,
+        motor="free",
+        hip="level",
+        swing_ankle="spring",
+        spring=None,
+        feedforward=_inverse_feedforward(robot, ideal, h),
+        dt=h,
+    )
+    res = BipedSimulator(robot, settings).run(duration=duration, q0=ideal.q[0], v0=ideal.v[0], stance="right")
+    assert not res.fell and len(res.t) == n + 1
+    assert np.max(np.abs(res.t - ideal.t[::2])) < 1e-12
+    angles = [i for i in range(robot.model.nq) if i not in (0, 1)]  # every coordinate but hip x, z [m]
+    assert np.max(np.abs(res.q[:, angles] - ideal.q[::2, angles])) < 1e-6
+    assert np.max(np.abs(res.q[:, :2] - ideal.q[::2, :2])) < 1e-6  # hip x, z [m]
+    # the cranks turned at omega with no servo, the swing foot stayed level
+    crank = res.q[:, robot.idx_q("right_j0_crank")]
+    assert np.max(np.abs(crank - (math.pi / 2 + omega * res.t))) < 1e-6
+    swing_pitch = [foot_pose(robot, q, "left")[2] for q in res.q[::25]]
+    assert np.max(np.abs(swing_pitch)) < 1e-6
+    # the hip lock carries nothing: T_e holds the hip exactly (a large T_e error would show here)
+    assert np.max(np.abs(ideal.Te)) > 50.0
+    assert np.max(np.abs(res.hip_torque)) < 1e-4
+    # and the motion is not trivial: the free coordinates moved a lot
+    assert np.ptp(res.beta[:, 0]) > math.radians(10.0)
+
+
+def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
+    """Per seed scenario: the no-spring robot passes 60 deg of hip pitch sooner than the fitted one, and
+    up to that moment the fitted spring keeps the hip closer to level. Windows: 4 s of walking at
+    0.1 rad/s (cranks locked for the quasi-static run), four steps at 5 rad/s."""
+    from pasibot_pin.scenarios import SCENARIOS
+    from pasibot_pin.simulate import scenario_inputs, standing_pitch
+
+    for name in SCENARIOS:
+        scen = scenario_inputs(name)
+        runs = {}
+        for label, factor in (("fitted", 1.0), ("none", 0.0)):
+            spring = scen.fit.scaled(factor)
+            settings = SimulationSettings(
+                omega=scen.omega,
+                spring=spring,
+                swing_ankle="rest",
+                dt=0.01 if scen.omega > 1 else 0.02,
+                initial_pitch=standing_pitch(scen.robot, spring, math.pi / 2),
+            )
+            duration = 4 * math.pi / scen.omega if scen.omega > 1 else 4.0
+            runs[label] = simulate(scen.robot, settings, duration=duration)
+        none, fitted = runs["none"], runs["fitted"]
+        assert none.fell, f"{name}: without a spring the robot falls"
+        t_fall = none.t[-1]
+        assert not fitted.fell or fitted.t[-1] > t_fall, name
+        before = fitted.t <= t_fall
+        assert np.max(np.abs(fitted.hip_pitch[before])) < none.max_hip_excursion, name
