@@ -10,4 +10,5 @@ COMMANDS: list[str] = [
     "view",
     "export_html",
     "gait",
+    "simulate",
 ]
