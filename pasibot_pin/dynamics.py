@@ -102,11 +102,12 @@ def check_fit_window(thetas: Sequence[float]) -> np.ndarray:
 
 # --------------------------------------------------------------------------- fast planar rows
 class PlanarRows:
-    """Residuals and Jacobians of the in-plane constraint and prescription rows, from ``data.J``.
+    """Residuals, Jacobians and drifts of the in-plane constraint and prescription rows, vectorised.
 
     Same rows as :mod:`pasibot_pin.closure` (x, z per point; x, z, pitch per weld; one row per
-    prescription), built from one ``computeJointJacobians`` call and masked world-frame joint
-    Jacobians: a point p on joint j moves as J_lin + J_ang x p over the dofs that support j.
+    prescription), built from one ``computeJointJacobians`` (or ``...TimeVariation``) call: a
+    point p fixed on joint j moves with the world-frame joint Jacobian J as J_lin + J_ang x p,
+    over the dofs that support j. The drift (J_dot v) uses ``data.dJ`` and the point's velocity.
     """
 
     def __init__(self, robot: PasibotRobot, cmodels, prescribed: Sequence[Prescribed]):
@@ -122,67 +123,121 @@ class PlanarRows:
                 support[j, jm.idx_v : jm.idx_v + jm.nv] = 1.0
                 jj = model.parents[jj]
         self.support = support
-        self.points = []  # (joint1, t1, R1local, joint2, t2, is_weld, target_pitch)
+        # every constraint point: (joint, local translation, sign); world-fixed ends are constants
+        ends, row_of, fixed = [], [], []
+        weld_rows = []  # (row, joint1, R1 local, target pitch)
+        r = 0
         for cm in self.cmodels:
             weld = cm.type == pin.ContactType.CONTACT_6D
-            p2 = cm.joint2_placement
-            self.points.append(
-                (cm.joint1_id, cm.joint1_placement, cm.joint2_id, p2, weld, planar_pitch(p2.rotation) if weld else 0.0)
-            )
-        self.nc = sum(3 if p[4] else 2 for p in self.points)
-        self.frames = {p.index: model.frames[p.index] for p in self.prescribed if p.kind == "pitch"}
-
-    def _point(self, joint: int, placement: pin.SE3) -> np.ndarray:
-        return self.data.oMi[joint].act(placement.translation)
-
-    def _lin_rows(self, joint: int, p: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        if joint == 0:
-            return None, None
-        jw, m = self.data.J, self.support[joint]
-        row_x = (jw[0] + jw[4] * p[2] - jw[5] * p[1]) * m
-        row_z = (jw[2] + jw[3] * p[1] - jw[4] * p[0]) * m
-        return row_x, row_z
-
-    def evaluate(self, q: np.ndarray, targets: np.ndarray | None = None) -> tuple[np.ndarray, np.ndarray]:
-        """(residual, Jacobian) of [c; s - s*] at q (s* = ``targets``; zeros for None) [m, rad]."""
-        model, data = self.model, self.data
-        pin.computeJointJacobians(model, data, q)
-        nv = model.nv
-        rows = np.zeros((self.nc + len(self.prescribed), nv))
-        res = np.zeros(self.nc + len(self.prescribed))
-        r = 0
-        for j1, pl1, j2, pl2, weld, _target in self.points:
-            p1, p2 = self._point(j1, pl1), self._point(j2, pl2)
-            x1, z1 = self._lin_rows(j1, p1)
-            x2, z2 = self._lin_rows(j2, p2)
-            res[r : r + 2] = (p1[0] - p2[0], p1[2] - p2[2])
-            rows[r] = x1 if x2 is None else x1 - x2
-            rows[r + 1] = z1 if z2 is None else z1 - z2
-            r += 2
+            for joint, placement, sign in (
+                (cm.joint1_id, cm.joint1_placement, 1.0),
+                (cm.joint2_id, cm.joint2_placement, -1.0),
+            ):
+                if joint == 0:
+                    fixed.append((r, sign * placement.translation))
+                else:
+                    ends.append((joint, placement.translation.copy(), sign))
+                    row_of.append(r)
             if weld:
-                rot1 = data.oMi[j1].rotation @ pl1.rotation
-                rot2 = data.oMi[j2].rotation @ pl2.rotation if j2 else pl2.rotation
-                res[r] = math.remainder(planar_pitch(rot1) - planar_pitch(rot2), 2 * math.pi)
-                rows[r] = -data.J[4] * self.support[j1]
-                if j2:
-                    rows[r] += data.J[4] * self.support[j2]
-                r += 1
+                weld_rows.append(
+                    (
+                        r + 2,
+                        cm.joint1_id,
+                        cm.joint1_placement.rotation.copy(),
+                        planar_pitch(cm.joint2_placement.rotation),
+                    )
+                )
+            r += 3 if weld else 2
+        self.nc = r
+        self.end_joints = [e[0] for e in ends]
+        self.end_local = np.array([e[1] for e in ends])
+        self.end_sign = np.array([e[2] for e in ends])
+        self.end_mask = support[self.end_joints] * self.end_sign[:, None]
+        self.end_row = np.array(row_of)
+        self.fixed = fixed
+        self.weld_rows = weld_rows
+        self.frames = {p.index: model.frames[p.index] for p in self.prescribed if p.kind == "pitch"}
+        n = self.nc + len(self.prescribed)
+        self.n = n
+        self.scatter = np.zeros((n, len(ends)))  # sums the signed end rows into constraint rows
+        for k, row in enumerate(row_of):
+            self.scatter[row, k] = 1.0
+
+    def _ends(self) -> np.ndarray:
+        """World positions (E x 3) of the constraint points fixed on moving joints [m]."""
+        oMi = self.data.oMi
+        pos = np.empty((len(self.end_joints), 3))
+        for k, j in enumerate(self.end_joints):
+            pos[k] = oMi[j].act(self.end_local[k])
+        return pos
+
+    def evaluate(self, q: np.ndarray, targets: Sequence[float] | None = None, v: np.ndarray | None = None):
+        """Residual, Jacobian (and drift J_dot v when ``v`` is given) of [c; s - s*] at q [m, rad].
+
+        Returns:
+            ``(residual, jacobian)`` or, with ``v``, ``(residual, jacobian, drift)``.
+
+        """
+        model, data = self.model, self.data
+        if v is None:
+            pin.computeJointJacobians(model, data, q)
+        else:
+            pin.computeJointJacobiansTimeVariation(model, data, q, v)
+        jw = data.J
+        n, nc = self.n, self.nc
+        pos = self._ends()
+        mask = self.end_mask
+        px, py, pz = pos[:, 0:1], pos[:, 1:2], pos[:, 2:3]
+        rows_x = (jw[0] + pz * jw[4] - py * jw[5]) * mask
+        rows_z = (jw[2] + py * jw[3] - px * jw[4]) * mask
+        jac = np.zeros((n, model.nv))
+        res = np.zeros(n)
+        drift = np.zeros(n)
+        xr, zr = self.end_row, self.end_row + 1
+        jac[:nc] = 0.0
+        np.add.at(jac, xr, rows_x)
+        np.add.at(jac, zr, rows_z)
+        np.add.at(res, xr, self.end_sign * pos[:, 0])
+        np.add.at(res, zr, self.end_sign * pos[:, 2])
+        for r, offset in self.fixed:
+            res[r] += offset[0]
+            res[r + 1] += offset[2]
+        if v is not None:
+            djw = data.dJ
+            rows_y = (jw[1] + px * jw[5] - pz * jw[3]) * mask
+            vel = np.stack(((rows_x @ v), (rows_y @ v), (rows_z @ v)), axis=1) * self.end_sign[:, None]
+            wy = (jw[4] * np.abs(mask)) @ v
+            wx = (jw[3] * np.abs(mask)) @ v
+            wz = (jw[5] * np.abs(mask)) @ v
+            dx = ((djw[0] + pz * djw[4] - py * djw[5]) * mask) @ v + self.end_sign * (wy * vel[:, 2] - wz * vel[:, 1])
+            dz = ((djw[2] + py * djw[3] - px * djw[4]) * mask) @ v + self.end_sign * (wx * vel[:, 1] - wy * vel[:, 0])
+            np.add.at(drift, xr, dx)
+            np.add.at(drift, zr, dz)
+        for r, j1, rot_local, target in self.weld_rows:
+            res[r] = math.remainder(planar_pitch(data.oMi[j1].rotation @ rot_local) - target, 2 * math.pi)
+            jac[r] = -jw[4] * self.support[j1]
+            if v is not None:
+                drift[r] = -(data.dJ[4] * self.support[j1]) @ v
         for k, p in enumerate(self.prescribed):
+            r = nc + k
             if p.kind == "joint":
-                rows[r + k, p.index] = 1.0
-                res[r + k] = q[p.index]
+                jac[r, p.index] = 1.0
+                res[r] = q[p.index]
             else:
                 frame = self.frames[p.index]
-                rot = data.oMi[frame.parentJoint].rotation @ frame.placement.rotation
-                res[r + k] = planar_pitch(rot)
-                rows[r + k] = -data.J[4] * self.support[frame.parentJoint]
+                res[r] = planar_pitch(data.oMi[frame.parentJoint].rotation @ frame.placement.rotation)
+                jac[r] = -jw[4] * self.support[frame.parentJoint]
+                if v is not None:
+                    drift[r] = -(data.dJ[4] * self.support[frame.parentJoint]) @ v
         if targets is not None:
-            ds = res[self.nc :] - np.asarray(targets, dtype=float)
+            ds = res[nc:] - np.asarray(targets, dtype=float)
             for k, p in enumerate(self.prescribed):
                 if p.kind == "pitch":
                     ds[k] = math.remainder(ds[k], 2 * math.pi)
-            res[self.nc :] = ds
-        return res, rows
+            res[nc:] = ds
+        if v is None:
+            return res, jac
+        return res, jac, drift
 
     def constraint_jacobian(self, q: np.ndarray) -> np.ndarray:
         """The in-plane constraint Jacobian J_c (nc x nv) at q."""
@@ -196,6 +251,7 @@ class PlanarRows:
         for _ in range(max_iter):
             res, jac = self.evaluate(q, targets)
             if np.max(np.abs(res)) < NEWTON_TOL:
+                self.last_jacobian = jac
                 return q
             try:
                 step = np.linalg.solve(jac, -res)
@@ -209,6 +265,18 @@ class PlanarRows:
             f"closure Newton did not converge: residual {np.max(np.abs(res)):.3e} after {max_iter} iterations "
             f"(targets {np.round(targets, 6).tolist()})"
         )
+
+    def motion(self, q: np.ndarray, rates: Sequence[float], accelerations: Sequence[float]):
+        """V and a on the manifold: [J_c; J_s] v = [0; s_dot*], [J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v]."""
+        _, jac = self.evaluate(q)
+        rhs = np.zeros(self.n)
+        rhs[self.nc :] = rates
+        v = np.linalg.solve(jac, rhs)
+        _, jac, drift = self.evaluate(q, None, v)
+        rhs = -drift
+        rhs[self.nc :] += np.asarray(accelerations, dtype=float)
+        a = np.linalg.solve(jac, rhs)
+        return v, a, jac
 
 
 # --------------------------------------------------------------------------- robots for scenarios
@@ -372,6 +440,10 @@ def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jc: np.ndarray) -> tupl
     return x[:ns], x[ns:]
 
 
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+
+
 def constraint_fext(robot: PasibotRobot, cmodels, lam: np.ndarray, fext: list[pin.Force] | None = None):
     """External forces (joint-local ``pin.Force`` list) equivalent to J_c^T lambda (in-plane rows).
 
@@ -397,7 +469,7 @@ def constraint_fext(robot: PasibotRobot, cmodels, lam: np.ndarray, fext: list[pi
                 continue
             rot = data.oMi[joint].rotation
             f_local = rot.T @ (sign * force)
-            m_local = np.cross(placement.translation, f_local) + rot.T @ (sign * moment)
+            m_local = _cross(placement.translation, f_local) + rot.T @ (sign * moment)
             fext[joint] = fext[joint] + pin.Force(f_local, m_local)
     return fext
 
@@ -422,7 +494,7 @@ def inertial_fext(robot: PasibotRobot, q: np.ndarray, com_acc: np.ndarray) -> li
         if inertia.mass == 0.0:
             continue
         f_local = data.oMi[j].rotation.T @ (-inertia.mass * com_acc[j])
-        fext[j] = pin.Force(f_local, np.cross(inertia.lever, f_local))
+        fext[j] = pin.Force(f_local, _cross(inertia.lever, f_local))
     return fext
 
 
@@ -460,6 +532,7 @@ def inverse_dynamics(
     accelerations: str = "exact",
     step: float = 0.1,
     stance: str = "auto",
+    reactions: bool = True,
 ) -> TorqueResult:
     """Constrained inverse dynamics along a crank sweep.
 
@@ -472,6 +545,8 @@ def inverse_dynamics(
             differences of the COM positions, crank step ``step``; lagged = the seed's).
         step: crank step of the differences [rad].
         stance: ``auto`` (stance swaps every half turn), ``right`` or ``left`` (held throughout).
+        reactions: compute the tree-joint reactions (``joints``); off saves time when only
+            the torques are needed.
 
     Returns:
         A :class:`TorqueResult`.
@@ -514,6 +589,7 @@ def inverse_dynamics(
 
     current = None
     q_prev = None
+    theta_prev, predictor = 0.0, None
     rs = rows = s_matrix = prescribed = None
     stance_x = 0.0
     for k, theta in enumerate(thetas):
@@ -529,17 +605,20 @@ def inverse_dynamics(
             prescribed = _prescriptions(rs, side, swing_foot)
             rows = PlanarRows(rs, rs.constraint_models, prescribed)
             s_matrix = _actuation(rs, side)
-            q_prev = q_start
+            q_prev, theta_prev, predictor = q_start, theta, None
             current = side
         targets = [theta, theta + math.pi, 0.0, 0.0]
-        q = rows.solve(q_prev, targets)
-        q_prev = q
+        guess = q_prev
+        if predictor is not None:  # first-order predictor along the manifold: dq/dtheta (theta - theta_prev)
+            guess = pin.integrate(model, q_prev, predictor * (theta - theta_prev))
+        q = rows.solve(guess, targets)
+        q_prev, theta_prev = q, theta
         cms = rs.constraint_models
         if quasi_static:
             v = a = np.zeros(nv)
+            jac = rows.last_jacobian
         else:
-            v = closure.solve_velocity(rs, q, prescribed, [omega, omega, 0.0, 0.0], cms)
-            a = closure.solve_acceleration(rs, q, v, prescribed, [0.0] * 4, cms)
+            v, a, jac = rows.motion(q, [omega, omega, 0.0, 0.0], [0.0] * 4)
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []
@@ -555,10 +634,12 @@ def inverse_dynamics(
             fext_inertia = None
             tau = pin.rnea(model, rs.data, q, v, a)
             v_id, a_id = v, a
-        jc = rows.constraint_jacobian(q)
-        u, lam = split_torques(tau, s_matrix, jc)
-        fext = constraint_fext(rs, cms, lam, fext_inertia)
-        reac = joint_reactions(rs, q, v_id, a_id, fext)
+        u, lam = split_torques(tau, s_matrix, jac[: rows.nc])
+        if not quasi_static:
+            predictor = v / omega
+        if reactions:
+            fext = constraint_fext(rs, cms, lam, fext_inertia)
+            reac = joint_reactions(rs, q, v_id, a_id, fext)
 
         swing = other(side)
         qa_st, qa_sw = q[rs.idx_q(f"{side}_j13_ankle")], q[rs.idx_q(f"{swing}_j13_ankle")]
@@ -573,8 +654,9 @@ def inverse_dynamics(
             else:
                 cuts.setdefault(_generic(cm.name, side), np.zeros((n, 2)))[k] = lam[r : r + 2]
                 r += 2
-        for j in range(2, model.njoints):
-            joints.setdefault(_generic(model.names[j], side), np.zeros((n, 3)))[k] = reac[j]
+        if reactions:
+            for j in range(2, model.njoints):
+                joints.setdefault(_generic(model.names[j], side), np.zeros((n, 3)))[k] = reac[j]
         sides_used.append(side)
 
     theta_stance = np.array([wrap_stance(th if s == "right" else th + math.pi) for th, s in zip(thetas, sides_used)])
@@ -611,6 +693,7 @@ def run_scenario(
     choices: ModelChoices,
     thetas: Sequence[float] | None = None,
     omega: float | None = None,
+    reactions: bool = True,
 ) -> TorqueResult:
     """Inverse dynamics of one scenario under one set of modelling choices.
 
@@ -620,6 +703,7 @@ def run_scenario(
         thetas: right-crank samples [rad] (default :func:`default_thetas`); a window given by
             the choices keeps the right foot welded throughout, as the seed does.
         omega: override the scenario's crank speed [rad/s].
+        reactions: compute the tree-joint reactions.
 
     """
     omega = check_omega(scenario.omega if omega is None else omega)
@@ -634,4 +718,5 @@ def run_scenario(
         accelerations=choices.accelerations,
         step=choices.step,
         stance="right" if held else "auto",
+        reactions=reactions,
     )

@@ -154,9 +154,7 @@ def test_bad_input_is_named():
     with pytest.raises(ValueError, match="fit_thetas"):
         dynamics.check_fit_window([0.5, 1.0])
     with pytest.raises(ValueError, match="fit_thetas"):
-        scenarios.PRESETS["seed"].with_(fit_thetas=(5.5, 5.6)) and dynamics.run_scenario(
-            scenarios.SCENARIOS["run1"], scenarios.PRESETS["seed"].with_(fit_thetas=(5.5, 5.6))
-        )
+        dynamics.run_scenario(scenarios.SCENARIOS["run1"], scenarios.PRESETS["seed"].with_(fit_thetas=(5.5, 5.6)))
     with pytest.raises(ValueError, match="unknown scenario 'run9'"):
         scenarios.get_scenario("run9")
     with pytest.raises(ValueError, match="unknown preset 'matlab'"):

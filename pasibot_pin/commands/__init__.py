@@ -10,5 +10,6 @@ COMMANDS: list[str] = [
     "view",
     "export_html",
     "gait",
+    "torques",
     "simulate",
 ]

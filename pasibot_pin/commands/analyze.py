@@ -49,10 +49,18 @@ def step_kinematics(out_dir: Path, args: argparse.Namespace) -> str:
     return analyze_step(out_dir, args)
 
 
+def step_dynamics(out_dir: Path, args: argparse.Namespace) -> str:
+    """Torques and the ankle spring of every seed scenario, default model and seed preset (``commands/torques.py``)."""
+    from .torques import analyze_step
+
+    return analyze_step(out_dir, args)
+
+
 STEPS: list[tuple[str, Callable[[Path, argparse.Namespace], str]]] = [
     ("model", step_model),
     ("kinematics", step_kinematics),
     ("animation", step_animation),
+    ("dynamics", step_dynamics),
 ]
 
 
