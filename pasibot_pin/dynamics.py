@@ -159,20 +159,29 @@ class PlanarRows:
         self.frames = {p.index: model.frames[p.index] for p in self.prescribed if p.kind == "pitch"}
         n = self.nc + len(self.prescribed)
         self.n = n
-        self.scatter = np.zeros((n, len(ends)))  # sums the signed end rows into constraint rows
+        self.scatter_x = np.zeros((self.nc, len(ends)))  # sums the signed end rows into constraint rows
+        self.scatter_z = np.zeros((self.nc, len(ends)))
         for k, row in enumerate(row_of):
-            self.scatter[row, k] = 1.0
+            self.scatter_x[row, k] = 1.0
+            self.scatter_z[row + 1, k] = 1.0
+        self.fixed_res = np.zeros(self.nc)
+        for r, offset in fixed:
+            self.fixed_res[r] += offset[0]
+            self.fixed_res[r + 1] += offset[2]
+        for j in range(1, model.njoints):  # the fast rows assume rotations about y only (planar model)
+            if model.joints[j].shortname() in ("JointModelRX", "JointModelRZ", "JointModelSpherical"):
+                raise ValueError(f"joint {model.names[j]!r} does not rotate about y: PlanarRows needs a planar model")
 
     def _ends(self) -> np.ndarray:
         """World positions (E x 3) of the constraint points fixed on moving joints [m]."""
         oMi = self.data.oMi
-        pos = np.empty((len(self.end_joints), 3))
-        for k, j in enumerate(self.end_joints):
-            pos[k] = oMi[j].act(self.end_local[k])
-        return pos
+        return np.array([oMi[j].act(t) for j, t in zip(self.end_joints, self.end_local)])
 
     def evaluate(self, q: np.ndarray, targets: Sequence[float] | None = None, v: np.ndarray | None = None):
         """Residual, Jacobian (and drift J_dot v when ``v`` is given) of [c; s - s*] at q [m, rad].
+
+        Every joint axis of the model is along y (planar motion), so the angular velocity has
+        only a y component: a point's in-plane velocity rows are J_x + p_z J_wy and J_z - p_x J_wy.
 
         Returns:
             ``(residual, jacobian)`` or, with ``v``, ``(residual, jacobian, drift)``.
@@ -184,40 +193,33 @@ class PlanarRows:
         else:
             pin.computeJointJacobiansTimeVariation(model, data, q, v)
         jw = data.J
-        n, nc = self.n, self.nc
+        nc = self.nc
         pos = self._ends()
-        mask = self.end_mask
-        px, py, pz = pos[:, 0:1], pos[:, 1:2], pos[:, 2:3]
-        rows_x = (jw[0] + pz * jw[4] - py * jw[5]) * mask
-        rows_z = (jw[2] + py * jw[3] - px * jw[4]) * mask
-        jac = np.zeros((n, model.nv))
-        res = np.zeros(n)
-        drift = np.zeros(n)
-        xr, zr = self.end_row, self.end_row + 1
-        jac[:nc] = 0.0
-        np.add.at(jac, xr, rows_x)
-        np.add.at(jac, zr, rows_z)
-        np.add.at(res, xr, self.end_sign * pos[:, 0])
-        np.add.at(res, zr, self.end_sign * pos[:, 2])
-        for r, offset in self.fixed:
-            res[r] += offset[0]
-            res[r + 1] += offset[2]
+        mask, sign = self.end_mask, self.end_sign
+        px, pz = pos[:, 0:1], pos[:, 2:3]
+        wy_rows = jw[4] * mask
+        rows_x = jw[0] * mask + pz * wy_rows
+        rows_z = jw[2] * mask - px * wy_rows
+        jac = np.empty((self.n, model.nv))
+        jac[:nc] = self.scatter_x @ rows_x + self.scatter_z @ rows_z
+        res = np.zeros(self.n)
+        res[:nc] = self.scatter_x @ (sign * pos[:, 0]) + self.scatter_z @ (sign * pos[:, 2]) + self.fixed_res
+        drift = None
         if v is not None:
             djw = data.dJ
-            rows_y = (jw[1] + px * jw[5] - pz * jw[3]) * mask
-            vel = np.stack(((rows_x @ v), (rows_y @ v), (rows_z @ v)), axis=1) * self.end_sign[:, None]
-            wy = (jw[4] * np.abs(mask)) @ v
-            wx = (jw[3] * np.abs(mask)) @ v
-            wz = (jw[5] * np.abs(mask)) @ v
-            dx = ((djw[0] + pz * djw[4] - py * djw[5]) * mask) @ v + self.end_sign * (wy * vel[:, 2] - wz * vel[:, 1])
-            dz = ((djw[2] + py * djw[3] - px * djw[4]) * mask) @ v + self.end_sign * (wx * vel[:, 1] - wy * vel[:, 0])
-            np.add.at(drift, xr, dx)
-            np.add.at(drift, zr, dz)
+            wy = (wy_rows @ v) * sign  # angular velocity (y) of each point's body
+            vx, vz = (rows_x @ v) * sign, (rows_z @ v) * sign
+            dwy_rows = djw[4] * mask
+            dx = (djw[0] * mask + pz * dwy_rows) @ v + sign * (wy * vz)
+            dz = (djw[2] * mask - px * dwy_rows) @ v - sign * (wy * vx)
+            drift = np.zeros(self.n)
+            drift[:nc] = self.scatter_x @ dx + self.scatter_z @ dz
         for r, j1, rot_local, target in self.weld_rows:
             res[r] = math.remainder(planar_pitch(data.oMi[j1].rotation @ rot_local) - target, 2 * math.pi)
             jac[r] = -jw[4] * self.support[j1]
             if v is not None:
                 drift[r] = -(data.dJ[4] * self.support[j1]) @ v
+        jac[nc:] = 0.0
         for k, p in enumerate(self.prescribed):
             r = nc + k
             if p.kind == "joint":
