@@ -163,3 +163,39 @@ def test_bad_input_is_named():
         scenarios.ModelChoices(accelerations="forward")
     with pytest.raises(ValueError, match="swing_foot"):
         dynamics.inverse_dynamics(robot, [2.0], 1.0, swing_foot="tilted")
+
+
+def test_planar_rows_drift_and_motion_match_closure():
+    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"])
+    q = closure.assemble(robot, 2.9)
+    prescribed = dynamics._prescriptions(robot, "right", "level")
+    rows = dynamics.PlanarRows(robot, robot.constraint_models, prescribed)
+    v, a, _ = rows.motion(q, [5.0, 5.0, 0.0, 0.0], [0.0] * 4)
+    v_ref = closure.solve_velocity(robot, q, prescribed, [5.0, 5.0, 0.0, 0.0])
+    a_ref = closure.solve_acceleration(robot, q, v_ref, prescribed, [0.0] * 4)
+    np.testing.assert_allclose(v, v_ref, atol=1e-10)
+    np.testing.assert_allclose(a, a_ref, atol=1e-8)
+    drift = rows.evaluate(q, None, v)[2][: rows.nc]
+    np.testing.assert_allclose(drift, closure.constraint_drift(robot, q, v), atol=1e-9)
+    assert np.max(np.abs(drift)) > 1e-3
+
+
+def test_torques_cli_prints_stiffness_and_writes_csv(tmp_path, capsys):
+    import csv
+
+    from pasibot_pin.__main__ import main
+
+    out = tmp_path / "t.csv"
+    assert main(["torques", "--scenario", "run3", "--preset", "seed", "--csv", str(out)]) == 0
+    text = capsys.readouterr().out
+    k_e = float(text.split("K_e = ")[1].split(" N.m/rad")[0])
+    assert k_e == pytest.approx(453.21, rel=1e-3)
+    with out.open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert len(rows) == 23
+    for column in ("t", "theta", "beta", "Ta", "Te", "Ta_swing", "Te_swing"):
+        assert column in rows[0]
+    assert float(rows[0]["theta"]) == pytest.approx(2.6) and float(rows[1]["t"]) == pytest.approx(1.0)
+    assert main(["torques", "--scenario", "run3", "--csv", str(out)]) == 2  # no overwrite without --force
+    assert main(["torques", "--scenario", "run9"]) == 2
+    assert "unknown scenario" in capsys.readouterr().err
