@@ -702,15 +702,16 @@ def run_scenario(
     Args:
         scenario: crank speed, body mass and COM.
         choices: the modelling choices (a preset or a variation).
-        thetas: right-crank samples [rad] (default :func:`default_thetas`); a window given by
-            the choices keeps the right foot welded throughout, as the seed does.
+        thetas: right-crank samples [rad] (default :func:`default_thetas`: one stance
+            theta in [pi/2, 3 pi/2], or the choices' window, with the right foot welded
+            throughout, as the seed does); given samples swap the stance every half turn.
         omega: override the scenario's crank speed [rad/s].
         reactions: compute the tree-joint reactions.
 
     """
     omega = check_omega(scenario.omega if omega is None else omega)
     robot = scenario_robot(scenario, choices)
-    held = thetas is None and choices.fit_thetas is not None
+    held = thetas is None  # one stance (or the seed window): the right foot stays welded, as in the seed
     thetas = default_thetas(choices) if thetas is None else np.asarray(thetas, dtype=float)
     return inverse_dynamics(
         robot,
