@@ -429,4 +429,3 @@ def format_table(rows: Sequence[StepEnergy]) -> str:
             f"{r.cot['motors']:.4f} | {r.cot['single']:.4f} | {r.cot['actuators']:.4f} |"
         )
     return "\n".join(lines)
-

@@ -166,7 +166,8 @@ def flywheel(theta: np.ndarray, torque: np.ndarray, omega: float, inertia: float
         inertia: flywheel inertia [kg.m^2], > 0.
 
     Raises:
-        ValueError: bad omega or inertia, or a flywheel too small to keep the shaft turning.
+        ValueError: bad omega or inertia, or a flywheel too small for the model (Delta E > J w^2:
+            the speed would vary by more than its mean, so the load at constant speed is meaningless).
 
     """
     theta, torque = np.asarray(theta, dtype=float), np.asarray(torque, dtype=float)
@@ -182,6 +183,11 @@ def flywheel(theta: np.ndarray, torque: np.ndarray, omega: float, inertia: float
     energy = np.concatenate(([0.0], np.cumsum(0.5 * (dev[1:] + dev[:-1]) * np.diff(theta))))
     swing = float(energy.max() - energy.min())
 
+    if swing > inertia * omega**2:
+        raise ValueError(
+            f"parameter 'inertia': {inertia:g} kg.m^2 is too small to smooth this torque: the energy swing "
+            f"{swing:.4g} J exceeds J w^2 = {inertia * omega**2:.4g} J, the speed would vary by more than its mean"
+        )
     floor = math.sqrt(max(2.0 * float(energy.max()) / inertia, 0.0))  # w0 below this stops the shaft
 
     def speeds(w0: float) -> np.ndarray:

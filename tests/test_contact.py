@@ -1,0 +1,162 @@
+"""Heel/toe contact: quasi-static balance against masses computed here, QP vs closed-form feasibility,
+infeasible contact reported (not raised), tip events, errors."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+import pytest
+
+from pasibot_pin import contact
+from pasibot_pin.dynamics import inverse_dynamics, scenario_robot
+from pasibot_pin.scenarios import get_preset, get_scenario
+
+G = 9.81
+
+
+@pytest.fixture(scope="module")
+def quasi_static():
+    """Quasi-static right stance of the default spring biped: (robot, torques, contact)."""
+    scenario, choices = get_scenario("quasi-static"), get_preset("default")
+    robot = scenario_robot(scenario, choices)
+    thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, 41)
+    torques = inverse_dynamics(robot, thetas, 0.0, stance="right")
+    return robot, torques, contact.contact_along(robot, torques, mu=0.6)
+
+
+def _mass_and_com_x(robot, q):
+    """Total mass and COM x from the bodies' masses and world COM positions (no pin.centerOfMass)."""
+    model, data = robot.model, robot.model.createData()
+    pin.forwardKinematics(model, data, q)
+    masses = np.array([model.inertias[j].mass for j in range(1, model.njoints)])
+    xs = np.array([data.oMi[j].act(model.inertias[j].lever)[0] for j in range(1, model.njoints)])
+    return masses.sum(), float(masses @ xs / masses.sum())
+
+
+def _ankle_and_ends(robot, q, side="right"):
+    model, data = robot.model, robot.model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    return [float(data.oMf[model.getFrameId(f"{side}_{n}")].translation[0]) for n in ("foot", "heel", "toe")]
+
+
+def test_quasi_static_forces_sum_to_weight_and_cop_is_com(quasi_static):
+    robot, torques, res = quasi_static
+    feasible = np.flatnonzero(res.feasible)
+    assert feasible.size >= 5, "the CoP must be inside the sole around mid-stance"
+    for k in feasible:
+        q = torques.q[k]
+        mass, com_x = _mass_and_com_x(robot, q)
+        weight = mass * G
+        fz = res.heel_force[k, 1] + res.toe_force[k, 1]
+        assert abs(fz - weight) <= 1e-9 * weight
+        assert abs(res.heel_force[k, 0] + res.toe_force[k, 0]) <= 1e-9 * weight
+        _, x_heel, x_toe = _ankle_and_ends(robot, q)
+        cop_from_forces = (res.heel_force[k, 1] * x_heel + res.toe_force[k, 1] * x_toe) / fz
+        assert abs(cop_from_forces - com_x) <= 1e-9 * abs(x_toe - x_heel)
+        assert abs(res.cop_x[k] - com_x) <= 1e-9 * abs(x_toe - x_heel)
+        assert res.heel_force[k, 1] >= -1e-9 and res.toe_force[k, 1] >= -1e-9
+
+
+def test_quasi_static_ground_wrench_is_gravity_wrench(quasi_static):
+    """The weld's wrench equals the robot's gravity wrench about the stance ankle (cranks and springs are internal)."""
+    robot, torques, _ = quasi_static
+    for k in range(0, len(torques), 5):
+        q = torques.q[k]
+        mass, com_x = _mass_and_com_x(robot, q)
+        ankle_x, _, _ = _ankle_and_ends(robot, q)
+        expected = np.array([0.0, mass * G, mass * G * (com_x - ankle_x)])  # CCW moment of the ground on the foot
+        assert np.allclose(torques.ground[k], expected, rtol=0, atol=1e-9 * mass * G)
+
+
+def test_cop_outside_sole_is_a_tip_with_the_first_time(quasi_static):
+    robot, torques, res = quasi_static
+    for k in range(len(res)):
+        mass, com_x = _mass_and_com_x(robot, torques.q[k])
+        ankle_x, x_heel, x_toe = _ankle_and_ends(robot, torques.q[k])
+        inside = x_heel <= com_x <= x_toe
+        assert bool(res.feasible[k]) == inside
+        if com_x < x_heel:
+            assert res.reasons[k] == ("tip-heel",)
+        if com_x > x_toe:
+            assert res.reasons[k] == ("tip-toe",)
+    first = res.first_failure()
+    assert first is not None and first[0] == res.t[np.flatnonzero(~res.feasible)[0]]
+    # the CoP enters the sole over the heel, then leaves it over the toe: crossings where com x = edge
+    events = res.tip_events()
+    assert [(e["edge"], e["direction"]) for e in events] == [("heel", "enters"), ("toe", "leaves")]
+    for ev in events:
+        assert ev["x"] == pytest.approx(-0.025 if ev["edge"] == "heel" else 0.075, abs=1e-12)
+
+
+def test_low_friction_reported_as_slip_with_first_time_not_a_crash():
+    """mu = 0.01 at 5 rad/s on a long what-if sole: the first failing sample is the first with |Fx| > 0.01 Fz."""
+    scenario, choices = get_scenario("run4"), get_preset("default")
+    robot = scenario_robot(scenario, choices)
+    thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, 31)
+    torques = inverse_dynamics(robot, thetas, scenario.omega, stance="right")
+    res = contact.contact_along(robot, torques, mu=0.01, sole=(-1.0, 1.0))
+    ratio = np.abs(torques.ground[:, 0]) / torques.ground[:, 1]
+    assert np.all(torques.ground[:, 1] > 0)
+    slipping = ratio > 0.01
+    assert slipping.any() and not slipping.all()
+    assert np.array_equal(~res.feasible, slipping)
+    first = res.first_failure()
+    k = int(np.flatnonzero(slipping)[0])
+    assert first == (pytest.approx(torques.t[k]), pytest.approx(torques.theta[k]), ("slip",))
+    assert np.all(np.isfinite(res.heel_force)) and np.all(np.isfinite(res.toe_force))
+    assert "first failure" in res.summary()
+    # the default 10 cm sole with mu = 0.01: still reported, never raised
+    res2 = contact.contact_along(robot, torques, mu=0.01)
+    assert not res2.all_feasible and res2.first_failure() is not None
+
+
+def test_qp_feasibility_matches_closed_form_on_random_wrenches():
+    rng = np.random.default_rng(3)
+    s_heel, s_toe = -0.025, 0.075
+    agree = 0
+    for _ in range(300):
+        mu = rng.uniform(0.05, 1.0)
+        pitch = rng.uniform(-0.3, 0.3)
+        fn = rng.uniform(-50, 400)
+        ft = rng.uniform(-1.2, 1.2) * mu * abs(fn)
+        s_cop = rng.uniform(-0.06, 0.11)
+        t, n = np.array([math.cos(pitch), math.sin(pitch)]), np.array([-math.sin(pitch), math.cos(pitch)])
+        force = ft * t + fn * n
+        wrench = [force[0], force[1], s_cop * fn]
+        sol = contact.distribute(wrench, s_heel, s_toe, mu, pitch)
+        margin = 1e-6
+        expect = fn > 0 and s_heel + margin < s_cop < s_toe - margin and abs(ft) < mu * fn * (1 - margin)
+        clear_fail = fn < 0 or s_cop < s_heel - margin or s_cop > s_toe + margin or abs(ft) > mu * abs(fn) * (1 + 1e-3)
+        if expect:
+            assert sol.feasible
+            f = sol.forces
+            assert np.allclose(f.sum(axis=0), force, atol=1e-9 * max(abs(fn), 1.0))
+            s = np.array([s_heel, s_toe])
+            assert abs(s @ (f @ n) - s_cop * fn) <= 1e-9 * max(abs(fn), 1.0)
+            assert np.all(f @ n >= -1e-9) and np.all(np.abs(f @ t) <= mu * (f @ n) + 1e-9)
+            assert sol.s_cop == pytest.approx(s_cop, abs=1e-12)
+            agree += 1
+        elif clear_fail:
+            assert not sol.feasible and sol.reasons
+            agree += 1
+    assert agree > 250
+
+
+def test_regularised_norm_splits_the_friction_evenly_when_cones_allow():
+    sol = contact.distribute([10.0, 200.0, 0.025 * 200.0], -0.025, 0.075, 0.5)
+    assert sol.feasible
+    assert sol.forces[0, 0] == pytest.approx(5.0, abs=1e-7) and sol.forces[1, 0] == pytest.approx(5.0, abs=1e-7)
+    assert sol.forces[0, 1] == pytest.approx(100.0, abs=1e-7) and sol.forces[1, 1] == pytest.approx(100.0, abs=1e-7)
+
+
+def test_errors_name_the_parameter():
+    with pytest.raises(ValueError, match="mu"):
+        contact.distribute([0, 1, 0], -0.1, 0.1, -0.5)
+    with pytest.raises(ValueError, match="wrench"):
+        contact.distribute([0, math.nan, 0], -0.1, 0.1, 0.5)
+    with pytest.raises(ValueError, match="s_heel"):
+        contact.distribute([0, 1, 0], 0.1, -0.1, 0.5)
+    sol = contact.distribute([0.0, -10.0, 0.0], -0.1, 0.1, 0.5)
+    assert not sol.feasible and sol.reasons == ("lift-off",) and sol.mu_needed == math.inf
