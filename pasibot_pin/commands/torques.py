@@ -229,6 +229,7 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
     fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(10, 8))
     plot_torques_vs_time(walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
     plot_torques_vs_time(slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
+    fig.tight_layout()
     fig.savefig(sub / "torques_vs_time.png", dpi=80)
     plt.close(fig)
     peak = float(np.max(np.abs(walk.Ta)))
