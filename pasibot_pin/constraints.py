@@ -169,3 +169,44 @@ def proximal_forward_dynamics(
     pin.initConstraintDynamics(model, data, cmodels, cdatas)
     settings = pin.ProximalSettings(accuracy, mu, max_iter)
     return np.array(pin.constraintDynamics(model, data, q, v, tau, cmodels, cdatas, settings))
+
+
+def inplane_rows(cmodels: list[pin.RigidConstraintModel]) -> tuple[np.ndarray, np.ndarray]:
+    """Row indices and signs that pick the in-plane rows of Pinocchio's stacked constraint Jacobian.
+
+    x and z of each CONTACT_3D / CONTACT_6D, and minus the rotation about y of each weld (its
+    pitch is counter-clockwise, about -y): the rows of :mod:`pasibot_pin.closure`.
+    """
+    index, sign, offset = [], [], 0
+    for cm in cmodels:
+        if is_weld(cm):
+            index += [offset + r for r in WELD_ROWS]
+            sign += [1.0, 1.0, -1.0]
+        else:
+            index += [offset + r for r in POINT_ROWS]
+            sign += [1.0, 1.0]
+        offset += constraint_size(cm)
+    return np.array(index), np.array(sign)[:, None]
+
+
+class InplaneJacobian:
+    """Pinocchio's own constraint Jacobian (C++ ``getConstraintsJacobian``), in-plane rows only.
+
+    ``__call__(q)`` runs ``computeJointJacobians``, ``calc`` of every constraint (pin 4.1 reads
+    the frame placements stored by ``calc``) and returns the rows of :func:`inplane_rows`
+    (same rows and signs as ``closure.constraint_jacobian``).
+    """
+
+    def __init__(self, model: pin.Model, data: pin.Data, cmodels: list[pin.RigidConstraintModel]):
+        self.model, self.data, self.cmodels = model, data, list(cmodels)
+        self.cdatas = create_datas(self.cmodels)
+        pin.initConstraintDynamics(model, data, self.cmodels, self.cdatas)
+        self.index, self.sign = inplane_rows(self.cmodels)
+
+    def __call__(self, q: np.ndarray) -> np.ndarray:
+        """The in-plane constraint Jacobian at ``q`` (rows x nv)."""
+        model, data = self.model, self.data
+        pin.computeJointJacobians(model, data, q)
+        for cmodel, cdata in zip(self.cmodels, self.cdatas):
+            cmodel.calc(model, data, cdata)
+        return pin.getConstraintsJacobian(model, data, self.cmodels, self.cdatas)[self.index] * self.sign

@@ -199,3 +199,13 @@ def test_torques_cli_prints_stiffness_and_writes_csv(tmp_path, capsys):
     assert main(["torques", "--scenario", "run3", "--csv", str(out)]) == 2  # no overwrite without --force
     assert main(["torques", "--scenario", "run9"]) == 2
     assert "unknown scenario" in capsys.readouterr().err
+
+
+def test_pinocchio_inplane_jacobian_matches_planar_rows():
+    from pasibot_pin import constraints
+
+    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
+    q = closure.assemble(robot, 4.1)
+    rows = dynamics.PlanarRows(robot, robot.constraint_models, dynamics._prescriptions(robot, "right", "level"))
+    jac = constraints.InplaneJacobian(robot.model, robot.model.createData(), robot.constraint_models)(q)
+    np.testing.assert_allclose(jac, rows.constraint_jacobian(q), atol=1e-12)
