@@ -197,7 +197,17 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
     fig = plot_stiffness_table(list(SCENARIOS), table, title="ankle stiffness per scenario")
     fig.savefig(sub / "stiffness.png", dpi=100)
     plt.close(fig)
-    lines += ["", "![K_e per scenario](dynamics/stiffness.png)", ""]
+    qs_clean = fit_result(
+        run_scenario(SCENARIOS["quasi-static"], PRESETS["seed-clean"], reactions=False), None, warn=False
+    )
+    lines += [
+        "",
+        "The seed's quasi-static script does not swap the L5/L6 masses (its dynamic script does): its model is the "
+        f"`seed-clean` preset here, K_e = {qs_clean.K_e:.2f} N.m/rad at omega = 0 (the seed's text: about 330).",
+        "",
+        "![K_e per scenario](dynamics/stiffness.png)",
+        "",
+    ]
     if warnings_text:
         lines += ["Fit warnings:", *warnings_text, ""]
 
