@@ -13,7 +13,8 @@ weld by two point contacts, heel and toe, and asks whether the ground can supply
   3 wrench rows (equalities) and the cone rows (inequalities). The normal forces are fixed by
   Fz and My; the QP chooses the split of the tangential force,
 * when the QP is infeasible (a fall or a slip), a second QP finds the nearest wrench the
-  contacts can supply, and the sample is flagged with the reason: ``lift-off`` (the foot is
+  contacts can supply (forces first, then the moment: a tipping foot stands on its edge), and
+  the sample is flagged with the reason: ``lift-off`` (the foot is
   pulled up), ``tip-toe`` / ``tip-heel`` (the CoP leaves the sole past the toe / heel: the
   foot rotates about that edge), ``slip`` (|F_t| > mu F_n).
 
@@ -155,8 +156,10 @@ def distribute(
     in_ok = bool(np.all(np.isfinite(x))) and np.max(c_in @ x) <= FEASIBILITY_TOL * scale * 10
     feasible = status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED and eq_ok and in_ok
     if not feasible:
-        # nearest suppliable wrench: min |W (A f - w)|^2 + reg |f|^2 s.t. cones (moment row scaled to N)
-        weights = np.diag([1.0, 1.0, 1.0 / (s_toe - s_heel)])
+        # best effort: the forces first, then the moment (min |W (A f - w)|^2 + reg |f|^2 s.t. cones).
+        # A tipping foot then stands on its edge with the full normal force and the residual is the
+        # unbalanced tipping moment; a slipping one gives mu F_n and the residual is the missing friction.
+        weights = np.diag([1.0, 10.0, 1e-3 / (s_toe - s_heel)])  # Fz, then Fx, then My
         aw = weights @ a_eq
         hess = aw.T @ aw + max(regularisation, 1e-12) * np.eye(4)
         x, _ = _qp(hess, -aw.T @ (weights @ w), None, None, c_in, u_in)

@@ -12,4 +12,6 @@ COMMANDS: list[str] = [
     "gait",
     "torques",
     "simulate",
+    "contact",
+    "energy",
 ]
