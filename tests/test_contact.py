@@ -160,3 +160,35 @@ def test_errors_name_the_parameter():
         contact.distribute([0, 1, 0], 0.1, -0.1, 0.5)
     sol = contact.distribute([0.0, -10.0, 0.0], -0.1, 0.1, 0.5)
     assert not sol.feasible and sol.reasons == ("lift-off",) and sol.mu_needed == math.inf
+
+
+def test_contact_cli_writes_csv_and_plot_and_keeps_files(tmp_path, capsys):
+    import csv as csv_mod
+
+    from pasibot_pin.__main__ import main
+
+    out_csv, out_png = tmp_path / "c.csv", tmp_path / "c.png"
+    args = ["contact", "--scenario", "quasi-static", "--samples", "20", "--csv", str(out_csv), "--plot", str(out_png)]
+    assert main(args) == 0
+    text = capsys.readouterr().out
+    assert "samples feasible" in text and "first failure" in text
+    rows = list(csv_mod.DictReader(out_csv.open()))
+    assert len(rows) == 20 and {"heel_Fz", "toe_Fz", "s_cop", "mu_needed", "feasible"} <= set(rows[0])
+    # where feasible, heel + toe carry the demanded Fz
+    for row in rows:
+        if float(row["feasible"]):
+            assert float(row["heel_Fz"]) + float(row["toe_Fz"]) == pytest.approx(float(row["Fz"]), rel=1e-9)
+    assert out_png.stat().st_size > 10_000
+    assert main(args) == 2 and "--force" in capsys.readouterr().err
+    assert main(["contact", "--mu", "-1", "--samples", "5"]) == 2 and "'mu'" in capsys.readouterr().err
+
+
+def test_energy_cli_table(tmp_path, capsys):
+    from pasibot_pin.__main__ import main
+
+    out_csv = tmp_path / "e.csv"
+    assert main(["energy", "--omegas", "5", "--nodes", "16", "--flywheel", "20", "--csv", str(out_csv)]) == 0
+    text = capsys.readouterr().out
+    assert "| spring | 5 |" in text and "| parallel | 5 |" in text and "speed fluctuation" in text
+    assert out_csv.read_text().count("\n") == 3
+    assert main(["energy", "--variants", "wheel"]) == 2 and "wheel" in capsys.readouterr().err
