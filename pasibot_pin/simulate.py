@@ -800,6 +800,41 @@ class StaticEquilibrium:
         return float(np.max(np.abs(self.hip_pitch)))
 
 
+class _StaticProblem:
+    """The hip-holding torque as a function of the hip pitch, at one crank angle.
+
+    Cranks locked at ``theta``, swing ankle at the rest angle, stance foot welded flat.
+    ``cache`` (theta -> assembled start) lets several springs share the assembly.
+    """
+
+    def __init__(self, robot, spring: AnkleSpring | None, theta: float, cache: dict | None = None):
+        spring = spring if spring is not None else AnkleSpring(0.0, math.pi / 2)
+        settings = SimulationSettings(omega=0.0, spring=spring, hip="level", swing_ankle="rest", theta0=theta)
+        self.robot = robot
+        self.sim = BipedSimulator(robot, settings)
+        key = round(float(theta), 12)
+        if cache is not None and key in cache:
+            q_level, stance, weld = cache[key]
+        else:
+            q_level, _, stance = self.sim.initial_state()
+            weld = self.sim.ground_weld(stance, q_level)
+            if cache is not None:
+                cache[key] = (q_level, stance, weld)
+        self.q_level = q_level.copy()
+        swing = _other(stance)
+        self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
+        coords = [c for c in self.sim.coordinate_rows(stance) if c.name != "hip_pitch"]
+        self.cset = ConstraintSet(robot, list(robot.loop_constraints) + [weld], coords)
+        self.row = self.cset.nrows  # the hip-pitch row, appended below
+
+    def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
+        cset = self.cset.with_coords([*self.cset.coords, CoordinateRow("hip_pitch", 2, pitch)])
+        q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
+        q = project_configuration(self.robot, cset, q, 0.0)
+        _, lam, _ = self.sim.acceleration(cset, 0.0, q, np.zeros(self.robot.model.nv))
+        return float(lam[self.row]), q
+
+
 def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
     """Torque needed on the hip pitch to hold the robot still at crank angle ``theta`` and ``pitch``.
 
@@ -810,31 +845,21 @@ def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: fl
         (torque [N.m], q).
 
     """
-    settings = SimulationSettings(
-        omega=0.0,
-        spring=spring if spring is not None else AnkleSpring(0.0, math.pi / 2),
-        hip="level",
-        swing_ankle="rest",
-        theta0=theta,
-    )
-    sim = BipedSimulator(robot, settings)
-    q_level, _, stance = sim.initial_state()
-    q = q_level if q_guess is None else np.array(q_guess, dtype=float)
-    coords = [c for c in sim.coordinate_rows(stance) if c.name != "hip_pitch"]
-    coords.append(CoordinateRow("hip_pitch", 2, pitch))
-    cset = ConstraintSet(robot, list(robot.loop_constraints) + [sim.ground_weld(stance, q_level)], coords)
-    q = project_configuration(robot, cset, q, 0.0)
-    _, lam, _ = sim.acceleration(cset, 0.0, q, np.zeros(robot.model.nv))
-    return float(lam[cset.labels.index("hip_pitch(t)")]), q
+    return _StaticProblem(robot, spring, theta).torque(pitch, q_guess)
 
 
 def static_equilibrium(
-    robot, spring: AnkleSpring | None, thetas: Sequence[float], search: float = math.radians(30.0)
+    robot,
+    spring: AnkleSpring | None,
+    thetas: Sequence[float],
+    search: float = math.radians(30.0),
+    cache: dict | None = None,
 ) -> StaticEquilibrium:
     """Equilibrium hip pitch at each crank angle (the quasi-static limit omega -> 0).
 
     For each crank angle, the hip-holding torque tau(pitch) of :func:`static_hip_torque` is
-    driven to zero by the secant method from pitch = 0, within +-``search``.
+    driven to zero by the secant method from pitch = 0, within +-``search`` [rad]. ``cache``
+    (a dict, filled on first use) shares the assembly of each crank angle between calls.
     """
     thetas = np.asarray(thetas, dtype=float)
     pitch = np.full(len(thetas), np.nan)
@@ -842,9 +867,10 @@ def static_equilibrium(
     found = np.zeros(len(thetas), dtype=bool)
     for k, theta in enumerate(thetas):
         try:
+            problem = _StaticProblem(robot, spring, float(theta), cache)
             p0, p1 = 0.0, 1e-3
-            f0, q = static_hip_torque(robot, spring, theta, p0)
-            f1, q = static_hip_torque(robot, spring, theta, p1, q)
+            f0, q = problem.torque(p0)
+            f1, q = problem.torque(p1, q)
             for _ in range(30):
                 if f1 == f0:
                     break
@@ -853,13 +879,13 @@ def static_equilibrium(
                     break
                 p0, f0 = p1, f1
                 p1 = p2
-                f1, q = static_hip_torque(robot, spring, theta, p1, q)
+                f1, q = problem.torque(p1, q)
                 if abs(p1 - p0) < 1e-12:
                     break
             if abs(f1) < 1e-8 and abs(p1) <= search:
                 eps = 1e-5
-                fp = static_hip_torque(robot, spring, theta, p1 + eps, q)[0]
-                fm = static_hip_torque(robot, spring, theta, p1 - eps, q)[0]
+                fp = problem.torque(p1 + eps, q)[0]
+                fm = problem.torque(p1 - eps, q)[0]
                 pitch[k], stiff[k], found[k] = p1, (fp - fm) / (2 * eps), True
         except ValueError:
             continue
@@ -968,9 +994,10 @@ def spring_study(
     dt = default_dt(swing_ankle) if dt is None else dt
     study = SpringStudy(name=name, omega=omega, fitted=fitted)
     thetas = np.linspace(math.pi / 2, 1.5 * math.pi, static_samples, endpoint=False)
+    cache: dict = {}
     for label, factor in SPRING_CASES:
         spring = fitted.scaled(factor)  # factor 0: no spring (the swing foot kept as in the other cases)
-        study.statics[label] = static_equilibrium(robot, spring, thetas)
+        study.statics[label] = static_equilibrium(robot, spring, thetas, cache=cache)
         if omega > 0:
             settings = SimulationSettings(
                 omega=omega,
@@ -997,7 +1024,7 @@ def spring_study(
             for j, k in enumerate(ks):
                 spring = AnkleSpring(float(k), float(beta0), fitted.damping)
                 if method == "static":
-                    grid[i, j] = static_equilibrium(robot, spring, thetas).max_excursion
+                    grid[i, j] = static_equilibrium(robot, spring, thetas, cache=cache).max_excursion
                 else:
                     settings = SimulationSettings(
                         omega=omega,
@@ -1067,3 +1094,27 @@ def scenario_inputs(name: str, preset: str = "default", damping: float | None = 
     robot = scenario_robot(scenario, choices)
     c = critical_foot_damping(robot, fit.K_e) if damping is None else damping
     return ScenarioInputs(key, scenario.omega, robot, AnkleSpring(fit.K_e, fit.beta0, c), fit)
+
+
+def toppling_stiffness(robot, theta: float = math.pi) -> float:
+    """Gravity's negative stiffness about the stance ankle, g sum m_i (z_i - z_ankle) [N.m/rad].
+
+    Everything above the stance foot, rotated rigidly about the ankle by d(pitch), loses
+    potential energy 0.5 k_g d(pitch)^2: the spring must be stiffer than k_g to hold the hip
+    at all, and the static margin is K_e - k_g. Evaluated with the hip level at crank angle
+    ``theta`` (default mid-stance).
+    """
+    from .closure import assemble
+
+    stance = "right" if (theta - math.pi / 2) % (2 * math.pi) < math.pi else "left"
+    q = assemble(robot, theta, stance=stance)
+    model, data = robot.model, robot.data
+    com = pin.centerOfMass(model, data, q)
+    total = sum(model.inertias[j].mass for j in range(1, model.njoints))
+    foot = model.getJointId(f"{stance}_j13_ankle")
+    m_foot = model.inertias[foot].mass
+    foot_com = data.oMi[foot].act(model.inertias[foot].lever)
+    pin.framesForwardKinematics(model, data, q)
+    z_ankle = data.oMf[robot.frame_id(f"{stance}_foot")].translation[2]
+    g = float(np.linalg.norm(model.gravity.linear))
+    return float(g * (total * com[2] - m_foot * foot_com[2] - (total - m_foot) * z_ankle))

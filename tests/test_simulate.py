@@ -395,3 +395,28 @@ def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
         assert not fitted.fell or fitted.t[-1] > t_fall, name
         before = fitted.t <= t_fall
         assert np.max(np.abs(fitted.hip_pitch[before])) < none.max_hip_excursion, name
+
+
+def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
+    from pasibot_pin.__main__ import main
+
+    out = tmp_path / "sim"
+    argv = ["simulate", "--scenario", "4", "--steps", "1", "--no-cases", "--dt", "0.02", "--gif", "--out", str(out)]
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert "scenario run4" in text and "max |hip pitch|" in text
+    for name in ("simulation_4.png", "simulation_4.csv", "simulation_4.gif"):
+        assert (out / name).stat().st_size > 1000, name
+    table = np.genfromtxt(out / "simulation_4.csv", delimiter=",", names=True)
+    assert "hip_pitch" in table.dtype.names and "Ta_right" in table.dtype.names
+    assert table["t"][-1] == pytest.approx(math.pi / 5.0)
+    assert np.all(np.abs(table["theta_right"] - (math.pi / 2 + 5.0 * table["t"])) < 1e-9)
+    assert main(argv) == 2, "existing files are kept without --force"
+    assert "--force" in capsys.readouterr().err
+    assert main(argv + ["--force"]) == 0
+    assert main(["simulate", "--scenario", "9", "--out", str(out)]) == 2
+    assert "unknown scenario" in capsys.readouterr().err
+    quasi = ["simulate", "--scenario", "quasi-static", "--no-cases", "--out", str(out)]
+    assert main(quasi) == 0
+    assert "equilibrium" in capsys.readouterr().out
+    assert (out / "simulation_quasi-static.png").exists()
