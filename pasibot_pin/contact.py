@@ -419,30 +419,46 @@ def contact_along(robot, result, mu: float, sole: tuple[float, float] | None = N
     )
 
 
-def scenario_contacts(mu: float = 0.6, names: Sequence[str] | None = None, preset: str = "default", samples: int = 61):
-    """Run the contact model along every scenario of :data:`pasibot_pin.scenarios.SCENARIOS`.
+def scenario_contact(
+    name: str,
+    preset: str = "default",
+    mu: float = 0.6,
+    samples: int = 60,
+    sole: tuple[float, float] | None = None,
+    variant: str = "spring",
+):
+    """Inverse dynamics and heel/toe contact of one seed scenario over one right stance.
 
     Args:
+        name: scenario name (:data:`pasibot_pin.scenarios.SCENARIOS`): crank speed, body mass and COM.
+        preset: modelling preset of the ``spring`` variant (masses, swing foot); accelerations are exact.
         mu: Coulomb friction coefficient [-].
-        names: scenario names (default all).
-        preset: modelling preset of :data:`pasibot_pin.scenarios.PRESETS`.
-        samples: crank samples over one right stance, theta in [pi/2, 3 pi/2) [rad].
+        samples: crank samples over theta in [pi/2, 3 pi/2) (at 3 pi/2 the other foot takes over).
+        sole: what-if (s_heel, s_toe) along the sole from the ankle [m].
+        variant: ``spring`` (:func:`pasibot_pin.dynamics.inverse_dynamics`) or ``parallel``
+            (:func:`pasibot_pin.energy.parallel_inverse_dynamics`, percentage-rule masses with the
+            scenario's body mass and COM).
 
     Returns:
-        dict name -> (TorqueResult, ContactResult).
+        (the inverse-dynamics result, :class:`ContactResult`).
 
     """
-    from .dynamics import run_scenario, scenario_robot
-    from .scenarios import SCENARIOS, get_preset, get_scenario
+    from .dynamics import inverse_dynamics, scenario_robot
+    from .scenarios import get_preset, get_scenario
 
     if samples < 2:
         raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
-    choices = get_preset(preset)
-    out = {}
-    for name in names or list(SCENARIOS):
-        scenario = get_scenario(name)
-        # one right stance, theta in [pi/2, 3 pi/2): at 3 pi/2 the left foot takes over
-        thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
-        torques = run_scenario(scenario, choices, thetas=thetas)
-        out[name] = (torques, contact_along(scenario_robot(scenario, choices), torques, mu))
-    return out
+    scenario = get_scenario(name)
+    thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
+    if variant == "spring":
+        choices = get_preset(preset)
+        robot = scenario_robot(scenario, choices)
+        torques = inverse_dynamics(robot, thetas, scenario.omega, swing_foot=choices.swing_foot, stance="right")
+    elif variant == "parallel":
+        from .energy import parallel_inverse_dynamics, variant_robot
+
+        robot = variant_robot("parallel", scenario.body_mass, scenario.body_com_dx)
+        torques = parallel_inverse_dynamics(robot, thetas, scenario.omega)
+    else:
+        raise ValueError(f"parameter 'variant': unknown {variant!r}; valid: spring, parallel")
+    return torques, contact_along(robot, torques, mu, sole=sole)

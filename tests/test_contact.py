@@ -192,3 +192,23 @@ def test_energy_cli_table(tmp_path, capsys):
     assert "| spring | 5 |" in text and "| parallel | 5 |" in text and "speed fluctuation" in text
     assert out_csv.read_text().count("\n") == 3
     assert main(["energy", "--variants", "wheel"]) == 2 and "wheel" in capsys.readouterr().err
+
+
+def test_parallel_quasi_static_contact_uses_its_longer_sole():
+    """Parallel variant: sole 2.6 L behind and 1.5 L ahead of joint 13 (DESIGN §4); feasible iff the COM is over it."""
+    torques, res = contact.scenario_contact("quasi-static", mu=0.6, samples=24, variant="parallel")
+    from pasibot_pin.energy import variant_robot
+
+    robot = variant_robot("parallel", 16.0, 0.0)
+    L = 0.05
+    assert np.allclose(res.s_heel, -2.6 * L, atol=1e-12) and np.allclose(res.s_toe, 1.5 * L, atol=1e-12)
+    for k in range(len(res)):
+        mass, com_x = _mass_and_com_x(robot, torques.q[k])
+        ankle_x, _, _ = _ankle_and_ends(robot, torques.q[k])
+        assert bool(res.feasible[k]) == (-2.6 * L <= com_x - ankle_x <= 1.5 * L)
+        assert res.s_cop[k] == pytest.approx(com_x - ankle_x, abs=1e-9)
+        if res.feasible[k]:
+            assert res.heel_force[k, 1] + res.toe_force[k, 1] == pytest.approx(mass * G, rel=1e-9)
+    assert res.feasible.any() and not res.feasible.all()
+    with pytest.raises(ValueError, match="variant"):
+        contact.scenario_contact("run1", variant="wheel")

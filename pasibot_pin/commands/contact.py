@@ -29,6 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     p.add_argument("--scenario", default="run1", help=f"one of {', '.join(SCENARIOS)} (default run1)")
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
+    p.add_argument("--variant", default="spring", help="spring or parallel (default spring)")
     p.add_argument("--mu", type=float, default=0.6, help="Coulomb friction coefficient (default 0.6)")
     p.add_argument("--samples", type=int, default=61, help="samples over one stance (default 61)")
     p.add_argument(
@@ -55,21 +56,13 @@ def write_columns_csv(path: Path, cols: dict[str, np.ndarray]) -> None:
             writer.writerow([repr(float(x)) for x in row])
 
 
-def compute(scenario_name: str, preset: str, mu: float, samples: int, sole=None):
-    """(torques, contact) of one scenario over one right stance, theta in [pi/2, 3 pi/2)."""
-    from ..contact import contact_along
-    from ..dynamics import inverse_dynamics, scenario_robot
-    from ..scenarios import get_preset, get_scenario
+def compute(scenario_name: str, preset: str, mu: float, samples: int, sole=None, variant: str = "spring"):
+    """(torques, contact) of one scenario over one right stance (:func:`pasibot_pin.contact.scenario_contact`)."""
+    from ..contact import scenario_contact
 
     if samples < 2:
         raise ValueError(f"parameter '--samples' must be >= 2, got {samples!r}")
-    scenario, choices = get_scenario(scenario_name), get_preset(preset)
-    robot = scenario_robot(scenario, choices)
-    thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
-    torques = inverse_dynamics(
-        robot, thetas, scenario.omega, swing_foot=choices.swing_foot, accelerations="exact", stance="right"
-    )
-    return torques, contact_along(robot, torques, mu, sole=sole)
+    return scenario_contact(scenario_name, preset, mu, samples, sole, variant)
 
 
 def run(args: argparse.Namespace) -> int:
@@ -78,8 +71,8 @@ def run(args: argparse.Namespace) -> int:
         if path is not None and path.exists() and not args.force:
             raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
     sole = tuple(args.sole) if args.sole is not None else None
-    _torques, res = compute(args.scenario, args.preset, args.mu, args.samples, sole)
-    print(f"scenario {args.scenario}, preset {args.preset}, {len(res)} samples over one stance")
+    _torques, res = compute(args.scenario, args.preset, args.mu, args.samples, sole, args.variant)
+    print(f"scenario {args.scenario}, {args.variant} variant, preset {args.preset}, {len(res)} samples over one stance")
     print(res.summary())
     if args.csv is not None:
         write_columns_csv(args.csv, res.columns())
@@ -137,34 +130,40 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
         "Coulomb cone, proxsuite QP). A sample is infeasible when the centre of pressure (CoP) the motion "
         "demands leaves the sole (the foot would tip over that edge) or |Fx| > mu Fz (slip).",
         "",
-        "| scenario | feasible samples | first failure | CoP demanded [mm] (sole -25 .. +75) | "
+        "| scenario (variant) | feasible samples | first failure | CoP demanded [mm] | "
         "max friction needed | CoP crossings of the sole edges |",
         "|---|---|---|---|---|---|",
     ]
-    for name in SCENARIOS:
-        torques, res = compute(name, "default", ANALYZE_MU, 60)
+    worst_mu = (0.0, "")
+    for name, variant in [(n, v) for v in ("spring", "parallel") for n in SCENARIOS]:
+        torques, res = compute(name, "default", ANALYZE_MU, 60, variant=variant)
         heel, toe = res.sole_needed()
         crossings = "; ".join(
             f"{e['direction']} at {e['edge']} {math.degrees(e['theta']):.1f} deg" for e in res.tip_events()
         )
         finite = res.mu_needed[np.isfinite(res.mu_needed)]
+        if finite.size and np.max(finite) > worst_mu[0]:
+            worst_mu = (float(np.max(finite)), f"{name}, {variant}")
         lines.append(
-            f"| {name} | {int(res.feasible.sum())}/{len(res)} | {_fmt_first(res)} | {heel * 1e3:+.0f} .. "
+            f"| {name} ({variant}) | {int(res.feasible.sum())}/{len(res)} | {_fmt_first(res)} | {heel * 1e3:+.0f} .. "
             f"{toe * 1e3:+.0f} | {np.max(finite):.4f} | {crossings or '-'} |"
         )
-        write_columns_csv(sub / f"contact_{name}.csv", res.columns())
-        fig = contact_figure(res, title=f"{name}: heel/toe contact, mu = {ANALYZE_MU:g}")
-        fig.savefig(sub / f"contact_{name}.png", dpi=110)
+        write_columns_csv(sub / f"contact_{variant}_{name}.csv", res.columns())
+        fig = contact_figure(res, title=f"{name} ({variant}): heel/toe contact, mu = {ANALYZE_MU:g}")
+        fig.savefig(sub / f"contact_{variant}_{name}.png", dpi=110)
         plt.close(fig)
     _, slip = compute("run4", "default", 0.01, 60, sole=(-1.0, 1.0))
     lines += [
         "",
-        "With the seed's 10 cm sole the CoP stays inside only around mid-stance: the welded foot of the "
+        "Soles: spring -25 .. +75 mm, parallel -130 .. +75 mm from the ankle (the parallel variant "
+        "carries the scenario's body on percentage-rule masses, 20 kg heavier). "
+        "With these soles the CoP stays inside only around mid-stance: the welded foot of the "
         "inverse dynamics holds moments a flat foot on the ground cannot. The 'CoP demanded' column is the "
-        "sole a foot would need. Friction is not the issue at the seed's speeds. As an infeasible-friction "
+        "sole a foot would need. The largest friction coefficient needed is "
+        f"{worst_mu[0]:.2f} ({worst_mu[1]}); at 0.1 rad/s it is below 0.001. As an infeasible-friction "
         f"check, run4 on a what-if 2 m sole with mu = 0.01: first failure {_fmt_first(slip)}.",
         "",
-        "![contact run1](contact_energy/contact_run1.png)",
+        "![contact run1](contact_energy/contact_spring_run1.png)",
         "",
     ]
 
