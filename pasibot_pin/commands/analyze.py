@@ -56,6 +56,13 @@ def step_dynamics(out_dir: Path, args: argparse.Namespace) -> str:
     return analyze_step(out_dir, args)
 
 
+def step_contact_energy(out_dir: Path, args: argparse.Namespace) -> str:
+    """Heel/toe contact of every scenario, one motor for both cranks, energy per step (``commands/contact.py``)."""
+    from .contact import analyze_step
+
+    return analyze_step(out_dir, args)
+
+
 def step_simulation(out_dir: Path, args: argparse.Namespace) -> str:
     """Forward simulation, hip pitch free: does the fitted ankle spring hold the hip (``commands/simulate.py``)."""
     from .simulate import analyze_step
@@ -68,6 +75,7 @@ STEPS: list[tuple[str, Callable[[Path, argparse.Namespace], str]]] = [
     ("kinematics", step_kinematics),
     ("animation", step_animation),
     ("dynamics", step_dynamics),
+    ("contact_energy", step_contact_energy),
     ("simulation", step_simulation),
 ]
 
