@@ -346,15 +346,15 @@ def spring_step_energy(
         body_com_dx: body COM ahead of joint 8 [m].
         nodes: Gauss-Legendre nodes.
         theta_end: stance crank angle where the integration stops (3 pi/2: a full step) [rad].
-        fit: fit the ankle spring (K_e, beta0) on a uniform run at the same speed.
+        fit: fit the ankle spring (K_e, beta0) on 61 uniform samples of the same stance and speed.
 
     Returns:
         (StepEnergy, the TorqueResult at [start, nodes..., end]).
 
     """
-    from .dynamics import check_omega, inverse_dynamics, run_scenario
+    from .dynamics import check_omega, inverse_dynamics
     from .scenarios import PRESETS, Scenario
-    from .spring import fit_result
+    from .spring import fit_spring
 
     omega = check_omega(omega)
     if omega == 0:
@@ -367,7 +367,10 @@ def spring_step_energy(
     robot = scenario_robot(scenario, PRESETS["default"])
     th, w = gauss_legendre(STEP_START, theta_end, nodes)
     result = inverse_dynamics(robot, np.concatenate(([STEP_START], th, [theta_end])), omega, stance="right")
-    spring_fit = fit_result(run_scenario(scenario, PRESETS["default"]), warn=False) if fit else None
+    spring_fit = None
+    if fit:  # K_e, beta0 on 61 uniform samples of the right stance, both ends included
+        uniform = inverse_dynamics(robot, np.linspace(STEP_START, STEP_END, 61), omega, stance="right")
+        spring_fit = fit_spring(uniform.beta, uniform.Te, warn=False)
     return _step_energy(robot, result, w, omega, "spring", spring_fit), result
 
 

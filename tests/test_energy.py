@@ -126,3 +126,27 @@ def test_energy_errors():
         energy.parallel_step_energy(1.0, theta_end=4 * math.pi)
     with pytest.raises(ValueError, match="body_mass"):
         energy.variant_robot("parallel", -1.0)
+
+
+def test_analyze_step_contact_energy(tmp_path):
+    """The ``contact_energy`` step of ``pasibot analyze``: its section, tables, CSVs and figures."""
+    import argparse
+    import csv
+
+    from pasibot_pin.commands.analyze import STEPS
+
+    text = dict(STEPS)["contact_energy"](tmp_path, argparse.Namespace())
+    assert text.startswith("## Beyond the report: contact, one motor, energy")
+    for scenario in ("quasi-static", "run1", "run2", "run3", "run4"):
+        for variant in ("spring", "parallel"):
+            assert f"| {scenario} ({variant}) |" in text
+            assert (tmp_path / "contact_energy" / f"contact_{variant}_{scenario}.png").stat().st_size > 10_000
+    assert "first failure" in text and ": slip." in text
+    rows = list(csv.DictReader((tmp_path / "contact_energy" / "energy.csv").open()))
+    assert {r["variant"] for r in rows} == {"spring", "parallel"} and len(rows) == 10
+    for r in rows:  # the table's CoT is its positive work over weight x distance
+        assert float(r["cot_motors"]) == pytest.approx(
+            float(r["W_crank_pos"]) / (float(r["mass"]) * G * float(r["distance"])), rel=1e-9
+        )
+    for name in ("single_motor_run4.png", "cost_of_transport.png", "power_spring_5.png", "single_motor_run4.csv"):
+        assert (tmp_path / "contact_energy" / name).exists()
