@@ -131,7 +131,7 @@ def plot_spring_sweep(
     k = np.asarray(stiffness, dtype=float)
     b = np.degrees(np.asarray(rest_angles, dtype=float))
     mesh = ax.pcolormesh(k, b, data, shading="nearest", cmap="viridis_r")
-    fig.colorbar(mesh, ax=ax, label="max |hip pitch| [deg] (blank: fell)")
+    fig.colorbar(mesh, ax=ax, label="max |hip pitch| [deg] (blank: fell or no stable equilibrium)")
     if fitted is not None:
         ax.plot(fitted[0], np.degrees(fitted[1]), "*", color="#e6007e", ms=14, label="inverse-dynamics fit")
     if best is not None:
