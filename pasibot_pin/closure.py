@@ -122,8 +122,42 @@ def row_labels(robot, cmodels=None) -> list[str]:
     return labels
 
 
+_CACHE_SIZE = 32
+
+
+def _cached_constraint_datas(robot, cmodels):
+    """Constraint datas and in-plane row selection for a list of constraint models (cached)."""
+    cache = robot.__dict__.setdefault("_closure_cache", {})
+    key = tuple(id(cm) for cm in cmodels)
+    entry = cache.get(key)
+    if entry is None:
+        # Keep the models referenced so their ids cannot be reused while cached.
+        index, sign = constraints.inplane_rows(cmodels)
+        entry = (list(cmodels), constraints.create_datas(cmodels), index, sign)
+        if len(cache) >= _CACHE_SIZE:
+            cache.pop(next(iter(cache)))
+        cache[key] = entry
+    return entry
+
+
+def _fast_constraint_rows(robot, q, cmodels):
+    """Residual and Jacobian through Pinocchio's C++ constraint Jacobian (no drift)."""
+    model, data = robot.model, robot.data
+    cmodels, cdatas, index, sign = _cached_constraint_datas(robot, cmodels)
+    jac, oMc = constraints.stacked_jacobian(model, data, cmodels, cdatas, q)
+    res = []
+    for cm, (oMc1, oMc2) in zip(cmodels, oMc):
+        dp = oMc1.translation - oMc2.translation
+        res += [dp[0], dp[2]]
+        if constraints.is_weld(cm):
+            res.append(_wrap(planar_pitch(oMc1.rotation) - planar_pitch(oMc2.rotation)))
+    return np.array(res), jac[index] * sign, np.zeros(len(res))
+
+
 def _constraint_rows(robot, q, v, cmodels, need_drift: bool):
     model, data = robot.model, robot.data
+    if not need_drift and len(cmodels) > 0:
+        return _fast_constraint_rows(robot, q, cmodels)
     if need_drift:
         pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
     else:

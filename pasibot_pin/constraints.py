@@ -133,6 +133,29 @@ def pinocchio_constraint_jacobian(
     return jac
 
 
+def stacked_jacobian(
+    model: pin.Model,
+    data: pin.Data,
+    cmodels: list[pin.RigidConstraintModel],
+    cdatas: list[pin.RigidConstraintData],
+    q: np.ndarray,
+) -> tuple[np.ndarray, list[tuple[pin.SE3, pin.SE3]]]:
+    """Pinocchio's stacked constraint Jacobian (all rows) and each constraint's two frame poses.
+
+    Runs ``computeJointJacobians`` (which also updates ``data.oMi``) and ``calc`` of every
+    constraint, then the C++ ``getConstraintsJacobian``. No ``initConstraintDynamics`` is needed.
+
+    Returns:
+        (Jacobian (rows x nv), [(oMc1, oMc2) per constraint]).
+
+    """
+    pin.computeJointJacobians(model, data, q)
+    for cmodel, cdata in zip(cmodels, cdatas):
+        cmodel.calc(model, data, cdata)
+    jac = pin.getConstraintsJacobian(model, data, cmodels, cdatas)
+    return jac, [(cdata.oMc1, cdata.oMc2) for cdata in cdatas]
+
+
 def anchor_points(cmodel: pin.RigidConstraintModel) -> tuple[tuple[int, pin.SE3], tuple[int, pin.SE3]]:
     """The two frames a constraint model ties together: ((joint1, placement1), (joint2, placement2)).
 
