@@ -29,6 +29,7 @@ from pasibot_pin.simulate import (
     project_configuration,
     simulate,
     static_equilibrium,
+    toppling_stiffness,
 )
 
 G = 9.81
@@ -308,6 +309,14 @@ def test_static_stability_margin_is_spring_minus_gravity_moment_of_height(spring
     gravity_stiffness = G * (total * com[2] - m_foot * foot_com[2] - (total - m_foot) * z_ankle)
     assert 250.0 < gravity_stiffness < 350.0
     assert eq.stiffness[0] == pytest.approx(spring.stiffness - gravity_stiffness, rel=1e-4)
+    # the module's k_g, hip level at this crank angle, against the same sum written here
+    q_level = assemble(robot, theta)
+    com = pin.centerOfMass(model, data, q_level)
+    foot_com = data.oMi[foot].act(model.inertias[foot].lever)
+    pin.framesForwardKinematics(model, data, q_level)
+    z_ankle = data.oMf[robot.frame_id("right_foot")].translation[2]
+    k_g = G * (total * com[2] - m_foot * foot_com[2] - (total - m_foot) * z_ankle)
+    assert toppling_stiffness(robot, theta) == pytest.approx(k_g, rel=1e-12)
 
 
 def _inverse_feedforward(robot, result, h):
