@@ -41,6 +41,7 @@ Units: SI; angles [rad].
 
 from __future__ import annotations
 
+import copy
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field, replace
@@ -187,8 +188,12 @@ class ConstraintSet:
         self.labels += [f"{c.name}(t)" for c in self.coords]
 
     def with_coords(self, coords: Sequence[CoordinateRow]) -> ConstraintSet:
-        """The same constraint models with other coordinate rows."""
-        return ConstraintSet(self.robot, self.cmodels, coords)
+        """The same constraint models with other coordinate rows (shares the precomputed point data)."""
+        other = copy.copy(self)
+        other.coords = list(coords)
+        other.nrows = self.nrows - len(self.coords) + len(other.coords)
+        other.labels = self.labels[: len(self.labels) - len(self.coords)] + [f"{c.name}(t)" for c in other.coords]
+        return other
 
     def evaluate(self, q: np.ndarray, v: np.ndarray | None, t: float):
         """Phi(q, t), J(q), Jdot v and Phi_t.
@@ -286,23 +291,48 @@ def mass_matrix(robot, q: np.ndarray) -> np.ndarray:
     return np.triu(mass) + np.triu(mass, 1).T
 
 
-def impulse(robot, cset: ConstraintSet, q: np.ndarray, v_minus: np.ndarray, t: float):
+def impulse(robot, cset: ConstraintSet, q: np.ndarray, v_minus: np.ndarray, t: float, rows=None):
     """Inelastic impact / velocity projection onto J v + Phi_t = 0 in the M metric.
 
     Solves [M J^T; J 0][v+; mu] = [M v-; -Phi_t].
+
+    Args:
+        robot: the robot.
+        cset: the constraint set after the impact.
+        q: configuration (on the constraints).
+        v_minus: velocity before [rad/s, m/s].
+        t: time [s].
+        rows: (J, Phi_t) already evaluated at (q, t), to save a kinematic pass.
 
     Returns:
         (v_plus, Lambda): the post-impact velocity and the impulse per constraint row [N.s, N.m.s].
 
     """
-    _, jac, _, phi_t = cset.evaluate(q, None, t)
+    if rows is None:
+        _, jac, _, phi_t = cset.evaluate(q, None, t)
+    else:
+        jac, phi_t = rows
     mass = mass_matrix(robot, q)
     v_plus, lam = _kkt(mass, jac, mass @ v_minus, -phi_t)
     return v_plus, lam
 
 
-def project_configuration(robot, cset: ConstraintSet, q: np.ndarray, t: float, max_iter: int = 20) -> np.ndarray:
+def project_configuration(
+    robot, cset: ConstraintSet, q: np.ndarray, t: float, max_iter: int = 20, details: bool = False
+):
     """Newton onto Phi(q, t) = 0 with minimum M-norm corrections.
+
+    Args:
+        robot: the robot.
+        cset: the constraints.
+        q: start [rad, m].
+        t: time [s].
+        max_iter: iteration limit.
+        details: also return the largest residual at the start and (J, Phi_t) at the result.
+
+    Returns:
+        q on the constraints (every row below :data:`PROJECTION_TOL`); with ``details``,
+        (q, initial largest residual, (J, Phi_t)).
 
     Raises:
         ValueError: when the constraints cannot be met (naming the worst row).
@@ -310,10 +340,13 @@ def project_configuration(robot, cset: ConstraintSet, q: np.ndarray, t: float, m
     """
     q = np.array(q, dtype=float)
     phi = None
+    initial = None
     for _ in range(max_iter):
-        phi, jac, _, _ = cset.evaluate(q, None, t)
-        if np.max(np.abs(phi)) < PROJECTION_TOL:
-            return q
+        phi, jac, _, phi_t = cset.evaluate(q, None, t)
+        largest = float(np.max(np.abs(phi)))
+        initial = largest if initial is None else initial
+        if largest < PROJECTION_TOL:
+            return (q, initial, (jac, phi_t)) if details else q
         mass = mass_matrix(robot, q)
         dq, _ = _kkt(mass, jac, np.zeros(len(q)), -phi)
         q = q + dq
@@ -596,10 +629,8 @@ class BipedSimulator:
             v4 = v + h * a3
             q_new = q + h / 6 * (v + 2 * v2 + 2 * v3 + v4)
             v_new = v + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
-        phi = cset.evaluate(q_new, None, t + h)[0]
-        drift = float(np.max(np.abs(phi)))
-        q_new = project_configuration(self.robot, cset, q_new, t + h)
-        v_new, _ = impulse(self.robot, cset, q_new, v_new, t + h)
+        q_new, drift, rows = project_configuration(self.robot, cset, q_new, t + h, details=True)
+        v_new, _ = impulse(self.robot, cset, q_new, v_new, t + h, rows)
         return q_new, v_new, lam, drift
 
     # ---- initial state
