@@ -233,3 +233,33 @@ class InplaneJacobian:
         for cmodel, cdata in zip(self.cmodels, self.cdatas):
             cmodel.calc(model, data, cdata)
         return pin.getConstraintsJacobian(model, data, self.cmodels, self.cdatas)[self.index] * self.sign
+
+
+def proximal_impulse(
+    model: pin.Model,
+    data: pin.Data,
+    cmodels: list[pin.RigidConstraintModel],
+    q: np.ndarray,
+    v_before: np.ndarray,
+    mu: float = 1e-10,
+    accuracy: float = 1e-13,
+    max_iter: int = 100,
+) -> np.ndarray:
+    """Pinocchio's own inelastic impact (``impulseDynamics``, restitution 0) with proximal settings.
+
+    Like :func:`proximal_forward_dynamics`, ``mu`` must be positive for the planar 3-D contacts.
+    Used to cross-check the simulator's KKT impulse. Checked with pin 4.1.0: it agrees for a weld
+    to the world (joint2 = 0), but for a constraint between two moving bodies (a cut loop joint)
+    its post-impact velocity violates that constraint (J v+ ~ 0.5 m/s for v- ~ 1), so the
+    simulator uses its own KKT impulse.
+
+    Returns:
+        The velocity after the impact (nv,).
+
+    """
+    if not mu > 0:
+        raise ValueError(f"parameter 'mu' must be positive (rank-deficient planar contacts), got {mu!r}")
+    cdatas = create_datas(cmodels)
+    pin.initConstraintDynamics(model, data, cmodels, cdatas)
+    settings = pin.ProximalSettings(accuracy, mu, max_iter)
+    return np.array(pin.impulseDynamics(model, data, q, v_before, cmodels, cdatas, 0.0, settings))

@@ -96,6 +96,18 @@ def test_kkt_accelerations_match_pinocchio_constraint_dynamics(spring2):
     assert np.max(np.abs(a_pin - a)) < 1e-9 * np.max(np.abs(a))
 
 
+def test_impulse_matches_pinocchio_impulse_dynamics_for_the_foot_weld(spring2):
+    """Pinocchio's impulseDynamics (contact models, proximal) on the weld alone: same v+ as our KKT impulse."""
+    robot = spring2
+    q = robot.q0
+    v = np.random.default_rng(2).normal(size=robot.model.nv)
+    weld_only = ConstraintSet(robot, [robot.weld])
+    v_plus, _ = impulse(robot, weld_only, q, v, 0.0)
+    v_pin = constraints.proximal_impulse(robot.model, robot.model.createData(), [robot.weld], q, v, mu=1e-10)
+    assert np.max(np.abs(v_plus - v)) > 0.1, "the weld must change the velocity"
+    assert np.max(np.abs(v_pin - v_plus)) < 1e-5 * np.max(np.abs(v_plus))
+
+
 def test_static_multipliers_are_gradients_of_the_potential(spring2):
     """At rest with cranks, hip and swing ankle locked, each lock's multiplier is dV/ds."""
     robot = spring2
