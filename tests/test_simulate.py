@@ -387,6 +387,21 @@ def test_forward_of_inverse_dynamics_is_the_identity():
     assert np.max(np.abs(res.hip_torque)) < 1e-4
     # and the motion is not trivial: the free coordinates moved a lot
     assert np.ptp(res.beta[:, 0]) > math.radians(10.0)
+    # with the motor as a rheonomic constraint and only the ankle torques fed forward, the
+    # motor rows' multipliers are the inverse dynamics' crank torques
+    ankles_only = _inverse_feedforward(robot, ideal, h)
+
+    def ankle_torques(t, q, v):
+        tau = ankles_only(t, q, v).copy()
+        tau[[robot.idx_v("right_j0_crank"), robot.idx_v("left_j0_crank")]] = 0.0
+        return tau
+
+    driven = BipedSimulator(robot, settings.with_(motor="rheonomic", feedforward=ankle_torques)).run(
+        duration=duration, q0=ideal.q[0], v0=ideal.v[0], stance="right"
+    )
+    assert np.max(np.abs(driven.q[:, angles] - ideal.q[::2, angles])) < 1e-6
+    assert np.max(np.abs(driven.motor_torque[:, 0] - ideal.Ta[::2])) < 1e-6 * np.max(np.abs(ideal.Ta))
+    assert np.max(np.abs(driven.motor_torque[:, 1] - ideal.Ta_swing[::2])) < 1e-6 * np.max(np.abs(ideal.Ta))
 
 
 def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
