@@ -1,4 +1,4 @@
-"""Forward dynamics of the spring biped: constraint rows, statics, energy, drift, impacts, walking.
+"""Forward dynamics of the spring biped (simulate, spring_study): constraint rows, statics, energy, drift, impacts.
 
 Expected values come from independent computations written here: finite differences of the
 constraint residual, finite differences of the potential energy along the constraint
@@ -28,9 +28,8 @@ from pasibot_pin.simulate import (
     mass_matrix,
     project_configuration,
     simulate,
-    static_equilibrium,
-    toppling_stiffness,
 )
+from pasibot_pin.spring_study import static_equilibrium, toppling_stiffness
 
 G = 9.81
 
@@ -409,7 +408,7 @@ def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
     up to that moment the fitted spring keeps the hip closer to level. Windows: 4 s of walking at
     0.1 rad/s (cranks locked for the quasi-static run), four steps at 5 rad/s."""
     from pasibot_pin.scenarios import SCENARIOS
-    from pasibot_pin.simulate import scenario_inputs, standing_pitch
+    from pasibot_pin.spring_study import scenario_inputs, standing_pitch
 
     for name in SCENARIOS:
         scen = scenario_inputs(name)

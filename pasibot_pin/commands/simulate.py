@@ -111,17 +111,8 @@ def run(args: argparse.Namespace) -> int:
     import matplotlib.pyplot as plt
 
     from ..plots_simulation import plot_simulation, plot_static_equilibrium
-    from ..simulate import (
-        SPRING_CASES,
-        AnkleSpring,
-        SimulationSettings,
-        critical_foot_damping,
-        default_dt,
-        scenario_inputs,
-        simulate,
-        standing_pitch,
-        static_equilibrium,
-    )
+    from ..simulate import AnkleSpring, SimulationSettings, critical_foot_damping, simulate
+    from ..spring_study import SPRING_CASES, default_dt, scenario_inputs, standing_pitch, static_equilibrium
 
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")
@@ -200,7 +191,7 @@ def study_table(studies, extras=None) -> list[str]:
     """
     import numpy as np
 
-    from ..simulate import SPRING_CASES
+    from ..spring_study import SPRING_CASES
 
     extras = extras or {}
     head = "| scenario | omega [rad/s] | fit K_e [N.m/rad] | fit beta0 [deg] | R^2 | k_g [N.m/rad] | K_e - k_g | "
@@ -234,7 +225,7 @@ def study_table(studies, extras=None) -> list[str]:
 
 def _study(name: str):
     """One scenario's study (a process-pool task): (study, k_g, SpringFit)."""
-    from ..simulate import scenario_inputs, spring_study, toppling_stiffness
+    from ..spring_study import scenario_inputs, spring_study, toppling_stiffness
 
     scen = scenario_inputs(name)
     steps = 4 if scen.omega > 1 else 2
@@ -256,7 +247,8 @@ def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
 
     from ..plots_simulation import plot_simulation, plot_spring_sweep, plot_static_equilibrium
     from ..scenarios import SCENARIOS
-    from ..simulate import scenario_inputs, simulate
+    from ..simulate import simulate
+    from ..spring_study import scenario_inputs
 
     names = list(SCENARIOS)
     start = time.perf_counter()
