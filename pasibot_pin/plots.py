@@ -28,14 +28,14 @@ def link_group(link: str) -> str:
     return "hip"
 
 
-def _axes(ax):
+def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
+    """(figure, axes): ``ax`` and its figure, or a new figure of ``figsize`` [in] when ``ax`` is None."""
     import matplotlib.pyplot as plt
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=(5, 7))
-    else:
-        fig = ax.figure
-    return fig, ax
+        fig, ax = plt.subplots(figsize=figsize)
+        return fig, ax
+    return ax.figure, ax
 
 
 def robot_segments(robot, q: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
@@ -78,7 +78,7 @@ def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True,
         The matplotlib figure.
 
     """
-    fig, ax = _axes(ax)
+    fig, ax = figure_axes(ax)
     q = robot.q0 if q is None else q
     model, data = robot.model, robot.data
     for group, a, b in robot_segments(robot, q):

@@ -12,12 +12,11 @@ from collections.abc import Sequence
 import matplotlib.pyplot as plt
 import numpy as np
 
+from .plots import figure_axes
+
 
 def _axes(ax, figsize=(7.0, 4.0)):
-    if ax is None:
-        fig, ax = plt.subplots(figsize=figsize)
-        return fig, ax
-    return ax.figure, ax
+    return figure_axes(ax, figsize)
 
 
 def _shade_infeasible(ax, deg: np.ndarray, feasible: np.ndarray) -> None:

@@ -12,6 +12,8 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from .plots import figure_axes
+
 TORQUE_STYLE = {
     "Ta": ("T_a (stance crank)", "tab:blue", "-"),
     "Te": ("T_e (stance ankle)", "tab:red", "-"),
@@ -22,12 +24,9 @@ TORQUE_STYLE = {
 
 def _axes(ax):
     """(figure, axes, created): a new figure when ``ax`` is None."""
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        fig, ax = plt.subplots(figsize=(7, 4.5))
-        return fig, ax, True
-    return ax.figure, ax, False
+    created = ax is None
+    fig, ax = figure_axes(ax, (7, 4.5))
+    return fig, ax, created
 
 
 def plot_torques_vs_beta(result, fit=None, ax=None, title: str | None = None):

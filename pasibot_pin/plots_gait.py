@@ -11,19 +11,13 @@ import math
 import numpy as np
 
 from .kinematics import STANCE, KSweep, LegCycle
-from .plots import GROUP_COLOURS, plot_robot
+from .plots import GROUP_COLOURS, figure_axes, plot_robot
 
 POINT_COLOURS = {"ankle": "#2673d9", "toe": "#d62728", "heel": "#7f7f7f", "hip": "#000000"}
 
 
 def _axes(ax, figsize=(6, 5)):
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        fig, ax = plt.subplots(figsize=figsize)
-    else:
-        fig = ax.figure
-    return fig, ax
+    return figure_axes(ax, figsize)
 
 
 def _runs(mask: np.ndarray) -> list[tuple[int, int]]:

@@ -10,15 +10,11 @@ from collections.abc import Mapping, Sequence
 
 import numpy as np
 
+from .plots import figure_axes
+
 
 def _axes(ax, figsize=(7, 3.5)):
-    import matplotlib.pyplot as plt
-
-    if ax is None:
-        fig, ax = plt.subplots(figsize=figsize)
-    else:
-        fig = ax.figure
-    return fig, ax
+    return figure_axes(ax, figsize)
 
 
 def _impact_lines(ax, result) -> None:

@@ -18,8 +18,8 @@ from pasibot_pin.closure import (
     crank_sweep,
     default_prescriptions,
     row_labels,
-    solve_configuration,
     solve_acceleration,
+    solve_configuration,
     solve_velocity,
 )
 
