@@ -17,6 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .common import write_columns_csv
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
@@ -44,16 +46,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--plot", type=Path, default=None, help="write the forces/CoP/friction figure to this file")
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.set_defaults(func=run)
-
-
-def write_columns_csv(path: Path, cols: dict[str, np.ndarray]) -> None:
-    """Write equal-length columns as CSV (full precision)."""
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(list(cols))
-        for row in zip(*cols.values()):
-            writer.writerow([repr(float(x)) for x in row])
 
 
 def compute(scenario_name: str, preset: str, mu: float, samples: int, sole=None, variant: str = "spring"):

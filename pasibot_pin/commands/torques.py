@@ -8,12 +8,13 @@ whose differences are attributed to the seed's modelling choices one at a time.
 from __future__ import annotations
 
 import argparse
-import csv
 import math
 import time
 from pathlib import Path
 
 import numpy as np
+
+from .common import write_columns_csv
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -38,13 +39,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def write_result_csv(path: Path, result) -> None:
     """Write a :class:`~pasibot_pin.dynamics.TorqueResult` as CSV (SI units, full precision)."""
-    cols = result.columns()
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
-        writer = csv.writer(handle)
-        writer.writerow(list(cols))
-        for row in zip(*cols.values()):
-            writer.writerow([repr(float(x)) for x in row])
+    write_columns_csv(path, result.columns())
 
 
 def _choices(args: argparse.Namespace):
