@@ -137,24 +137,20 @@ class ModelChoices:
         return replace(self, **changes)
 
 
+_SEED = ModelChoices(
+    masses="rounded",
+    swap_l5_l6=True,
+    swing_foot="square",
+    seed_foot=True,
+    accelerations="lagged",
+    fit_thetas=SEED_FIT_THETAS,
+)
+
 PRESETS: Mapping[str, ModelChoices] = {
     "default": ModelChoices(),
-    "seed": ModelChoices(
-        masses="rounded",
-        swap_l5_l6=True,
-        swing_foot="square",
-        seed_foot=True,
-        accelerations="lagged",
-        fit_thetas=SEED_FIT_THETAS,
-    ),
-    "seed-clean": ModelChoices(
-        masses="rounded",
-        swap_l5_l6=False,
-        swing_foot="square",
-        seed_foot=True,
-        accelerations="exact",
-        fit_thetas=SEED_FIT_THETAS,
-    ),
+    "seed": _SEED,
+    # the seed's model with its two bugs undone: no L5/L6 mass swap, exact accelerations
+    "seed-clean": replace(_SEED, swap_l5_l6=False, accelerations="exact"),
 }
 """``default``: the physically right model. ``seed``: every choice of the seed's code.
 ``seed-clean``: the seed's model with the L5/L6 swap undone and exact accelerations."""
