@@ -14,11 +14,18 @@ from ..params import VARIANTS
 
 
 def add_walk_view_options(parser: argparse.ArgumentParser) -> None:
-    """``--variant``, ``--steps``, ``--samples-per-step`` and ``--fps`` (shared with ``pasibot view``)."""
+    """``--variant``, ``--steps``, ``--samples-per-step``, ``--fps``, ``--reactions`` (shared with ``pasibot view``)."""
     parser.add_argument("--variant", default="spring", choices=VARIANTS, help="leg variant (default spring)")
     parser.add_argument("--steps", type=int, default=2, help="steps to walk, one per half crank turn (default 2)")
     parser.add_argument("--samples-per-step", type=int, default=30, help="animation frames per step (default 30)")
     parser.add_argument("--fps", type=float, default=30.0, help="animation frames per second (default 30)")
+    parser.add_argument(
+        "--reactions",
+        type=float,
+        default=None,
+        metavar="OMEGA",
+        help="draw the ground reaction and cut-joint forces at crank speed OMEGA [rad/s] (spring variant)",
+    )
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -28,13 +35,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_walk_view_options(p)
     p.add_argument(
         "--ground-reaction", action="store_true", help="draw the quasi-static ground reaction (0.5 mm per N)"
-    )
-    p.add_argument(
-        "--reactions",
-        type=float,
-        default=None,
-        metavar="OMEGA",
-        help="draw the ground reaction and cut-joint forces at crank speed OMEGA [rad/s] (spring variant)",
     )
     p.add_argument("--force", action="store_true", help="overwrite an existing file")
     p.set_defaults(func=run)

@@ -23,13 +23,6 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--hold", type=float, default=0.0, help="seconds to serve after the last play (default 0; -1: until Ctrl-C)"
     )
-    p.add_argument(
-        "--reactions",
-        type=float,
-        default=None,
-        metavar="OMEGA",
-        help="draw the ground reaction and cut-joint forces at crank speed OMEGA [rad/s] (spring variant)",
-    )
     p.add_argument("--zmq-url", default=None, help="reuse a running meshcat-server (e.g. tcp://127.0.0.1:6000)")
     p.set_defaults(func=run)
 
