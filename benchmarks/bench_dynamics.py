@@ -5,8 +5,8 @@ Measured in one run, on the same model (the ``spring`` biped, run 4: 5 rad/s, bo
 1. one bare ``pin.rnea(q, v, a)`` (nv = 19);
 2. our constrained ID step for a sample on the manifold: rnea + the in-plane constraint
    Jacobian + the square split tau = S^T u + J_c^T lambda, with J_c from our vectorised
-   ``dynamics.PlanarRows`` or from Pinocchio's C++ ``getConstraintsJacobian``
-   (``constraints.InplaneJacobian``);
+   ``ConstraintSystem`` or from Pinocchio's C++ ``getConstraintsJacobian``
+   (``constraints.pinocchio_constraint_jacobian``, in-plane rows);
 3. the whole per-sample pipeline of ``dynamics.inverse_dynamics`` (Newton for q, exact v and a
    with drift, the split and every joint reaction);
 4. the seed's Newton-Euler free-body method, in clean numpy: assemble A (48 x 48) and b from
@@ -24,7 +24,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin import constraints, dynamics, scenarios
+from pasibot_pin import closure, constraints, dynamics, scenarios
 
 REPEAT = 200
 G = 9.81
@@ -157,20 +157,21 @@ def main() -> None:
     q, v, a = res.q[k], res.v[k], res.a[k]
 
     rs = robot.with_stance("right", q)
-    rows = dynamics.PlanarRows(rs, rs.constraint_models, dynamics._prescriptions(rs, "right", "level"))
+    rows = closure.system(rs, rs.constraint_models, dynamics._prescriptions(rs, "right", "level"))
     s_matrix = dynamics._actuation(rs, "right")
 
     def constrained_step():
         tau = pin.rnea(model, rs.data, q, v, a)
-        jc = rows.evaluate(q)[1][: rows.nc]
+        jc = rows.constraint_jacobian(q)
         return dynamics.split_torques(tau, s_matrix, jc)
 
     cdata = model.createData()
-    pin_jacobian = constraints.InplaneJacobian(model, cdata, rs.constraint_models)
+    index, sign = constraints.inplane_rows(rs.constraint_models)
 
     def constrained_step_pin():
         tau = pin.rnea(model, cdata, q, v, a)
-        return dynamics.split_torques(tau, s_matrix, pin_jacobian(q))
+        jac = constraints.pinocchio_constraint_jacobian(model, cdata, rs.constraint_models, q)
+        return dynamics.split_torques(tau, s_matrix, jac[index] * sign)
 
     u, _ = constrained_step()
     u_pin, _ = constrained_step_pin()

@@ -14,7 +14,8 @@ import math
 
 import numpy as np
 
-from .params import Geometry, check_variant
+from .params import Geometry
+from .variants import Variant, get_variant
 
 Point = np.ndarray
 
@@ -51,7 +52,7 @@ def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, 
     return c1 + a * u + (h if left else -h) * normal
 
 
-def leg_points(theta: float, geometry: Geometry | None = None, variant: str = "spring") -> dict[str, Point]:
+def leg_points(theta: float, geometry: Geometry | None = None, variant: str | Variant = "spring") -> dict[str, Point]:
     """Joint positions of one leg in the leg frame [m].
 
     Args:
@@ -67,7 +68,7 @@ def leg_points(theta: float, geometry: Geometry | None = None, variant: str = "s
 
     """
     g = geometry or Geometry()
-    check_variant(variant)
+    spec = get_variant(variant)
     if not math.isfinite(theta):
         raise ValueError(f"crank angle theta must be finite, got {theta!r}")
     p: dict[str, Point] = {}
@@ -87,7 +88,7 @@ def leg_points(theta: float, geometry: Geometry | None = None, variant: str = "s
     p["p7"] = p["p8"] + (p["p6"] - p["p5"])
     u5 = (p["p7"] - p["p6"]) / np.linalg.norm(p["p7"] - p["p6"])
     p["p13"] = p["p6"] + g.length(5) * u5
-    if variant == "parallel":
+    if spec.extension:
         dz = p["p4"][1] + g.length(12)
         l8 = g.length(8)
         if abs(dz) >= l8:
@@ -106,7 +107,7 @@ def leg_points(theta: float, geometry: Geometry | None = None, variant: str = "s
 def leg_joint_angles(
     theta: float,
     geometry: Geometry | None = None,
-    variant: str = "spring",
+    variant: str | Variant = "spring",
     foot_angle: float | None = None,
 ) -> dict[str, float]:
     """Tree joint coordinates of one leg (names without the side prefix).
@@ -122,7 +123,8 @@ def leg_joint_angles(
         ``{joint name: coordinate}`` [rad], the slider coordinate in [m].
 
     """
-    p = leg_points(theta, geometry, variant)
+    spec = get_variant(variant)
+    p = leg_points(theta, geometry, spec)
     a12 = _angle(p["p1"], p["p4"])
     a46 = _angle(p["p4"], p["p6"])
     a613 = _angle(p["p6"], p["p13"])
@@ -135,10 +137,10 @@ def leg_joint_angles(
         "j8_l6": _angle(p["p8"], p["p5"]),
         "j8_l7": _angle(p["p8"], p["p7"]),
     }
-    if variant == "spring":
+    if spec.sole == "ankle":
         target = a613 + math.pi / 2 if foot_angle is None else foot_angle
         q["j13_ankle"] = wrap(target - a613 - math.pi / 2)
-    if variant == "parallel":
+    if spec.extension:
         a104 = _angle(p["p10"], p["p4"])
         a911 = _angle(p["p9"], p["p11"])
         a1112 = _angle(p["p11"], p["p12"])
@@ -151,13 +153,13 @@ def leg_joint_angles(
     return q
 
 
-def sole_angle(theta: float, geometry: Geometry | None = None, variant: str = "spring") -> float:
+def sole_angle(theta: float, geometry: Geometry | None = None, variant: str | Variant = "spring") -> float:
     """Direction of the sole (heel -> toe) in the leg frame for a fixed-foot variant [rad].
 
     ``rigid`` (and ``spring`` with the foot square to the shank): shank direction + 90 deg.
     ``parallel``: the direction of the stabiliser 10 -> 4.
     """
     p = leg_points(theta, geometry, variant)
-    if variant == "parallel":
+    if get_variant(variant).sole == "stabiliser":
         return _angle(p["p10"], p["p4"])
     return _angle(p["p6"], p["p13"]) + math.pi / 2

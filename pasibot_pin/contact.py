@@ -435,9 +435,8 @@ def scenario_contact(
         mu: Coulomb friction coefficient [-].
         samples: crank samples over theta in [pi/2, 3 pi/2) (at 3 pi/2 the other foot takes over).
         sole: what-if (s_heel, s_toe) along the sole from the ankle [m].
-        variant: ``spring`` (:func:`pasibot_pin.dynamics.inverse_dynamics`) or ``parallel``
-            (:func:`pasibot_pin.energy.parallel_inverse_dynamics`, percentage-rule masses with the
-            scenario's body mass and COM).
+        variant: ``spring`` or ``parallel`` (any variant: the same inverse dynamics; the
+            preset's masses with the scenario's body mass and COM).
 
     Returns:
         (the inverse-dynamics result, :class:`ContactResult`).
@@ -450,15 +449,7 @@ def scenario_contact(
         raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
     scenario = get_scenario(name)
     thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
-    if variant == "spring":
-        choices = get_preset(preset)
-        robot = scenario_robot(scenario, choices)
-        torques = inverse_dynamics(robot, thetas, scenario.omega, swing_foot=choices.swing_foot, stance="right")
-    elif variant == "parallel":
-        from .energy import parallel_inverse_dynamics, variant_robot
-
-        robot = variant_robot("parallel", scenario.body_mass, scenario.body_com_dx)
-        torques = parallel_inverse_dynamics(robot, thetas, scenario.omega)
-    else:
-        raise ValueError(f"parameter 'variant': unknown {variant!r}; valid: spring, parallel")
+    choices = get_preset(preset).with_(accelerations="exact", fit_thetas=None)
+    robot = scenario_robot(scenario, choices, variant)
+    torques = inverse_dynamics(robot, thetas, scenario.omega, swing_foot=choices.swing_foot, stance="right")
     return torques, contact_along(robot, torques, mu, sole=sole)

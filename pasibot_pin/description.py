@@ -12,13 +12,10 @@ from pathlib import Path
 
 from .params import Geometry, MassModel, check_legs, check_variant, percentage_mass_model
 from .paths import URDF_DIR, XACRO_PATH, urdf_path
+from .variants import VARIANT_RECORDS, Variant, get_variant
 
-CUT_JOINTS: dict[str, tuple[int, ...]] = {
-    "rigid": (2, 5, 7),
-    "spring": (2, 5, 7),
-    "parallel": (2, 5, 7, 4, 11, 13),
-}
-"""Seed joint numbers cut open in each variant (seed §5; DESIGN §4 for the extension)."""
+CUT_JOINTS: dict[str, tuple[int, ...]] = {name: v.cut_joints for name, v in VARIANT_RECORDS.items()}
+"""Seed joint numbers cut open in each variant (seed §5; DESIGN §4 for the extension): from the records."""
 
 CUT_BODIES: dict[int, tuple[str, str]] = {
     2: ("l2_coupler", "l3_rocker"),
@@ -29,9 +26,6 @@ CUT_BODIES: dict[int, tuple[str, str]] = {
     13: ("l5_shank", "foot_bar"),
 }
 """The two links each cut joint connects (side a, side b), without the leg prefix."""
-
-ACTUATED_JOINTS: tuple[str, ...] = ("j0_crank",)
-SPRING_JOINTS: tuple[str, ...] = ("j13_ankle",)
 
 
 def sides(legs: int) -> tuple[str, ...]:
@@ -61,12 +55,12 @@ class Loop:
     links: tuple[str, str]
 
 
-def loop_table(variant: str = "spring", legs: int = 2) -> list[Loop]:
+def loop_table(variant: str | Variant = "spring", legs: int = 2) -> list[Loop]:
     """The cut joints of a robot, one :class:`Loop` each, right leg first."""
-    check_variant(variant)
+    spec = get_variant(variant)
     table = []
     for side in sides(legs):
-        for joint in CUT_JOINTS[variant]:
+        for joint in spec.cut_joints:
             link_a, link_b = CUT_BODIES[joint]
             table.append(
                 Loop(
@@ -153,7 +147,7 @@ def render_default_urdfs(out_dir: Path | None = None, force: bool = True) -> lis
     """Render the committed default URDFs (every variant, one and two legs)."""
     out_dir = Path(out_dir) if out_dir is not None else URDF_DIR
     written = []
-    for variant in ("rigid", "parallel", "spring"):
+    for variant in VARIANT_RECORDS:
         for legs in (1, 2):
             target = out_dir / urdf_path(variant, legs).name
             written.append(write_urdf(target, render_urdf(variant, legs), force=force))

@@ -38,7 +38,8 @@ import numpy as np
 import pinocchio as pin
 
 from . import closure
-from .closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate, planar_pitch
+from .closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
+from .constraints import coupling, split_torques
 from .params import Geometry, MassModel, percentage_mass_model
 from .robot import PasibotRobot, apply_masses, load
 from .scenarios import (
@@ -49,6 +50,7 @@ from .scenarios import (
     Scenario,
     seed_foot_com,
 )
+from .variants import MotorLayout, get_motor_layout
 
 STANCE_RANGE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 """Stance phase of a leg: crank angle theta in [pi/2, 3 pi/2] [rad] (DESIGN §4)."""
@@ -56,9 +58,6 @@ STANCE_RANGE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 STANCE_MARGIN: float = 0.1
 """How far a fit window may reach past the ends of stance [rad]. The seed's last fit sample,
 4.8 rad, is 0.088 rad past 3 pi/2: it keeps the right foot welded that long."""
-
-NEWTON_TOL = 1e-12
-"""Newton stops when every residual row is below this [m, rad]."""
 
 
 def other(side: str) -> str:
@@ -100,197 +99,18 @@ def check_fit_window(thetas: Sequence[float]) -> np.ndarray:
     return arr
 
 
-# --------------------------------------------------------------------------- fast planar rows
-class PlanarRows:
-    """Residuals, Jacobians and drifts of the in-plane constraint and prescription rows, vectorised.
-
-    Same rows as :mod:`pasibot_pin.closure` (x, z per point; x, z, pitch per weld; one row per
-    prescription), built from one ``computeJointJacobians`` (or ``...TimeVariation``) call: a
-    point p fixed on joint j moves with the world-frame joint Jacobian J as J_lin + J_ang x p,
-    over the dofs that support j. The drift (J_dot v) uses ``data.dJ`` and the point's velocity.
-    """
-
-    def __init__(self, robot: PasibotRobot, cmodels, prescribed: Sequence[Prescribed]):
-        model = robot.model
-        self.robot, self.model, self.data = robot, model, robot.data
-        self.cmodels, self.prescribed = list(cmodels), list(prescribed)
-        nv = model.nv
-        support = np.zeros((model.njoints, nv))
-        for j in range(1, model.njoints):
-            jj = j
-            while jj > 0:
-                jm = model.joints[jj]
-                support[j, jm.idx_v : jm.idx_v + jm.nv] = 1.0
-                jj = model.parents[jj]
-        self.support = support
-        # every constraint point: (joint, local translation, sign); world-fixed ends are constants
-        ends, row_of, fixed = [], [], []
-        weld_rows = []  # (row, joint1, R1 local, target pitch)
-        r = 0
-        for cm in self.cmodels:
-            weld = cm.type == pin.ContactType.CONTACT_6D
-            for joint, placement, sign in (
-                (cm.joint1_id, cm.joint1_placement, 1.0),
-                (cm.joint2_id, cm.joint2_placement, -1.0),
-            ):
-                if joint == 0:
-                    fixed.append((r, sign * placement.translation))
-                else:
-                    ends.append((joint, placement.translation.copy(), sign))
-                    row_of.append(r)
-            if weld:
-                weld_rows.append(
-                    (
-                        r + 2,
-                        cm.joint1_id,
-                        cm.joint1_placement.rotation.copy(),
-                        planar_pitch(cm.joint2_placement.rotation),
-                    )
-                )
-            r += 3 if weld else 2
-        self.nc = r
-        self.end_joints = [e[0] for e in ends]
-        self.end_local = np.array([e[1] for e in ends])
-        self.end_sign = np.array([e[2] for e in ends])
-        self.end_mask = support[self.end_joints] * self.end_sign[:, None]
-        self.end_row = np.array(row_of)
-        self.fixed = fixed
-        self.weld_rows = weld_rows
-        self.frames = {p.index: model.frames[p.index] for p in self.prescribed if p.kind == "pitch"}
-        n = self.nc + len(self.prescribed)
-        self.n = n
-        self.scatter_x = np.zeros((self.nc, len(ends)))  # sums the signed end rows into constraint rows
-        self.scatter_z = np.zeros((self.nc, len(ends)))
-        for k, row in enumerate(row_of):
-            self.scatter_x[row, k] = 1.0
-            self.scatter_z[row + 1, k] = 1.0
-        self.fixed_res = np.zeros(self.nc)
-        for r, offset in fixed:
-            self.fixed_res[r] += offset[0]
-            self.fixed_res[r + 1] += offset[2]
-        for j in range(1, model.njoints):  # the fast rows assume rotations about y only (planar model)
-            if model.joints[j].shortname() in ("JointModelRX", "JointModelRZ", "JointModelSpherical"):
-                raise ValueError(f"joint {model.names[j]!r} does not rotate about y: PlanarRows needs a planar model")
-
-    def _ends(self) -> np.ndarray:
-        """World positions (E x 3) of the constraint points fixed on moving joints [m]."""
-        oMi = self.data.oMi
-        return np.array([oMi[j].act(t) for j, t in zip(self.end_joints, self.end_local)])
-
-    def evaluate(self, q: np.ndarray, targets: Sequence[float] | None = None, v: np.ndarray | None = None):
-        """Residual, Jacobian (and drift J_dot v when ``v`` is given) of [c; s - s*] at q [m, rad].
-
-        Every joint axis of the model is along y (planar motion), so the angular velocity has
-        only a y component: a point's in-plane velocity rows are J_x + p_z J_wy and J_z - p_x J_wy.
-
-        Returns:
-            ``(residual, jacobian)`` or, with ``v``, ``(residual, jacobian, drift)``.
-
-        """
-        model, data = self.model, self.data
-        if v is None:
-            pin.computeJointJacobians(model, data, q)
-        else:
-            pin.computeJointJacobiansTimeVariation(model, data, q, v)
-        jw = data.J
-        nc = self.nc
-        pos = self._ends()
-        mask, sign = self.end_mask, self.end_sign
-        px, pz = pos[:, 0:1], pos[:, 2:3]
-        wy_rows = jw[4] * mask
-        rows_x = jw[0] * mask + pz * wy_rows
-        rows_z = jw[2] * mask - px * wy_rows
-        jac = np.empty((self.n, model.nv))
-        jac[:nc] = self.scatter_x @ rows_x + self.scatter_z @ rows_z
-        res = np.zeros(self.n)
-        res[:nc] = self.scatter_x @ (sign * pos[:, 0]) + self.scatter_z @ (sign * pos[:, 2]) + self.fixed_res
-        drift = None
-        if v is not None:
-            djw = data.dJ
-            wy = (wy_rows @ v) * sign  # angular velocity (y) of each point's body
-            vx, vz = (rows_x @ v) * sign, (rows_z @ v) * sign
-            dwy_rows = djw[4] * mask
-            dx = (djw[0] * mask + pz * dwy_rows) @ v + sign * (wy * vz)
-            dz = (djw[2] * mask - px * dwy_rows) @ v - sign * (wy * vx)
-            drift = np.zeros(self.n)
-            drift[:nc] = self.scatter_x @ dx + self.scatter_z @ dz
-        for r, j1, rot_local, target in self.weld_rows:
-            res[r] = math.remainder(planar_pitch(data.oMi[j1].rotation @ rot_local) - target, 2 * math.pi)
-            jac[r] = -jw[4] * self.support[j1]
-            if v is not None:
-                drift[r] = -(data.dJ[4] * self.support[j1]) @ v
-        jac[nc:] = 0.0
-        for k, p in enumerate(self.prescribed):
-            r = nc + k
-            if p.kind == "joint":
-                jac[r, p.index] = 1.0
-                res[r] = q[p.index]
-            else:
-                frame = self.frames[p.index]
-                res[r] = planar_pitch(data.oMi[frame.parentJoint].rotation @ frame.placement.rotation)
-                jac[r] = -jw[4] * self.support[frame.parentJoint]
-                if v is not None:
-                    drift[r] = -(data.dJ[4] * self.support[frame.parentJoint]) @ v
-        if targets is not None:
-            ds = res[nc:] - np.asarray(targets, dtype=float)
-            for k, p in enumerate(self.prescribed):
-                if p.kind == "pitch":
-                    ds[k] = math.remainder(ds[k], 2 * math.pi)
-            res[nc:] = ds
-        if v is None:
-            return res, jac
-        return res, jac, drift
-
-    def constraint_jacobian(self, q: np.ndarray) -> np.ndarray:
-        """The in-plane constraint Jacobian J_c (nc x nv) at q."""
-        return self.evaluate(q)[1][: self.nc]
-
-    def solve(self, q_guess: np.ndarray, targets: Sequence[float], max_iter: int = 30) -> np.ndarray:
-        """Newton on [c; s - s*] = 0 from ``q_guess`` (square system, ``np.linalg.solve``)."""
-        q = np.array(q_guess, dtype=float)
-        targets = np.asarray(targets, dtype=float)
-        res = None
-        for _ in range(max_iter):
-            res, jac = self.evaluate(q, targets)
-            if np.max(np.abs(res)) < NEWTON_TOL:
-                self.last_jacobian = jac
-                return q
-            try:
-                step = np.linalg.solve(jac, -res)
-            except np.linalg.LinAlgError as err:
-                raise ValueError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
-            largest = np.max(np.abs(step))
-            if largest > 0.5:
-                step *= 0.5 / largest
-            q = pin.integrate(self.model, q, step)
-        raise ValueError(
-            f"closure Newton did not converge: residual {np.max(np.abs(res)):.3e} after {max_iter} iterations "
-            f"(targets {np.round(targets, 6).tolist()})"
-        )
-
-    def motion(self, q: np.ndarray, rates: Sequence[float], accelerations: Sequence[float]):
-        """V and a on the manifold: [J_c; J_s] v = [0; s_dot*], [J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v]."""
-        _, jac = self.evaluate(q)
-        rhs = np.zeros(self.n)
-        rhs[self.nc :] = rates
-        v = np.linalg.solve(jac, rhs)
-        _, jac, drift = self.evaluate(q, None, v)
-        rhs = -drift
-        rhs[self.nc :] += np.asarray(accelerations, dtype=float)
-        a = np.linalg.solve(jac, rhs)
-        return v, a, jac
-
-
 # --------------------------------------------------------------------------- robots for scenarios
 @lru_cache(maxsize=4)
-def _base_robot(inertia: str) -> PasibotRobot:
-    return load("spring", 2, inertia=inertia)
+def _base_robot(variant: str, inertia: str) -> PasibotRobot:
+    return load(variant, 2, inertia=inertia)
 
 
-def scenario_masses(scenario: Scenario, choices: ModelChoices, geometry: Geometry | None = None) -> MassModel:
-    """The mass model of ``scenario`` under ``choices`` [kg, m]."""
+def scenario_masses(
+    scenario: Scenario, choices: ModelChoices, geometry: Geometry | None = None, variant: str = "spring"
+) -> MassModel:
+    """The mass model of ``scenario`` under ``choices`` for ``variant`` [kg, m]."""
     geometry = geometry or Geometry()
-    base = percentage_mass_model(geometry, "spring")
+    base = percentage_mass_model(geometry, variant)
     links = dict(base.links)
     hip = scenario.body_mass
     foot = base.foot
@@ -300,7 +120,7 @@ def scenario_masses(scenario: Scenario, choices: ModelChoices, geometry: Geometr
         foot = 1.3
     if choices.swap_l5_l6:
         links["l5"], links["l6"] = links["l6"], links["l5"]
-    toe, heel = geometry.foot_extent("spring")
+    toe, heel = geometry.foot_extent(variant)
     foot_com = seed_foot_com(toe, heel) if choices.seed_foot else base.foot_com
     return MassModel(
         hip=hip,
@@ -312,12 +132,12 @@ def scenario_masses(scenario: Scenario, choices: ModelChoices, geometry: Geometr
     )
 
 
-def scenario_robot(scenario: Scenario, choices: ModelChoices) -> PasibotRobot:
-    """The default ``spring`` biped with the masses of ``scenario`` under ``choices`` (a copy)."""
-    base = _base_robot(choices.inertia)
-    masses = scenario_masses(scenario, choices, base.geometry)
+def scenario_robot(scenario: Scenario, choices: ModelChoices, variant: str = "spring") -> PasibotRobot:
+    """The default biped of ``variant`` with the masses of ``scenario`` under ``choices`` (a copy)."""
+    base = _base_robot(variant, choices.inertia)
+    masses = scenario_masses(scenario, choices, base.geometry, variant)
     model = pin.Model(base.model)
-    apply_masses(model, masses, base.geometry, "spring", 2, choices.inertia)
+    apply_masses(model, masses, base.geometry, variant, 2, choices.inertia)
     return replace(
         base, model=model, data=model.createData(), masses=masses, constraint_models=list(base.constraint_models)
     )
@@ -335,7 +155,9 @@ class TorqueResult:
         stance: stance side per sample.
         beta: stance ankle angle, forward foot to shank [rad].
         beta_swing: swing ankle angle [rad].
-        Ta, Te, Ta_swing, Te_swing: generalised forces of theta, beta, theta', beta' [N.m].
+        Ta, Te, Ta_swing, Te_swing: generalised forces of theta, beta, theta', beta' [N.m]
+            (Te, Te_swing are zero without a spring ankle; with one motor, Ta is the motor's
+            torque on the right crank shaft and Ta_swing is zero).
         q, v, a: the motion (N x nq, N x nv, N x nv).
         tau: rnea torques (N x nv) [N.m, N].
         ground: ground reaction on the stance foot at its ankle: Fx, Fz [N], CCW moment [N.m].
@@ -346,6 +168,8 @@ class TorqueResult:
         omega: crank speed [rad/s].
         accelerations: ``exact``, ``central``, ``lagged`` or ``none`` (quasi-static).
         swing_foot: ``level`` or ``square``.
+        motors: ``two`` or ``one`` (:data:`pasibot_pin.variants.MOTOR_LAYOUTS`).
+        transmission: with one motor, the torque the coupling delivers to the left crank [N.m].
 
     """
 
@@ -369,6 +193,8 @@ class TorqueResult:
     omega: float = 0.0
     accelerations: str = "exact"
     swing_foot: str = "level"
+    motors: str = "two"
+    transmission: np.ndarray | None = None
 
     def __len__(self) -> int:
         return len(self.t)
@@ -404,42 +230,41 @@ def _generic(name: str, stance: str) -> str:
 
 
 def _prescriptions(robot: PasibotRobot, stance: str, swing_foot: str) -> list[Prescribed]:
-    swing = other(stance)
-    last = (
-        frame_pitch(robot, f"{swing}_foot") if swing_foot == "level" else joint_coordinate(robot, f"{swing}_j13_ankle")
-    )
-    return [joint_coordinate(robot, j) for j in robot.actuated_joints] + [hip_pitch(robot), last]
+    """Both cranks; with a free ankle (the variant's record) also the hip pitch and the swing foot."""
+    rows = [joint_coordinate(robot, j) for j in robot.actuated_joints]
+    if robot.spec.free_ankle:
+        swing = other(stance)
+        ankle = f"{swing}_{robot.spec.spring_joints[0]}"
+        last = frame_pitch(robot, f"{swing}_foot") if swing_foot == "level" else joint_coordinate(robot, ankle)
+        rows += [hip_pitch(robot), last]
+    return rows
 
 
-def _actuation(robot: PasibotRobot, stance: str) -> np.ndarray:
-    """S (4 x nv): rows = stance crank, swing crank, stance ankle, swing ankle."""
-    s = np.zeros((4, robot.model.nv))
+def _actuated(robot: PasibotRobot, stance: str, layout: MotorLayout) -> list[str]:
+    """The actuated joints, in the order of u: the motor(s), then the stance and swing spring joints.
+
+    Two motors: stance crank, swing crank. One motor: the layout's motor (the right crank).
+    """
     swing = other(stance)
-    for row, joint in enumerate(
-        (f"{stance}_j0_crank", f"{swing}_j0_crank", f"{stance}_j13_ankle", f"{swing}_j13_ankle")
-    ):
+    if len(layout.motors) == 2:
+        motors = [f"{stance}_j0_crank", f"{swing}_j0_crank"]
+    else:
+        motors = list(layout.motors)
+    return motors + [f"{side}_{j}" for side in (stance, swing) for j in robot.spec.spring_joints]
+
+
+def _actuation(robot: PasibotRobot, stance: str, layout: MotorLayout | str = "two") -> np.ndarray:
+    """S (n_u x nv): one row per actuated joint of :func:`_actuated`."""
+    joints = _actuated(robot, stance, get_motor_layout(layout))
+    s = np.zeros((len(joints), robot.model.nv))
+    for row, joint in enumerate(joints):
         s[row, robot.idx_v(joint)] = 1.0
     return s
 
 
-def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jc: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve tau = S^T u + J_c^T lambda (square) for (u, lambda).
-
-    Raises:
-        ValueError: when [S^T J_c^T] is singular (the actuators cannot hold the motion).
-
-    """
-    mat = np.hstack((s_matrix.T, jc.T))
-    if mat.shape[0] != mat.shape[1]:
-        raise ValueError(f"split: {mat.shape[1]} unknowns for nv = {mat.shape[0]}; the system must be square")
-    try:
-        x = np.linalg.solve(mat, tau)
-    except np.linalg.LinAlgError as err:
-        raise ValueError("split: [S^T J_c^T] is singular at this pose") from err
-    if not np.all(np.isfinite(x)):
-        raise ValueError("split: the actuator and constraint forces are not finite")
-    ns = s_matrix.shape[0]
-    return x[:ns], x[ns:]
+def _couplings(robot: PasibotRobot, layout: MotorLayout) -> list:
+    """The layout's coupling rows (one motor: q_L - q_R - pi = 0) on ``robot``."""
+    return [coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings]
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -474,6 +299,24 @@ def constraint_fext(robot: PasibotRobot, cmodels, lam: np.ndarray, fext: list[pi
             m_local = _cross(placement.translation, f_local) + rot.T @ (sign * moment)
             fext[joint] = fext[joint] + pin.Force(f_local, m_local)
     return fext
+
+
+def ankle_angle(robot: PasibotRobot, q: np.ndarray, side: str) -> float:
+    """Beta of ``side``: the angle from the forward foot (sole, heel -> toe) to the shank (ankle -> knee) [rad].
+
+    With a spring ankle it is pi/2 - q_ankle; otherwise it is read from the frames at ``q``
+    (pi/2 for the rigid foot; the parallel extension's foot follows the stabiliser).
+    """
+    if robot.spec.free_ankle:
+        return math.pi / 2 - q[robot.idx_q(f"{side}_{robot.spec.spring_joints[0]}")]
+    model, data = robot.model, robot.data
+    pin.forwardKinematics(model, data, q)
+    shank = pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_l5_shank")).rotation
+    toe = pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_toe")).translation
+    heel = pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_heel")).translation
+    up = math.atan2(-shank[2, 0], -shank[0, 0])  # ankle -> knee is minus the shank's x axis
+    sole = math.atan2(toe[2] - heel[2], toe[0] - heel[0])
+    return math.remainder(up - sole, 2 * math.pi)
 
 
 def com_positions(robot: PasibotRobot, q: np.ndarray) -> np.ndarray:
@@ -535,11 +378,18 @@ def inverse_dynamics(
     step: float = 0.1,
     stance: str = "auto",
     reactions: bool = True,
+    motors: str | MotorLayout = "two",
 ) -> TorqueResult:
-    """Constrained inverse dynamics along a crank sweep.
+    """Constrained inverse dynamics along a crank sweep, for every variant and motor layout.
+
+    What is prescribed and what is actuated comes from the variant's record: both cranks
+    always; with a free (spring) ankle also the hip pitch and the swing foot, and the two
+    ankles are actuated (their torques are what a spring must give). With ``motors="one"``
+    one motor drives the right crank and the coupling q_L - q_R - pi = 0 is a constraint row:
+    its multiplier is the torque the transmission delivers to the left crank.
 
     Args:
-        robot: a two-legged ``spring`` robot (e.g. :func:`scenario_robot`).
+        robot: a two-legged robot of any variant (e.g. :func:`scenario_robot`).
         thetas: right-crank angles, increasing [rad]; the left crank is pi ahead.
         omega: crank speed [rad/s]; 0 = quasi-static (v = a = 0).
         swing_foot: ``level`` (pitch 0) or ``square`` (swing ankle at 0: foot at 90 deg to its shank).
@@ -549,6 +399,7 @@ def inverse_dynamics(
         stance: ``auto`` (stance swaps every half turn), ``right`` or ``left`` (held throughout).
         reactions: compute the tree-joint reactions (``joints``); off saves time when only
             the torques are needed.
+        motors: ``two`` (one per crank) or ``one`` (one motor, cranks coupled pi apart).
 
     Returns:
         A :class:`TorqueResult`.
@@ -558,10 +409,9 @@ def inverse_dynamics(
 
     """
     omega = check_omega(omega)
-    if robot.variant != "spring" or robot.legs != 2:
-        raise ValueError(
-            f"inverse_dynamics needs the two-legged spring robot, got variant={robot.variant!r} legs={robot.legs}"
-        )
+    layout = get_motor_layout(motors)
+    if robot.legs != 2:
+        raise ValueError(f"inverse_dynamics needs a two-legged robot (load(..., legs=2)), got legs={robot.legs}")
     if swing_foot not in SWING_FOOT_MODES:
         raise ValueError(f"unknown swing_foot {swing_foot!r}; valid: {', '.join(SWING_FOOT_MODES)}")
     if accelerations not in ACCELERATION_MODES:
@@ -589,43 +439,49 @@ def inverse_dynamics(
     joints: dict[str, np.ndarray] = {}
     sides_used: list[str] = []
 
+    spec = robot.spec
+    free = [0.0, 0.0] if spec.free_ankle else []  # hip pitch and swing foot held (spring variant)
+    n_motor = len(layout.motors)
+    transmission = np.zeros(n)
     current = None
     q_prev = None
     theta_prev, predictor = 0.0, None
-    rs = rows = s_matrix = prescribed = None
+    rs = rows = s_matrix = prescribed = coupling_jac = None
     stance_x = 0.0
     for k, theta in enumerate(thetas):
         side = stance_side(theta) if stance == "auto" else stance
         if side != current:
             if q_prev is not None:  # the landing foot becomes the stance foot where it lands
                 switch = math.pi / 2 + math.pi * math.floor((theta - math.pi / 2) / math.pi)
-                q_land = rows.solve(q_prev, [switch, switch + math.pi, 0.0, 0.0])
+                q_land = rows.project(q_prev, targets=[switch, switch + math.pi, *free])
                 pin.framesForwardKinematics(model, rs.data, q_land)
                 stance_x = float(rs.data.oMf[rs.frame_id(f"{side}_foot")].translation[0])
             q_start = closure.assemble(robot, float(theta), stance=side, ankle_x=stance_x)
             rs = robot.with_stance(side, q_start)
             prescribed = _prescriptions(rs, side, swing_foot)
-            rows = PlanarRows(rs, rs.constraint_models, prescribed)
-            s_matrix = _actuation(rs, side)
+            rows = closure.system(rs, rs.constraint_models, prescribed)
+            s_matrix = _actuation(rs, side, layout)
+            # the motor couplings are constraint rows of the force split (constant Jacobian)
+            coupling_jac = closure.system(rs, [], _couplings(rs, layout)).jacobian(q_start)
             q_prev, theta_prev, predictor = q_start, theta, None
             current = side
-        targets = [theta, theta + math.pi, 0.0, 0.0]
+        targets = [theta, theta + math.pi, *free]
         guess = q_prev
         if predictor is not None:  # first-order predictor along the manifold: dq/dtheta (theta - theta_prev)
             guess = pin.integrate(model, q_prev, predictor * (theta - theta_prev))
-        q = rows.solve(guess, targets)
+        q = rows.project(guess, targets=targets)
         q_prev, theta_prev = q, theta
         cms = rs.constraint_models
         if quasi_static:
             v = a = np.zeros(nv)
-            jac = rows.last_jacobian
+            jac = rows.last_rows.jac
         else:
-            v, a, jac = rows.motion(q, [omega, omega, 0.0, 0.0], [0.0] * 4)
+            v, a, jac = rows.motion(q, [omega, omega, *free], [0.0] * len(targets))
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []
             for j in offsets:
-                qj = q if j == 0 else rows.solve(q, [theta + j * step, theta + j * step + math.pi, 0.0, 0.0])
+                qj = q if j == 0 else rows.project(q, targets=[theta + j * step, theta + j * step + math.pi, *free])
                 coms.append(com_positions(rs, qj))
             dt = step / omega
             com_acc = (coms[2] - 2 * coms[1] + coms[0]) / dt**2
@@ -636,7 +492,9 @@ def inverse_dynamics(
             fext_inertia = None
             tau = pin.rnea(model, rs.data, q, v, a)
             v_id, a_id = v, a
-        u, lam = split_torques(tau, s_matrix, jac[: rows.nc])
+        nc = rows.n_constraint_rows
+        u, lam_all = split_torques(tau, s_matrix, np.vstack((jac[:nc], coupling_jac)))
+        lam = lam_all[:nc]
         if not quasi_static:
             predictor = v / omega
         if reactions:
@@ -644,9 +502,14 @@ def inverse_dynamics(
             reac = joint_reactions(rs, q, v_id, a_id, fext)
 
         swing = other(side)
-        qa_st, qa_sw = q[rs.idx_q(f"{side}_j13_ankle")], q[rs.idx_q(f"{swing}_j13_ankle")]
-        out["beta"][k], out["beta_swing"][k] = math.pi / 2 - qa_st, math.pi / 2 - qa_sw
-        out["Ta"][k], out["Ta_swing"][k], out["Te"][k], out["Te_swing"][k] = u[0], u[1], -u[2], -u[3]
+        out["beta"][k], out["beta_swing"][k] = ankle_angle(rs, q, side), ankle_angle(rs, q, swing)
+        out["Ta"][k] = u[0]
+        if n_motor == 2:
+            out["Ta_swing"][k] = u[1]
+        else:
+            transmission[k] = lam_all[nc]
+        if spec.free_ankle:
+            out["Te"][k], out["Te_swing"][k] = -u[n_motor], -u[n_motor + 1]
         qs[k], vs[k], accs[k], taus[k] = q, v, a, tau
         r = 0
         for cm in cms:
@@ -678,6 +541,8 @@ def inverse_dynamics(
         omega=omega,
         accelerations=mode,
         swing_foot=swing_foot,
+        motors=layout.name,
+        transmission=transmission,
         **out,
     )
 

@@ -34,15 +34,13 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
-from functools import lru_cache
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
 
-from . import closure
-from .params import GRAVITY, MassModel, percentage_mass_model
-from .robot import PasibotRobot, apply_masses, load, total_mass
+from .params import GRAVITY
+from .robot import PasibotRobot, total_mass
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -61,105 +59,22 @@ def gauss_legendre(a: float, b: float, n: int) -> tuple[np.ndarray, np.ndarray]:
     return 0.5 * (a + b) + half * x, half * w
 
 
-# --------------------------------------------------------------------------- parallel variant
-@dataclass
-class ParallelResult:
-    """Inverse dynamics of the ``parallel`` biped (cranks only), one row per sample.
-
-    Attributes mirror :class:`pasibot_pin.dynamics.TorqueResult`: t [s], theta_right and
-    theta (stance crank) [rad], stance, q, v, a, tau, Ta and Ta_swing [N.m], ground (Fx, Fz [N],
-    CCW moment at the stance ankle [N.m]), omega [rad/s].
-    """
-
-    t: np.ndarray
-    theta_right: np.ndarray
-    theta: np.ndarray
-    stance: list[str]
-    q: np.ndarray
-    v: np.ndarray
-    a: np.ndarray
-    tau: np.ndarray
-    Ta: np.ndarray
-    Ta_swing: np.ndarray
-    ground: np.ndarray
-    omega: float
-
-
-@lru_cache(maxsize=2)
-def _base(variant: str) -> PasibotRobot:
-    return load(variant, 2)
-
-
+# --------------------------------------------------------------------------- robots
 def variant_robot(variant: str, body_mass: float, body_com_dx: float = 0.0) -> PasibotRobot:
     """A two-legged robot of ``variant`` with the percentage-rule masses and this body [kg, m].
 
     The rule is :func:`pasibot_pin.params.percentage_mass_model` (for ``parallel`` its
     extension links get the thigh's mass per unit length); the body (hip) mass and its COM
-    offset ahead of joint 8 replace the rule's.
+    offset ahead of joint 8 replace the rule's. The same robot as
+    :func:`pasibot_pin.dynamics.scenario_robot` with the default modelling choices.
     """
+    from .dynamics import scenario_robot
+    from .scenarios import PRESETS, Scenario
+
     if not (math.isfinite(body_mass) and body_mass > 0):
         raise ValueError(f"parameter 'body_mass' must be positive [kg], got {body_mass!r}")
-    base = _base(variant)
-    masses: MassModel = percentage_mass_model(base.geometry, variant).with_(
-        hip=float(body_mass), hip_com=(float(body_com_dx), 0.0), rule=f"percentage rule, body {body_mass:g} kg"
-    )
-    model = pin.Model(base.model)
-    apply_masses(model, masses, base.geometry, variant, 2, base.inertia)
-    return replace(
-        base, model=model, data=model.createData(), masses=masses, constraint_models=list(base.constraint_models)
-    )
-
-
-def parallel_inverse_dynamics(robot: PasibotRobot, thetas: Sequence[float], omega: float) -> ParallelResult:
-    """Constrained inverse dynamics of the ``parallel`` biped, right foot welded throughout.
-
-    Args:
-        robot: a two-legged ``parallel`` robot (e.g. :func:`variant_robot`).
-        thetas: right-crank angles, increasing, within one right stance [rad].
-        omega: crank speed [rad/s] (0: quasi-static).
-
-    """
-    from .dynamics import check_omega, split_torques
-
-    omega = check_omega(omega)
-    if robot.variant != "parallel" or robot.legs != 2:
-        raise ValueError(f"needs the two-legged parallel robot, got {robot.variant!r}, legs={robot.legs}")
-    thetas = np.asarray(thetas, dtype=float).reshape(-1)
-    if thetas.size < 1 or not np.all(np.isfinite(thetas)) or np.any(np.diff(thetas) <= 0):
-        raise ValueError("parameter 'thetas' must be finite, strictly increasing crank angles [rad]")
-    model, nv = robot.model, robot.model.nv
-    n = thetas.size
-    q0 = closure.assemble(robot, float(thetas[0]), stance="right")
-    rs = robot.with_stance("right", q0)
-    prescribed = [closure.joint_coordinate(rs, j) for j in ("right_j0_crank", "left_j0_crank")]
-    s_matrix = np.zeros((2, nv))
-    s_matrix[0, rs.idx_v("right_j0_crank")] = s_matrix[1, rs.idx_v("left_j0_crank")] = 1.0
-    out = {k: np.zeros((n, nv)) for k in ("v", "a", "tau")}
-    qs, ground, ta = np.zeros((n, model.nq)), np.zeros((n, 3)), np.zeros((n, 2))
-    q = q0
-    for k, theta in enumerate(thetas):
-        q = closure.solve_configuration(rs, q, prescribed, [theta, theta + math.pi])
-        if omega == 0.0:
-            v = a = np.zeros(nv)
-        else:
-            v = closure.solve_velocity(rs, q, prescribed, [omega, omega])
-            a = closure.solve_acceleration(rs, q, v, prescribed, [0.0, 0.0])
-        tau = pin.rnea(model, rs.data, q, v, a)
-        u, lam = split_torques(tau, s_matrix, closure.constraint_jacobian(rs, q))
-        qs[k], out["v"][k], out["a"][k], out["tau"][k] = q, v, a, tau
-        ta[k], ground[k] = u, lam[-3:]  # the weld is the last constraint model: force on the foot
-    return ParallelResult(
-        t=(thetas - thetas[0]) / (omega if omega > 0 else 1.0),
-        theta_right=thetas,
-        theta=thetas.copy(),
-        stance=["right"] * n,
-        q=qs,
-        Ta=ta[:, 0],
-        Ta_swing=ta[:, 1],
-        ground=ground,
-        omega=omega,
-        **out,
-    )
+    scenario = Scenario("body", 0.0, float(body_mass), float(body_mass), float(body_com_dx), None, None, "body")
+    return scenario_robot(scenario, PRESETS["default"], variant)
 
 
 # --------------------------------------------------------------------------- power and energy
@@ -171,7 +86,7 @@ def actuator_powers(robot: PasibotRobot, result) -> dict[str, np.ndarray]:
     """
     n = len(result.t)
     out = {k: np.zeros(n) for k in ("crank_stance", "crank_swing")}
-    spring = hasattr(result, "Te")
+    spring = robot.spec.free_ankle
     if spring:
         out.update({k: np.zeros(n) for k in ("ankle_stance", "ankle_swing")})
     for k in range(n):
@@ -330,7 +245,8 @@ def _step_energy(robot, result, weights, omega, variant, fit=None) -> StepEnergy
     )
 
 
-def spring_step_energy(
+def step_energy(
+    variant: str,
     omega: float,
     body_mass: float = 16.0,
     body_com_dx: float = 0.0,
@@ -338,22 +254,23 @@ def spring_step_energy(
     theta_end: float = STEP_END,
     fit: bool = True,
 ) -> tuple[StepEnergy, object]:
-    """Energy over one step of the ``spring`` biped (default modelling choices).
+    """Energy over one step of a biped of ``variant`` (default modelling choices).
 
     Args:
+        variant: ``rigid``, ``parallel`` or ``spring``.
         omega: crank speed [rad/s], > 0.
         body_mass: body (hip) mass [kg].
         body_com_dx: body COM ahead of joint 8 [m].
         nodes: Gauss-Legendre nodes.
         theta_end: stance crank angle where the integration stops (3 pi/2: a full step) [rad].
-        fit: fit the ankle spring (K_e, beta0) on 61 uniform samples of the same stance and speed.
+        fit: with a spring ankle, fit the spring (K_e, beta0) on 61 uniform samples of the
+            same stance and speed.
 
     Returns:
         (StepEnergy, the TorqueResult at [start, nodes..., end]).
 
     """
     from .dynamics import check_omega, inverse_dynamics
-    from .scenarios import PRESETS, Scenario
     from .spring import fit_spring
 
     omega = check_omega(omega)
@@ -361,38 +278,24 @@ def spring_step_energy(
         raise ValueError("parameter 'omega' must be > 0 for energy per step (a quasi-static step takes forever)")
     if not (STEP_START < theta_end <= STEP_END):
         raise ValueError(f"parameter 'theta_end' must be in (pi/2, 3 pi/2] [rad], got {theta_end!r}")
-    scenario = Scenario("energy", omega, body_mass, body_mass, body_com_dx, None, None, "energy step")
-    from .dynamics import scenario_robot
-
-    robot = scenario_robot(scenario, PRESETS["default"])
+    robot = variant_robot(variant, body_mass, body_com_dx)
     th, w = gauss_legendre(STEP_START, theta_end, nodes)
     result = inverse_dynamics(robot, np.concatenate(([STEP_START], th, [theta_end])), omega, stance="right")
     spring_fit = None
-    if fit:  # K_e, beta0 on 61 uniform samples of the right stance, both ends included
+    if fit and robot.spec.free_ankle:  # K_e, beta0 on 61 uniform samples of the right stance, both ends included
         uniform = inverse_dynamics(robot, np.linspace(STEP_START, STEP_END, 61), omega, stance="right")
         spring_fit = fit_spring(uniform.beta, uniform.Te, warn=False)
-    return _step_energy(robot, result, w, omega, "spring", spring_fit), result
+    return _step_energy(robot, result, w, omega, robot.variant, spring_fit), result
 
 
-def parallel_step_energy(
-    omega: float,
-    body_mass: float = 16.0,
-    body_com_dx: float = 0.0,
-    nodes: int = NODES,
-    theta_end: float = STEP_END,
-) -> tuple[StepEnergy, ParallelResult]:
-    """Energy over one step of the ``parallel`` biped (same arguments as :func:`spring_step_energy`)."""
-    from .dynamics import check_omega
+def spring_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, object]:
+    """:func:`step_energy` of the ``spring`` biped."""
+    return step_energy("spring", omega, *args, **kwargs)
 
-    omega = check_omega(omega)
-    if omega == 0:
-        raise ValueError("parameter 'omega' must be > 0 for energy per step (a quasi-static step takes forever)")
-    if not (STEP_START < theta_end <= STEP_END):
-        raise ValueError(f"parameter 'theta_end' must be in (pi/2, 3 pi/2] [rad], got {theta_end!r}")
-    robot = variant_robot("parallel", body_mass, body_com_dx)
-    th, w = gauss_legendre(STEP_START, theta_end, nodes)
-    result = parallel_inverse_dynamics(robot, np.concatenate(([STEP_START], th, [theta_end])), omega)
-    return _step_energy(robot, result, w, omega, "parallel"), result
+
+def parallel_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, object]:
+    """:func:`step_energy` of the ``parallel`` biped (no spring to fit)."""
+    return step_energy("parallel", omega, *args, **kwargs)
 
 
 def omega_table(
@@ -403,16 +306,7 @@ def omega_table(
     variants: Sequence[str] = ("spring", "parallel"),
 ) -> list[StepEnergy]:
     """Energy per step of each variant at each crank speed (same body mass and COM) [rad/s]."""
-    rows = []
-    for omega in omegas:
-        for variant in variants:
-            if variant == "spring":
-                rows.append(spring_step_energy(omega, body_mass, body_com_dx, nodes)[0])
-            elif variant == "parallel":
-                rows.append(parallel_step_energy(omega, body_mass, body_com_dx, nodes)[0])
-            else:
-                raise ValueError(f"unknown variant {variant!r} for the energy table; valid: spring, parallel")
-    return rows
+    return [step_energy(v, omega, body_mass, body_com_dx, nodes)[0] for omega in omegas for v in variants]
 
 
 def format_table(rows: Sequence[StepEnergy]) -> str:
@@ -425,7 +319,7 @@ def format_table(rows: Sequence[StepEnergy]) -> str:
     lines = [head, "|" + "---|" * 13]
     for r in rows:
         spring = f"{r.spring['stored']:.3f} / {r.spring['released']:.3f}" if r.spring else "-"
-        ankle = f"{r.ankle[1]:.3f}" if r.variant == "spring" else "-"
+        ankle = f"{r.ankle[1]:.3f}" if r.spring or any(r.ankle) else "-"
         lines.append(
             f"| {r.variant} | {r.omega:g} | {r.total_mass:.2f} | {r.distance:.4f} | {r.crank[1]:.4f} | "
             f"{r.crank[2]:.4f} | {r.single[1]:.4f} | {ankle} | {spring} | {r.single_peak:.2f} / {r.single_rms:.2f} | "

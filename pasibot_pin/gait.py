@@ -161,11 +161,11 @@ def _prescriptions(robot, stance: str, foot: str) -> list[closure.Prescribed]:
     """Both cranks, plus what the contact leaves free (hip pitch, spring foot pitches)."""
     out = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
     if foot == "flat":
-        if robot.variant == "spring":
+        if robot.spec.free_ankle:
             out += [closure.hip_pitch(robot), closure.frame_pitch(robot, f"{other(stance)}_foot")]
         return out
     out.append(closure.hip_pitch(robot))
-    if robot.variant == "spring":
+    if robot.spec.free_ankle:
         out += [closure.frame_pitch(robot, f"{stance}_foot"), closure.frame_pitch(robot, f"{other(stance)}_foot")]
     return out
 
@@ -174,7 +174,7 @@ def _targets(robot, prescribed, q_prev: np.ndarray, dtheta: float) -> np.ndarray
     """Crank targets moved by ``dtheta`` from ``q_prev`` (continuation); every pitch held at 0."""
     targets = np.zeros(len(prescribed))
     for row, p in enumerate(prescribed):
-        if p.kind == "joint" and p.name in robot.actuated_joints:
+        if closure.is_crank(robot, p):
             targets[row] = q_prev[p.index] + dtheta
     return targets
 
@@ -244,7 +244,7 @@ def walk(
     contact = _contact(robot, stance_side, foot, q)
     cmodels = list(robot.loop_constraints) + [contact]
     prescribed = _prescriptions(robot, stance_side, foot)
-    if foot != "flat" or robot.variant == "spring":
+    if foot != "flat" or robot.spec.free_ankle:
         q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, 0.0), cmodels)
     # Put the starting contact point at the world origin (a rigid translation of the hip).
     pin.framesForwardKinematics(robot.model, robot.data, q)

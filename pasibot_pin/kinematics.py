@@ -26,6 +26,7 @@ import numpy as np
 import pinocchio as pin
 
 from . import closure
+from .constraints import frame_jacobian, planar_pitch
 
 STANCE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 """Crank-angle window of the stance phase [rad] (DESIGN §4: 90 deg to 270 deg)."""
@@ -149,7 +150,7 @@ def leg_cycle(
     for k, q in enumerate(qs):
         pin.framesForwardKinematics(model, data, q)
         ankle[k], toe[k], heel[k] = _xz(data, ids["foot"]), _xz(data, ids["toe"]), _xz(data, ids["heel"])
-        pitch[k] = closure.planar_pitch(data.oMf[ids["foot"]].rotation)
+        pitch[k] = planar_pitch(data.oMf[ids["foot"]].rotation)
     cycle = LegCycle(robot, thetas, qs, ankle, toe, heel, pitch, omega)
     if omega is not None:
         motion = [ankle_motion(robot, q, omega) for q in qs]
@@ -167,7 +168,7 @@ def leg_prescriptions(robot) -> list[closure.Prescribed]:
     biped holds both its stance and its swing foot.
     """
     out = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
-    if robot.variant == "spring":
+    if robot.spec.free_ankle:
         out.append(closure.frame_pitch(robot, "right_foot"))
     return out
 
@@ -321,7 +322,7 @@ class _AnkleProbe:
 
     def pitch(self, theta: float) -> float:
         pin.framesForwardKinematics(self.robot.model, self.robot.data, self.q(theta))
-        return closure.planar_pitch(self.robot.data.oMf[self.robot.frame_id("right_foot")].rotation)
+        return planar_pitch(self.robot.data.oMf[self.robot.frame_id("right_foot")].rotation)
 
 
 def _wrap(angle: float) -> float:
@@ -428,7 +429,7 @@ def straight_line_metrics(
     pitch_lo = min(extremes[1], float(pitch_stance.min()))
     p0 = probe.q(0.0)
     pin.framesForwardKinematics(robot.model, robot.data, p0)
-    pitch0 = closure.planar_pitch(robot.data.oMf[robot.frame_id("right_foot")].rotation)
+    pitch0 = planar_pitch(robot.data.oMf[robot.frame_id("right_foot")].rotation)
     return StraightLineMetrics(
         L=L,
         ground_z=ground,
@@ -511,7 +512,7 @@ def ankle_on_chain(robot, side: str = "right") -> str:
     ``rigid``: the foot (rigid to L5); ``spring``: the foot (at joint 13; its own ankle
     joint is outside the chain); ``parallel``: the shank's side of the cut joint 13.
     """
-    return f"{side}_loop_j13_a" if robot.variant == "parallel" else f"{side}_foot"
+    return f"{side}_{robot.spec.ankle_frame}"
 
 
 def open_chain_jacobian(robot, q: np.ndarray, side: str = "right", frame: str | None = None) -> np.ndarray:
@@ -547,7 +548,7 @@ def open_chain_jacobian(robot, q: np.ndarray, side: str = "right", frame: str | 
     parent = model.frames[fid].parentJoint
     if parent != shank and shank not in model.supports[parent]:
         raise ValueError(f"frame {frame!r} is not carried by the open chain j0_crank-j1-j4-j6 of the {side} leg")
-    jac = pin.computeFrameJacobian(model, data, q, fid, LOCAL_WORLD_ALIGNED).reshape(6, model.nv)
+    jac = frame_jacobian(model, data, q, fid)
     cols = jac[:, open_chain_columns(robot, side)]
     if robot.floating:  # express in the hip frame's axes
         pin.framesForwardKinematics(model, data, q)
@@ -600,8 +601,8 @@ def constrained_jacobian(robot, q: np.ndarray, frame: str = "right_foot") -> np.
     _check_one_leg(robot)
     prescribed = leg_prescriptions(robot)
     v = closure.solve_velocity(robot, q, prescribed, _crank_rates(robot, 1.0))
-    jac = pin.computeFrameJacobian(robot.model, robot.data, q, robot.frame_id(frame), LOCAL_WORLD_ALIGNED)
-    return (jac.reshape(6, robot.model.nv) @ v)[[0, 2]]
+    jac = frame_jacobian(robot.model, robot.data, q, robot.frame_id(frame))
+    return (jac @ v)[[0, 2]]
 
 
 def ankle_motion(robot, q: np.ndarray, omega: float = 0.1, frame: str = "right_foot") -> AnkleMotion:
@@ -626,7 +627,7 @@ def ankle_motion(robot, q: np.ndarray, omega: float = 0.1, frame: str = "right_f
     v = closure.solve_velocity(robot, q, prescribed, rates)
     a = closure.solve_acceleration(robot, q, v, prescribed, np.zeros(len(prescribed)))
     fid = robot.frame_id(frame)
-    jac = pin.computeFrameJacobian(model, data, q, fid, LOCAL_WORLD_ALIGNED).reshape(6, model.nv)
+    jac = frame_jacobian(model, data, q, fid)
     pin.forwardKinematics(model, data, q, v, np.zeros(model.nv))
     drift = pin.getFrameClassicalAcceleration(model, data, fid, LOCAL_WORLD_ALIGNED).linear[[0, 2]]
     velocity = (jac @ v)[[0, 2]]

@@ -12,9 +12,11 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 
-VARIANTS: tuple[str, ...] = ("rigid", "parallel", "spring")
+from .variants import VARIANT_RECORDS, Variant, get_variant
+
+VARIANTS: tuple[str, ...] = tuple(VARIANT_RECORDS)
 """The leg variants of the seed: foot rigid to L5 (§4.2), parallel extension (§4.3),
-revolute ankle with a torsion spring (§7)."""
+revolute ankle with a torsion spring (§7); their records are :data:`~pasibot_pin.variants.VARIANT_RECORDS`."""
 
 LEG_COUNTS: tuple[int, ...] = (1, 2)
 
@@ -60,11 +62,9 @@ def _check_positive(name: str, value: float) -> float:
     return value
 
 
-def check_variant(variant: str) -> str:
+def check_variant(variant: str | Variant) -> str:
     """Return ``variant`` if it is known, else raise ``ValueError`` listing the valid ones."""
-    if variant not in VARIANTS:
-        raise ValueError(f"unknown variant {variant!r}; valid variants: {', '.join(VARIANTS)}")
-    return variant
+    return get_variant(variant).name
 
 
 def check_legs(legs: int) -> int:
@@ -138,12 +138,10 @@ class Geometry:
         ratios.update(ratio_changes)
         return replace(self, ratios=ratios, **other)
 
-    def foot_extent(self, variant: str) -> tuple[float, float]:
+    def foot_extent(self, variant: str | Variant) -> tuple[float, float]:
         """(toe, heel) distances from the ankle along the sole [m] for ``variant``."""
-        check_variant(variant)
-        if variant == "parallel":
-            return self.parallel_toe * self.L, self.parallel_heel * self.L
-        return self.foot_toe * self.L, self.foot_heel * self.L
+        toe, heel = get_variant(variant).foot_fields
+        return getattr(self, toe) * self.L, getattr(self, heel) * self.L
 
 
 @dataclass(frozen=True)
@@ -182,10 +180,10 @@ class MassModel:
         """Copy with some fields changed (``hip=30.0``, ``hip_com=(0.3, 0.0)``, ...)."""
         return replace(self, **changes)
 
-    def leg_mass(self, variant: str) -> float:
+    def leg_mass(self, variant: str | Variant) -> float:
         """Total mass of one leg of ``variant``, foot included [kg]."""
         names = ["l1", "l2", "l3", "l4", "l5", "l6", "l7"]
-        if variant == "parallel":
+        if get_variant(variant).extension:
             names += ["slider", *EXTENSION_LINKS]
         return sum(self.links[n] for n in names) + self.foot
 

@@ -138,8 +138,10 @@ def plot_cost_of_transport(rows: Sequence, ax=None, key: str = "motors"):
     for variant in sorted({r.variant for r in rows}):
         sel = sorted((r for r in rows if r.variant == variant), key=lambda r: r.omega)
         ax.plot([r.omega for r in sel], [r.cot[key] for r in sel], "o-", label=f"{variant}: CoT {key}")
-        if variant == "spring" and key == "motors":
-            ax.plot([r.omega for r in sel], [r.cot["actuators"] for r in sel], "s--", label="spring: CoT with ankles")
+        if key == "motors" and any(r.ankle[1] for r in sel):  # the variant has ankle actuators (a spring)
+            ax.plot(
+                [r.omega for r in sel], [r.cot["actuators"] for r in sel], "s--", label=f"{variant}: CoT with ankles"
+            )
         ax.plot([r.omega for r in sel], [r.cot["single"] for r in sel], "^:", label=f"{variant}: CoT one motor")
     ax.set_xscale("log")
     ax.set_xlabel("crank speed omega [rad/s]")

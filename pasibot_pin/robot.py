@@ -10,15 +10,15 @@ import numpy as np
 import pinocchio as pin
 
 from . import constraints
-from .description import ACTUATED_JOINTS, SPRING_JOINTS, Loop, loop_table, render_urdf, sides
+from .description import Loop, loop_table, render_urdf, sides
 from .params import (
     MASS_RULES,
     Geometry,
     MassModel,
     check_legs,
-    check_variant,
 )
 from .paths import urdf_path
+from .variants import Variant, get_variant
 
 ROOT_JOINT_NAME = "hip_planar"
 """The two-legged robot's floating hip: x, z translation and pitch in the sagittal plane."""
@@ -39,7 +39,17 @@ def planar_root_joint() -> pin.JointModelComposite:
     return joint
 
 
-def _link_inertias(masses: MassModel, geometry: Geometry, variant: str, mode: str) -> dict[str, pin.Inertia]:
+EXTENSION_BARS: dict[str, tuple[str, int]] = {
+    "l8_stabiliser": ("l8", 8),
+    "l9": ("l9", 9),
+    "l10": ("l10", 10),
+    "l11": ("l11", 11),
+    "foot_bar": ("foot_bar", 10),
+}
+"""The parallel extension's bars: link -> (mass key, length index) (the foot bar is as long as L10)."""
+
+
+def _link_inertias(masses: MassModel, geometry: Geometry, variant: str | Variant, mode: str) -> dict[str, pin.Inertia]:
     """Inertia of every massive link (without side prefix, and ``hip``) in its own frame."""
     if mode not in INERTIA_MODES:
         raise ValueError(f"unknown inertia mode {mode!r}; valid: {', '.join(INERTIA_MODES)}")
@@ -60,14 +70,14 @@ def _link_inertias(masses: MassModel, geometry: Geometry, variant: str, mode: st
         "l6": ("l6", 6),
         "l7": ("l7", 7),
     }
-    if variant == "parallel":
-        bars.update({"l8_stabiliser": ("l8", 8), "l9": ("l9", 9), "l10": ("l10", 10), "l11": ("l11", 11)})
-        bars["foot_bar"] = ("foot_bar", 10)
+    spec = get_variant(variant)
+    if spec.extension:
+        bars.update(EXTENSION_BARS)
     out = {}
     for link, (key, index) in bars.items():
         length = geometry.length(index)
         out[link] = rod(masses.links[key], length, length / 2)
-    if variant == "parallel":
+    if spec.extension:
         out["slider"] = pin.Inertia(masses.links["slider"], np.zeros(3), np.zeros((3, 3)))
     toe, heel = geometry.foot_extent(variant)
     out["foot"] = rod(masses.foot, toe + heel, masses.foot_com)
@@ -107,6 +117,7 @@ class PasibotRobot:
 
     Attributes:
         variant: ``rigid``, ``parallel`` or ``spring``.
+        spec: the variant's record (cut joints, actuation, springs, extension, sole).
         legs: 1 (hip fixed to the world, the leg frame) or 2 (planar floating hip).
         geometry: leg geometry.
         masses: mass model in use.
@@ -143,6 +154,7 @@ class PasibotRobot:
     spring_joints: list[str] = field(default_factory=list)
     q0: np.ndarray = field(default_factory=lambda: np.zeros(0))
     urdf: str = ""
+    spec: Variant | None = None
 
     @property
     def loop_constraints(self) -> list[pin.RigidConstraintModel]:
@@ -258,7 +270,8 @@ def load(
             or non-finite parameter; a geometry whose loops cannot assemble at q0.
 
     """
-    check_variant(variant)
+    spec = get_variant(variant)
+    variant = spec.name
     check_legs(legs)
     geometry = geometry or Geometry()
     if geometry_changes:
@@ -296,8 +309,9 @@ def load(
         collision_model=collision_model,
         loops=loops,
         constraint_models=cmodels,
-        actuated_joints=[f"{s}_{j}" for s in sides(legs) for j in ACTUATED_JOINTS],
-        spring_joints=[f"{s}_{j}" for s in sides(legs) for j in SPRING_JOINTS] if variant == "spring" else [],
+        spec=spec,
+        actuated_joints=[f"{s}_{j}" for s in sides(legs) for j in spec.actuated_joints],
+        spring_joints=[f"{s}_{j}" for s in sides(legs) for j in spec.spring_joints],
         urdf=text,
     )
     from .closure import assemble

@@ -41,9 +41,8 @@ Units: SI; angles [rad].
 
 from __future__ import annotations
 
-import copy
 import math
-from collections.abc import Callable, Sequence
+from collections.abc import Callable
 from dataclasses import dataclass, field, replace
 
 import numpy as np
@@ -51,14 +50,12 @@ import pinocchio as pin
 
 from . import constraints
 from .closure import hip_pitch, joint_coordinate, solve_velocity
+from .constraints import ConstraintSystem, CoordinateRow, coordinate, symmetric_mass_matrix
 
 MOTOR_MODES: tuple[str, ...] = ("rheonomic", "free")
 HIP_MODES: tuple[str, ...] = ("free", "level")
 SWING_ANKLE_MODES: tuple[str, ...] = ("spring", "rest")
 INTEGRATORS: tuple[str, ...] = ("rk4", "euler")
-
-PROJECTION_TOL = 1e-12
-"""Newton projection stops when every constraint row is below this [m, rad]."""
 
 Feedforward = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 """tau_ff(t [s], q, v) -> generalised force vector (nv,) [N.m or N]."""
@@ -120,241 +117,9 @@ def critical_foot_damping(robot, stiffness: float) -> float:
 
 
 # --------------------------------------------------------------------------- constraints
-@dataclass(frozen=True)
-class CoordinateRow:
-    """A rheonomic coordinate constraint q[index] = offset + rate t.
-
-    Attributes:
-        name: label (``right_j0_crank`` ...).
-        index: configuration (= velocity) index.
-        offset: value at t = 0 [rad].
-        rate: time derivative [rad/s].
-
-    """
-
-    name: str
-    index: int
-    offset: float
-    rate: float = 0.0
-
-
-class ConstraintSet:
-    """In-plane constraint rows of some Pinocchio constraint models plus coordinate rows.
-
-    Evaluates Phi(q, t), J = dPhi/dq, the drift Jdot v and Phi_t in one kinematic pass
-    (``computeJointJacobiansTimeVariation``), vectorised over the constraint points.
-    Row order: for each model x, z (and pitch for a weld), then the coordinate rows.
-    """
-
-    def __init__(self, robot, cmodels: Sequence[pin.RigidConstraintModel], coords: Sequence[CoordinateRow] = ()):
-        model = robot.model
-        self.robot = robot
-        self.cmodels = list(cmodels)
-        self.coords = list(coords)
-        joints, trans, rots = [], [], []
-        for cm in self.cmodels:
-            for joint, placement in constraints.anchor_points(cm):
-                joints.append(joint)
-                trans.append(np.array(placement.translation))
-                rots.append(np.array(placement.rotation))
-        self._joints = np.array(joints, dtype=int)
-        self._trans = np.array(trans).reshape(-1, 3)
-        self._rots = rots
-        mask = np.zeros((len(joints), model.nv))
-        for k, joint in enumerate(joints):
-            for s in model.supports[joint]:
-                if s == 0:
-                    continue
-                jm = model.joints[s]
-                mask[k, jm.idx_v : jm.idx_v + jm.nv] = 1.0
-        self._mask = mask
-        self._weld = [constraints.is_weld(cm) for cm in self.cmodels]
-        self.nrows = 2 * len(self.cmodels) + sum(self._weld) + len(self.coords)
-        rx, pitch_rows, row = [], [], 0
-        for c, weld in enumerate(self._weld):
-            rx.append(row)
-            row += 2
-            if weld:
-                pitch_rows.append((c, row))
-                row += 1
-        self._rx = np.array(rx, dtype=int)
-        self._rz = self._rx + 1
-        self._a = 2 * np.arange(len(self.cmodels))
-        self._b = self._a + 1
-        self._pitch_rows = pitch_rows
-        self.labels = []
-        for cm, weld in zip(self.cmodels, self._weld):
-            self.labels += [f"{cm.name}.{a}" for a in (("x", "z", "pitch") if weld else ("x", "z"))]
-        self.labels += [f"{c.name}(t)" for c in self.coords]
-
-    def with_coords(self, coords: Sequence[CoordinateRow]) -> ConstraintSet:
-        """The same constraint models with other coordinate rows (shares the precomputed point data)."""
-        other = copy.copy(self)
-        other.coords = list(coords)
-        other.nrows = self.nrows - len(self.coords) + len(other.coords)
-        other.labels = self.labels[: len(self.labels) - len(self.coords)] + [f"{c.name}(t)" for c in other.coords]
-        return other
-
-    def evaluate(self, q: np.ndarray, v: np.ndarray | None, t: float):
-        """Phi(q, t), J(q), Jdot v and Phi_t.
-
-        Returns:
-            (phi, jac, drift, phi_t): shapes (m,), (m, nv), (m,), (m,). ``drift`` is zero when
-            ``v`` is None.
-
-        """
-        model, data = self.robot.model, self.robot.data
-        nv = model.nv
-        if v is None:
-            pin.computeJointJacobians(model, data, q)
-        else:
-            pin.forwardKinematics(model, data, q, v, np.zeros(nv))
-            pin.computeJointJacobians(model, data, q)  # world frame, at the origin
-        jw = data.J
-        homog = np.array([o.homogeneous for o in data.oMi])[self._joints]  # (P, 4, 4)
-        rot = homog[:, :3, :3]
-        r_world = np.einsum("kij,kj->ki", rot, self._trans)
-        p = homog[:, :3, 3] + r_world
-        # Planar model: every rotation axis is along y, so v_p = v_O + w x p gives
-        # vx = v_Ox + w_y p_z and vz = v_Oz - w_y p_x.
-        jwy = jw[4][None, :] * self._mask
-        jx = jw[0][None, :] * self._mask + p[:, 2:3] * jwy
-        jz = jw[2][None, :] * self._mask - p[:, 0:1] * jwy
-        if v is not None:
-            # classical acceleration of the point at zero joint acceleration, joint frame:
-            # a_p = a + alpha x r + w x (v + w x r), then rotated to the world
-            vel = np.array([x.vector for x in data.v])[self._joints]
-            acc = np.array([x.vector for x in data.a])[self._joints]
-            r_loc = self._trans
-            w = vel[:, 3:]
-            vp = vel[:, :3] + _cross(w, r_loc)
-            ap_loc = acc[:, :3] + _cross(acc[:, 3:], r_loc) + _cross(w, vp)
-            ap = np.einsum("kij,kj->ki", rot, ap_loc)
-            alpha_y = np.einsum("kj,kj->k", rot[:, 1, :], acc[:, 3:])
-        m = self.nrows
-        phi, jac, drift, phi_t = np.zeros(m), np.zeros((m, nv)), np.zeros(m), np.zeros(m)
-        a, b, rx, rz = self._a, self._b, self._rx, self._rz
-        phi[rx] = p[a, 0] - p[b, 0]
-        phi[rz] = p[a, 2] - p[b, 2]
-        jac[rx] = jx[a] - jx[b]
-        jac[rz] = jz[a] - jz[b]
-        if v is not None:
-            drift[rx] = ap[a, 0] - ap[b, 0]
-            drift[rz] = ap[a, 2] - ap[b, 2]
-        for c, row in self._pitch_rows:
-            ia, ib = 2 * c, 2 * c + 1
-            ra, rb = rot[ia] @ self._rots[ia], rot[ib] @ self._rots[ib]
-            pa, pb = math.atan2(ra[2, 0], ra[0, 0]), math.atan2(rb[2, 0], rb[0, 0])
-            phi[row] = math.atan2(math.sin(pa - pb), math.cos(pa - pb))
-            jac[row] = -(jwy[ia] - jwy[ib])  # pitch is about -y
-            if v is not None:
-                drift[row] = -(alpha_y[ia] - alpha_y[ib])
-        row = m - len(self.coords)
-        for cr in self.coords:
-            phi[row] = q[cr.index] - (cr.offset + cr.rate * t)
-            jac[row, cr.index] = 1.0
-            phi_t[row] = -cr.rate
-            row += 1
-        return phi, jac, drift, phi_t
-
-
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    """Row-wise cross product of two (n, 3) arrays (np.cross is slow on small arrays)."""
-    return np.column_stack(
-        (
-            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
-            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
-            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
-        )
-    )
-
-
-def _kkt(mass: np.ndarray, jac: np.ndarray, top: np.ndarray, bottom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve [M J^T; J 0][x; mu] = [top; bottom]; returns (x, lambda = -mu)."""
-    nv, m = mass.shape[0], jac.shape[0]
-    kkt = np.zeros((nv + m, nv + m))
-    kkt[:nv, :nv] = mass
-    kkt[:nv, nv:] = jac.T
-    kkt[nv:, :nv] = jac
-    try:
-        sol = np.linalg.solve(kkt, np.concatenate((top, bottom)))
-    except np.linalg.LinAlgError as err:
-        raise ValueError("KKT system singular: the constraint Jacobian lost rank (singular pose)") from err
-    if not np.all(np.isfinite(sol)):
-        raise ValueError("KKT solve returned non-finite values (singular pose)")
-    return sol[:nv], -sol[nv:]
-
-
 def mass_matrix(robot, q: np.ndarray) -> np.ndarray:
     """Joint-space mass matrix M(q) (symmetric) [kg, kg.m, kg.m^2]."""
-    mass = pin.crba(robot.model, robot.data, q)
-    return np.triu(mass) + np.triu(mass, 1).T
-
-
-def impulse(robot, cset: ConstraintSet, q: np.ndarray, v_minus: np.ndarray, t: float, rows=None):
-    """Inelastic impact / velocity projection onto J v + Phi_t = 0 in the M metric.
-
-    Solves [M J^T; J 0][v+; mu] = [M v-; -Phi_t].
-
-    Args:
-        robot: the robot.
-        cset: the constraint set after the impact.
-        q: configuration (on the constraints).
-        v_minus: velocity before [rad/s, m/s].
-        t: time [s].
-        rows: (J, Phi_t) already evaluated at (q, t), to save a kinematic pass.
-
-    Returns:
-        (v_plus, Lambda): the post-impact velocity and the impulse per constraint row [N.s, N.m.s].
-
-    """
-    if rows is None:
-        _, jac, _, phi_t = cset.evaluate(q, None, t)
-    else:
-        jac, phi_t = rows
-    mass = mass_matrix(robot, q)
-    v_plus, lam = _kkt(mass, jac, mass @ v_minus, -phi_t)
-    return v_plus, lam
-
-
-def project_configuration(
-    robot, cset: ConstraintSet, q: np.ndarray, t: float, max_iter: int = 20, details: bool = False
-):
-    """Newton onto Phi(q, t) = 0 with minimum M-norm corrections.
-
-    Args:
-        robot: the robot.
-        cset: the constraints.
-        q: start [rad, m].
-        t: time [s].
-        max_iter: iteration limit.
-        details: also return the largest residual at the start and (J, Phi_t) at the result.
-
-    Returns:
-        q on the constraints (every row below :data:`PROJECTION_TOL`); with ``details``,
-        (q, initial largest residual, (J, Phi_t)).
-
-    Raises:
-        ValueError: when the constraints cannot be met (naming the worst row).
-
-    """
-    q = np.array(q, dtype=float)
-    phi = None
-    initial = None
-    for _ in range(max_iter):
-        phi, jac, _, phi_t = cset.evaluate(q, None, t)
-        largest = float(np.max(np.abs(phi)))
-        initial = largest if initial is None else initial
-        if largest < PROJECTION_TOL:
-            return (q, initial, (jac, phi_t)) if details else q
-        mass = mass_matrix(robot, q)
-        dq, _ = _kkt(mass, jac, np.zeros(len(q)), -phi)
-        q = q + dq
-    worst = int(np.argmax(np.abs(phi)))
-    raise ValueError(
-        f"projection failed: constraint {cset.labels[worst]} keeps a residual {abs(phi[worst]):.3e} "
-        f"after {max_iter} Newton iterations at t = {t:.4f} s"
-    )
+    return symmetric_mass_matrix(robot.model, robot.data, q)
 
 
 # --------------------------------------------------------------------------- forces and energy
@@ -554,9 +319,10 @@ class BipedSimulator:
     """
 
     def __init__(self, robot, settings: SimulationSettings):
-        if robot.variant != "spring" or robot.legs != 2:
+        if not robot.spec.free_ankle or robot.legs != 2:
             raise ValueError(
-                f"the simulator needs the two-legged spring variant, got variant={robot.variant!r} legs={robot.legs}"
+                "the simulator needs a two-legged robot with spring ankles (variant 'spring'), "
+                f"got variant={robot.variant!r} legs={robot.legs}"
             )
         if robot.model.nq != robot.model.nv:
             raise ValueError("the simulator assumes nq == nv (revolute/prismatic joints only)")
@@ -572,19 +338,21 @@ class BipedSimulator:
         rows = []
         if s.motor == "rheonomic":
             rows += [
-                CoordinateRow("right_j0_crank", self.cranks["right"], s.theta0, s.omega),
-                CoordinateRow("left_j0_crank", self.cranks["left"], s.theta0 + math.pi, s.omega),
+                coordinate("right_j0_crank", self.cranks["right"], s.theta0, s.omega),
+                coordinate("left_j0_crank", self.cranks["left"], s.theta0 + math.pi, s.omega),
             ]
         if s.hip == "level":
-            rows.append(CoordinateRow("hip_pitch", 2, 0.0, 0.0))
+            rows.append(coordinate("hip_pitch", 2, 0.0, 0.0))
         if s.swing_ankle == "rest":
             swing = _other(stance)
-            rows.append(CoordinateRow(f"{swing}_j13_ankle", self.ankles[swing], math.pi / 2 - s.spring.rest_angle))
+            rows.append(coordinate(f"{swing}_j13_ankle", self.ankles[swing], math.pi / 2 - s.spring.rest_angle))
         return rows
 
-    def constraint_set(self, stance: str, weld: pin.RigidConstraintModel) -> ConstraintSet:
+    def constraint_set(self, stance: str, weld: pin.RigidConstraintModel) -> ConstraintSystem:
         """Loops + ``weld`` + the coordinate rows of ``stance``."""
-        return ConstraintSet(self.robot, list(self.robot.loop_constraints) + [weld], self.coordinate_rows(stance))
+        robot = self.robot
+        cmodels = list(robot.loop_constraints) + [weld]
+        return ConstraintSystem(robot.model, robot.data, cmodels, self.coordinate_rows(stance), robot.geometry.L)
 
     def ground_weld(self, side: str, q: np.ndarray) -> pin.RigidConstraintModel:
         """A weld of ``side``'s foot at its x in ``q``, on the ground (z = 0), sole level."""
@@ -605,16 +373,12 @@ class BipedSimulator:
             tau = tau + ff
         return tau
 
-    def acceleration(self, cset: ConstraintSet, t: float, q: np.ndarray, v: np.ndarray):
+    def acceleration(self, cset: ConstraintSystem, t: float, q: np.ndarray, v: np.ndarray):
         """Constrained forward dynamics: returns (a, lambda, phi)."""
-        phi, jac, drift, _ = cset.evaluate(q, v, t)
-        model, data = self.robot.model, self.robot.data
-        mass = mass_matrix(self.robot, q)
-        h = pin.nonLinearEffects(model, data, q, v)
-        a, lam = _kkt(mass, jac, self.forces(t, q, v) - h, -drift)
-        return a, lam, phi
+        a, lam, rows = cset.forward_dynamics(q, v, self.forces(t, q, v), t)
+        return a, lam, rows.phi
 
-    def step(self, cset: ConstraintSet, t: float, q: np.ndarray, v: np.ndarray, h: float):
+    def step(self, cset: ConstraintSystem, t: float, q: np.ndarray, v: np.ndarray, h: float):
         """One integration step of length h; returns (q, v, lambda at the start, drift before projection)."""
         a1, lam, _ = self.acceleration(cset, t, q, v)
         if self.settings.integrator == "euler":
@@ -629,9 +393,9 @@ class BipedSimulator:
             v4 = v + h * a3
             q_new = q + h / 6 * (v + 2 * v2 + 2 * v3 + v4)
             v_new = v + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
-        q_new, drift, rows = project_configuration(self.robot, cset, q_new, t + h, details=True)
-        v_new, _ = impulse(self.robot, cset, q_new, v_new, t + h, rows)
-        return q_new, v_new, lam, drift
+        q_new = cset.project(q_new, t + h, metric="mass", max_iter=20)
+        v_new, _ = cset.impulse(q_new, v_new, t + h, cset.last_rows)
+        return q_new, v_new, lam, cset.last_initial_residual
 
     # ---- initial state
     def initial_state(self, stance: str | None = None) -> tuple[np.ndarray, np.ndarray, str]:
@@ -699,8 +463,8 @@ class BipedSimulator:
         v = v_init if v0 is None else np.array(v0, dtype=float)
         weld = self.ground_weld(stance, q)
         cset = self.constraint_set(stance, weld)
-        q = project_configuration(self.robot, cset, q, 0.0)
-        v, _ = impulse(self.robot, cset, q, v, 0.0)
+        q = cset.project(q, 0.0, metric="mass", max_iter=20)
+        v, _ = cset.impulse(q, v, 0.0)
         rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "lam", "stance", "drift", "swing")}
         labels_index = self._multiplier_rows(cset)
 
@@ -756,14 +520,14 @@ class BipedSimulator:
                 land = cset
                 if s.swing_ankle == "spring":  # the lifting foot keeps its ankle angle through the landing
                     lifting = self.ankles[_other(side)]
-                    land = cset.with_coords([*cset.coords, CoordinateRow("lifting_ankle", lifting, q[lifting])])
+                    land = cset.with_scalars([*cset.scalars, coordinate("lifting_ankle", lifting, q[lifting])])
                 try:
-                    q = project_configuration(self.robot, land, q, t)
+                    q = land.project(q, t, metric="mass", max_iter=20)
                 except ValueError as err:
                     fell, message = True, f"landing failed at t = {t:.3f} s: {err}"
                     break
                 ke_before = total_energy(self.robot, q, v)["kinetic"]
-                v, _ = impulse(self.robot, cset, q, v, t)
+                v, _ = cset.impulse(q, v, t)
                 impacts.append(Impact(t, side, z, pitch, ke_before, total_energy(self.robot, q, v)["kinetic"]))
         if not fell or not rec["t"] or rec["t"][-1] < t:
             try:
@@ -791,10 +555,10 @@ class BipedSimulator:
             settings=s,
         )
 
-    def _multiplier_rows(self, cset: ConstraintSet) -> list[int | None]:
+    def _multiplier_rows(self, cset: ConstraintSystem) -> list[int | None]:
         """Row indices of the right motor, left motor and hip-lock multipliers (None if absent)."""
         out: list[int | None] = []
-        for name in ("right_j0_crank(t)", "left_j0_crank(t)", "hip_pitch(t)"):
+        for name in ("right_j0_crank", "left_j0_crank", "hip_pitch"):
             out.append(cset.labels.index(name) if name in cset.labels else None)
         return out
 

@@ -31,6 +31,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import closure
+from .constraints import split_torques
+from .variants import get_motor_layout
 
 
 @dataclass
@@ -76,45 +78,38 @@ def coupled_split(robot, result) -> SingleMotorResult:
     """Split the inverse-dynamics torques of ``result`` with one motor and the coupling row.
 
     Args:
-        robot: the two-legged ``spring`` robot the result was computed with (same model).
+        robot: the two-legged robot (any variant) the result was computed with (same model).
         result: a :class:`~pasibot_pin.dynamics.TorqueResult` (its q, tau, stance per sample).
 
     Raises:
-        ValueError: not the spring biped; cranks not pi apart; a singular split.
+        ValueError: not a biped; cranks not pi apart; a singular split.
 
     """
-    if robot.variant != "spring" or robot.legs != 2:
-        raise ValueError(f"coupled_split needs the two-legged spring robot, got {robot.variant!r}, legs={robot.legs}")
-    model = robot.model
-    nv = model.nv
-    i_r, i_l = robot.idx_v("right_j0_crank"), robot.idx_v("left_j0_crank")
+    from .dynamics import _actuation, _couplings
+
+    if robot.legs != 2:
+        raise ValueError(f"coupled_split needs a two-legged robot, got legs={robot.legs}")
+    layout = get_motor_layout("one")
     qi_r, qi_l = robot.idx_q("right_j0_crank"), robot.idx_q("left_j0_crank")
     n = len(result.t)
     motor, trans, ankle = np.zeros(n), np.zeros(n), np.zeros((n, 2))
+    n_spring = 2 if robot.spec.free_ankle else 0
     worst = 0.0
-    cache: dict[str, object] = {}
+    cache: dict[str, tuple] = {}
     for k in range(n):
         q, tau, side = np.asarray(result.q[k]), np.asarray(result.tau[k]), result.stance[k]
         worst = max(worst, abs(math.remainder(q[qi_l] - q[qi_r] - math.pi, 2 * math.pi)))
         if side not in cache:
-            cache[side] = robot.with_stance(side, q)
-        rs = cache[side]
-        jc = closure.constraint_jacobian(rs, q)
-        swing = "left" if side == "right" else "right"
-        cols = np.zeros((nv, 4))
-        cols[i_r, 0] = 1.0  # motor on the right crank
-        cols[robot.idx_v(f"{side}_j13_ankle"), 1] = 1.0
-        cols[robot.idx_v(f"{swing}_j13_ankle"), 2] = 1.0
-        cols[i_l, 3], cols[i_r, 3] = 1.0, -1.0  # coupling row q_L - q_R - pi, transposed
-        mat = np.hstack((cols, jc.T))
-        if mat.shape[0] != mat.shape[1]:
-            raise ValueError(f"coupled split: {mat.shape[1]} unknowns for nv = {nv}; the system must be square")
+            rs = robot.with_stance(side, q)
+            # the coupling q_L - q_R - pi = 0 is one more row of the constraint system
+            cache[side] = (closure.system(rs, None, _couplings(rs, layout)), _actuation(rs, side, layout))
+        rows, s_matrix = cache[side]
         try:
-            x = np.linalg.solve(mat, tau)
-        except np.linalg.LinAlgError as err:
-            raise ValueError(f"coupled split: singular at sample {k}") from err
-        motor[k], trans[k] = x[0], x[3]
-        ankle[k] = (-x[1], -x[2])  # generalised forces of beta = pi/2 - q_ankle
+            u, lam = split_torques(tau, s_matrix, rows.jacobian(q))
+        except ValueError as err:
+            raise ValueError(f"coupled split at sample {k}: {err}") from None
+        motor[k], trans[k] = u[0], lam[-1]
+        ankle[k, :n_spring] = -u[1 : 1 + n_spring]  # generalised forces of beta = pi/2 - q_ankle
     if worst > 1e-9:
         raise ValueError(f"parameter 'result': the cranks are not pi apart (max |q_L - q_R - pi| = {worst:.3e} rad)")
     return SingleMotorResult(

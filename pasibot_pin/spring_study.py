@@ -24,17 +24,15 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
+from .constraints import ConstraintSystem, coordinate
 from .simulate import (
     AnkleSpring,
     BipedSimulator,
-    ConstraintSet,
-    CoordinateRow,
     SimulationResult,
     SimulationSettings,
     _check_finite,
     _other,
     critical_foot_damping,
-    project_configuration,
     simulate,
 )
 
@@ -90,13 +88,14 @@ class _StaticProblem:
         swing = _other(stance)
         self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
         coords = [c for c in self.sim.coordinate_rows(stance) if c.name != "hip_pitch"]
-        self.cset = ConstraintSet(robot, list(robot.loop_constraints) + [weld], coords)
+        cmodels = list(robot.loop_constraints) + [weld]
+        self.cset = ConstraintSystem(robot.model, robot.data, cmodels, coords, robot.geometry.L)
         self.row = self.cset.nrows  # the hip-pitch row, appended below
 
     def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
-        cset = self.cset.with_coords([*self.cset.coords, CoordinateRow("hip_pitch", 2, pitch)])
+        cset = self.cset.with_scalars([*self.cset.scalars, coordinate("hip_pitch", 2, pitch)])
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
-        q = project_configuration(self.robot, cset, q, 0.0)
+        q = cset.project(q, 0.0, metric="mass", max_iter=20)
         _, lam, _ = self.sim.acceleration(cset, 0.0, q, np.zeros(self.robot.model.nv))
         return float(lam[self.row]), q
 

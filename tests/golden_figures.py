@@ -31,8 +31,18 @@ def _api():
     from types import SimpleNamespace
 
     import pasibot_pin as pp
-    from pasibot_pin import contact, dynamics, energy, gait, kinematics, scenarios, simulate, single_motor, spring
-    from pasibot_pin import spring_study
+    from pasibot_pin import (
+        contact,
+        dynamics,
+        energy,
+        gait,
+        kinematics,
+        scenarios,
+        simulate,
+        single_motor,
+        spring,
+        spring_study,
+    )
 
     def run_scenario(name, preset):
         return dynamics.run_scenario(scenarios.get_scenario(name), scenarios.get_preset(preset))
@@ -154,7 +164,9 @@ def simulations(out: dict) -> None:
     res = api.simulate(inputs.robot, settings, steps=3)
     out["sim/walk5/hip_pitch"] = res.hip_pitch
     out["sim/walk5/motor_torque"] = res.motor_torque
-    out["sim/walk5/impacts"] = np.array([[i.t, i.height, i.pitch, i.kinetic_before, i.kinetic_after] for i in res.impacts])
+    out["sim/walk5/impacts"] = np.array(
+        [[i.t, i.height, i.pitch, i.kinetic_before, i.kinetic_after] for i in res.impacts]
+    )
 
 
 GROUPS = {

@@ -9,7 +9,7 @@ import pinocchio as pin
 import pytest
 from closed_form import leg
 
-from pasibot_pin import closure, dynamics, scenarios, spring
+from pasibot_pin import dynamics, scenarios, spring
 
 L = 0.05
 G = 9.81
@@ -38,6 +38,43 @@ def test_virtual_power_equals_rate_of_energy(swing_foot):
         power = res.Ta[1] * omega + res.Ta_swing[1] * omega - res.Te[1] * v[ankle_st] - res.Te_swing[1] * v[ankle_sw]
         assert abs(power) > 1.0  # a real test: the power is not trivially zero at 5 rad/s
         assert power == pytest.approx(d_energy, rel=1e-6, abs=1e-6)
+
+
+@pytest.mark.parametrize("variant", ["rigid", "parallel", "spring"])
+@pytest.mark.parametrize("motors", ["two", "one"])
+def test_one_inverse_dynamics_for_every_variant_and_motor_layout(variant, motors):
+    """Virtual power for every variant and both motor layouts: the actuators' power is dE/dt.
+
+    One motor: its torque times omega (plus the ankles) is the whole input, and it equals the
+    two motors' sum T_a + T_a' (both cranks turn at omega); the transmission carries T_a'.
+    """
+    scenario = scenarios.SCENARIOS["run4"]
+    robot = dynamics.scenario_robot(scenario, scenarios.PRESETS["default"], variant)
+    omega, delta, theta = scenario.omega, 1e-4, 2.4
+    thetas = [theta - delta, theta, theta + delta]
+    res = dynamics.inverse_dynamics(robot, thetas, omega, stance="right", motors=motors)
+    model, data = robot.model, robot.data
+    energy = [
+        pin.computeKineticEnergy(model, data, res.q[k], res.v[k]) + pin.computePotentialEnergy(model, data, res.q[k])
+        for k in (0, 2)
+    ]
+    d_energy = (energy[1] - energy[0]) / (2 * delta / omega)
+    v = res.v[1]
+    power = (res.Ta[1] + res.Ta_swing[1]) * omega
+    for side, te in (("right", res.Te[1]), ("left", res.Te_swing[1])):
+        if robot.spec.free_ankle:
+            power -= te * v[robot.idx_v(f"{side}_j13_ankle")]
+        else:
+            assert te == 0.0
+    assert abs(power) > 1.0
+    assert power == pytest.approx(d_energy, rel=1e-6, abs=1e-6)
+    if motors == "one":
+        two = dynamics.inverse_dynamics(robot, thetas, omega, stance="right")
+        np.testing.assert_allclose(res.Ta, two.Ta + two.Ta_swing, rtol=1e-9)
+        np.testing.assert_allclose(res.transmission, two.Ta_swing, rtol=1e-9, atol=1e-9)
+        np.testing.assert_allclose(res.Te, two.Te, rtol=1e-9, atol=1e-9)
+    if variant == "rigid":
+        np.testing.assert_allclose(res.beta, math.pi / 2, atol=1e-9)  # the foot is square to the shank
 
 
 # --------------------------------------------------------------------------- quasi-static
@@ -113,25 +150,6 @@ def test_full_cycle_swaps_stance_and_repeats_each_step():
     assert ankle[0] == pytest.approx(8 * L, abs=2e-4) and abs(ankle[2]) < 1e-3
 
 
-def test_planar_rows_match_closure_jacobian():
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
-    q = closure.assemble(robot, 2.2)
-    prescribed = dynamics._prescriptions(robot, "right", "level")
-    rows = dynamics.PlanarRows(robot, robot.constraint_models, prescribed)
-    res, jac = rows.evaluate(q)
-    np.testing.assert_allclose(jac[: rows.nc], closure.constraint_jacobian(robot, q), atol=1e-12)
-    np.testing.assert_allclose(res[: rows.nc], closure.constraint_residual(robot, q), atol=1e-12)
-    # finite differences of the residual along a random direction
-    rng = np.random.default_rng(0)
-    dq = rng.normal(size=robot.model.nv)
-    eps = 1e-6
-    fd = (
-        rows.evaluate(pin.integrate(robot.model, q, eps * dq))[0]
-        - rows.evaluate(pin.integrate(robot.model, q, -eps * dq))[0]
-    ) / (2 * eps)
-    np.testing.assert_allclose(fd, jac @ dq, atol=1e-7)
-
-
 def test_uniform_rods_change_the_dynamic_torques_only():
     scenario = scenarios.SCENARIOS["run4"]
     point = dynamics.run_scenario(scenario, scenarios.PRESETS["default"], thetas=[2.0, 3.0])
@@ -165,21 +183,6 @@ def test_bad_input_is_named():
         dynamics.inverse_dynamics(robot, [2.0], 1.0, swing_foot="tilted")
 
 
-def test_planar_rows_drift_and_motion_match_closure():
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"])
-    q = closure.assemble(robot, 2.9)
-    prescribed = dynamics._prescriptions(robot, "right", "level")
-    rows = dynamics.PlanarRows(robot, robot.constraint_models, prescribed)
-    v, a, _ = rows.motion(q, [5.0, 5.0, 0.0, 0.0], [0.0] * 4)
-    v_ref = closure.solve_velocity(robot, q, prescribed, [5.0, 5.0, 0.0, 0.0])
-    a_ref = closure.solve_acceleration(robot, q, v_ref, prescribed, [0.0] * 4)
-    np.testing.assert_allclose(v, v_ref, atol=1e-10)
-    np.testing.assert_allclose(a, a_ref, atol=1e-8)
-    drift = rows.evaluate(q, None, v)[2][: rows.nc]
-    np.testing.assert_allclose(drift, closure.constraint_drift(robot, q, v), atol=1e-9)
-    assert np.max(np.abs(drift)) > 1e-3
-
-
 def test_torques_cli_prints_stiffness_and_writes_csv(tmp_path, capsys):
     import csv
 
@@ -199,13 +202,3 @@ def test_torques_cli_prints_stiffness_and_writes_csv(tmp_path, capsys):
     assert main(["torques", "--scenario", "run3", "--csv", str(out)]) == 2  # no overwrite without --force
     assert main(["torques", "--scenario", "run9"]) == 2
     assert "unknown scenario" in capsys.readouterr().err
-
-
-def test_pinocchio_inplane_jacobian_matches_planar_rows():
-    from pasibot_pin import constraints
-
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
-    q = closure.assemble(robot, 4.1)
-    rows = dynamics.PlanarRows(robot, robot.constraint_models, dynamics._prescriptions(robot, "right", "level"))
-    jac = constraints.InplaneJacobian(robot.model, robot.model.createData(), robot.constraint_models)(q)
-    np.testing.assert_allclose(jac, rows.constraint_jacobian(q), atol=1e-12)

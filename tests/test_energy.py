@@ -93,7 +93,7 @@ def test_parallel_work_equals_energy_change_and_static_ground_wrench():
     assert abs(d_energy) > 1.0
     assert abs(step.net_work - d_energy) <= 1e-6 * abs(d_energy)
     # quasi-static: the weld carries the weight, with its moment about the foot frame
-    static = energy.parallel_inverse_dynamics(robot, [math.pi / 2, math.pi, 4.0], 0.0)
+    static = inverse_dynamics(robot, [math.pi / 2, math.pi, 4.0], 0.0, stance="right")
     model, data = robot.model, robot.model.createData()
     for k in range(3):
         q = static.q[k]

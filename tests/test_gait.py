@@ -91,7 +91,7 @@ def test_level_hip_world_posture(walks, L, case):
     hip = w.hip_path()
     assert np.max(np.abs(w.pitch("hip"))) < 1e-9
     assert np.ptp(hip[:, 1]) < 0.0195 * L
-    starts = hip[:: SPS, 0]
+    starts = hip[::SPS, 0]
     assert np.diff(starts) == pytest.approx(8 * L, abs=1e-9)
     xz = w.frames_xz(["right_foot", "left_foot"])
     right = L * ankle_leg_frame(w.theta)
@@ -108,7 +108,7 @@ def test_parallel_flat_walk_is_nearly_level(walks, L):
     w = walks[("parallel", "flat")]
     bound = math.asin(2 * 0.00975 / 2 / 4.2) + 1e-4  # the stabiliser's tilt, joint 4 off its line
     assert np.max(np.abs(w.pitch("hip"))) < bound
-    starts = w.hip_path()[:: SPS, 0]
+    starts = w.hip_path()[::SPS, 0]
     assert np.diff(starts) == pytest.approx(8 * L, abs=1e-9)  # 90 and 270 deg: foot exactly level
 
 
@@ -163,11 +163,25 @@ def _read(path):
 
 def test_cli_one_leg(tmp_path, monkeypatch, L):
     monkeypatch.chdir(tmp_path)
-    assert main(["gait", "--variant", "rigid", "--legs", "1", "--step-deg", "10", "--csv", "leg.csv",
-                 "--plot", "leg.png"]) == 0
+    assert (
+        main(["gait", "--variant", "rigid", "--legs", "1", "--step-deg", "10", "--csv", "leg.csv", "--plot", "leg.png"])
+        == 0
+    )
     header, rows = _read(tmp_path / "leg.csv")
-    expected = ["theta", "ankle_x", "ankle_z", "toe_x", "toe_z", "heel_x", "heel_z", "foot_pitch",
-                "ankle_vx", "ankle_vz", "ankle_ax", "ankle_az"]
+    expected = [
+        "theta",
+        "ankle_x",
+        "ankle_z",
+        "toe_x",
+        "toe_z",
+        "heel_x",
+        "heel_z",
+        "foot_pitch",
+        "ankle_vx",
+        "ankle_vz",
+        "ankle_ax",
+        "ankle_az",
+    ]
     assert header[: len(expected)] == expected
     assert len(rows) == 37
     data = np.array([[float(x) for x in r[: len(expected)]] for r in rows])
@@ -184,11 +198,44 @@ def test_cli_one_leg(tmp_path, monkeypatch, L):
 
 def test_cli_two_legs(tmp_path, monkeypatch, L):
     monkeypatch.chdir(tmp_path)
-    assert main(["gait", "--variant", "spring", "--legs", "2", "--steps", "2", "--step-deg", "15",
-                 "--omega", "0.5", "--csv", "walk.csv", "--plot", "walk.png"]) == 0
+    assert (
+        main(
+            [
+                "gait",
+                "--variant",
+                "spring",
+                "--legs",
+                "2",
+                "--steps",
+                "2",
+                "--step-deg",
+                "15",
+                "--omega",
+                "0.5",
+                "--csv",
+                "walk.csv",
+                "--plot",
+                "walk.png",
+            ]
+        )
+        == 0
+    )
     header, rows = _read(tmp_path / "walk.csv")
-    for col in ("theta", "t", "step", "stance", "hip_x", "hip_z", "hip_pitch", "right_ankle_x", "right_ankle_z",
-                "left_ankle_x", "left_ankle_z", "right_toe_x", "left_heel_z"):
+    for col in (
+        "theta",
+        "t",
+        "step",
+        "stance",
+        "hip_x",
+        "hip_z",
+        "hip_pitch",
+        "right_ankle_x",
+        "right_ankle_z",
+        "left_ankle_x",
+        "left_ankle_z",
+        "right_toe_x",
+        "left_heel_z",
+    ):
         assert col in header
     assert len(rows) == 2 * 12 + 1
     col = {name: i for i, name in enumerate(header)}

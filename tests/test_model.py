@@ -21,12 +21,28 @@ def _size(robots, variant, legs):
 
 
 # One line per model pins nq and nv (DESIGN §2).
-def test_size_rigid_1leg(robots): assert _size(robots, "rigid", 1) == (7, 7)  # noqa: E704
-def test_size_rigid_2leg(robots): assert _size(robots, "rigid", 2) == (17, 17)  # noqa: E704
-def test_size_parallel_1leg(robots): assert _size(robots, "parallel", 1) == (13, 13)  # noqa: E704
-def test_size_parallel_2leg(robots): assert _size(robots, "parallel", 2) == (29, 29)  # noqa: E704
-def test_size_spring_1leg(robots): assert _size(robots, "spring", 1) == (8, 8)  # noqa: E704
-def test_size_spring_2leg(robots): assert _size(robots, "spring", 2) == (19, 19)  # noqa: E704
+def test_size_rigid_1leg(robots):
+    assert _size(robots, "rigid", 1) == (7, 7)  # noqa: E704
+
+
+def test_size_rigid_2leg(robots):
+    assert _size(robots, "rigid", 2) == (17, 17)  # noqa: E704
+
+
+def test_size_parallel_1leg(robots):
+    assert _size(robots, "parallel", 1) == (13, 13)  # noqa: E704
+
+
+def test_size_parallel_2leg(robots):
+    assert _size(robots, "parallel", 2) == (29, 29)  # noqa: E704
+
+
+def test_size_spring_1leg(robots):
+    assert _size(robots, "spring", 1) == (8, 8)  # noqa: E704
+
+
+def test_size_spring_2leg(robots):
+    assert _size(robots, "spring", 2) == (19, 19)  # noqa: E704
 
 
 def expected_mobility(variant: str, legs: int) -> int:

@@ -295,7 +295,7 @@ def test_foot_paths_follow_the_ankles(robot, exported):
     right = export.walk.positions("right_foot")
     np.testing.assert_allclose(export.paths["right"], right, atol=1e-12)
     # a stance ankle stays put, the swing ankle lifts
-    assert np.ptp(right[: 11, 0]) < 1e-9
+    assert np.ptp(right[:11, 0]) < 1e-9
     assert export.paths["left"][:11, 2].max() > 0.05
 
 
@@ -323,8 +323,12 @@ def test_export_html_cli_with_ground_reaction(tmp_path, capsys):
     out = tmp_path / "g.html"
     assert main(["export-html", "--out", str(out), "--steps", "1", "--samples-per-step", "4", "--ground-reaction"]) == 0
     assert "5 frames at 30 fps" in capsys.readouterr().out
-    paths = {entry["path"] for c in decode_commands(out.read_text()) if c["type"] == "set_animation"
-             for entry in c["animations"]}
+    paths = {
+        entry["path"]
+        for c in decode_commands(out.read_text())
+        if c["type"] == "set_animation"
+        for entry in c["animations"]
+    }
     assert f"/meshcat/{viewer.ROOT}/forces/ground" in paths
 
 

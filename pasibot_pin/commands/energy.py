@@ -15,6 +15,8 @@ import csv
 import math
 from pathlib import Path
 
+from ..params import VARIANTS
+
 
 def _floats(text: str) -> list[float]:
     try:
@@ -52,17 +54,15 @@ def run(args: argparse.Namespace) -> int:
             raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
     variants = [v.strip() for v in args.variants.split(",") if v.strip()]
     for v in variants:
-        if v not in ("spring", "parallel"):
-            raise ValueError(f"parameter '--variants': unknown variant {v!r}; valid: spring, parallel")
+        if v not in VARIANTS:
+            raise ValueError(f"parameter '--variants': unknown variant {v!r}; valid: {', '.join(VARIANTS)}")
     rows = energy.omega_table(args.omegas, args.body_mass, args.com_dx, args.nodes, variants)
     print(energy.format_table(rows))
     if args.flywheel is not None:
         print(f"\nflywheel {args.flywheel:g} kg.m^2 on the single motor's shaft:")
         for omega in args.omegas:
             for variant in variants:
-                func = energy.spring_step_energy if variant == "spring" else energy.parallel_step_energy
-                kwargs = {"fit": False} if variant == "spring" else {}
-                _, res = func(omega, args.body_mass, args.com_dx, args.nodes, **kwargs)
+                _, res = energy.step_energy(variant, omega, args.body_mass, args.com_dx, args.nodes, fit=False)
                 torque = res.Ta + res.Ta_swing
                 try:
                     fw = single_motor.flywheel(res.theta_right, torque, omega, args.flywheel)

@@ -2,8 +2,12 @@
 
 Tested with PyPI ``pin`` 4.1.0. The loop closures are ``RigidConstraintModel`` CONTACT_3D
 point coincidences in ``LOCAL_WORLD_ALIGNED``; the stance-foot weld is CONTACT_6D against
-the world. Only their in-plane rows are used by :mod:`pasibot_pin.closure` (x and z for a
-point; x, z and the rotation about y for a weld): the out-of-plane rows are identically zero.
+the world. The models are the *description* of each constraint (which two frames, which
+type); :class:`pasibot_pin.constraints.ConstraintSystem` evaluates their in-plane rows (x and
+z for a point; x, z and the pitch for a weld): the out-of-plane rows are identically zero.
+
+Pinocchio's own constrained algorithms (``getConstraintsJacobian``, ``constraintDynamics``,
+``impulseDynamics``) are wrapped here as independent references for the tests.
 """
 
 from __future__ import annotations
@@ -61,9 +65,7 @@ def weld_constraint(model: pin.Model, frame: str, target: pin.SE3, name: str) ->
     return cmodel
 
 
-def ground_point_constraint(
-    model: pin.Model, frame: str, position: np.ndarray, name: str
-) -> pin.RigidConstraintModel:
+def ground_point_constraint(model: pin.Model, frame: str, position: np.ndarray, name: str) -> pin.RigidConstraintModel:
     """A pin joint between the origin of ``frame`` and a fixed world point (CONTACT_3D).
 
     Used for the seed's point-foot (ankle pinned) and toe-pinned biped postures: the
@@ -133,29 +135,6 @@ def pinocchio_constraint_jacobian(
     return jac
 
 
-def stacked_jacobian(
-    model: pin.Model,
-    data: pin.Data,
-    cmodels: list[pin.RigidConstraintModel],
-    cdatas: list[pin.RigidConstraintData],
-    q: np.ndarray,
-) -> tuple[np.ndarray, list[tuple[pin.SE3, pin.SE3]]]:
-    """Pinocchio's stacked constraint Jacobian (all rows) and each constraint's two frame poses.
-
-    Runs ``computeJointJacobians`` (which also updates ``data.oMi``) and ``calc`` of every
-    constraint, then the C++ ``getConstraintsJacobian``. No ``initConstraintDynamics`` is needed.
-
-    Returns:
-        (Jacobian (rows x nv), [(oMc1, oMc2) per constraint]).
-
-    """
-    pin.computeJointJacobians(model, data, q)
-    for cmodel, cdata in zip(cmodels, cdatas):
-        cmodel.calc(model, data, cdata)
-    jac = pin.getConstraintsJacobian(model, data, cmodels, cdatas)
-    return jac, [(cdata.oMc1, cdata.oMc2) for cdata in cdatas]
-
-
 def anchor_points(cmodel: pin.RigidConstraintModel) -> tuple[tuple[int, pin.SE3], tuple[int, pin.SE3]]:
     """The two frames a constraint model ties together: ((joint1, placement1), (joint2, placement2)).
 
@@ -210,29 +189,6 @@ def inplane_rows(cmodels: list[pin.RigidConstraintModel]) -> tuple[np.ndarray, n
             sign += [1.0, 1.0]
         offset += constraint_size(cm)
     return np.array(index), np.array(sign)[:, None]
-
-
-class InplaneJacobian:
-    """Pinocchio's own constraint Jacobian (C++ ``getConstraintsJacobian``), in-plane rows only.
-
-    ``__call__(q)`` runs ``computeJointJacobians``, ``calc`` of every constraint (pin 4.1 reads
-    the frame placements stored by ``calc``) and returns the rows of :func:`inplane_rows`
-    (same rows and signs as ``closure.constraint_jacobian``).
-    """
-
-    def __init__(self, model: pin.Model, data: pin.Data, cmodels: list[pin.RigidConstraintModel]):
-        self.model, self.data, self.cmodels = model, data, list(cmodels)
-        self.cdatas = create_datas(self.cmodels)
-        pin.initConstraintDynamics(model, data, self.cmodels, self.cdatas)
-        self.index, self.sign = inplane_rows(self.cmodels)
-
-    def __call__(self, q: np.ndarray) -> np.ndarray:
-        """The in-plane constraint Jacobian at ``q`` (rows x nv)."""
-        model, data = self.model, self.data
-        pin.computeJointJacobians(model, data, q)
-        for cmodel, cdata in zip(self.cmodels, self.cdatas):
-            cmodel.calc(model, data, cdata)
-        return pin.getConstraintsJacobian(model, data, self.cmodels, self.cdatas)[self.index] * self.sign
 
 
 def proximal_impulse(

@@ -1,0 +1,67 @@
+"""The constraint core: one system for loops, foot welds, prescribed coordinates and couplings.
+
+:mod:`.pinocchio_models` builds Pinocchio's constraint models (and wraps Pinocchio's own
+constrained algorithms as references); :mod:`.system` evaluates every row and solves on the
+manifold. No other module builds constraint rows or calls Pinocchio's constraint or
+Jacobian API.
+"""
+
+from .pinocchio_models import (
+    anchor_points,
+    constraint_size,
+    create_datas,
+    ground_point_constraint,
+    inplane_rows,
+    is_weld,
+    pinocchio_constraint_jacobian,
+    point_constraint,
+    proximal_forward_dynamics,
+    proximal_impulse,
+    weld_constraint,
+)
+from .system import (
+    ANGLE_TOL,
+    RELATIVE_TOL,
+    ConstraintSystem,
+    CoordinateRow,
+    PitchRow,
+    Rows,
+    ScalarRow,
+    coordinate,
+    coupling,
+    frame_jacobian,
+    frame_jacobian_xz,
+    kkt_solve,
+    planar_pitch,
+    split_torques,
+    symmetric_mass_matrix,
+)
+
+__all__ = [
+    "ANGLE_TOL",
+    "RELATIVE_TOL",
+    "ConstraintSystem",
+    "CoordinateRow",
+    "PitchRow",
+    "Rows",
+    "ScalarRow",
+    "anchor_points",
+    "constraint_size",
+    "coordinate",
+    "coupling",
+    "create_datas",
+    "frame_jacobian",
+    "frame_jacobian_xz",
+    "ground_point_constraint",
+    "inplane_rows",
+    "is_weld",
+    "kkt_solve",
+    "planar_pitch",
+    "pinocchio_constraint_jacobian",
+    "point_constraint",
+    "proximal_forward_dynamics",
+    "proximal_impulse",
+    "split_torques",
+    "symmetric_mass_matrix",
+    "weld_constraint",
+]

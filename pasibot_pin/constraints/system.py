@@ -1,0 +1,590 @@
+"""THE constraint system of a robot: residual, Jacobian, drift, projections and the KKT solves.
+
+Every closed-loop computation of the package goes through :class:`ConstraintSystem`: the
+loop closures at the cut joints, the stance-foot weld, prescribed (possibly time-dependent)
+coordinates such as the cranks' theta0 + omega t or a held hip, frame pitches (a level swing
+foot) and motor couplings (one motor for both cranks: q_L - q_R - pi = 0). This module is
+the only one that calls Pinocchio's Jacobian algorithms; :mod:`.pinocchio_models` the only one
+that calls its constraint API.
+
+Rows, in order (``labels``):
+
+* each constraint model: x and z of p1 - p2 (world axes) for a point coincidence, plus the
+  pitch difference for a weld; the out-of-plane rows are identically zero and dropped, so J
+  has full row rank away from singular poses;
+* each scalar row: a linear combination of coordinates (:class:`CoordinateRow`) or a frame's
+  pitch (:class:`PitchRow`) minus its target, offset + rate t.
+
+With Phi(q, t) the rows, J = dPhi/dq, the drift J_dot v (the rows' second time derivative at
+zero joint acceleration) and Phi_t = dPhi/dt:
+
+* ``project``: Newton on Phi(q, t) = 0 (square: exact solve; otherwise minimum-norm or
+  minimum-M-norm corrections);
+* ``velocity``: J v = -Phi_t (square);  ``acceleration``: J a = -J_dot v (square);
+* ``forward_dynamics``: [M J^T; J 0][a; mu] = [tau - h; -J_dot v], lambda = -mu;
+* ``impulse``: [M J^T; J 0][v+; mu] = [M v-; -Phi_t] (inelastic impact, velocity projection).
+
+The model is planar (x-z plane, every rotation about y), so the angular velocity of every
+body is along y: the point rows use that. Pitch is counter-clockwise seen from the right
+(about -y). Units: SI, angles [rad].
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from .pinocchio_models import anchor_points, is_weld
+
+RELATIVE_TOL = 2e-11
+"""Newton stops when every length row is below RELATIVE_TOL * length_scale (1e-12 m at L = 0.05 m)."""
+ANGLE_TOL = 1e-12
+"""... and every angle row below this [rad]."""
+STEP_LIMIT = 0.5
+"""Largest Newton step component [rad or m/L]: keeps far-off starts on their assembly branch."""
+
+
+def planar_pitch(rotation: np.ndarray) -> float:
+    """Counter-clockwise angle of a frame's x axis in the x-z plane [rad] (atan2, signed)."""
+    return math.atan2(rotation[2, 0], rotation[0, 0])
+
+
+# --------------------------------------------------------------------------- scalar rows (data)
+@dataclass(frozen=True)
+class CoordinateRow:
+    """A linear coordinate row: sum_k c_k q[i_k] - (offset + rate t) = 0.
+
+    Prescribed joint angles, the hip pitch held level, the cranks turning at omega, and the
+    one-motor coupling q_L - q_R - pi = 0 are all of this kind.
+
+    Attributes:
+        name: label (``right_j0_crank``, ``hip_pitch``, ``crank_coupling``).
+        terms: ((velocity index, coefficient), ...); nq == nv for every PASIBOT model.
+        offset: target at t = 0 [rad or m].
+        rate: its time derivative [rad/s or m/s].
+
+    """
+
+    name: str
+    terms: tuple[tuple[int, float], ...]
+    offset: float = 0.0
+    rate: float = 0.0
+
+    @property
+    def index(self) -> int:
+        """The coordinate index of a one-term row."""
+        if len(self.terms) != 1:
+            raise ValueError(f"row {self.name!r} combines {len(self.terms)} coordinates: it has no single index")
+        return self.terms[0][0]
+
+    def at(self, offset: float, rate: float = 0.0) -> CoordinateRow:
+        """The same row with another target."""
+        return CoordinateRow(self.name, self.terms, float(offset), float(rate))
+
+
+@dataclass(frozen=True)
+class PitchRow:
+    """A frame's world pitch: pitch(frame) - (offset + rate t) = 0 (wrapped to (-pi, pi]).
+
+    Attributes:
+        name: label (the frame name).
+        frame: Pinocchio frame index.
+        offset: target at t = 0 [rad].
+        rate: its time derivative [rad/s].
+
+    """
+
+    name: str
+    frame: int
+    offset: float = 0.0
+    rate: float = 0.0
+
+    def at(self, offset: float, rate: float = 0.0) -> PitchRow:
+        """The same row with another target."""
+        return PitchRow(self.name, self.frame, float(offset), float(rate))
+
+
+ScalarRow = CoordinateRow | PitchRow
+
+
+def coordinate(name: str, index: int, offset: float = 0.0, rate: float = 0.0) -> CoordinateRow:
+    """One coordinate q[index] = offset + rate t."""
+    return CoordinateRow(name, ((int(index), 1.0),), float(offset), float(rate))
+
+
+def coupling(name: str, index: int, minus: int, offset: float) -> CoordinateRow:
+    """Two coordinates locked together: q[index] - q[minus] = offset (one motor for two cranks)."""
+    return CoordinateRow(name, ((int(index), 1.0), (int(minus), -1.0)), float(offset))
+
+
+@dataclass
+class Rows:
+    """The rows evaluated at (q, v, t).
+
+    Attributes:
+        phi: residual Phi(q, t) (m,) [m, rad].
+        jac: Jacobian dPhi/dq (m, nv).
+        drift: J_dot v (m,) [m/s^2, rad/s^2] (zeros without v).
+        phi_t: dPhi/dt (m,) [m/s, rad/s].
+
+    """
+
+    phi: np.ndarray
+    jac: np.ndarray
+    drift: np.ndarray
+    phi_t: np.ndarray
+
+
+def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """Row-wise cross product of two (n, 3) arrays (np.cross is slow on small arrays)."""
+    return np.column_stack(
+        (
+            a[:, 1] * b[:, 2] - a[:, 2] * b[:, 1],
+            a[:, 2] * b[:, 0] - a[:, 0] * b[:, 2],
+            a[:, 0] * b[:, 1] - a[:, 1] * b[:, 0],
+        )
+    )
+
+
+def _wrap(angle: np.ndarray | float):
+    return np.remainder(np.asarray(angle) + math.pi, 2 * math.pi) - math.pi
+
+
+def symmetric_mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
+    """Joint-space mass matrix M(q), both triangles filled [kg, kg.m, kg.m^2]."""
+    mass = pin.crba(model, data, q)
+    return np.triu(mass) + np.triu(mass, 1).T
+
+
+def kkt_solve(mass: np.ndarray, jac: np.ndarray, top: np.ndarray, bottom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Solve [M J^T; J 0][x; mu] = [top; bottom]; returns (x, lambda = -mu).
+
+    Raises:
+        ValueError: a singular system (the constraint Jacobian lost rank) or a non-finite answer.
+
+    """
+    nv, m = mass.shape[0], jac.shape[0]
+    kkt = np.zeros((nv + m, nv + m))
+    kkt[:nv, :nv] = mass
+    kkt[:nv, nv:] = jac.T
+    kkt[nv:, :nv] = jac
+    try:
+        sol = np.linalg.solve(kkt, np.concatenate((top, bottom)))
+    except np.linalg.LinAlgError as err:
+        raise ValueError("KKT system singular: the constraint Jacobian lost rank (singular pose)") from err
+    if not np.all(np.isfinite(sol)):
+        raise ValueError("KKT solve returned non-finite values (singular pose)")
+    return sol[:nv], -sol[nv:]
+
+
+# --------------------------------------------------------------------------- the system
+class ConstraintSystem:
+    """Constraint models (loops, welds, ground pins) plus scalar rows on one Pinocchio model.
+
+    Args:
+        model: the Pinocchio model (planar: every rotation about y; nq == nv).
+        data: its data (the system writes kinematics into it).
+        cmodels: ``RigidConstraintModel`` s (CONTACT_3D points, CONTACT_6D welds).
+        scalars: :class:`CoordinateRow` / :class:`PitchRow` rows, in order.
+        length_scale: the robot's length unit L [m]; Newton's tolerance is relative to it.
+
+    """
+
+    def __init__(
+        self,
+        model: pin.Model,
+        data: pin.Data,
+        cmodels: Sequence[pin.RigidConstraintModel] = (),
+        scalars: Sequence[ScalarRow] = (),
+        length_scale: float = 0.05,
+    ):
+        if model.nq != model.nv:
+            raise ValueError(f"the constraint system needs nq == nv (revolute/prismatic joints), got {model.nq}")
+        self.model, self.data = model, data
+        self.cmodels = list(cmodels)
+        self.length_scale = float(length_scale)
+        self._zero_v = np.zeros(model.nv)
+        # the two ends of every constraint model
+        ends = []
+        for cm in self.cmodels:
+            for joint, placement in anchor_points(cm):
+                ends.append((joint, np.array(placement.translation), np.array(placement.rotation)))
+        self._model_ends = ends
+        weld = [is_weld(cm) for cm in self.cmodels]
+        rx, weld_rows, row = [], [], 0
+        for c, w in enumerate(weld):
+            rx.append(row)
+            row += 2
+            if w:
+                weld_rows.append((c, row))
+                row += 1
+        self.n_constraint_rows = row
+        self._rx = np.array(rx, dtype=int)
+        self._rz = self._rx + 1
+        self._a = 2 * np.arange(len(self.cmodels))
+        self._b = self._a + 1
+        self._weld_rows = np.array([r for _, r in weld_rows], dtype=int)
+        self._weld_a = np.array([2 * c for c, _ in weld_rows], dtype=int)
+        self._weld_b = self._weld_a + 1
+        self._constraint_labels = []
+        for cm, w in zip(self.cmodels, weld):
+            self._constraint_labels += [f"{cm.name}.{a}" for a in (("x", "z", "pitch") if w else ("x", "z"))]
+        self._set_scalars(scalars)
+
+    def _set_scalars(self, scalars: Sequence[ScalarRow]) -> None:
+        """Lay out the scalar rows (and the frames of the pitch rows) after the constraint rows."""
+        model, nv = self.model, self.model.nv
+        self.scalars = list(scalars)
+        ends = list(self._model_ends)
+        row = self.n_constraint_rows
+        self.nrows = row + len(self.scalars)
+        lin, lin_rows, pitch_rows, pitch_ends = [], [], [], []
+        for k, s in enumerate(self.scalars):
+            if isinstance(s, CoordinateRow):
+                vec = np.zeros(nv)
+                for index, coef in s.terms:
+                    vec[index] += coef
+                lin.append(vec)
+                lin_rows.append(row + k)
+            elif isinstance(s, PitchRow):
+                frame = model.frames[s.frame]
+                pitch_rows.append(row + k)
+                pitch_ends.append(len(ends))
+                placement = frame.placement
+                ends.append((int(frame.parentJoint), np.array(placement.translation), np.array(placement.rotation)))
+            else:
+                raise TypeError(f"scalar row {s!r} is neither a CoordinateRow nor a PitchRow")
+        self._joints = np.array([e[0] for e in ends], dtype=int)
+        self._trans = np.array([e[1] for e in ends], dtype=float).reshape(-1, 3)
+        self._rots = np.array([e[2] for e in ends], dtype=float).reshape(-1, 3, 3)
+        mask = np.zeros((len(ends), nv))
+        for k, joint in enumerate(self._joints):
+            for sup in model.supports[int(joint)]:
+                if sup == 0:
+                    continue
+                jm = model.joints[sup]
+                mask[k, jm.idx_v : jm.idx_v + jm.nv] = 1.0
+        self._mask = mask
+        self._lin = np.array(lin).reshape(-1, nv)
+        self._lin_rows = np.array(lin_rows, dtype=int)
+        self._pitch_rows = np.array(pitch_rows, dtype=int)
+        self._pitch_ends = np.array(pitch_ends, dtype=int)
+        self._offset = np.array([s.offset for s in self.scalars], dtype=float)
+        self._rate = np.array([s.rate for s in self.scalars], dtype=float)
+        self._is_pitch = np.array([isinstance(s, PitchRow) for s in self.scalars], dtype=bool)
+        # tolerances per row: lengths relative to L, angles absolute
+        tol = np.full(self.nrows, RELATIVE_TOL * self.length_scale)
+        tol[self._weld_rows] = ANGLE_TOL
+        for k, s in enumerate(self.scalars):
+            if isinstance(s, PitchRow) or self._angular(s):
+                tol[row + k] = ANGLE_TOL
+        self.tolerance = tol
+        self.labels = self._constraint_labels + [s.name for s in self.scalars]
+
+    def _angular(self, row: CoordinateRow) -> bool:
+        """True when every coordinate of the row is a rotation (revolute joints and the hip pitch)."""
+        for index, _ in row.terms:
+            for j in range(1, self.model.njoints):
+                jm = self.model.joints[j]
+                if jm.idx_v <= index < jm.idx_v + jm.nv:
+                    name = jm.shortname()
+                    if "Prismatic" in name or name in ("JointModelPX", "JointModelPY", "JointModelPZ"):
+                        return False
+                    if name == "JointModelComposite":
+                        return index - jm.idx_v == jm.nv - 1  # the planar hip: x, z, then pitch
+        return True
+
+    # ---- construction helpers
+    def with_scalars(self, scalars: Sequence[ScalarRow]) -> ConstraintSystem:
+        """The same constraint models with other scalar rows (shares the constraint layout)."""
+        other = copy.copy(self)
+        other._set_scalars(scalars)
+        return other
+
+    def targets(self, t: float = 0.0) -> np.ndarray:
+        """Targets of the scalar rows at time t: offset + rate t [rad, m]."""
+        return self._offset + self._rate * t
+
+    # ---- evaluation
+    def evaluate(
+        self,
+        q: np.ndarray,
+        v: np.ndarray | None = None,
+        t: float = 0.0,
+        targets: Sequence[float] | None = None,
+    ) -> Rows:
+        """Phi(q, t), J(q), J_dot v (with ``v``) and Phi_t, in one kinematic pass.
+
+        Args:
+            q: configuration (nq,).
+            v: velocity (nv,) for the drift, or ``None``.
+            t: time [s] of the rheonomic targets.
+            targets: the scalar rows' targets instead of offset + rate t.
+
+        """
+        model, data = self.model, self.data
+        nv = model.nv
+        if v is None:
+            pin.computeJointJacobians(model, data, q)
+        else:
+            pin.forwardKinematics(model, data, q, v, self._zero_v)
+            pin.computeJointJacobians(model, data, q)  # world frame, at the origin; keeps data.v, data.a
+        m = self.nrows
+        phi, jac, drift = np.zeros(m), np.zeros((m, nv)), np.zeros(m)
+        joints = self._joints
+        if len(joints):
+            jw = data.J
+            homog = np.array([data.oMi[int(j)].homogeneous for j in joints])
+            rot = homog[:, :3, :3]
+            p = homog[:, :3, 3] + np.einsum("kij,kj->ki", rot, self._trans)
+            # every rotation is about y: v_p = v_O + w x p gives vx = v_Ox + w_y p_z, vz = v_Oz - w_y p_x
+            jwy = jw[4][None, :] * self._mask
+            jx = jw[0][None, :] * self._mask + p[:, 2:3] * jwy
+            jz = jw[2][None, :] * self._mask - p[:, 0:1] * jwy
+            if v is not None:
+                # classical acceleration of each point at zero joint acceleration, joint frame, then world
+                vel = np.array([data.v[int(j)].vector for j in joints])
+                acc = np.array([data.a[int(j)].vector for j in joints])
+                w = vel[:, 3:]
+                vp = vel[:, :3] + _cross(w, self._trans)
+                ap = np.einsum("kij,kj->ki", rot, acc[:, :3] + _cross(acc[:, 3:], self._trans) + _cross(w, vp))
+                alpha_y = np.einsum("kj,kj->k", rot[:, 1, :], acc[:, 3:])
+            a, b, rx, rz = self._a, self._b, self._rx, self._rz
+            if len(a):
+                phi[rx] = p[a, 0] - p[b, 0]
+                phi[rz] = p[a, 2] - p[b, 2]
+                jac[rx] = jx[a] - jx[b]
+                jac[rz] = jz[a] - jz[b]
+                if v is not None:
+                    drift[rx] = ap[a, 0] - ap[b, 0]
+                    drift[rz] = ap[a, 2] - ap[b, 2]
+            full_rot = np.einsum("kij,kjl->kil", rot, self._rots)
+            pitch = np.arctan2(full_rot[:, 2, 0], full_rot[:, 0, 0])
+            wa, wb, wr = self._weld_a, self._weld_b, self._weld_rows
+            if len(wr):
+                phi[wr] = _wrap(pitch[wa] - pitch[wb])
+                jac[wr] = -(jwy[wa] - jwy[wb])  # pitch is about -y
+                if v is not None:
+                    drift[wr] = -(alpha_y[wa] - alpha_y[wb])
+            pr, pe = self._pitch_rows, self._pitch_ends
+            if len(pr):
+                phi[pr] = pitch[pe]
+                jac[pr] = -jwy[pe]
+                if v is not None:
+                    drift[pr] = -alpha_y[pe]
+        lr = self._lin_rows
+        if len(lr):
+            phi[lr] = self._lin @ q
+            jac[lr] = self._lin
+        n0 = self.n_constraint_rows
+        if self.scalars:
+            goal = self.targets(t) if targets is None else np.asarray(targets, dtype=float)
+            ds = phi[n0:] - goal
+            ds[self._is_pitch] = _wrap(ds[self._is_pitch])
+            phi[n0:] = ds
+        phi_t = np.zeros(m)
+        phi_t[n0:] = -self._rate
+        return Rows(phi, jac, drift, phi_t)
+
+    def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
+        """Phi(q, t) (m,) [m, rad]."""
+        return self.evaluate(q, None, t, targets).phi
+
+    def jacobian(self, q: np.ndarray) -> np.ndarray:
+        """J = dPhi/dq (m, nv)."""
+        return self.evaluate(q).jac
+
+    def constraint_jacobian(self, q: np.ndarray) -> np.ndarray:
+        """The rows of the constraint models only, J_c (n_constraint_rows, nv)."""
+        return self.evaluate(q).jac[: self.n_constraint_rows]
+
+    def drift(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
+        """J_dot(q, v) v (m,): the rows' acceleration at zero joint acceleration [m/s^2, rad/s^2]."""
+        return self.evaluate(q, v).drift
+
+    # ---- projections
+    def project(
+        self,
+        q: np.ndarray,
+        t: float = 0.0,
+        targets: Sequence[float] | None = None,
+        metric: str = "euclidean",
+        max_iter: int = 50,
+    ) -> np.ndarray:
+        """Newton onto Phi(q, t) = 0 from ``q``.
+
+        Args:
+            q: start configuration.
+            t: time [s].
+            targets: the scalar rows' targets instead of offset + rate t.
+            metric: ``euclidean`` (minimum-norm corrections; exact for a square system) or
+                ``mass`` (minimum M-norm corrections, a KKT solve: the simulator's projection).
+            max_iter: iteration limit.
+
+        Returns:
+            q with every row below :attr:`tolerance`.
+
+        Raises:
+            ValueError: no convergence (naming the worst row) or a singular pose.
+
+        """
+        q = np.array(q, dtype=float)
+        rows = None
+        for k in range(max_iter):
+            rows = self.evaluate(q, None, t, targets)
+            if k == 0:
+                self.last_initial_residual = float(np.max(np.abs(rows.phi))) if self.nrows else 0.0
+            if np.all(np.abs(rows.phi) < self.tolerance):
+                self.last_rows = rows
+                return q
+            step = self._newton_step(q, rows, metric)
+            largest = np.max(np.abs(step))
+            if largest > STEP_LIMIT:
+                step *= STEP_LIMIT / largest
+            q = pin.integrate(self.model, q, step)
+        worst = int(np.argmax(np.abs(rows.phi) / self.tolerance))
+        raise ValueError(
+            f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[worst]):.3e} "
+            f"after {max_iter} Newton iterations at t = {t:.4f} s; the loop cannot assemble there"
+        )
+
+    def _newton_step(self, q: np.ndarray, rows: Rows, metric: str) -> np.ndarray:
+        jac = rows.jac
+        if metric == "mass":
+            mass = symmetric_mass_matrix(self.model, self.data, q)
+            return kkt_solve(mass, jac, np.zeros(self.model.nv), -rows.phi)[0]
+        if jac.shape[0] == jac.shape[1]:
+            try:
+                return np.linalg.solve(jac, -rows.phi)
+            except np.linalg.LinAlgError as err:
+                raise ValueError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
+        return np.linalg.lstsq(jac, -rows.phi, rcond=None)[0]
+
+    def velocity(self, q: np.ndarray, t: float = 0.0, rates: Sequence[float] | None = None) -> np.ndarray:
+        """V on the manifold: J v = -Phi_t (square), i.e. [J_c; J_s] v = [0; s_dot*].
+
+        Args:
+            q: configuration (on the manifold).
+            t: time [s].
+            rates: the scalar rows' rates instead of their ``rate``.
+
+        """
+        rows = self.evaluate(q, None, t)
+        rhs = rows.phi_t if rates is None else self._rhs_rates(rates)
+        return _square_solve(rows.jac, -rhs if rates is None else rhs, "velocity")
+
+    def _rhs_rates(self, rates: Sequence[float]) -> np.ndarray:
+        rhs = np.zeros(self.nrows)
+        rhs[self.n_constraint_rows :] = np.asarray(rates, dtype=float)
+        return rhs
+
+    def acceleration(
+        self, q: np.ndarray, v: np.ndarray, t: float = 0.0, accelerations: Sequence[float] | None = None
+    ) -> np.ndarray:
+        """A on the manifold: J a = [0; s_ddot*] - J_dot v (square)."""
+        rows = self.evaluate(q, v, t)
+        rhs = -rows.drift
+        if accelerations is not None:
+            rhs[self.n_constraint_rows :] += np.asarray(accelerations, dtype=float)
+        return _square_solve(rows.jac, rhs, "acceleration")
+
+    def motion(self, q: np.ndarray, rates: Sequence[float], accelerations: Sequence[float]):
+        """(v, a, J) on the manifold for given scalar-row rates and accelerations (square system)."""
+        jac = self.evaluate(q).jac
+        v = _square_solve(jac, self._rhs_rates(rates), "velocity")
+        rows = self.evaluate(q, v)
+        rhs = -rows.drift
+        rhs[self.n_constraint_rows :] += np.asarray(accelerations, dtype=float)
+        return v, _square_solve(rows.jac, rhs, "acceleration"), rows.jac
+
+    # ---- dynamics on the same rows
+    def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, t: float = 0.0):
+        """Constrained forward dynamics, one KKT solve: returns (a, lambda, Rows).
+
+        J^T lambda is the constraint force (generalised); M a + h = tau + J^T lambda.
+        """
+        rows = self.evaluate(q, v, t)
+        model, data = self.model, self.data
+        mass = symmetric_mass_matrix(model, data, q)
+        h = pin.nonLinearEffects(model, data, q, v)
+        a, lam = kkt_solve(mass, rows.jac, tau - h, -rows.drift)
+        return a, lam, rows
+
+    def impulse(self, q: np.ndarray, v_minus: np.ndarray, t: float = 0.0, rows: Rows | None = None):
+        """Inelastic impact / M-orthogonal velocity projection onto J v + Phi_t = 0.
+
+        Returns:
+            (v_plus, Lambda): the velocity after and the impulse per row [N.s, N.m.s].
+
+        """
+        rows = self.evaluate(q, None, t) if rows is None else rows
+        mass = symmetric_mass_matrix(self.model, self.data, q)
+        return kkt_solve(mass, rows.jac, mass @ v_minus, -rows.phi_t)
+
+    def split(self, tau: np.ndarray, actuation: np.ndarray, jac: np.ndarray | None = None, q=None):
+        """Solve tau = S^T u + J^T lambda (square) for (u, lambda): inverse dynamics on these rows.
+
+        Args:
+            tau: the generalised force the motion needs (``rnea``) (nv,).
+            actuation: S (n_u, nv), the actuated and spring coordinates.
+            jac: J of the rows used (default: evaluated at ``q``).
+            q: configuration, when ``jac`` is not given.
+
+        Raises:
+            ValueError: a non-square or singular [S^T J^T] (the actuators cannot hold the motion).
+
+        """
+        jac = self.jacobian(q) if jac is None else jac
+        return split_torques(tau, actuation, jac)
+
+
+def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Solve tau = S^T u + J^T lambda (square) for (u, lambda).
+
+    Raises:
+        ValueError: when [S^T J^T] is not square or singular (the actuators cannot hold the motion).
+
+    """
+    mat = np.hstack((s_matrix.T, jac.T))
+    if mat.shape[0] != mat.shape[1]:
+        raise ValueError(f"split: {mat.shape[1]} unknowns for nv = {mat.shape[0]}; the system must be square")
+    try:
+        x = np.linalg.solve(mat, tau)
+    except np.linalg.LinAlgError as err:
+        raise ValueError("split: [S^T J_c^T] is singular at this pose") from err
+    if not np.all(np.isfinite(x)):
+        raise ValueError("split: the actuator and constraint forces are not finite")
+    ns = s_matrix.shape[0]
+    return x[:ns], x[ns:]
+
+
+def _square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
+    if matrix.shape[0] != matrix.shape[1]:
+        raise ValueError(
+            f"{what}: constraints plus prescriptions give {matrix.shape[0]} rows for nv = {matrix.shape[1]}; "
+            "prescribe exactly the free coordinates"
+        )
+    try:
+        sol = np.linalg.solve(matrix, rhs)
+    except np.linalg.LinAlgError as err:
+        raise ValueError(f"{what}: singular pose, the constraint Jacobian lost rank") from err
+    if not np.all(np.isfinite(sol)):
+        raise ValueError(f"{what}: singular pose, the solution is not finite")
+    return sol
+
+
+# --------------------------------------------------------------------------- frame kinematics
+def frame_jacobian_xz(model: pin.Model, data: pin.Data, q: np.ndarray, frame: int) -> np.ndarray:
+    """d(x, z, pitch)/dq of a frame's origin and pitch, world axes (3, nv)."""
+    jac = pin.computeFrameJacobian(model, data, q, frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).reshape(6, model.nv)
+    return np.vstack((jac[0], jac[2], -jac[4]))
+
+
+def frame_jacobian(model: pin.Model, data: pin.Data, q: np.ndarray, frame: int) -> np.ndarray:
+    """The 6 x nv LOCAL_WORLD_ALIGNED Jacobian of a frame (linear, then angular rows)."""
+    return pin.computeFrameJacobian(model, data, q, frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).reshape(6, model.nv)
