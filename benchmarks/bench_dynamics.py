@@ -24,7 +24,7 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin import closure, constraints, dynamics, scenarios
+from pasibot_pin import closure, constraints, dynamics, scenarios, simulate, spring_study
 
 REPEAT = 200
 G = 9.81
@@ -185,33 +185,46 @@ def main() -> None:
     t_step = best_time(constrained_step)
     t_step_pin = best_time(constrained_step_pin)
     t_fb = best_time(lambda: free_body_solve(geo))
-    start = time.perf_counter()
-    n_runs = 3
-    for _ in range(n_runs):
-        dynamics.inverse_dynamics(robot, thetas, scenario.omega)
-    t_pipeline = (time.perf_counter() - start) / (n_runs * len(thetas))
+
+    def pipeline(reactions: bool) -> float:
+        """Per-sample cost of dynamics.inverse_dynamics over one stance (best of 3 runs) [s]."""
+        best = math.inf
+        for _ in range(3):
+            start = time.perf_counter()
+            dynamics.inverse_dynamics(robot, thetas, scenario.omega, reactions=reactions)
+            best = min(best, (time.perf_counter() - start) / len(thetas))
+        return best
+
+    t_full = pipeline(True)
+    t_bare = pipeline(False)
+
+    # forward dynamics and one RK4 step of the simulator (run 1's fitted spring, hip free)
+    inputs = spring_study.scenario_inputs("run1")
+    settings = simulate.SimulationSettings(omega=inputs.omega, spring=inputs.fit, dt=2e-3)
+    sim = simulate.BipedSimulator(inputs.robot, settings)
+    q0, v0, stance = sim.initial_state()
+    cset = sim.constraint_set(stance, sim.ground_weld(stance, q0))
+    t_fd = best_time(lambda: sim.acceleration(cset, 0.0, q0, v0))
+    t_rk4 = best_time(lambda: sim.step(cset, 0.0, q0, v0, 2e-3), repeat=50)
+    t_rnea_sim = best_time(lambda: pin.rnea(inputs.robot.model, inputs.robot.data, q0, v0, v0), repeat=5000)
+
+    def line(label: str, seconds: float, ref: float, goal: str) -> None:
+        print(f"{label:58s}: {seconds * 1e6:9.1f} us = {seconds / ref:7.1f} x rnea   ({goal})")
 
     print(f"model nv = {model.nv}, sample theta = {thetas[k]:.3f} rad, omega = {scenario.omega} rad/s")
     print(
         f"free-body check: T_a {fb[('st', 'Ta')]:.6f} vs ours {u[0]:.6f} N.m; "
         f"T_e {fb[('st', 'Te')]:.6f} vs {-u[2]:.6f} N.m"
     )
-    print(f"bare pin.rnea                         : {t_rnea * 1e6:9.2f} us")
-    print(
-        f"constrained ID step (rnea+J_c+split)  : {t_step * 1e6:9.2f} us = {t_step / t_rnea:6.1f} x rnea (goal <= 30)"
-    )
-    print(
-        f"full per-sample pipeline (q, v, a, ID, reactions): {t_pipeline * 1e6:9.2f} us = "
-        f"{t_pipeline / t_rnea:6.1f} x rnea"
-    )
-    print(
-        f"constrained ID step, J_c from Pinocchio's getConstraintsJacobian: {t_step_pin * 1e6:9.2f} us = "
-        f"{t_step_pin / t_rnea:6.1f} x rnea"
-    )
-    print(f"seed free-body A.F = b (assemble+solve): {t_fb * 1e6:9.2f} us")
-    best = min(t_step, t_step_pin)
-    print(f"speed-up of the (faster) constrained ID step over the free-body method: {t_fb / best:6.1f} x (goal >= 20)")
-    print(f"speed-up of the full pipeline over the free-body step alone:   {t_fb / t_pipeline:6.2f} x")
+    print(f"{'bare pin.rnea':58s}: {t_rnea * 1e6:9.2f} us")
+    line("full sample: q, v, a, ID, every reaction", t_full, t_rnea, "goal <= 30")
+    line("full sample without reactions", t_bare, t_rnea, "goal <= 15")
+    line("constrained ID step alone (rnea + J_c + split)", t_step, t_rnea, "")
+    line("the same, J_c from Pinocchio's getConstraintsJacobian", t_step_pin, t_rnea, "")
+    line("one forward-dynamics evaluation (KKT, simulator rows)", t_fd, t_rnea_sim, "goal <= 20")
+    line("one RK4 step with projection", t_rk4, t_rnea_sim, "goal <= 100")
+    print(f"{'seed free-body A.F = b (assemble + solve)':58s}: {t_fb * 1e6:9.1f} us")
+    print(f"full sample speed-up over the free-body method: {t_fb / t_full:6.2f} x   (goal >= 10)")
 
 
 if __name__ == "__main__":

@@ -476,7 +476,7 @@ def inverse_dynamics(
             v = a = np.zeros(nv)
             jac = rows.last_rows.jac
         else:
-            v, a, jac = rows.motion(q, [omega, omega, *free], [0.0] * len(targets))
+            v, a, jac = rows.motion(q, [omega, omega, *free], [0.0] * len(targets), rows.last_rows.jac)
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []

@@ -135,8 +135,11 @@ def plot_powers(powers: dict[str, np.ndarray], theta: np.ndarray, ax=None):
 def plot_cost_of_transport(rows: Sequence, ax=None, key: str = "motors"):
     """Cost of transport [-] against the crank speed [rad/s], one line per variant."""
     fig, ax = _axes(ax)
-    for variant in sorted({r.variant for r in rows}):
-        sel = sorted((r for r in rows if r.variant == variant), key=lambda r: r.omega)
+    groups: dict[str, list] = {}
+    for r in rows:
+        groups.setdefault(r.variant, []).append(r)
+    for variant, group in sorted(groups.items()):
+        sel = sorted(group, key=lambda r: r.omega)
         ax.plot([r.omega for r in sel], [r.cot[key] for r in sel], "o-", label=f"{variant}: CoT {key}")
         if key == "motors" and any(r.ankle[1] for r in sel):  # the variant has ankle actuators (a spring)
             ax.plot(

@@ -260,6 +260,9 @@ class ConstraintSystem:
             else:
                 raise TypeError(f"scalar row {s!r} is neither a CoordinateRow nor a PitchRow")
         self._joints = np.array([e[0] for e in ends], dtype=int)
+        unique, index = np.unique(self._joints, return_inverse=True)
+        self._unique_joints = [int(j) for j in unique]
+        self._unique_index = index.reshape(-1)
         self._trans = np.array([e[1] for e in ends], dtype=float).reshape(-1, 3)
         self._rots = np.array([e[2] for e in ends], dtype=float).reshape(-1, 3, 3)
         mask = np.zeros((len(ends), nv))
@@ -339,21 +342,21 @@ class ConstraintSystem:
         joints = self._joints
         if len(joints):
             jw = data.J
-            homog = np.array([data.oMi[int(j)].homogeneous for j in joints])
+            homog = np.array([data.oMi[j].homogeneous for j in self._unique_joints])[self._unique_index]
             rot = homog[:, :3, :3]
-            p = homog[:, :3, 3] + np.einsum("kij,kj->ki", rot, self._trans)
+            p = homog[:, :3, 3] + (rot @ self._trans[:, :, None])[:, :, 0]
             # every rotation is about y: v_p = v_O + w x p gives vx = v_Ox + w_y p_z, vz = v_Oz - w_y p_x
             jwy = jw[4][None, :] * self._mask
             jx = jw[0][None, :] * self._mask + p[:, 2:3] * jwy
             jz = jw[2][None, :] * self._mask - p[:, 0:1] * jwy
             if v is not None:
                 # classical acceleration of each point at zero joint acceleration, joint frame, then world
-                vel = np.array([data.v[int(j)].vector for j in joints])
-                acc = np.array([data.a[int(j)].vector for j in joints])
+                vel = np.array([data.v[j].vector for j in self._unique_joints])[self._unique_index]
+                acc = np.array([data.a[j].vector for j in self._unique_joints])[self._unique_index]
                 w = vel[:, 3:]
                 vp = vel[:, :3] + _cross(w, self._trans)
-                ap = np.einsum("kij,kj->ki", rot, acc[:, :3] + _cross(acc[:, 3:], self._trans) + _cross(w, vp))
-                alpha_y = np.einsum("kj,kj->k", rot[:, 1, :], acc[:, 3:])
+                ap = (rot @ (acc[:, :3] + _cross(acc[:, 3:], self._trans) + _cross(w, vp))[:, :, None])[:, :, 0]
+                alpha_y = np.sum(rot[:, 1, :] * acc[:, 3:], axis=1)
             a, b, rx, rz = self._a, self._b, self._rx, self._rz
             if len(a):
                 phi[rx] = p[a, 0] - p[b, 0]
@@ -363,8 +366,8 @@ class ConstraintSystem:
                 if v is not None:
                     drift[rx] = ap[a, 0] - ap[b, 0]
                     drift[rz] = ap[a, 2] - ap[b, 2]
-            full_rot = np.einsum("kij,kjl->kil", rot, self._rots)
-            pitch = np.arctan2(full_rot[:, 2, 0], full_rot[:, 0, 0])
+            x_axis = self._rots[:, :, 0]  # the frame's x axis in its joint frame
+            pitch = np.arctan2(np.sum(rot[:, 2, :] * x_axis, axis=1), np.sum(rot[:, 0, :] * x_axis, axis=1))
             wa, wb, wr = self._weld_a, self._weld_b, self._weld_rows
             if len(wr):
                 phi[wr] = _wrap(pitch[wa] - pitch[wb])
@@ -493,9 +496,14 @@ class ConstraintSystem:
             rhs[self.n_constraint_rows :] += np.asarray(accelerations, dtype=float)
         return _square_solve(rows.jac, rhs, "acceleration")
 
-    def motion(self, q: np.ndarray, rates: Sequence[float], accelerations: Sequence[float]):
-        """(v, a, J) on the manifold for given scalar-row rates and accelerations (square system)."""
-        jac = self.evaluate(q).jac
+    def motion(
+        self, q: np.ndarray, rates: Sequence[float], accelerations: Sequence[float], jac: np.ndarray | None = None
+    ):
+        """(v, a, J) on the manifold for given scalar-row rates and accelerations (square system).
+
+        ``jac``: J at ``q`` if already known (e.g. ``last_rows.jac`` after :meth:`project`).
+        """
+        jac = self.evaluate(q).jac if jac is None else jac
         v = _square_solve(jac, self._rhs_rates(rates), "velocity")
         rows = self.evaluate(q, v)
         rhs = -rows.drift
