@@ -24,7 +24,11 @@ import time
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin import closure, constraints, dynamics, scenarios, simulate, spring_study
+from pasibot_pin import constraints
+from pasibot_pin.dynamics import inverse as dynamics
+from pasibot_pin.dynamics import simulator as simulate
+from pasibot_pin.model import closure, scenarios
+from pasibot_pin.studies import spring_study
 
 REPEAT = 200
 G = 9.81

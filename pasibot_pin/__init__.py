@@ -5,10 +5,10 @@
 >>> robot.q0                     # satisfies every loop
 """
 
-from .description import Loop, loop_table, render_urdf
-from .params import VARIANTS, Geometry, MassModel, human_description_mass_model, percentage_mass_model
-from .paths import PACKAGE_DIRS, URDF_PATH, XACRO_PATH, urdf_path
-from .robot import PasibotRobot, load
+from pasibot_pin.model.description import Loop, loop_table, render_urdf
+from pasibot_pin.model.params import VARIANTS, Geometry, MassModel, human_description_mass_model, percentage_mass_model
+from pasibot_pin.model.paths import PACKAGE_DIRS, URDF_PATH, XACRO_PATH, urdf_path
+from pasibot_pin.model.robot import PasibotRobot, load
 
 __version__ = "0.1.0"
 

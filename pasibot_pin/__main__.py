@@ -1,6 +1,6 @@
 """The ``pasibot`` command line (also ``python -m pasibot_pin``).
 
-Each subcommand lives in its own module of :mod:`pasibot_pin.commands` and registers
+Each subcommand lives in its own module of :mod:`pasibot_pin.cli` and registers
 itself with ``register(subparsers)``. Everything runs headless and writes files.
 """
 
@@ -10,7 +10,7 @@ import argparse
 import importlib
 import sys
 
-from .commands import COMMANDS
+from pasibot_pin.cli import COMMANDS
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -18,7 +18,7 @@ def build_parser() -> argparse.ArgumentParser:
     parser = argparse.ArgumentParser(prog="pasibot", description="PASIBOT closed-loop biped in Pinocchio")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMANDS:
-        importlib.import_module(f"pasibot_pin.commands.{name}").register(sub)
+        importlib.import_module(f"pasibot_pin.cli.{name}").register(sub)
     return parser
 
 

@@ -31,18 +31,13 @@ def _api():
     from types import SimpleNamespace
 
     import pasibot_pin as pp
-    from pasibot_pin import (
-        contact,
-        dynamics,
-        energy,
-        gait,
-        kinematics,
-        scenarios,
-        simulate,
-        single_motor,
-        spring,
-        spring_study,
-    )
+    from pasibot_pin.dynamics import inverse as dynamics
+    from pasibot_pin.dynamics import simulator as simulate
+    from pasibot_pin.kinematics import gait
+    from pasibot_pin.kinematics import leg as kinematics
+    from pasibot_pin.model import scenarios
+    from pasibot_pin.studies import contact, energy, single_motor, spring_study
+    from pasibot_pin.studies import spring_fit as spring
 
     def run_scenario(name, preset):
         return dynamics.run_scenario(scenarios.get_scenario(name), scenarios.get_preset(preset))

@@ -6,7 +6,8 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from pasibot_pin import animation, gait
+from pasibot_pin.kinematics import gait
+from pasibot_pin.viz import animation
 
 STEPS, SAMPLES, FPS, DPI = 1, 8, 10.0, 50
 

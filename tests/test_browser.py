@@ -23,7 +23,7 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from pasibot_pin import viewer
+from pasibot_pin.viz import viewer
 
 # meshcat imports pyzmq's deprecated eventloop module; not ours to fix.
 pytestmark = pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")

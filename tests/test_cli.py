@@ -54,7 +54,7 @@ def test_build_urdf_rejects_bad_ratio(capsys):
 
 @pytest.mark.parametrize("variant", ["spring"])
 def test_analyze_model_step_writes_pictures(tmp_path, variant):
-    from pasibot_pin.commands import analyze
+    from pasibot_pin.cli import analyze
 
     section = analyze.step_model(tmp_path, None)
     assert (tmp_path / f"robot_{variant}.png").stat().st_size > 10_000

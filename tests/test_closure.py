@@ -10,7 +10,7 @@ import pytest
 from conftest import ALL_MODELS
 
 from pasibot_pin import constraints
-from pasibot_pin.closure import (
+from pasibot_pin.model.closure import (
     assemble,
     constraint_drift,
     constraint_jacobian,

@@ -18,8 +18,9 @@ import pinocchio as pin
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin import closure, constraints
+from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, PitchRow, coordinate, coupling
+from pasibot_pin.model import closure
 
 MODELS = [(v, legs) for v in pp.VARIANTS for legs in (1, 2)]
 

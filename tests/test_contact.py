@@ -9,9 +9,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from pasibot_pin import contact
-from pasibot_pin.dynamics import inverse_dynamics, scenario_robot
-from pasibot_pin.scenarios import get_preset, get_scenario
+from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+from pasibot_pin.model.scenarios import get_preset, get_scenario
+from pasibot_pin.studies import contact
 
 G = 9.81
 
@@ -197,7 +197,7 @@ def test_energy_cli_table(tmp_path, capsys):
 def test_parallel_quasi_static_contact_uses_its_longer_sole():
     """Parallel variant: sole 2.6 L behind and 1.5 L ahead of joint 13 (DESIGN §4); feasible iff the COM is over it."""
     torques, res = contact.scenario_contact("quasi-static", mu=0.6, samples=24, variant="parallel")
-    from pasibot_pin.energy import variant_robot
+    from pasibot_pin.studies.energy import variant_robot
 
     robot = variant_robot("parallel", 16.0, 0.0)
     L = 0.05

@@ -11,8 +11,8 @@ import yourdfpy
 from conftest import ALL_MODELS
 
 import pasibot_pin as pp
-from pasibot_pin.description import CUT_JOINTS, loop_table, render_urdf
-from pasibot_pin.robot import planar_root_joint
+from pasibot_pin.model.description import CUT_JOINTS, loop_table, render_urdf
+from pasibot_pin.model.robot import planar_root_joint
 
 
 @pytest.mark.parametrize("variant, legs", ALL_MODELS)

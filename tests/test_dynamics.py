@@ -9,7 +9,9 @@ import pinocchio as pin
 import pytest
 from closed_form import leg
 
-from pasibot_pin import dynamics, scenarios, spring
+from pasibot_pin.dynamics import inverse as dynamics
+from pasibot_pin.model import scenarios
+from pasibot_pin.studies import spring_fit as spring
 
 L = 0.05
 G = 9.81

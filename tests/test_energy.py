@@ -9,9 +9,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from pasibot_pin import energy
-from pasibot_pin.dynamics import inverse_dynamics, scenario_robot
-from pasibot_pin.scenarios import PRESETS, Scenario
+from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+from pasibot_pin.model.scenarios import PRESETS, Scenario
+from pasibot_pin.studies import energy
 
 G = 9.81
 
@@ -133,7 +133,7 @@ def test_analyze_step_contact_energy(tmp_path):
     import argparse
     import csv
 
-    from pasibot_pin.commands.analyze import STEPS
+    from pasibot_pin.cli.analyze import STEPS
 
     text = dict(STEPS)["contact_energy"](tmp_path, argparse.Namespace())
     assert text.startswith("## Beyond the report: contact, one motor, energy")

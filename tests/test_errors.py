@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin.closure import assemble, solve_configuration
+from pasibot_pin.model.closure import assemble, solve_configuration
 
 
 def test_unknown_variant_lists_the_valid_ones():
@@ -64,7 +64,7 @@ def test_k_too_large_names_the_loop_and_the_crank_angle():
 
 def test_loop_that_fails_only_at_some_crank_angles():
     # K = 4.2: joint 2 closes at theta = 0 (|1-3| = 3.2 < 5) but not at 180 deg (5.2 > 5)
-    from pasibot_pin.assembly import leg_points
+    from pasibot_pin.model.assembly import leg_points
 
     geometry = pp.Geometry(K=4.2)
     assert np.isfinite(leg_points(0.0, geometry)["p13"]).all()
@@ -82,7 +82,7 @@ def test_newton_failure_names_a_constraint_row():
     prescribed = [robot_crank(robot)]
     # ask the crank pin to be where the coupler cannot follow: a huge K is not needed, just a
     # configuration solve with an impossible extra prescription (rocker angle fixed far away)
-    from pasibot_pin.closure import joint_coordinate
+    from pasibot_pin.model.closure import joint_coordinate
 
     prescribed.append(joint_coordinate(robot, "right_j3"))
     with pytest.raises(ValueError, match="loop closure failed: constraint right_j"):
@@ -90,7 +90,7 @@ def test_newton_failure_names_a_constraint_row():
 
 
 def robot_crank(robot):
-    from pasibot_pin.closure import joint_coordinate
+    from pasibot_pin.model.closure import joint_coordinate
 
     return joint_coordinate(robot, "right_j0_crank")
 

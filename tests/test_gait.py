@@ -1,7 +1,7 @@
 """The biped walk in the world frame, and the ``pasibot gait`` CLI.
 
 Expected world positions come from closed-form leg geometry written here (units of L,
-complex x + i z), independent of pasibot_pin.assembly: with the hip level, every point is
+complex x + i z), independent of pasibot_pin.model.assembly: with the hip level, every point is
 the hip position plus its leg-frame position.
 """
 
@@ -14,8 +14,8 @@ import numpy as np
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin import gait
 from pasibot_pin.__main__ import main
+from pasibot_pin.kinematics import gait
 
 DEG = math.pi / 180
 SPS = 12  # samples per step (15 deg)

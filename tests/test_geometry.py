@@ -9,7 +9,7 @@ import pinocchio as pin
 import pytest
 from closed_form import leg
 
-from pasibot_pin.closure import assemble, constraint_residual, crank_sweep
+from pasibot_pin.model.closure import assemble, constraint_residual, crank_sweep
 
 FRAMES = {
     4: "right_j4",

@@ -1,7 +1,7 @@
 """One leg's kinematics against closed-form geometry and finite differences.
 
 The expected values are computed here, from DESIGN §4's construction written out with
-numpy complex numbers (x + i z, units of L), independently of pasibot_pin.assembly: the
+numpy complex numbers (x + i z, units of L), independently of pasibot_pin.model.assembly: the
 Hoeken coupler by a circle intersection, the knee by the law of cosines, the ankle from
 the pantograph identity 13 = 3*8 - 2*4.
 """
@@ -15,7 +15,7 @@ import pinocchio as pin
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin import kinematics as kin
+from pasibot_pin.kinematics import leg as kin
 
 DEG = math.pi / 180
 

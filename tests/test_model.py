@@ -11,8 +11,8 @@ import pytest
 from conftest import ALL_MODELS
 
 import pasibot_pin as pp
-from pasibot_pin.closure import crank_sweep, mobility
-from pasibot_pin.params import human_description_fractions, percentage_mass_model
+from pasibot_pin.model.closure import crank_sweep, mobility
+from pasibot_pin.model.params import human_description_fractions, percentage_mass_model
 
 
 def _size(robots, variant, legs):

@@ -5,7 +5,7 @@ Everything below the imports is computed from the closed-form joint positions of
 link point masses at mid-points, accelerations from a 7-point finite-difference stencil in
 the crank angle. Each body gives 3 equations (forces, moment about its COM); the unknowns
 are the joint forces of both legs and the four torques. The result must agree with
-``pasibot_pin.dynamics`` (constrained RNEA) to 1e-8 relative.
+``pasibot_pin.dynamics.inverse`` (constrained RNEA) to 1e-8 relative.
 """
 
 from __future__ import annotations
@@ -143,7 +143,8 @@ def free_body_solve(theta: float, omega: float, body_mass: float, body_dx: float
 
 @pytest.fixture(scope="module")
 def run4_results():
-    from pasibot_pin import dynamics, scenarios
+    from pasibot_pin.dynamics import inverse as dynamics
+    from pasibot_pin.model import scenarios
 
     thetas = np.array([1.7, 2.4, 3.1, 3.9, 4.6])
     out = {}

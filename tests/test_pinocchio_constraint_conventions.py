@@ -32,7 +32,7 @@ import pinocchio as pin
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin.closure import hip_pitch, joint_coordinate, solve_velocity
+from pasibot_pin.model.closure import hip_pitch, joint_coordinate, solve_velocity
 
 MU = 1e-10
 CRANK_RATE = 5.0
@@ -370,7 +370,7 @@ def test_independent_kkt_matches_constraint_dynamics(which, crank_rate, hip_rate
 # --------------------------------------------------------------------------- the reported 100+ rad/s^2 gap
 @pytest.mark.parametrize("omega", [CRANK_RATE, 0.0])
 def test_reported_gap_is_the_simulators_coordinate_rows_not_a_drift_convention(omega, biped):
-    from pasibot_pin.simulate import BipedSimulator, SimulationSettings
+    from pasibot_pin.dynamics.simulator import BipedSimulator, SimulationSettings
 
     model = biped.model
     # motor="rheonomic": two extra rows q_crank = theta0 + omega t that no Pinocchio constraint model carries

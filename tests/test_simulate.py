@@ -16,9 +16,8 @@ import pytest
 import scipy.linalg as sl
 
 from pasibot_pin import constraints
-from pasibot_pin.closure import assemble, hip_pitch, joint_coordinate, solve_configuration
 from pasibot_pin.constraints import ConstraintSystem, coordinate
-from pasibot_pin.simulate import (
+from pasibot_pin.dynamics.simulator import (
     AnkleSpring,
     BipedSimulator,
     SimulationSettings,
@@ -26,7 +25,8 @@ from pasibot_pin.simulate import (
     mass_matrix,
     simulate,
 )
-from pasibot_pin.spring_study import static_equilibrium, toppling_stiffness
+from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_configuration
+from pasibot_pin.studies.spring_study import static_equilibrium, toppling_stiffness
 
 G = 9.81
 
@@ -358,8 +358,8 @@ def test_forward_of_inverse_dynamics_is_the_identity():
     """Scenario 4 (omega = 5 rad/s): the inverse-dynamics crank and ankle torques, applied as pure
     feed-forward (no servo) with the hip pitch held level, reproduce the prescribed walk over one
     step to 1e-6 rad, and the hip needs no holding torque."""
-    from pasibot_pin.dynamics import inverse_dynamics, scenario_robot
-    from pasibot_pin.scenarios import PRESETS, SCENARIOS
+    from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+    from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
 
     scenario = SCENARIOS["run4"]
     robot = scenario_robot(scenario, PRESETS["default"])
@@ -415,8 +415,8 @@ def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
     """Per seed scenario: the no-spring robot passes 60 deg of hip pitch sooner than the fitted one, and
     up to that moment the fitted spring keeps the hip closer to level. Windows: 4 s of walking at
     0.1 rad/s (cranks locked for the quasi-static run), four steps at 5 rad/s."""
-    from pasibot_pin.scenarios import SCENARIOS
-    from pasibot_pin.spring_study import scenario_inputs, standing_pitch
+    from pasibot_pin.model.scenarios import SCENARIOS
+    from pasibot_pin.studies.spring_study import scenario_inputs, standing_pitch
 
     for name in SCENARIOS:
         scen = scenario_inputs(name)

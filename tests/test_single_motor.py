@@ -9,9 +9,9 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pasibot_pin import single_motor as sm
-from pasibot_pin.dynamics import inverse_dynamics, scenario_robot
-from pasibot_pin.scenarios import get_preset, get_scenario
+from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+from pasibot_pin.model.scenarios import get_preset, get_scenario
+from pasibot_pin.studies import single_motor as sm
 
 
 @pytest.fixture(scope="module", params=["quasi-static", "run4"])

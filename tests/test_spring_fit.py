@@ -8,7 +8,9 @@ import warnings
 import numpy as np
 import pytest
 
-from pasibot_pin import dynamics, scenarios, spring
+from pasibot_pin.dynamics import inverse as dynamics
+from pasibot_pin.model import scenarios
+from pasibot_pin.studies import spring_fit as spring
 
 
 def test_exact_line_is_recovered():

@@ -17,9 +17,10 @@ import pinocchio as pin
 import pytest
 import umsgpack
 
-from pasibot_pin import closure, viewer
 from pasibot_pin.__main__ import main
-from pasibot_pin.plots import GROUP_COLOURS, link_group
+from pasibot_pin.model import closure
+from pasibot_pin.viz import viewer
+from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
 
 # meshcat imports pyzmq's deprecated eventloop module; not ours to fix.
 pytestmark = pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")
@@ -259,7 +260,7 @@ def test_quasi_static_ground_reaction_is_the_weight_below_the_com(robot, exporte
 
 def test_dynamics_ground_reaction_agrees_with_the_weight_below_the_com(robot, exported):
     """Two independent routes at omega = 0: constrained inverse dynamics vs the COM."""
-    from pasibot_pin import dynamics
+    from pasibot_pin.dynamics import inverse as dynamics
 
     walk = exported[0].walk
     tracks = viewer.reaction_forces(robot, walk, omega=0.0)
@@ -381,7 +382,7 @@ def test_view_command_with_reactions_live(capsys):
 def test_analyze_step_writes_gait_html_and_gif(tmp_path):
     from PIL import Image
 
-    from pasibot_pin.commands.analyze import STEPS
+    from pasibot_pin.cli.analyze import STEPS
 
     step = dict(STEPS)["animation"]
     section = step(tmp_path, None)

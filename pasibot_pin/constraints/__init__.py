@@ -6,7 +6,7 @@ manifold. No other module builds constraint rows or calls Pinocchio's constraint
 Jacobian API.
 """
 
-from .pinocchio_models import (
+from pasibot_pin.constraints.pinocchio_models import (
     anchor_points,
     constraint_size,
     create_datas,
@@ -19,7 +19,7 @@ from .pinocchio_models import (
     proximal_impulse,
     weld_constraint,
 )
-from .system import (
+from pasibot_pin.constraints.system import (
     ANGLE_TOL,
     RELATIVE_TOL,
     ConstraintSystem,

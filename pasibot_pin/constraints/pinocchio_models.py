@@ -115,7 +115,7 @@ def pinocchio_constraint_jacobian(
 ) -> np.ndarray:
     """Pinocchio's own full constraint Jacobian (all rows, 3 per point, 6 per weld).
 
-    Used to cross-check the planar Jacobians of :mod:`pasibot_pin.closure`. Note: in pin 4.1
+    Used to cross-check the planar Jacobians of :mod:`pasibot_pin.model.closure`. Note: in pin 4.1
     ``getConstraintJacobian`` reads the frame placements stored by ``calc``; without that call
     it silently returns the Jacobian of a stale pose.
     """
@@ -177,7 +177,7 @@ def inplane_rows(cmodels: list[pin.RigidConstraintModel]) -> tuple[np.ndarray, n
     """Row indices and signs that pick the in-plane rows of Pinocchio's stacked constraint Jacobian.
 
     x and z of each CONTACT_3D / CONTACT_6D, and minus the rotation about y of each weld (its
-    pitch is counter-clockwise, about -y): the rows of :mod:`pasibot_pin.closure`.
+    pitch is counter-clockwise, about -y): the rows of :mod:`pasibot_pin.model.closure`.
     """
     index, sign, offset = [], [], 0
     for cm in cmodels:

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from .pinocchio_models import anchor_points, is_weld
+from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld
 
 RELATIVE_TOL = 2e-11
 """Newton stops when every length row is below RELATIVE_TOL * length_scale (1e-12 m at L = 0.05 m)."""

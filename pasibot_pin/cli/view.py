@@ -1,0 +1,63 @@
+"""``pasibot view``: a live 3-D viewer (meshcat, 127.0.0.1 only) that plays the walk.
+
+The browser opens only with ``--open``; otherwise the viewer's address is printed. The
+command never waits forever: it plays the walk ``--repeat`` times (default once), keeps the
+server up for ``--hold`` more seconds (default 0), then exits. ``--hold -1`` serves until
+Ctrl-C.
+"""
+
+from __future__ import annotations
+
+import argparse
+import time
+
+from pasibot_pin.cli.export_html import add_walk_view_options
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the subcommand."""
+    p = sub.add_parser("view", help="live 3-D viewer in the browser (meshcat) playing the walk")
+    add_walk_view_options(p)
+    p.add_argument("--open", action="store_true", help="open the viewer in the default web browser")
+    p.add_argument("--repeat", type=int, default=1, help="plays of the walk before exiting (default 1)")
+    p.add_argument(
+        "--hold", type=float, default=0.0, help="seconds to serve after the last play (default 0; -1: until Ctrl-C)"
+    )
+    p.add_argument("--zmq-url", default=None, help="reuse a running meshcat-server (e.g. tcp://127.0.0.1:6000)")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Start the viewer, play the walk live, hold, exit."""
+    from pasibot_pin.model.robot import load
+    from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, reaction_forces, walk_trajectory
+
+    if args.repeat < 1:
+        raise ValueError(f"--repeat must be >= 1, got {args.repeat}")
+    if args.hold < 0 and args.hold != -1:
+        raise ValueError(f"--hold must be >= 0 s or -1 (until Ctrl-C), got {args.hold}")
+    robot = load(args.variant, legs=2)
+    walk = walk_trajectory(robot, steps=args.steps, samples_per_step=args.samples_per_step)
+    forces = None if args.reactions is None else reaction_forces(robot, walk, omega=args.reactions)
+    viewer = WalkViewer(robot, zmq_url=args.zmq_url, open=args.open)
+    try:
+        # the walk is also stored as an animation, paused: scrub it in the viewer's controls
+        build_walk_scene(viewer, walk.q, args.fps, forces=forces, play=False, repetitions=1)
+        print(f"viewer: {viewer.url}", flush=True)
+        if args.open:
+            time.sleep(2.0)  # let the page connect before the first frame
+        duration = len(walk.q) / args.fps * args.repeat
+        print(f"playing {args.steps} steps ({len(walk.q)} frames at {args.fps:g} fps, {duration:.1f} s)", flush=True)
+        viewer.play(walk.q, fps=args.fps, repetitions=args.repeat)
+        if args.hold == -1:
+            print("serving until Ctrl-C", flush=True)
+            try:
+                while True:
+                    time.sleep(1.0)
+            except KeyboardInterrupt:
+                pass
+        elif args.hold > 0:
+            time.sleep(args.hold)
+    finally:
+        viewer.close()
+    return 0

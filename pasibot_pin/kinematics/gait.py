@@ -1,0 +1,307 @@
+"""Biped posture in the world frame and a multi-step walk (seed §4.2.3, §4.3.3).
+
+The two-legged robot walks by turning both cranks, pi apart. Each half crank turn is one
+step: the right leg is in stance while its crank runs from 90 deg to 270 deg, the left leg
+during the next half turn, and so on. At every half turn the stance and swing legs exchange:
+the new stance foot is held where it is on the ground, and the old one is released.
+
+How the stance foot holds the ground (``foot``):
+
+- ``flat`` (default, the physical case): the stance sole is welded level to the ground
+  (a planar weld: x, z, pitch). The ``spring`` variant also keeps the hip level and the
+  swing foot level. For ``rigid`` the hip then pitches with the shank (the rigid foot can be
+  level only if the body tilts), and at each exchange the pose jumps: the new stance foot
+  arrives tilted and off the ground, and the weld puts it flat on the ground.
+  :attr:`Walk.exchange_jump` records the jump.
+- ``point``: the seed's punctiform foot (Fig 4.2.7): the stance ankle is pinned to the
+  ground and the hip is kept level.
+- ``toe``: the seed's fixed-length foot (Fig 4.2.8): the stance toe is pinned to the ground
+  and the hip is kept level; the stance sole tilts about the toe. The new stance toe
+  arrives above the ground, so the pose jumps down at each exchange.
+
+The body orientation is the hip's pitch in the world, from ``atan2`` of its rotation matrix
+(:func:`body_pitch`), not the seed's ``arccos((tr R - 1) / 2)``, which loses the sign
+(:func:`seed_trace_angle` reproduces that for comparison).
+
+Lengths [m], angles [rad], time [s].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin import constraints
+from pasibot_pin.model import closure
+
+FOOT_MODES: tuple[str, ...] = ("flat", "point", "toe")
+"""How the stance foot holds the ground (see the module docstring)."""
+
+CLOSURE_TOL: float = 1e-10
+"""Largest closure residual accepted at any sample of a walk [m, rad]."""
+
+SIDES: tuple[str, str] = ("right", "left")
+
+
+def other(side: str) -> str:
+    """The other leg's side."""
+    if side not in SIDES:
+        raise ValueError(f"unknown side {side!r}; valid: right, left")
+    return "left" if side == "right" else "right"
+
+
+def body_pitch(rotation: np.ndarray) -> float:
+    """Signed pitch of a frame in the x-z plane, counter-clockwise positive [rad] (atan2)."""
+    return math.atan2(rotation[2, 0], rotation[0, 0])
+
+
+def seed_trace_angle(rotation: np.ndarray) -> float:
+    """The seed's angle ``arccos((tr R - 1) / 2)`` [rad]: always >= 0, so it loses the sign.
+
+    Kept only to show the seed's error (DESIGN §9); use :func:`body_pitch`.
+    """
+    return math.acos(max(-1.0, min(1.0, (float(np.trace(rotation)) - 1.0) / 2.0)))
+
+
+@dataclass
+class Walk:
+    """A sampled multi-step walk of the two-legged robot.
+
+    Attributes:
+        robot: the robot (two legs).
+        theta: right-crank angle at each sample (N,) [rad]; the left crank is ``theta + pi``.
+        t: time since the start (N,) [s], ``(theta - theta[0]) / omega``; ``None`` without omega.
+        q: closed configurations (N, nq).
+        stance: the stance leg at each sample (``right`` / ``left``), length N.
+        step: step index at each sample (N,); step k spans the half turn
+            ``theta_start + k pi .. theta_start + (k + 1) pi``. The sample at an exchange
+            belongs to the new step; the last sample to the last step.
+        foot: ``flat``, ``point`` or ``toe``.
+        omega: crank rate [rad/s] or ``None``.
+        contacts: the constraint models in force during each step (loops plus the stance contact).
+        residual: largest closure residual at each sample (N,) [m or rad].
+        exchange_jump: largest change of q at each exchange, between the pose reached at the
+            end of a step and the pose with the new stance contact [m or rad] (zero when the
+            new stance foot lands level, as with ``spring`` and ``parallel``).
+
+    """
+
+    robot: object
+    theta: np.ndarray
+    t: np.ndarray | None
+    q: np.ndarray
+    stance: list[str]
+    step: np.ndarray
+    foot: str
+    omega: float | None
+    contacts: list[list] = field(default_factory=list)
+    residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
+    exchange_jump: list[float] = field(default_factory=list)
+
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return len(self.theta)
+
+    def positions(self, frame: str) -> np.ndarray:
+        """World position of ``frame`` at every sample, shape (N, 3) [m]."""
+        model, data = self.robot.model, self.robot.data
+        fid = self.robot.frame_id(frame)
+        out = np.zeros((self.n, 3))
+        for k, q in enumerate(self.q):
+            pin.framesForwardKinematics(model, data, q)
+            out[k] = data.oMf[fid].translation
+        return out
+
+    def frames_xz(self, frames: list[str]) -> dict[str, np.ndarray]:
+        """World (x, z) of several frames at every sample: ``{name: (N, 2)}`` [m]."""
+        model, data = self.robot.model, self.robot.data
+        ids = {name: self.robot.frame_id(name) for name in frames}
+        out = {name: np.zeros((self.n, 2)) for name in frames}
+        for k, q in enumerate(self.q):
+            pin.framesForwardKinematics(model, data, q)
+            for name, fid in ids.items():
+                out[name][k] = data.oMf[fid].translation[[0, 2]]
+        return out
+
+    def pitch(self, frame: str = "hip") -> np.ndarray:
+        """Pitch of ``frame`` in the world at every sample (atan2, signed) (N,) [rad]."""
+        model, data = self.robot.model, self.robot.data
+        fid = self.robot.frame_id(frame)
+        out = np.zeros(self.n)
+        for k, q in enumerate(self.q):
+            pin.framesForwardKinematics(model, data, q)
+            out[k] = body_pitch(data.oMf[fid].rotation)
+        return out
+
+    def hip_path(self) -> np.ndarray:
+        """World (x, z) of the hip (the crank axis, the leg frame's origin) (N, 2) [m]."""
+        return self.frames_xz(["hip"])["hip"]
+
+
+def _contact(robot, side: str, foot: str, q: np.ndarray) -> pin.RigidConstraintModel:
+    """The stance contact for ``side``: its x and y from ``q``, on the ground z = 0.
+
+    ``flat`` welds the foot level (pitch 0); ``point`` and ``toe`` pin the ankle or the toe.
+    Where the foot lands on the ground and level (``spring``, ``parallel``, ``point``) the
+    contact holds it exactly where it is; otherwise the pose jumps onto the ground.
+    """
+    frame = {"flat": f"{side}_foot", "point": f"{side}_foot", "toe": f"{side}_toe"}[foot]
+    pin.framesForwardKinematics(robot.model, robot.data, q)
+    position = robot.data.oMf[robot.frame_id(frame)].translation.copy()
+    position[2] = 0.0
+    if foot == "flat":
+        return constraints.weld_constraint(robot.model, frame, pin.SE3(np.eye(3), position), f"{side}_foot_weld")
+    return constraints.ground_point_constraint(robot.model, frame, position, f"{frame}_pin")
+
+
+def _prescriptions(robot, stance: str, foot: str) -> list[closure.Prescribed]:
+    """Both cranks, plus what the contact leaves free (hip pitch, spring foot pitches)."""
+    out = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
+    if foot == "flat":
+        if robot.spec.free_ankle:
+            out += [closure.hip_pitch(robot), closure.frame_pitch(robot, f"{other(stance)}_foot")]
+        return out
+    out.append(closure.hip_pitch(robot))
+    if robot.spec.free_ankle:
+        out += [closure.frame_pitch(robot, f"{stance}_foot"), closure.frame_pitch(robot, f"{other(stance)}_foot")]
+    return out
+
+
+def _targets(robot, prescribed, q_prev: np.ndarray, dtheta: float) -> np.ndarray:
+    """Crank targets moved by ``dtheta`` from ``q_prev`` (continuation); every pitch held at 0."""
+    targets = np.zeros(len(prescribed))
+    for row, p in enumerate(prescribed):
+        if closure.is_crank(robot, p):
+            targets[row] = q_prev[p.index] + dtheta
+    return targets
+
+
+def _is_int(value) -> bool:
+    return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
+
+
+def _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
+    if getattr(robot, "legs", None) != 2:
+        raise ValueError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) to walk")
+    if not _is_int(steps) or steps < 1:
+        raise ValueError(f"parameter 'steps' must be an integer >= 1, got {steps!r}")
+    if not _is_int(samples_per_step) or samples_per_step < 2:
+        raise ValueError(f"parameter 'samples_per_step' must be an integer >= 2, got {samples_per_step!r}")
+    if not math.isfinite(theta_start):
+        raise ValueError(f"parameter 'theta_start' must be finite, got {theta_start!r}")
+    if omega is not None and (not math.isfinite(omega) or omega <= 0.0):
+        raise ValueError(f"parameter 'omega' must be a positive finite crank rate [rad/s], got {omega!r}")
+    if foot not in FOOT_MODES:
+        raise ValueError(f"unknown foot {foot!r}; valid: {', '.join(FOOT_MODES)}")
+    if first_stance not in SIDES:
+        raise ValueError(f"parameter 'first_stance' must be right or left, got {first_stance!r}")
+
+
+def walk(
+    robot,
+    steps: int = 2,
+    samples_per_step: int = 40,
+    theta_start: float = math.pi / 2,
+    omega: float | None = None,
+    foot: str = "flat",
+    first_stance: str = "right",
+) -> Walk:
+    """Walk ``steps`` steps: both cranks turn, stance and swing exchange at every half turn.
+
+    The right crank starts at ``theta_start`` with the right foot touching down (stance),
+    the left crank pi apart. The starting stance contact (ankle for ``flat``/``point``,
+    toe for ``toe``) sits at the world origin on the ground z = 0.
+
+    Args:
+        robot: a two-legged robot (``load(variant, legs=2)``).
+        steps: number of steps (half crank turns), >= 1.
+        samples_per_step: samples per step, >= 2; the walk has ``steps * samples_per_step + 1``
+            samples, both ends included.
+        theta_start: right-crank angle at the start [rad] (pi/2: touch-down).
+        omega: crank rate [rad/s] for the time stamps, or ``None``.
+        foot: ``flat``, ``point`` or ``toe`` (see the module docstring).
+        first_stance: the leg in stance during the first step (``right``; ``left`` is
+            meaningful when ``theta_start`` puts the left foot at touch-down).
+
+    Returns:
+        The :class:`Walk`; every sample satisfies its closure to :data:`CLOSURE_TOL`.
+
+    Raises:
+        ValueError: bad arguments (named), or a pose where the loops cannot close.
+
+    """
+    _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, first_stance)
+    theta_start = float(theta_start)
+    n = steps * samples_per_step + 1
+    dtheta = math.pi / samples_per_step
+    theta = theta_start + dtheta * np.arange(n)
+    stance_side = first_stance
+    # Start: the flat assembly, then the requested contact with the hip level.
+    q = closure.assemble(robot, theta_start, stance=stance_side, ankle_x=0.0)
+    contact = _contact(robot, stance_side, foot, q)
+    cmodels = list(robot.loop_constraints) + [contact]
+    prescribed = _prescriptions(robot, stance_side, foot)
+    if foot != "flat" or robot.spec.free_ankle:
+        q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, 0.0), cmodels)
+    # Put the starting contact point at the world origin (a rigid translation of the hip).
+    pin.framesForwardKinematics(robot.model, robot.data, q)
+    anchor = "foot" if foot in ("flat", "point") else "toe"
+    origin = robot.data.oMf[robot.frame_id(f"{stance_side}_{anchor}")].translation
+    q[0] -= origin[0]
+    q[1] -= origin[2]
+    contact = _contact(robot, stance_side, foot, q)
+    cmodels = list(robot.loop_constraints) + [contact]
+
+    qs = np.zeros((n, robot.model.nq))
+    stance: list[str] = []
+    step_index = np.zeros(n, dtype=int)
+    residual = np.zeros(n)
+    contacts = [cmodels]
+    jumps: list[float] = []
+    for i in range(n):
+        k = min(i // samples_per_step, steps - 1)
+        if i > 0:
+            if i % samples_per_step == 0 and i // samples_per_step < steps:
+                # Exchange at the half turn: first reach the pose with the old contact ...
+                q_end = closure.solve_configuration(
+                    robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels
+                )
+                # ... then hold the new stance foot where it is (level for ``flat``).
+                stance_side = other(stance_side)
+                contact = _contact(robot, stance_side, foot, q_end)
+                cmodels = list(robot.loop_constraints) + [contact]
+                contacts.append(cmodels)
+                prescribed = _prescriptions(robot, stance_side, foot)
+                q = closure.solve_configuration(
+                    robot, q_end, prescribed, _targets(robot, prescribed, q_end, 0.0), cmodels
+                )
+                jumps.append(float(np.max(np.abs(pin.difference(robot.model, q_end, q)))))
+            else:
+                q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels)
+        qs[i] = q
+        stance.append(stance_side)
+        step_index[i] = k
+        residual[i] = float(np.max(np.abs(closure.constraint_residual(robot, q, cmodels))))
+        if residual[i] > CLOSURE_TOL:
+            raise ValueError(
+                f"walk: closure residual {residual[i]:.3e} exceeds {CLOSURE_TOL:g} at theta = "
+                f"{math.degrees(theta[i]):.3f} deg (step {k}, stance {stance_side})"
+            )
+    t = None if omega is None else (theta - theta_start) / float(omega)
+    return Walk(
+        robot=robot,
+        theta=theta,
+        t=t,
+        q=qs,
+        stance=stance,
+        step=step_index,
+        foot=foot,
+        omega=omega,
+        contacts=contacts,
+        residual=residual,
+        exchange_jump=jumps,
+    )

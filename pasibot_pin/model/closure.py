@@ -1,0 +1,332 @@
+"""Loop closure: planar residuals and Jacobians, Newton assembly, motion on the manifold.
+
+The constraints c(q) = 0 are the in-plane rows of the robot's constraint models: x and z of
+each cut-joint point coincidence (world axes), plus x, z and pitch of the stance-foot weld.
+The out-of-plane rows are identically zero and are dropped, so every linear system here has
+full row rank away from singular poses.
+
+Prescribed coordinates s(q) = s* (crank angles, hip pitch, swing-foot pitch) complete the
+system: Newton on [c; s - s*] gives q, [J_c; J_s] v = [0; s_dot*] gives v and
+[J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v] gives a.
+
+Angles [rad], lengths [m].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin import constraints
+from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
+from pasibot_pin.model.assembly import leg_joint_angles, leg_points, sole_angle
+from pasibot_pin.model.description import sides
+
+RESIDUAL_TOL = 1e-12
+"""Largest constraint residual of a closed configuration at the default L = 0.05 m [m, rad]
+(the Newton tolerance is relative to L: see :data:`pasibot_pin.constraints.RELATIVE_TOL`)."""
+
+Prescribed = ScalarRow
+"""A prescribed scalar coordinate: a joint coordinate (:class:`CoordinateRow`) or a frame's pitch
+(:class:`PitchRow`)."""
+
+
+def joint_coordinate(robot, joint: str) -> CoordinateRow:
+    """Prescribe the coordinate of a one-dof joint (``right_j0_crank``, ``right_j13_ankle`` ...)."""
+    return constraints.coordinate(joint, robot.idx_v(joint))
+
+
+def hip_pitch(robot) -> CoordinateRow:
+    """Prescribe the hip pitch (third coordinate of the planar floating hip)."""
+    if not robot.floating:
+        raise ValueError("the one-leg model has a fixed hip: its pitch cannot be prescribed")
+    return constraints.coordinate("hip_pitch", 2)
+
+
+def frame_pitch(robot, frame: str) -> PitchRow:
+    """Prescribe the pitch of a frame in the world (e.g. ``left_foot``: the swing foot)."""
+    return PitchRow(frame, robot.frame_id(frame))
+
+
+def is_crank(robot, row: Prescribed) -> bool:
+    """True for the prescribed coordinate of an actuated crank."""
+    return isinstance(row, CoordinateRow) and row.name in robot.actuated_joints
+
+
+_CACHE_SIZE = 32
+
+
+def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> ConstraintSystem:
+    """The :class:`~pasibot_pin.constraints.ConstraintSystem` of ``robot`` (cached per model and rows).
+
+    Args:
+        robot: a loaded robot.
+        cmodels: constraint models (default: the robot's loops and weld).
+        prescribed: scalar rows after the constraint rows.
+
+    """
+    cmodels = robot.constraint_models if cmodels is None else cmodels
+    cache = robot.__dict__.setdefault("_system_cache", {})
+    # the key keeps no ids of dead objects: the entry holds the models and the Pinocchio model
+    key = (id(robot.model), id(robot.data), tuple(id(cm) for cm in cmodels), tuple(prescribed))
+    entry = cache.get(key)
+    if entry is None:
+        entry = ConstraintSystem(robot.model, robot.data, cmodels, prescribed, robot.geometry.L)
+        if len(cache) >= _CACHE_SIZE:
+            cache.pop(next(iter(cache)))
+        cache[key] = entry
+    return entry
+
+
+def row_labels(robot, cmodels=None) -> list[str]:
+    """Names of the in-plane constraint rows (``right_j2.x``, ..., ``right_foot_weld.pitch``)."""
+    return system(robot, cmodels).labels
+
+
+def constraint_residual(robot, q: np.ndarray, cmodels=None) -> np.ndarray:
+    """In-plane constraint residuals c(q) [m, rad], one row per label of :func:`row_labels`."""
+    return system(robot, cmodels).residual(q)
+
+
+def constraint_jacobian(robot, q: np.ndarray, cmodels=None) -> np.ndarray:
+    """Jacobian dc/dq of the in-plane constraint rows (rows x nv), world axes."""
+    return system(robot, cmodels).jacobian(q)
+
+
+def constraint_drift(robot, q: np.ndarray, v: np.ndarray, cmodels=None) -> np.ndarray:
+    """Jdot_c(q, v) v: the constraint acceleration at zero joint acceleration [m/s^2, rad/s^2]."""
+    return system(robot, cmodels).drift(q, v)
+
+
+# --------------------------------------------------------------------------- Newton
+def default_prescriptions(robot, stance: str | None = None) -> list[Prescribed]:
+    """The coordinates that, with the constraints, fix the pose of ``robot``.
+
+    One leg: the crank (and, for ``spring``, the ankle coordinate). Two legs: both cranks;
+    for ``spring`` also the hip pitch and the swing foot's pitch.
+    """
+    out = [joint_coordinate(robot, j) for j in robot.actuated_joints]
+    if robot.spec.free_ankle:
+        if robot.floating:
+            stance = stance or robot.stance or "right"
+            swing = [s for s in sides(robot.legs) if s != stance][0]
+            out += [hip_pitch(robot), frame_pitch(robot, f"{swing}_foot")]
+        else:
+            out += [joint_coordinate(robot, j) for j in robot.spring_joints]
+    return out
+
+
+def solve_configuration(
+    robot,
+    q_guess: np.ndarray,
+    prescribed: Sequence[Prescribed] | None = None,
+    targets: Iterable[float] | None = None,
+    cmodels=None,
+    max_iter: int = 50,
+) -> np.ndarray:
+    """Newton's method on [c(q); s(q) - s*] from a warm start.
+
+    Args:
+        robot: a loaded robot.
+        q_guess: starting configuration (a previous sample's q).
+        prescribed: prescribed coordinates (default :func:`default_prescriptions`).
+        targets: their values s* (default: their values at ``q_guess``).
+        cmodels: constraint models (default: the robot's).
+        max_iter: iteration limit.
+
+    Returns:
+        q satisfying every constraint and prescription (tolerance relative to L).
+
+    Raises:
+        ValueError: when Newton does not converge (a loop that cannot assemble), naming
+            the worst constraint row and the crank angles.
+
+    """
+    model = robot.model
+    prescribed = default_prescriptions(robot) if prescribed is None else list(prescribed)
+    q = np.array(q_guess, dtype=float)
+    if q.shape != (model.nq,) or not np.all(np.isfinite(q)):
+        raise ValueError(f"q_guess must be a finite vector of size nq = {model.nq}")
+    sys_ = system(robot, cmodels, prescribed)
+    if targets is None:
+        targets = prescribed_values(robot, q, prescribed)
+    targets = np.asarray(list(targets), dtype=float)
+    if targets.shape != (len(prescribed),) or not np.all(np.isfinite(targets)):
+        raise ValueError(f"targets must be {len(prescribed)} finite values for {[p.name for p in prescribed]}")
+    try:
+        return sys_.project(q, targets=targets, max_iter=max_iter)
+    except ValueError as err:
+        cranks = ", ".join(
+            f"{p.name} = {math.degrees(float(t)):.3f} deg" for p, t in zip(prescribed, targets) if is_crank(robot, p)
+        )
+        raise ValueError(f"{err} ({cranks})") from None
+
+
+def prescribed_values(robot, q: np.ndarray, prescribed: Sequence[Prescribed]) -> np.ndarray:
+    """The values s(q) of prescribed coordinates at ``q`` [rad, m]."""
+    sys_ = system(robot, [], prescribed)
+    return sys_.residual(q, targets=np.zeros(len(prescribed)))
+
+
+def solve_velocity(robot, q, prescribed, rates, cmodels=None) -> np.ndarray:
+    """V on the constraint manifold: [J_c; J_s] v = [0; s_dot*]."""
+    return system(robot, cmodels, prescribed).velocity(q, rates=rates)
+
+
+def solve_acceleration(robot, q, v, prescribed, accelerations, cmodels=None) -> np.ndarray:
+    """A on the manifold: [J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v]."""
+    return system(robot, cmodels, prescribed).acceleration(q, v, accelerations=accelerations)
+
+
+# --------------------------------------------------------------------------- assembly
+def assemble(
+    robot,
+    theta: float,
+    theta_left: float | None = None,
+    hip_pitch_value: float = 0.0,
+    swing_foot_pitch: float = 0.0,
+    stance: str | None = None,
+    ankle_x: float = 0.0,
+) -> np.ndarray:
+    """A closed configuration for given crank angles, from the analytic assembly plus Newton.
+
+    Args:
+        robot: a loaded robot.
+        theta: right crank angle [rad].
+        theta_left: left crank angle [rad] (default ``theta + pi``).
+        hip_pitch_value: hip pitch for the ``spring`` biped [rad].
+        swing_foot_pitch: swing-foot pitch for the ``spring`` biped [rad].
+        stance: the welded foot (two legs; default the robot's stance or ``right``).
+        ankle_x: world x of the stance ankle [m] (its z is 0: the sole is on the ground).
+
+    Returns:
+        q with every constraint residual below :data:`RESIDUAL_TOL`.
+
+    Raises:
+        ValueError: a loop that cannot assemble at these crank angles (named).
+
+    """
+    for name, value in (("theta", theta), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
+        if value is not None and not math.isfinite(value):
+            raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+    model = robot.model
+    g, variant = robot.geometry, robot.spec
+    thetas = {"right": float(theta), "left": float(theta + math.pi if theta_left is None else theta_left)}
+    q = pin.neutral(model)
+    stance = stance or robot.stance or "right"
+    pitch = 0.0
+    if robot.floating:
+        if variant.free_ankle:
+            pitch = hip_pitch_value
+        else:
+            pitch = -sole_angle(thetas[stance], g, variant)
+    for side in sides(robot.legs):
+        foot_angle = None
+        if variant.free_ankle:
+            if not robot.floating:
+                foot_angle = 0.0
+            elif side == stance:
+                foot_angle = -pitch
+            else:
+                foot_angle = swing_foot_pitch - pitch
+        for joint, value in leg_joint_angles(thetas[side], g, variant, foot_angle).items():
+            q[robot.idx_q(f"{side}_{joint}")] = value
+    cmodels = list(robot.loop_constraints)
+    if robot.floating:
+        ankle = leg_points(thetas[stance], g, variant)["p13"]
+        c, s = math.cos(pitch), math.sin(pitch)
+        hip_xz = np.array([ankle_x, 0.0]) - np.array([c * ankle[0] - s * ankle[1], s * ankle[0] + c * ankle[1]])
+        q[:3] = [hip_xz[0], hip_xz[1], pitch]
+        y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
+        weld = constraints.weld_constraint(
+            model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
+        )
+        cmodels.append(weld)
+    prescribed = default_prescriptions(robot, stance)
+    return solve_configuration(robot, q, prescribed, None, cmodels)
+
+
+# --------------------------------------------------------------------------- mobility
+@dataclass(frozen=True)
+class Mobility:
+    """Degrees of freedom by Grübler's count and numerically.
+
+    Attributes:
+        grubler: 3 * moving bodies - 2 * (one-dof pairs) - 3 * welds (planar Grübler).
+        numerical: nv - rank(J_c) at the configuration.
+        rank: rank of the in-plane constraint Jacobian.
+        moving_bodies: moving rigid bodies of the model (fixed links merged).
+        pairs: one-dof lower pairs: tree revolute/prismatic joints plus cut joints.
+        welds: foot welds.
+        leg_linkage: mobility of one leg's linkage alone (hip fixed, ankle excluded).
+
+    """
+
+    grubler: int
+    numerical: int
+    rank: int
+    moving_bodies: int
+    pairs: int
+    welds: int
+    leg_linkage: int
+
+
+def mobility(robot, q: np.ndarray | None = None) -> Mobility:
+    """Grübler's DOF from the model's topology next to nv - rank(J_c) at ``q`` (default q0)."""
+    model = robot.model
+    q = robot.q0 if q is None or len(q) == 0 else q
+    if q is None or len(q) == 0:
+        q = pin.neutral(model)
+    moving = model.njoints - 1
+    tree_pairs = sum(1 for j in model.joints[1:] if j.nv == 1)
+    cuts = len(robot.loops)
+    welds = sum(1 for cm in robot.constraint_models if constraints.is_weld(cm))
+    # The planar floating hip (3 dof) constrains nothing: it adds no term.
+    grubler = 3 * moving - 2 * (tree_pairs + cuts) - 3 * welds
+    jac = constraint_jacobian(robot, q)
+    sv = np.linalg.svd(jac, compute_uv=False)
+    rank = int(np.sum(sv > 1e-9 * max(sv.max(), 1.0)))
+    # One leg's linkage: moving links and pairs, the spring foot and its ankle excluded.
+    leg_joints = [j for j in range(1, model.njoints) if model.names[j].startswith("right_")]
+    leg_joints = [j for j in leg_joints if model.names[j] != "right_j13_ankle"]
+    leg_cuts = sum(1 for lp in robot.loops if lp.side == "right")
+    leg = 3 * len(leg_joints) - 2 * (len(leg_joints) + leg_cuts)
+    return Mobility(grubler, model.nv - rank, rank, moving, tree_pairs + cuts, welds, leg)
+
+
+# --------------------------------------------------------------------------- sweeps
+def crank_sweep(robot, thetas: Sequence[float], **assemble_kwargs) -> np.ndarray:
+    """Closed configurations along a sequence of right-crank angles, warm-started.
+
+    The first sample comes from :func:`assemble`; each next one from Newton started at
+    the previous solution, with the crank targets moved (continuation keeps the branch).
+    The stance foot stays the one of the first sample.
+
+    Returns:
+        Array (len(thetas), nq).
+
+    """
+    thetas = np.asarray(thetas, dtype=float)
+    if not np.all(np.isfinite(thetas)):
+        raise ValueError("crank angles theta must be finite")
+    out = np.zeros((len(thetas), robot.model.nq))
+    q = assemble(robot, float(thetas[0]), **assemble_kwargs)
+    stance = assemble_kwargs.get("stance") or robot.stance or "right"
+    cmodels = list(robot.loop_constraints)
+    if robot.floating:
+        cmodels.append(robot.with_stance(stance, q).weld)
+    prescribed = default_prescriptions(robot, stance)
+    base_targets = prescribed_values(robot, q, prescribed)
+    out[0] = q
+    for k in range(1, len(thetas)):
+        targets = base_targets.copy()
+        for row, p in enumerate(prescribed):
+            if is_crank(robot, p):
+                targets[row] = base_targets[row] + (thetas[k] - thetas[0])
+        q = solve_configuration(robot, q, prescribed, targets, cmodels)
+        out[k] = q
+    return out

@@ -1,0 +1,154 @@
+"""The robot description: xacro to URDF, and the table of cut joints (loops).
+
+The URDF is a strict tree. Each cut revolute joint ``N`` of a leg is a pair of marker frames
+``<side>_loop_jN_a`` and ``<side>_loop_jN_b`` that must coincide; :mod:`pasibot_pin.model.robot`
+turns every pair into a Pinocchio constraint model.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from pasibot_pin.model.params import Geometry, MassModel, check_legs, check_variant, percentage_mass_model
+from pasibot_pin.model.paths import URDF_DIR, XACRO_PATH, urdf_path
+from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
+
+CUT_JOINTS: dict[str, tuple[int, ...]] = {name: v.cut_joints for name, v in VARIANT_RECORDS.items()}
+"""Seed joint numbers cut open in each variant (seed §5; DESIGN §4 for the extension): from the records."""
+
+CUT_BODIES: dict[int, tuple[str, str]] = {
+    2: ("l2_coupler", "l3_rocker"),
+    5: ("l4", "l6"),
+    7: ("l5_shank", "l7"),
+    4: ("l2_coupler", "l8_stabiliser"),
+    11: ("l9", "l10"),
+    13: ("l5_shank", "foot_bar"),
+}
+"""The two links each cut joint connects (side a, side b), without the leg prefix."""
+
+
+def sides(legs: int) -> tuple[str, ...]:
+    """Leg prefixes of a robot with ``legs`` legs: ``('right',)`` or ``('right', 'left')``."""
+    return ("right",) if check_legs(legs) == 1 else ("right", "left")
+
+
+@dataclass(frozen=True)
+class Loop:
+    """One cut revolute joint: two frames whose origins must coincide.
+
+    Attributes:
+        name: ``<side>_j<N>``, e.g. ``right_j2``.
+        side: ``right`` or ``left``.
+        joint: the seed's joint number.
+        frame_a: marker frame on the first link.
+        frame_b: marker frame on the second link.
+        links: the two links the joint connects.
+
+    """
+
+    name: str
+    side: str
+    joint: int
+    frame_a: str
+    frame_b: str
+    links: tuple[str, str]
+
+
+def loop_table(variant: str | Variant = "spring", legs: int = 2) -> list[Loop]:
+    """The cut joints of a robot, one :class:`Loop` each, right leg first."""
+    spec = get_variant(variant)
+    table = []
+    for side in sides(legs):
+        for joint in spec.cut_joints:
+            link_a, link_b = CUT_BODIES[joint]
+            table.append(
+                Loop(
+                    name=f"{side}_j{joint}",
+                    side=side,
+                    joint=joint,
+                    frame_a=f"{side}_loop_j{joint}_a",
+                    frame_b=f"{side}_loop_j{joint}_b",
+                    links=(f"{side}_{link_a}", f"{side}_{link_b}"),
+                )
+            )
+    return table
+
+
+def xacro_arguments(
+    variant: str = "spring",
+    legs: int = 2,
+    geometry: Geometry | None = None,
+    masses: MassModel | None = None,
+) -> dict[str, str]:
+    """Every xacro argument for a parameter set, as strings (``repr`` of floats)."""
+    check_variant(variant)
+    check_legs(legs)
+    geometry = geometry or Geometry()
+    masses = masses or percentage_mass_model(geometry, variant)
+    toe, heel = geometry.foot_extent(variant)
+    args = {
+        "variant": variant,
+        "legs": str(legs),
+        "L": repr(float(geometry.L)),
+        "K": repr(float(geometry.K)),
+        "foot_toe": repr(toe),
+        "foot_heel": repr(heel),
+        "hip_half_width": repr(float(geometry.hip_half_width)),
+        "m_hip": repr(float(masses.hip)),
+        "hip_com_x": repr(float(masses.hip_com[0])),
+        "hip_com_z": repr(float(masses.hip_com[1])),
+        "m_foot": repr(float(masses.foot)),
+        "foot_com": repr(float(masses.foot_com)),
+    }
+    args.update({key: repr(float(value)) for key, value in geometry.ratios.items()})
+    args.update({f"m_{key}": repr(float(value)) for key, value in masses.links.items()})
+    return args
+
+
+def render_urdf(
+    variant: str = "spring",
+    legs: int = 2,
+    geometry: Geometry | None = None,
+    masses: MassModel | None = None,
+) -> str:
+    """Render the xacro source to URDF text (no ROS needed).
+
+    Args:
+        variant: ``rigid``, ``parallel`` or ``spring``.
+        legs: 1 (fixed hip) or 2 (biped).
+        geometry: leg geometry (default: the seed's).
+        masses: mass model (default: the seed's percentage rule).
+
+    Returns:
+        The URDF as a string. The xacro banner names the source relative to the
+        repository, so the text does not depend on where the package is installed.
+
+    """
+    import xacro
+
+    mappings = xacro_arguments(variant, legs, geometry, masses)
+    document = xacro.process_file(str(XACRO_PATH), mappings=mappings)
+    text = document.toprettyxml(indent="  ")
+    return text.replace(str(XACRO_PATH), "urdf/pasibot.urdf.xacro")
+
+
+def write_urdf(path: Path, text: str, force: bool = False) -> Path:
+    """Write ``text`` to ``path``; refuse to overwrite a different file unless ``force``."""
+    path = Path(path)
+    if path.exists() and not force and path.read_text() != text:
+        raise FileExistsError(f"{path} exists and differs; pass force=True (--force) to overwrite it")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(text)
+    return path
+
+
+def render_default_urdfs(out_dir: Path | None = None, force: bool = True) -> list[Path]:
+    """Render the committed default URDFs (every variant, one and two legs)."""
+    out_dir = Path(out_dir) if out_dir is not None else URDF_DIR
+    written = []
+    for variant in VARIANT_RECORDS:
+        for legs in (1, 2):
+            target = out_dir / urdf_path(variant, legs).name
+            written.append(write_urdf(target, render_urdf(variant, legs), force=force))
+    return written

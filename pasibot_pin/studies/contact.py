@@ -1,0 +1,455 @@
+"""Foot-ground contact: heel and toe forces, centre of pressure, friction needed (QP, proxsuite).
+
+The inverse dynamics (:mod:`pasibot_pin.dynamics.inverse`) holds the stance foot with a planar weld
+and returns the ground's wrench on the foot at the ankle, world axes: Fx, Fz [N] and the
+counter-clockwise moment My [N.m] (the weld's in-plane rows x, z, pitch; the pitch is about
+-y). With 4 actuators for 4 degrees of freedom that wrench is unique, so any set of contact
+forces that reproduces the prescribed motion must add up to it. This module replaces the
+weld by two point contacts, heel and toe, and asks whether the ground can supply the wrench:
+
+* each contact is unilateral (normal force >= 0) with a Coulomb cone, linearised (in the
+  plane the cone is exactly two half-planes, so the linearisation is exact),
+* the distribution is a dense QP (proxsuite): minimise 1/2 |f|^2 + reg/2 |f|^2 subject to the
+  3 wrench rows (equalities) and the cone rows (inequalities). The normal forces are fixed by
+  Fz and My; the QP chooses the split of the tangential force,
+* when the QP is infeasible (a fall or a slip), a second QP finds the nearest wrench the
+  contacts can supply (forces first, then the moment: a tipping foot stands on its edge), and
+  the sample is flagged with the reason: ``lift-off`` (the foot is
+  pulled up), ``tip-toe`` / ``tip-heel`` (the CoP leaves the sole past the toe / heel: the
+  foot rotates about that edge), ``slip`` (|F_t| > mu F_n).
+
+The centre of pressure (CoP) comes from the wrench alone: with the sole through the ankle,
+tangent t and normal n, the moment of the contact forces about the ankle is sum s_i (n.f_i),
+so s_cop = My / F_n along the sole from the ankle [m]. Units: SI.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+import proxsuite
+
+QP_EPS: float = 1e-12
+"""Absolute accuracy asked of proxsuite [N, N.m]."""
+
+FEASIBILITY_TOL: float = 1e-9
+"""Relative tolerance on the wrench rows and the cone rows when a QP solution is checked."""
+
+REGULARISATION: float = 1e-9
+"""Relative weight added to the Hessian (the 'regularised force norm') [-]."""
+
+FAILURES: tuple[str, ...] = ("lift-off", "tip-heel", "tip-toe", "slip")
+"""Reasons a sample can fail, in reporting order."""
+
+
+def _check_mu(mu: float) -> float:
+    mu = float(mu)
+    if not math.isfinite(mu) or mu < 0:
+        raise ValueError(f"parameter 'mu' must be a finite friction coefficient >= 0, got {mu!r}")
+    return mu
+
+
+@dataclass(frozen=True)
+class ContactPoint2D:
+    """One sample's contact distribution.
+
+    Attributes:
+        forces: (2, 2) ground force on the foot at heel (row 0) and toe (row 1), world (x, z) [N].
+        feasible: True when the contacts reproduce the wrench inside their cones.
+        status: proxsuite's status of the distribution QP.
+        reasons: failure reasons (subset of :data:`FAILURES`), empty when feasible.
+        s_cop: CoP along the sole from the ankle (forward positive) demanded by the wrench [m]
+            (``inf``/``-inf`` when F_n <= 0).
+        margin: signed distance of the CoP to the nearer sole edge [m] (negative: outside).
+        mu_needed: |F_t| / F_n, the friction coefficient the wrench needs [-] (``inf`` if F_n <= 0).
+        residual: wrench the contacts cannot supply (demanded minus supplied) Fx, Fz [N], My [N.m].
+
+    """
+
+    forces: np.ndarray
+    feasible: bool
+    status: str
+    reasons: tuple[str, ...]
+    s_cop: float
+    margin: float
+    mu_needed: float
+    residual: np.ndarray
+
+
+def _qp(h: np.ndarray, g: np.ndarray, a_eq, b_eq, c_in: np.ndarray, u_in: np.ndarray):
+    n = h.shape[0]
+    neq = 0 if a_eq is None else a_eq.shape[0]
+    qp = proxsuite.proxqp.dense.QP(n, neq, c_in.shape[0])
+    qp.settings.eps_abs = QP_EPS
+    qp.settings.eps_rel = 0.0
+    qp.settings.verbose = False
+    qp.settings.max_iter = 1000
+    lower = np.full(c_in.shape[0], -1e20)
+    qp.init(h, g, a_eq, b_eq, c_in, lower, u_in)
+    qp.solve()
+    return np.array(qp.results.x), qp.results.info.status
+
+
+def distribute(
+    wrench: Sequence[float],
+    s_heel: float,
+    s_toe: float,
+    mu: float,
+    pitch: float = 0.0,
+    regularisation: float = REGULARISATION,
+) -> ContactPoint2D:
+    """Distribute a planar ground wrench on the foot onto heel and toe contacts (proxsuite QP).
+
+    Args:
+        wrench: ground wrench on the foot at the ankle, world axes: Fx, Fz [N], CCW moment [N.m].
+        s_heel: heel position along the sole from the ankle [m] (negative: behind).
+        s_toe: toe position along the sole from the ankle [m] (positive: ahead).
+        mu: Coulomb friction coefficient [-].
+        pitch: sole pitch in the world (CCW) [rad]; the ground normal is the sole's normal.
+        regularisation: relative weight of the extra force-norm term [-].
+
+    Returns:
+        A :class:`ContactPoint2D`.
+
+    Raises:
+        ValueError: a non-finite wrench, a sole whose heel is not behind its toe, a bad mu.
+
+    """
+    w = np.asarray(wrench, dtype=float).reshape(-1)
+    if w.shape != (3,) or not np.all(np.isfinite(w)):
+        raise ValueError(f"parameter 'wrench' must be 3 finite numbers (Fx, Fz, My), got {wrench!r}")
+    mu = _check_mu(mu)
+    if not (math.isfinite(s_heel) and math.isfinite(s_toe) and s_heel < s_toe):
+        raise ValueError(f"parameters 's_heel' < 's_toe' must be finite [m], got {s_heel!r}, {s_toe!r}")
+    if not (math.isfinite(regularisation) and regularisation >= 0):
+        raise ValueError(f"parameter 'regularisation' must be >= 0, got {regularisation!r}")
+    t = np.array([math.cos(pitch), math.sin(pitch)])
+    n = np.array([-math.sin(pitch), math.cos(pitch)])
+    # unknowns f = [fx_h, fz_h, fx_t, fz_t]; rows: sum fx, sum fz, sum s_i (n . f_i)
+    a_eq = np.array(
+        [
+            [1.0, 0.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0, 1.0],
+            [s_heel * n[0], s_heel * n[1], s_toe * n[0], s_toe * n[1]],
+        ]
+    )
+    c_rows = []
+    for k in range(2):
+        for sign in (1.0, -1.0):  # sign * t.f - mu n.f <= 0
+            row = np.zeros(4)
+            row[2 * k : 2 * k + 2] = sign * t - mu * n
+            c_rows.append(row)
+        row = np.zeros(4)
+        row[2 * k : 2 * k + 2] = -n  # n.f >= 0
+        c_rows.append(row)
+    c_in = np.array(c_rows)
+    u_in = np.zeros(c_in.shape[0])
+    hess = (1.0 + regularisation) * np.eye(4)
+    x, status = _qp(hess, np.zeros(4), a_eq, w, c_in, u_in)
+
+    scale = max(float(np.linalg.norm(w[:2])), abs(w[2]) / (s_toe - s_heel), 1.0)
+    eq_ok = bool(np.all(np.isfinite(x))) and np.max(np.abs(a_eq @ x - w)) <= FEASIBILITY_TOL * scale * 10
+    in_ok = bool(np.all(np.isfinite(x))) and np.max(c_in @ x) <= FEASIBILITY_TOL * scale * 10
+    feasible = status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED and eq_ok and in_ok
+    if not feasible:
+        # best effort: the forces first, then the moment (min |W (A f - w)|^2 + reg |f|^2 s.t. cones).
+        # A tipping foot then stands on its edge with the full normal force and the residual is the
+        # unbalanced tipping moment; a slipping one gives mu F_n and the residual is the missing friction.
+        weights = np.diag([1.0, 10.0, 1e-3 / (s_toe - s_heel)])  # Fz, then Fx, then My
+        aw = weights @ a_eq
+        hess = aw.T @ aw + max(regularisation, 1e-12) * np.eye(4)
+        x, _ = _qp(hess, -aw.T @ (weights @ w), None, None, c_in, u_in)
+    forces = x.reshape(2, 2)
+
+    f_n = float(n @ w[:2])
+    f_t = float(t @ w[:2])
+    if f_n > 0:
+        s_cop = w[2] / f_n
+        margin = min(s_cop - s_heel, s_toe - s_cop)
+        mu_needed = abs(f_t) / f_n
+    else:
+        s_cop = math.copysign(math.inf, w[2]) if w[2] != 0 else -math.inf
+        margin = -math.inf
+        mu_needed = math.inf
+    reasons: list[str] = []
+    if not feasible:
+        tol = FEASIBILITY_TOL * scale
+        if f_n <= tol:
+            reasons.append("lift-off")
+        else:
+            if s_cop < s_heel:
+                reasons.append("tip-heel")
+            if s_cop > s_toe:
+                reasons.append("tip-toe")
+            if mu_needed > mu:
+                reasons.append("slip")
+        if not reasons:  # at the boundary within tolerance: name the binding condition
+            reasons.append("slip" if mu_needed >= mu * (1 - 1e-6) else ("tip-toe" if margin >= 0 else "tip-heel"))
+    return ContactPoint2D(
+        forces=forces,
+        feasible=bool(feasible),
+        status=str(status).rsplit(".", 1)[-1],
+        reasons=tuple(reasons),
+        s_cop=float(s_cop),
+        margin=float(margin),
+        mu_needed=float(mu_needed),
+        residual=w - a_eq @ x,
+    )
+
+
+@dataclass
+class ContactResult:
+    """Heel/toe contact along a motion, one row per sample.
+
+    Attributes:
+        t: time [s].
+        theta: stance crank angle [rad].
+        stance: stance side per sample.
+        mu: friction coefficient used [-].
+        wrench: ground wrench on the stance foot at its ankle: Fx, Fz [N], CCW moment [N.m].
+        heel_force, toe_force: (N x 2) ground force at heel / toe, world (x, z) [N].
+        feasible: (N,) bool.
+        reasons: failure reasons per sample (empty tuple when feasible).
+        status: proxsuite status per sample.
+        s_cop: CoP along the sole from the stance ankle [m].
+        cop_x: world x of the CoP [m] (the ankle's x + s_cop cos(pitch)).
+        ankle_x: world x of the stance ankle [m].
+        s_heel, s_toe: heel and toe along the sole from the ankle [m].
+        margin: signed distance of the CoP to the nearer edge [m].
+        mu_needed: |F_t| / F_n [-].
+        residual: (N x 3) wrench the contacts cannot supply.
+
+    """
+
+    t: np.ndarray
+    theta: np.ndarray
+    stance: list[str]
+    mu: float
+    wrench: np.ndarray
+    heel_force: np.ndarray
+    toe_force: np.ndarray
+    feasible: np.ndarray
+    reasons: list[tuple[str, ...]]
+    status: list[str]
+    s_cop: np.ndarray
+    cop_x: np.ndarray
+    ankle_x: np.ndarray
+    s_heel: np.ndarray
+    s_toe: np.ndarray
+    margin: np.ndarray
+    mu_needed: np.ndarray
+    residual: np.ndarray
+    extra: dict[str, object] = field(default_factory=dict)
+
+    def __len__(self) -> int:
+        return len(self.t)
+
+    @property
+    def all_feasible(self) -> bool:
+        """True when every sample is feasible."""
+        return bool(np.all(self.feasible))
+
+    def first_failure(self) -> tuple[float, float, tuple[str, ...]] | None:
+        """(time [s], stance crank angle [rad], reasons) of the first infeasible sample, or None."""
+        bad = np.flatnonzero(~self.feasible)
+        if bad.size == 0:
+            return None
+        k = int(bad[0])
+        return float(self.t[k]), float(self.theta[k]), self.reasons[k]
+
+    def tip_events(self) -> list[dict[str, float | str]]:
+        """Where the CoP crosses a sole edge: one dict per crossing (linear interpolation).
+
+        Keys: ``edge`` (heel/toe), ``direction`` (``leaves`` / ``enters`` the sole), ``t`` [s],
+        ``theta`` [rad], ``x`` (world x of the edge, the pivot the foot would rotate about) [m].
+        Only crossings within one stance phase count (a stance swap is not a crossing).
+        """
+        events: list[dict[str, float | str]] = []
+        for edge, dist in (("heel", self.s_cop - self.s_heel), ("toe", self.s_toe - self.s_cop)):
+            for k in range(len(self.t) - 1):
+                if self.stance[k] != self.stance[k + 1]:
+                    continue
+                d0, d1 = dist[k], dist[k + 1]
+                if not (np.isfinite(d0) and np.isfinite(d1)) or (d0 >= 0) == (d1 >= 0):
+                    continue
+                r = d0 / (d0 - d1)
+                s_edge = self.s_heel[k] if edge == "heel" else self.s_toe[k]
+                events.append(
+                    {
+                        "edge": edge,
+                        "direction": "leaves" if d1 < 0 else "enters",
+                        "t": float(self.t[k] + r * (self.t[k + 1] - self.t[k])),
+                        "theta": float(self.theta[k] + r * (self.theta[k + 1] - self.theta[k])),
+                        "x": float(self.ankle_x[k] + s_edge),
+                    }
+                )
+        return sorted(events, key=lambda e: e["t"])
+
+    def sole_needed(self) -> tuple[float, float]:
+        """(heel, toe) extents the CoP demands: min and max of s_cop over samples with F_n > 0 [m]."""
+        ok = np.isfinite(self.s_cop)
+        if not ok.any():
+            return (math.nan, math.nan)
+        return float(np.min(self.s_cop[ok])), float(np.max(self.s_cop[ok]))
+
+    def summary(self) -> str:
+        """A few lines: feasibility, first failure, CoP range vs the sole, friction needed."""
+        n_ok = int(np.sum(self.feasible))
+        lines = [f"contact (mu = {self.mu:g}): {n_ok}/{len(self)} samples feasible"]
+        first = self.first_failure()
+        if first is not None:
+            t, th, why = first
+            lines.append(
+                f"  first failure at t = {t:.4f} s (stance crank {math.degrees(th):.1f} deg): {', '.join(why)}"
+            )
+        heel, toe = self.sole_needed()
+        lines.append(
+            f"  CoP demanded from {heel * 1e3:+.1f} to {toe * 1e3:+.1f} mm along the sole "
+            f"(sole {self.s_heel[0] * 1e3:+.1f} .. {self.s_toe[0] * 1e3:+.1f} mm); "
+            f"minimum margin {np.min(self.margin) * 1e3:+.1f} mm"
+        )
+        finite = self.mu_needed[np.isfinite(self.mu_needed)]
+        if finite.size:
+            lines.append(f"  friction needed: max |Ft|/Fn = {np.max(finite):.4f}")
+        for ev in self.tip_events():
+            lines.append(
+                f"  CoP {ev['direction']} the sole at the {ev['edge']} at t = {ev['t']:.4f} s "
+                f"(stance crank {math.degrees(ev['theta']):.1f} deg, x = {ev['x']:.4f} m)"
+            )
+        return "\n".join(lines)
+
+    def columns(self) -> dict[str, np.ndarray]:
+        """CSV columns (SI units)."""
+        return {
+            "t": self.t,
+            "theta": self.theta,
+            "stance_right": np.array([1.0 if s == "right" else 0.0 for s in self.stance]),
+            "Fx": self.wrench[:, 0],
+            "Fz": self.wrench[:, 1],
+            "My": self.wrench[:, 2],
+            "heel_Fx": self.heel_force[:, 0],
+            "heel_Fz": self.heel_force[:, 1],
+            "toe_Fx": self.toe_force[:, 0],
+            "toe_Fz": self.toe_force[:, 1],
+            "feasible": self.feasible.astype(float),
+            "s_cop": self.s_cop,
+            "cop_x": self.cop_x,
+            "margin": self.margin,
+            "mu_needed": self.mu_needed,
+        }
+
+
+def sole_geometry(robot, q: np.ndarray, side: str) -> tuple[float, float, float, float, float]:
+    """(ankle x, ankle z, pitch, s_heel, s_toe) of ``side``'s sole at q [m, rad].
+
+    Heel and toe come from the frames ``<side>_heel`` / ``<side>_toe``, projected on the
+    foot frame's x axis (the sole passes through the ankle frame ``<side>_foot``).
+    """
+    model, data = robot.model, robot.data
+    pin.framesForwardKinematics(model, data, q)
+    foot = data.oMf[robot.frame_id(f"{side}_foot")]
+    rot = foot.rotation
+    pitch = math.atan2(rot[2, 0], rot[0, 0])
+    tangent = rot[:, 0]
+    s = {}
+    for end in ("heel", "toe"):
+        s[end] = float(tangent @ (data.oMf[robot.frame_id(f"{side}_{end}")].translation - foot.translation))
+    return float(foot.translation[0]), float(foot.translation[2]), pitch, s["heel"], s["toe"]
+
+
+def contact_along(robot, result, mu: float, sole: tuple[float, float] | None = None) -> ContactResult:
+    """Heel/toe contact along an inverse-dynamics result.
+
+    Args:
+        robot: a two-legged robot with the same kinematics as the result's (frames
+            ``<side>_foot``, ``<side>_heel``, ``<side>_toe``).
+        result: anything with ``t``, ``theta``, ``q`` (N x nq), ``stance`` (N sides) and
+            ``ground`` (N x 3: Fx, Fz [N], CCW moment at the stance ankle [N.m]), e.g. a
+            :class:`~pasibot_pin.dynamics.inverse.TorqueResult`.
+        mu: Coulomb friction coefficient [-].
+        sole: override (s_heel, s_toe) along the sole from the ankle [m] (what-if: a longer foot).
+
+    Returns:
+        A :class:`ContactResult`; never raises for an infeasible contact (it is flagged).
+
+    """
+    mu = _check_mu(mu)
+    if not robot.floating:
+        raise ValueError("contact_along needs the two-legged robot (its stance foot carries the ground wrench)")
+    ground = np.asarray(result.ground, dtype=float)
+    n = len(result.t)
+    if ground.shape != (n, 3) or len(result.q) != n or len(result.stance) != n:
+        raise ValueError("parameter 'result': t, q, stance and ground (N x 3) must have one row per sample")
+    if sole is not None and not (len(sole) == 2 and sole[0] < 0 < sole[1]):
+        raise ValueError(f"parameter 'sole' must be (s_heel < 0 < s_toe) [m], got {sole!r}")
+    arrays = {k: np.zeros(n) for k in ("s_cop", "cop_x", "ankle_x", "s_heel", "s_toe", "margin", "mu_needed")}
+    heel_f, toe_f, resid = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros((n, 3))
+    feasible = np.zeros(n, dtype=bool)
+    reasons, status = [], []
+    for k in range(n):
+        ax, _az, pitch, s_h, s_t = sole_geometry(robot, np.asarray(result.q[k]), result.stance[k])
+        if sole is not None:
+            s_h, s_t = float(sole[0]), float(sole[1])
+        sol = distribute(ground[k], s_h, s_t, mu, pitch)
+        heel_f[k], toe_f[k] = sol.forces
+        feasible[k] = sol.feasible
+        reasons.append(sol.reasons)
+        status.append(sol.status)
+        resid[k] = sol.residual
+        arrays["s_cop"][k], arrays["margin"][k], arrays["mu_needed"][k] = sol.s_cop, sol.margin, sol.mu_needed
+        arrays["ankle_x"][k], arrays["s_heel"][k], arrays["s_toe"][k] = ax, s_h, s_t
+        arrays["cop_x"][k] = ax + sol.s_cop * math.cos(pitch) if math.isfinite(sol.s_cop) else sol.s_cop
+    return ContactResult(
+        t=np.asarray(result.t, dtype=float),
+        theta=np.asarray(result.theta, dtype=float),
+        stance=list(result.stance),
+        mu=mu,
+        wrench=ground,
+        heel_force=heel_f,
+        toe_force=toe_f,
+        feasible=feasible,
+        reasons=reasons,
+        status=status,
+        residual=resid,
+        **arrays,
+    )
+
+
+def scenario_contact(
+    name: str,
+    preset: str = "default",
+    mu: float = 0.6,
+    samples: int = 60,
+    sole: tuple[float, float] | None = None,
+    variant: str = "spring",
+):
+    """Inverse dynamics and heel/toe contact of one seed scenario over one right stance.
+
+    Args:
+        name: scenario name (:data:`pasibot_pin.model.scenarios.SCENARIOS`): crank speed, body mass and COM.
+        preset: modelling preset of the ``spring`` variant (masses, swing foot); accelerations are exact.
+        mu: Coulomb friction coefficient [-].
+        samples: crank samples over theta in [pi/2, 3 pi/2) (at 3 pi/2 the other foot takes over).
+        sole: what-if (s_heel, s_toe) along the sole from the ankle [m].
+        variant: ``spring`` or ``parallel`` (any variant: the same inverse dynamics; the
+            preset's masses with the scenario's body mass and COM).
+
+    Returns:
+        (the inverse-dynamics result, :class:`ContactResult`).
+
+    """
+    from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+    from pasibot_pin.model.scenarios import get_preset, get_scenario
+
+    if samples < 2:
+        raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
+    scenario = get_scenario(name)
+    thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
+    choices = get_preset(preset).with_(accelerations="exact", fit_thetas=None)
+    robot = scenario_robot(scenario, choices, variant)
+    torques = inverse_dynamics(robot, thetas, scenario.omega, swing_foot=choices.swing_foot, stance="right")
+    return torques, contact_along(robot, torques, mu, sole=sole)
