@@ -77,6 +77,24 @@ def test_jacobian_drift_and_time_derivative_match_finite_differences(robots, key
 
 
 @pytest.mark.parametrize("key", MODELS, ids=[f"{v}-{n}" for v, n in MODELS])
+def test_planar_kinematics_equal_pinocchios_kinematics(robots, key):
+    """The exact planar evaluation (default) against Pinocchio's joint Jacobians and classical accelerations."""
+    robot = robots[key]
+    fast = _system(robot)
+    ref = ConstraintSystem(
+        robot.model, robot.model.createData(), robot.constraint_models, _scalars(robot), 0.05, kinematics="pinocchio"
+    )
+    assert fast._planar_ends is not None and ref._planar_ends is None
+    for seed in range(3):
+        q, v = _moving_state(robot, 20 + seed)
+        a, b = fast.evaluate(q, v, 0.4), ref.evaluate(q, v, 0.4)
+        np.testing.assert_allclose(a.phi, b.phi, atol=1e-13)
+        np.testing.assert_allclose(a.jac, b.jac, atol=1e-12)
+        np.testing.assert_allclose(a.drift, b.drift, atol=1e-10 * max(1.0, np.max(np.abs(b.drift))))
+        np.testing.assert_allclose(a.phi_t, b.phi_t, atol=0)
+
+
+@pytest.mark.parametrize("key", MODELS, ids=[f"{v}-{n}" for v, n in MODELS])
 def test_constraint_rows_match_pinocchios_constraint_jacobian(robots, key):
     robot = robots[key]
     cs = _system(robot)

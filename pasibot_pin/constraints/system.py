@@ -40,6 +40,24 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld
+from pasibot_pin.constraints.planar import PlanarKinematics, PlanarRowBlocks
+
+_PLANAR_CACHE: dict[int, tuple[pin.Model, PlanarKinematics | None]] = {}
+
+
+def planar_kinematics(model: pin.Model) -> PlanarKinematics | None:
+    """The exact planar kinematics of ``model`` (cached), or ``None`` when the model is not planar."""
+    entry = _PLANAR_CACHE.get(id(model))
+    if entry is None or entry[0] is not model:
+        try:
+            kin = PlanarKinematics(model)
+        except ValueError:
+            kin = None
+        if len(_PLANAR_CACHE) >= 16:
+            _PLANAR_CACHE.pop(next(iter(_PLANAR_CACHE)))
+        entry = _PLANAR_CACHE[id(model)] = (model, kin)  # the entry keeps the model alive: no id reuse
+    return entry[1]
+
 
 RELATIVE_TOL = 2e-11
 """Newton stops when every length row is below RELATIVE_TOL * length_scale (1e-12 m at L = 0.05 m)."""
@@ -192,6 +210,9 @@ class ConstraintSystem:
         cmodels: ``RigidConstraintModel`` s (CONTACT_3D points, CONTACT_6D welds).
         scalars: :class:`CoordinateRow` / :class:`PitchRow` rows, in order.
         length_scale: the robot's length unit L [m]; Newton's tolerance is relative to it.
+        kinematics: ``planar`` (the exact vectorised planar kinematics of :mod:`.planar`, when the
+            model is planar; Pinocchio otherwise) or ``pinocchio`` (Pinocchio's joint Jacobians
+            and classical accelerations: the reference the tests compare with).
 
     """
 
@@ -202,6 +223,7 @@ class ConstraintSystem:
         cmodels: Sequence[pin.RigidConstraintModel] = (),
         scalars: Sequence[ScalarRow] = (),
         length_scale: float = 0.05,
+        kinematics: str = "planar",
     ):
         if model.nq != model.nv:
             raise ValueError(f"the constraint system needs nq == nv (revolute/prismatic joints), got {model.nq}")
@@ -209,6 +231,9 @@ class ConstraintSystem:
         self.cmodels = list(cmodels)
         self.length_scale = float(length_scale)
         self._zero_v = np.zeros(model.nv)
+        if kinematics not in ("planar", "pinocchio"):
+            raise ValueError(f"parameter 'kinematics' must be 'planar' or 'pinocchio', got {kinematics!r}")
+        self._planar = planar_kinematics(model) if kinematics == "planar" else None
         # the two ends of every constraint model
         ends = []
         for cm in self.cmodels:
@@ -273,6 +298,7 @@ class ConstraintSystem:
                 jm = model.joints[sup]
                 mask[k, jm.idx_v : jm.idx_v + jm.nv] = 1.0
         self._mask = mask
+        self._planar_ends = None if self._planar is None else self._planar.ends(self._joints, self._trans, self._rots)
         self._lin = np.array(lin).reshape(-1, nv)
         self._lin_rows = np.array(lin_rows, dtype=int)
         self._pitch_rows = np.array(pitch_rows, dtype=int)
@@ -288,6 +314,17 @@ class ConstraintSystem:
                 tol[row + k] = ANGLE_TOL
         self.tolerance = tol
         self.labels = self._constraint_labels + [s.name for s in self.scalars]
+        if self._planar_ends is not None:
+            pairs = [(2 * c, 2 * c + 1) for c in range(len(self.cmodels))]
+            pitch_pairs = [(int(a), int(b)) for a, b in zip(self._weld_a, self._weld_b)]
+            pitch_pairs += [(int(e), -1) for e in self._pitch_ends]
+            self._blocks = PlanarRowBlocks(self._planar_ends, pairs, pitch_pairs)
+            template = np.zeros((self.nrows, nv))
+            n_weld = len(self._weld_rows)
+            template[self._weld_rows] = self._blocks.pitch_A[:n_weld]
+            template[self._pitch_rows] = self._blocks.pitch_A[n_weld:]
+            template[self._lin_rows] = self._lin
+            self._jac_template = template
 
     def _angular(self, row: CoordinateRow) -> bool:
         """True when every coordinate of the row is a rotation (revolute joints and the hip pitch)."""
@@ -330,6 +367,8 @@ class ConstraintSystem:
             targets: the scalar rows' targets instead of offset + rate t.
 
         """
+        if self._planar_ends is not None:
+            return self._evaluate_planar(q, v, t, targets)
         model, data = self.model, self.data
         nv = model.nv
         if v is None:
@@ -380,6 +419,11 @@ class ConstraintSystem:
                 jac[pr] = -jwy[pe]
                 if v is not None:
                     drift[pr] = -alpha_y[pe]
+        return self._finish(phi, jac, drift, q, t, targets)
+
+    def _finish(self, phi, jac, drift, q, t, targets) -> Rows:
+        """Fill the coordinate rows, subtract the scalar rows' targets and add Phi_t."""
+        m = self.nrows
         lr = self._lin_rows
         if len(lr):
             phi[lr] = self._lin @ q
@@ -393,6 +437,25 @@ class ConstraintSystem:
         phi_t = np.zeros(m)
         phi_t[n0:] = -self._rate
         return Rows(phi, jac, drift, phi_t)
+
+    def _evaluate_planar(self, q, v, t, targets) -> Rows:
+        """:meth:`evaluate` through the exact planar kinematics (complex products, no Pinocchio call)."""
+        m = self.nrows
+        phi, drift = np.zeros(m), np.zeros(m)
+        jac = self._jac_template.copy()
+        rows, jc, dc, pitch = self._blocks.evaluate(q, v)
+        rx, rz = self._rx, self._rz
+        if len(rx):
+            phi[rx], phi[rz] = rows.real, rows.imag
+            jac[rx], jac[rz] = jc.real, jc.imag
+            if dc is not None:
+                drift[rx], drift[rz] = dc.real, dc.imag
+        n_weld = len(self._weld_rows)
+        if n_weld:  # pitch is linear in q: constant Jacobian rows, no drift
+            phi[self._weld_rows] = _wrap(pitch[:n_weld])
+        if len(self._pitch_rows):
+            phi[self._pitch_rows] = pitch[n_weld:]
+        return self._finish(phi, jac, drift, q, t, targets)
 
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""

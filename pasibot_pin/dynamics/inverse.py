@@ -271,14 +271,14 @@ def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
 
 
-def constraint_fext(robot: PasibotRobot, cmodels, lam: np.ndarray, fext: list[pin.Force] | None = None):
+def constraint_fext(robot: PasibotRobot, q: np.ndarray, cmodels, lam: np.ndarray, fext: list[pin.Force] | None = None):
     """External forces (joint-local ``pin.Force`` list) equivalent to J_c^T lambda (in-plane rows).
 
     A point constraint's (lambda_x, lambda_z) acts on its first frame, the opposite on its
     second; a weld's third row is a counter-clockwise moment on the welded body.
-    Call after forward kinematics at q.
     """
     model, data = robot.model, robot.data
+    pin.forwardKinematics(model, data, q)
     fext = [pin.Force.Zero() for _ in range(model.njoints)] if fext is None else fext
     r = 0
     for cm in cmodels:
@@ -498,7 +498,7 @@ def inverse_dynamics(
         if not quasi_static:
             predictor = v / omega
         if reactions:
-            fext = constraint_fext(rs, cms, lam, fext_inertia)
+            fext = constraint_fext(rs, q, cms, lam, fext_inertia)
             reac = joint_reactions(rs, q, v_id, a_id, fext)
 
         swing = other(side)

@@ -1,0 +1,253 @@
+"""Exact planar kinematics of constraint points, vectorised: positions, Jacobians and drifts in a few products.
+
+PASIBOT is planar: every joint turns about y or slides in the x-z plane, and every joint
+placement is a rotation about y. So the pitch of every frame is linear in q,
+phi = a0 + A q, and the world (x, z) of a point is a sum of constant vectors, each turned by
+the pitch of the frame that carries it (and, for a slider, times its coordinate):
+
+    p(q) = sum_k R(phi_k(q)) c_k [q_m(k)],   R(phi) = [[cos, -sin], [sin, cos]].
+
+Collecting the terms of every constraint end once turns the residual, the Jacobian and the
+drift J_dot v (the second time derivative at zero joint acceleration) into a handful of small
+matrix products, instead of one Python call per body. This is the same model Pinocchio
+evaluates (``tests/test_constraints.py`` checks both against each other and against finite
+differences); Pinocchio's C++ stays in charge of everything dynamic (rnea, crba).
+
+Pitch is counter-clockwise seen from the robot's right side (about -y). Units: SI, rad.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pinocchio as pin
+
+
+def _pitch(rotation: np.ndarray) -> float:
+    return math.atan2(rotation[2, 0], rotation[0, 0])
+
+
+def _is_planar_rotation(rotation: np.ndarray) -> bool:
+    return abs(rotation[1, 1] - 1.0) < 1e-12 and abs(rotation[0, 1]) < 1e-12 and abs(rotation[2, 1]) < 1e-12
+
+
+class PlanarKinematics:
+    """The frames of a planar Pinocchio model as linear pitches and sums of turned vectors.
+
+    Args:
+        model: a Pinocchio model whose joints are revolute about +-y, prismatic along x or z,
+            or a composite of those (the planar floating hip), with placements turning about y.
+
+    Raises:
+        ValueError: a joint or placement that is not planar (use the general path instead).
+
+    """
+
+    def __init__(self, model: pin.Model):
+        nv = model.nv
+        self.nv = nv
+        # per joint: pitch (a0, A) and the list of position terms (term indices)
+        self.terms_a0: list[float] = []
+        self.terms_A: list[np.ndarray] = []
+        self.terms_c: list[np.ndarray] = []
+        self.terms_slider: list[int] = []  # velocity index multiplying the term, or -1
+        self.joint_a0 = np.zeros(model.njoints)
+        self.joint_A = np.zeros((model.njoints, nv))
+        self.joint_terms: list[list[int]] = [[] for _ in range(model.njoints)]
+        for j in range(1, model.njoints):
+            parent = model.parents[j]
+            placement = model.jointPlacements[j]
+            if not _is_planar_rotation(placement.rotation):
+                raise ValueError(f"joint {model.names[j]!r}: its placement does not turn about y")
+            a0, A = self.joint_a0[parent], self.joint_A[parent].copy()
+            terms = list(self.joint_terms[parent])
+            terms.append(self._term(a0, A, placement.translation[[0, 2]], -1))
+            a0 += _pitch(placement.rotation)
+            joint = model.joints[j]
+            subjoints = joint.extract().joints if joint.shortname() == "JointModelComposite" else [joint]
+            index = joint.idx_v
+            for sub in subjoints:
+                a0, A = self._apply(sub, a0, A, terms, index, model.names[j])
+                index += 1
+            self.joint_a0[j], self.joint_A[j], self.joint_terms[j] = a0, A, terms
+        self.terms_a0_arr = np.array(self.terms_a0)
+        self.terms_A_arr = np.array(self.terms_A).reshape(-1, nv)
+        self.terms_c_arr = np.array(self.terms_c).reshape(-1, 2)
+        self.terms_slider_arr = np.array(self.terms_slider, dtype=int)
+
+    def _term(self, a0: float, A: np.ndarray, c: np.ndarray, slider: int) -> int:
+        self.terms_a0.append(float(a0))
+        self.terms_A.append(np.array(A, dtype=float))
+        self.terms_c.append(np.array(c, dtype=float))
+        self.terms_slider.append(int(slider))
+        return len(self.terms_a0) - 1
+
+    def _apply(self, sub, a0: float, A: np.ndarray, terms: list[int], index: int, name: str):
+        kind = sub.shortname()
+        if kind in ("JointModelRevoluteUnaligned", "JointModelRY"):
+            axis = sub.extract().axis if kind == "JointModelRevoluteUnaligned" else np.array([0.0, 1.0, 0.0])
+            if abs(abs(axis[1]) - 1.0) > 1e-12:
+                raise ValueError(f"joint {name!r} does not turn about y")
+            A = A.copy()
+            A[index] -= axis[1]  # about +y by q is a pitch of -q (pitch is about -y)
+            return a0, A
+        if kind in ("JointModelPX", "JointModelPZ"):
+            c = np.array([1.0, 0.0]) if kind == "JointModelPX" else np.array([0.0, 1.0])
+            terms.append(self._term(a0, A, c, index))
+            return a0, A
+        raise ValueError(f"joint {name!r} of kind {kind} is not planar")
+
+    def ends(self, joints: np.ndarray, translations: np.ndarray, rotations: np.ndarray) -> PlanarEnds:
+        """Precompute the points fixed at ``translations`` on ``joints`` (and their frames' pitch)."""
+        return PlanarEnds(self, joints, translations, rotations)
+
+
+class PlanarEnds:
+    """Points (with their frames' pitch) fixed on joints of a :class:`PlanarKinematics`."""
+
+    def __init__(self, kin: PlanarKinematics, joints: np.ndarray, translations: np.ndarray, rotations: np.ndarray):
+        nv = kin.nv
+        n_ends = len(joints)
+        used: dict[int, int] = {}
+        a0, A, c, slider = [], [], [], []
+
+        def use(term: int) -> int:
+            if term not in used:
+                used[term] = len(a0)
+                a0.append(kin.terms_a0[term])
+                A.append(kin.terms_A[term])
+                c.append(kin.terms_c[term])
+                slider.append(kin.terms_slider[term])
+            return used[term]
+
+        rows: list[list[int]] = []
+        self.pitch_a0 = np.zeros(n_ends)
+        self.pitch_A = np.zeros((n_ends, nv))
+        for e, (joint, t, rot) in enumerate(zip(joints, translations, rotations)):
+            joint = int(joint)
+            idx = [use(k) for k in kin.joint_terms[joint]]
+            # the end's own offset, turned by its joint's pitch (a term of its own, not shared)
+            a0.append(kin.joint_a0[joint])
+            A.append(kin.joint_A[joint])
+            c.append(np.array(t, dtype=float)[[0, 2]])
+            slider.append(-1)
+            idx.append(len(a0) - 1)
+            rows.append(idx)
+            self.pitch_a0[e] = kin.joint_a0[joint] + _pitch(rot)
+            self.pitch_A[e] = kin.joint_A[joint]
+        self.a0 = np.array(a0, dtype=float)
+        self.A = np.array(A, dtype=float).reshape(-1, nv)
+        self.cx = np.array([v[0] for v in c])
+        self.cz = np.array([v[1] for v in c])
+        self.slider = np.array(slider, dtype=int)
+        self.has_slider = bool(np.any(self.slider >= 0))
+        self.S = np.zeros((n_ends, len(a0)))
+        for e, idx in enumerate(rows):
+            self.S[e, idx] = 1.0
+
+    def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
+        """World positions (E, 2), Jacobians d(x, z)/dq (E, nv) x 2, drifts (E, 2) or None, pitches (E,).
+
+        Args:
+            q: configuration (nq == nv).
+            v: velocity for the drift J_dot v, or ``None``.
+
+        """
+        phi = self.a0 + self.A @ q
+        cos, sin = np.cos(phi), np.sin(phi)
+        cx, cz = self.cx, self.cz
+        vx, vz = cos * cx - sin * cz, sin * cx + cos * cz  # R(phi) c
+        px, pz = -vz, vx  # dR/dphi c = perp
+        if self.has_slider:
+            m = np.where(self.slider >= 0, q[np.maximum(self.slider, 0)], 1.0)
+        else:
+            m = 1.0
+        S = self.S
+        pos = np.column_stack((S @ (vx * m), S @ (vz * m)))
+        jx = S @ ((px * m)[:, None] * self.A)
+        jz = S @ ((pz * m)[:, None] * self.A)
+        if self.has_slider:
+            sl = self.slider >= 0
+            cols = self.slider[sl]
+            ex, ez = np.zeros((len(m), self.A.shape[1])), np.zeros((len(m), self.A.shape[1]))
+            ex[np.nonzero(sl)[0], cols] = vx[sl]
+            ez[np.nonzero(sl)[0], cols] = vz[sl]
+            jx = jx + S @ ex
+            jz = jz + S @ ez
+        drift = None
+        if v is not None:
+            w = self.A @ v
+            w2 = w * w
+            dx, dz = -vx * w2 * m, -vz * w2 * m
+            if self.has_slider:
+                mdot = np.where(self.slider >= 0, v[np.maximum(self.slider, 0)], 0.0)
+                dx = dx + 2 * px * w * mdot
+                dz = dz + 2 * pz * w * mdot
+            drift = np.column_stack((S @ dx, S @ dz))
+        pitch = self.pitch_a0 + self.pitch_A @ q
+        return pos, jx, jz, drift, pitch
+
+
+class PlanarRowBlocks:
+    """The point-coincidence and pitch rows of a constraint system, as complex products.
+
+    A point's world (x, z) is the complex number x + i z, so turning a vector c by phi is
+    c exp(i phi) and its derivative is i c exp(i phi). Each point-coincidence row pair is one
+    complex row of p_a - p_b, built by the signed selection ``D`` of the ends' terms. Pitch rows
+    are linear in q: their Jacobian is constant. Every array may carry leading batch axes
+    (q of shape (..., nv)), so many samples are evaluated in one call.
+
+    Args:
+        ends: the constraint ends (:class:`PlanarEnds`).
+        pairs: (a, b) end indices of each point coincidence (a weld's position rows too).
+        pitch_pairs: (a, b) end indices of each weld's pitch row (b may be -1: none).
+
+    """
+
+    def __init__(self, ends: PlanarEnds, pairs: list[tuple[int, int]], pitch_pairs: list[tuple[int, int]]):
+        self.c = ends.cx + 1j * ends.cz
+        self.a0, self.A = ends.a0, ends.A
+        self.slider = ends.slider
+        self.has_slider = ends.has_slider
+        self.D = np.array([ends.S[a] - ends.S[b] for a, b in pairs]).reshape(len(pairs), len(self.a0))
+        pitch_a0, pitch_A = [], []
+        for a, b in pitch_pairs:
+            a0 = ends.pitch_a0[a] - (ends.pitch_a0[b] if b >= 0 else 0.0)
+            A = ends.pitch_A[a] - (ends.pitch_A[b] if b >= 0 else 0.0)
+            pitch_a0.append(a0)
+            pitch_A.append(A)
+        self.pitch_a0 = np.array(pitch_a0, dtype=float)
+        self.pitch_A = np.array(pitch_A, dtype=float).reshape(len(pitch_pairs), self.A.shape[1])
+        if self.has_slider:
+            sl = self.slider >= 0
+            self._slider_terms = np.nonzero(sl)[0]
+            self._slider_cols = self.slider[sl]
+
+    def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
+        """Complex point rows P (..., n), their Jacobian (..., n, nv), drift (..., n) or None, pitch rows (..., p)."""
+        phi = self.a0 + q @ self.A.T  # (..., K)
+        value = self.c * np.exp(1j * phi)  # R(phi) c
+        turn = 1j * value  # dR/dphi c
+        if self.has_slider:
+            m = np.ones_like(phi)
+            m[..., self._slider_terms] = q[..., self._slider_cols]
+            term_value = value * m
+            term_jac = (turn * m)[..., None] * self.A
+            term_jac[..., self._slider_terms, self._slider_cols] += value[..., self._slider_terms]
+        else:
+            term_value = value
+            term_jac = turn[..., None] * self.A
+        rows = term_value @ self.D.T
+        jac = self.D @ term_jac
+        drift = None
+        if v is not None:
+            w = v @ self.A.T
+            term_drift = -term_value * w * w
+            if self.has_slider:
+                mdot = np.zeros_like(phi)
+                mdot[..., self._slider_terms] = v[..., self._slider_cols]
+                term_drift = term_drift + 2 * turn * w * mdot
+            drift = term_drift @ self.D.T
+        pitch = self.pitch_a0 + q @ self.pitch_A.T
+        return rows, jac, drift, pitch
