@@ -54,8 +54,8 @@ def test_build_urdf_rejects_bad_ratio(capsys):
 
 @pytest.mark.parametrize("variant", ["spring"])
 def test_analyze_model_step_writes_pictures(tmp_path, variant):
-    from pasibot_pin.cli import analyze
+    from pasibot_pin.report import model as model_report
 
-    section = analyze.step_model(tmp_path, None)
+    section = model_report.section(tmp_path)
     assert (tmp_path / f"robot_{variant}.png").stat().st_size > 10_000
     assert "Gruebler DOF" in section and (tmp_path / "info.txt").is_file()

@@ -130,12 +130,11 @@ def test_energy_errors():
 
 def test_analyze_step_contact_energy(tmp_path):
     """The ``contact_energy`` step of ``pasibot analyze``: its section, tables, CSVs and figures."""
-    import argparse
     import csv
 
-    from pasibot_pin.cli.analyze import STEPS
+    from pasibot_pin.report import contact_energy
 
-    text = dict(STEPS)["contact_energy"](tmp_path, argparse.Namespace())
+    text = contact_energy.section(tmp_path)
     assert text.startswith("## Beyond the report: contact, one motor, energy")
     for scenario in ("quasi-static", "run1", "run2", "run3", "run4"):
         for variant in ("spring", "parallel"):

@@ -382,10 +382,9 @@ def test_view_command_with_reactions_live(capsys):
 def test_analyze_step_writes_gait_html_and_gif(tmp_path):
     from PIL import Image
 
-    from pasibot_pin.cli.analyze import STEPS
+    from pasibot_pin.report import animation
 
-    step = dict(STEPS)["animation"]
-    section = step(tmp_path, None)
+    section = animation.section(tmp_path)
     assert (tmp_path / "gait.html").stat().st_size > 500_000
     with Image.open(tmp_path / "gait.gif") as gif:
         assert gif.n_frames == 2 * 30 // 2 + 1  # 2 steps of 30 samples, every other one

@@ -2,7 +2,8 @@
 
 The file embeds meshcat's viewer, the scene and the walk as a looping ``Animation``; it
 plays offline in any browser with WebGL. Add ``#t=SECONDS`` to its address to pause the walk
-at that time. Also the ``animation`` step of ``pasibot analyze`` (``gait.html`` and ``gait.gif``).
+at that time. The ``animation`` section of ``pasibot analyze`` (``gait.html`` and ``gait.gif``) is
+:func:`pasibot_pin.report.animation.section`.
 """
 
 from __future__ import annotations
@@ -60,41 +61,3 @@ def run(args: argparse.Namespace) -> int:
         f"{len(export.q)} frames at {export.fps:g} fps ({export.duration:.2f} s, looping)"
     )
     return 0
-
-
-def analyze_step(out_dir: Path, args: argparse.Namespace) -> str:
-    """``pasibot analyze`` step: ``gait.html`` (3-D, meshcat) and ``gait.gif`` (2-D stick figure)."""
-    import math
-
-    import numpy as np
-
-    from pasibot_pin.model.closure import constraint_residual
-    from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.animation import save_gif
-    from pasibot_pin.viz.viewer import export_html
-
-    variant, steps, samples, fps = "spring", 2, 30, 30.0
-    robot = load(variant, legs=2)
-    omega = math.pi * fps / samples  # the crank speed at which the animation plays [rad/s]
-    export = export_html(
-        out_dir / "gait.html", robot, steps=steps, samples_per_step=samples, fps=fps, force=True, reactions=omega
-    )
-    stride = 2  # every other frame: 15 GIF frames per step, played at the same speed as the HTML
-    gif_qs = export.q[::stride]
-    save_gif(robot, gif_qs, out_dir / "gait.gif", fps=fps / stride, force=True)
-    worst = max(float(np.abs(constraint_residual(robot, q, robot.loop_constraints)).max()) for q in export.q)
-    return "\n".join(
-        [
-            "## Watch it walk",
-            "",
-            f"The {variant} biped walks {steps} steps (one step per half crank turn; the stance foot is welded flat).",
-            f"[gait.html](gait.html) is one self-contained page (meshcat, {len(export.q)} frames at {fps:g} fps,"
-            " looping; open it in any browser, add `#t=1.0` to the address to pause at 1 s).",
-            f"Largest loop-closure residual over the exported frames: {worst:.1e} m.",
-            f"Arrows (from the constrained inverse dynamics at the playback crank speed {omega:.3f} rad/s):"
-            " magenta, the ground reaction through the centre of pressure (0.5 mm/N); yellow, the force"
-            " on the first link of each cut joint (the largest drawn 0.15 m long).",
-            "",
-            f"![2-D stick animation, {len(gif_qs)} frames](gait.gif)",
-        ]
-    )

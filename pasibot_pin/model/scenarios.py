@@ -24,11 +24,21 @@ SEED_FOOT_PARTS: tuple[float, float] = (1.0, 0.3)
 """The seed's foot split into a toe part and a heel part [kg] (1.3 kg rounded to 0.1 kg)."""
 
 
-def seed_foot_com(toe: float = 0.075, heel: float = 0.025) -> float:
-    """COM of the seed's two-part foot ahead of the ankle [m] (toe and heel bars, point masses mid-bar)."""
+def seed_foot_com(toe: float, heel: float) -> float:
+    """COM of the seed's two-part foot ahead of the ankle [m] (toe and heel bars, point masses mid-bar).
+
+    Args:
+        toe: ankle-to-toe length [m] (the geometry's, ``Geometry.foot_extent``).
+        heel: ankle-to-heel length [m].
+
+    """
     m_toe, m_heel = SEED_FOOT_PARTS
     return (m_toe * toe / 2 - m_heel * heel / 2) / (m_toe + m_heel)
 
+
+DEFAULT_BODY_MASS: float = 16.0
+"""The body (hip) mass of the seed's runs 1 and 2 as its text states it [kg]: the default body of the
+energy and contact studies (:data:`SCENARIOS` holds every run's own)."""
 
 SEED_ROUNDED_LINK_MASSES: Mapping[str, float] = {
     "l1": 0.3,

@@ -41,6 +41,7 @@ import pinocchio as pin
 
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
+from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -248,7 +249,7 @@ def _step_energy(robot, result, weights, omega, variant, fit=None) -> StepEnergy
 def step_energy(
     variant: str,
     omega: float,
-    body_mass: float = 16.0,
+    body_mass: float = DEFAULT_BODY_MASS,
     body_com_dx: float = 0.0,
     nodes: int = NODES,
     theta_end: float = STEP_END,
@@ -300,7 +301,7 @@ def parallel_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, obj
 
 def omega_table(
     omegas: Sequence[float],
-    body_mass: float = 16.0,
+    body_mass: float = DEFAULT_BODY_MASS,
     body_com_dx: float = 0.0,
     nodes: int = NODES,
     variants: Sequence[str] = ("spring", "parallel"),

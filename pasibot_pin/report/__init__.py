@@ -1,0 +1,1 @@
+"""Report writers: files, figures and Markdown sections built from study results."""

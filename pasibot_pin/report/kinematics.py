@@ -1,0 +1,229 @@
+"""Files, printouts and the Markdown section of the kinematics study (:mod:`pasibot_pin.studies.kinematics_study`).
+
+- :func:`write_rows_csv`, :func:`write_leg_csv`, :func:`write_walk_csv`: samples as CSV.
+- :func:`write_leg_plot`, :func:`write_walk_plot`: figures of :mod:`pasibot_pin.viz.plots_gait`.
+- :func:`leg_summary`, :func:`walk_summary`: the ``pasibot gait`` printouts.
+- :func:`section`: the ``kinematics`` section of ``pasibot analyze``.
+"""
+
+from __future__ import annotations
+
+import csv
+from pathlib import Path
+
+import numpy as np
+
+from pasibot_pin.studies.kinematics_study import (
+    LEG_COLUMNS,
+    KinematicsSurvey,
+    LegRun,
+    WalkRun,
+    kinematics_survey,
+    leg_rows,
+    walk_columns,
+    walk_rows,
+)
+
+
+# --------------------------------------------------------------------------- files
+def write_rows_csv(path: Path, columns: list[str] | tuple[str, ...], rows: np.ndarray | list) -> None:
+    """Write rows under a header; floats at full precision, other cells (int, str) as they are.
+
+    Args:
+        path: output file; its folder is created.
+        columns: the header.
+        rows: one sequence of cells per row.
+
+    """
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("w", newline="") as handle:
+        writer = csv.writer(handle)
+        writer.writerow(columns)
+        for row in rows:
+            writer.writerow([repr(float(x)) if isinstance(x, (float, np.floating)) else x for x in row])
+
+
+def write_leg_csv(path: Path, run: LegRun) -> None:
+    """Write a leg run's samples (columns :data:`~pasibot_pin.studies.kinematics_study.LEG_COLUMNS`)."""
+    write_rows_csv(path, LEG_COLUMNS, leg_rows(run.cycle))
+
+
+def write_walk_csv(path: Path, run: WalkRun) -> None:
+    """Write a walk's samples (columns :func:`~pasibot_pin.studies.kinematics_study.walk_columns`)."""
+    write_rows_csv(path, walk_columns(), walk_rows(run.walk))
+
+
+def _save(fig, path: Path, dpi: int) -> None:
+    import matplotlib.pyplot as plt
+
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+
+
+def _pyplot():
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    return plt
+
+
+def write_leg_plot(path: Path, run: LegRun, dpi: int = 120) -> None:
+    """Write the leg summary figure (paths, foot pitch, ankle velocity and acceleration).
+
+    Args:
+        path: output image (.png, .pdf, .svg); its folder is created.
+        run: the leg run.
+        dpi: resolution [dots per inch].
+
+    """
+    _pyplot()
+    from pasibot_pin.viz.plots_gait import plot_leg_summary
+
+    _save(plot_leg_summary(run.cycle), path, dpi)
+
+
+def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11, 10), dpi: int = 120) -> None:
+    """Write the walk figure: the feet and hip paths above the hip height and pitch.
+
+    Args:
+        path: output image (.png, .pdf, .svg); its folder is created.
+        run: the walk run.
+        figsize: figure size [in].
+        dpi: resolution [dots per inch].
+
+    """
+    plt = _pyplot()
+    from pasibot_pin.viz.plots_gait import plot_walk, plot_walk_hip
+
+    fig, axes = plt.subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]})
+    plot_walk(run.walk, ax=axes[0])
+    plot_walk_hip(run.walk, ax=axes[1])
+    fig.tight_layout()
+    _save(fig, path, dpi)
+
+
+# --------------------------------------------------------------------------- printouts
+def leg_summary(run: LegRun) -> str:
+    """The ``pasibot gait --legs 1`` printout: sample count, straight-line metrics, ankle speeds."""
+    lines = [f"PASIBOT {run.variant}, one leg, {len(run.cycle.theta)} samples, omega = {run.omega:g} rad/s"]
+    lines += [f"  {key:22s} {value:.6g}" for key, value in run.metrics.in_L().items()]
+    lines.append("  ankle v_x / (L omega) at 90, 180, 270 deg: " + ", ".join(f"{v:.6f}" for v in run.speed_ratios))
+    return "\n".join(lines)
+
+
+def walk_summary(run: WalkRun) -> str:
+    """The ``pasibot gait --legs 2`` printout: hip advance, height and pitch, closure, exchange jumps."""
+    w = run.walk
+    lines = [
+        f"PASIBOT {run.variant}, two legs, foot = {run.foot}, {run.steps} step(s), {w.n} samples",
+        f"  hip advance per step / L: {', '.join(f'{d / run.L:.6f}' for d in run.hip_advance)}",
+        f"  hip height peak-to-peak / L: {run.hip_height_ptp / run.L:.6f}",
+        f"  hip pitch range [deg]: {np.degrees(run.hip_pitch.min()):.4f} .. {np.degrees(run.hip_pitch.max()):.4f}",
+        f"  largest closure residual: {run.max_residual:.2e}",
+    ]
+    if run.max_jump > 1e-9:
+        lines.append(f"  pose jump at the exchanges (the new stance foot lands tilted): {run.max_jump:.4f}")
+    return "\n".join(lines)
+
+
+# --------------------------------------------------------------------------- the section
+def walk_name(run: WalkRun) -> str:
+    """File stem of a survey walk: ``walk_<variant>``, with ``_<foot>`` unless the foot is flat."""
+    return f"walk_{run.variant}" if run.foot == "flat" else f"walk_{run.variant}_{run.foot}"
+
+
+def _markdown(result: KinematicsSurvey) -> str:
+    s = result.settings
+    lines = [
+        "## Kinematics (seed §4, §5)",
+        "",
+        "One leg in the leg frame (origin at the crank pivot, x forward, z up), crank every "
+        f"{s.leg_step_deg:g} deg, ω = {s.omega:g} rad/s. Extremes refined on the closure manifold. "
+        "Ground-span tolerance 0.02 L.",
+        "",
+        "| variant | stroke/L | ankle band/L | lift/L | ground span [deg] | stance foot pitch max [deg] "
+        "| foot pitch at θ=0 [deg] | v_x/(Lω) at 90/180/270 deg |",
+        "|---|---|---|---|---|---|---|---|",
+    ]
+    for variant, run in result.legs.items():
+        m = run.metrics.in_L()
+        lines.append(
+            f"| {variant} | {m['stroke/L']:.6f} | {m['ankle_band/L']:.6f} | {m['lift/L']:.6f} "
+            f"| {m['ground_span_deg']:.3f} | {m['stance_pitch_max_deg']:.4f} | {m['pitch_at_zero_deg']:.3f} "
+            f"| {' / '.join(f'{v:.6f}' for v in run.speed_ratios)} |"
+        )
+    lines += ["", f"K sweep ({s.k_variant}; seed Fig 4.2.4):", "", "| K | stroke/L | ankle band/L | lift/L |"]
+    lines.append("|---|---|---|---|")
+    for K, met in zip(result.sweep.K, result.sweep.metrics):
+        d = met.in_L()
+        lines.append(f"| {K:g} | {d['stroke/L']:.4f} | {d['ankle_band/L']:.4f} | {d['lift/L']:.4f} |")
+    lines += [
+        "",
+        "6x4 geometric Jacobian of the open chain θ1, θ2, θ4, θ6 (joint 0 to the ankle) at "
+        f"θ = {np.degrees(s.jacobian_theta):g} deg, rows v_x, v_y, v_z [m/s per rad/s], ω_x, ω_y, ω_z:",
+        "",
+        "```",
+        np.array2string(result.jacobian, precision=5, suppress_small=True),
+        "```",
+        "",
+        "![leg summaries](kinematics_leg_parallel.png) ![foot pitch](foot_pitch.png) ![K sweep](k_sweep.png)",
+        "",
+        f"Biped walks (world frame, {s.walk_steps} steps, {s.walk_step_deg:g} deg per sample; hip = the crank axis):",
+        "",
+        "| variant | foot | hip advance per step / L | hip height p-p / L | hip pitch [deg] | max closure residual "
+        "| pose jump at exchange |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for run in result.walks:
+        pitch = np.degrees(run.hip_pitch)
+        lines.append(
+            f"| {run.variant} | {run.foot} | {', '.join(f'{a:.4f}' for a in run.hip_advance / run.L)} "
+            f"| {run.hip_height_ptp / run.L:.5f} | {pitch.min():.3f} .. {pitch.max():.3f} "
+            f"| {run.max_residual:.1e} | {run.max_jump:.4f} |"
+        )
+    lines += [
+        "",
+        "With a flat-welded rigid foot the hip must pitch with the shank and the pose jumps at every exchange "
+        "(the seed's reason for the parallel extension); the rigid advance per step is therefore not 8 L. "
+        "The `point` (ankle pinned) and `toe` (toe pinned) rows are the seed's Figs 4.2.7 and 4.2.8, "
+        "hip level.",
+        "",
+        "![spring walk](walk_spring.png)",
+    ]
+    return "\n".join(lines)
+
+
+def section(out_dir: Path) -> str:
+    """Run the kinematics survey with default settings; write its files into ``out_dir``; return the section.
+
+    Writes ``kinematics_leg_<variant>.png/.csv``, ``foot_pitch.png``, ``k_sweep.png``,
+    ``walk_<variant>.png/.csv`` and the seed's ``walk_rigid_point.png/.csv`` and
+    ``walk_rigid_toe.png/.csv``.
+
+    Args:
+        out_dir: the analysis folder (created if missing).
+
+    Returns:
+        The ``## Kinematics`` section of ``report.md`` (image links relative to ``out_dir``).
+
+    """
+    _pyplot()
+    from pasibot_pin.viz.plots_gait import plot_foot_pitch, plot_k_sweep
+
+    out_dir = Path(out_dir)
+    out_dir.mkdir(parents=True, exist_ok=True)
+    result = kinematics_survey()
+    for variant, run in result.legs.items():
+        write_leg_csv(out_dir / f"kinematics_leg_{variant}.csv", run)
+        write_leg_plot(out_dir / f"kinematics_leg_{variant}.png", run, dpi=110)
+    _save(plot_foot_pitch({v: run.cycle for v, run in result.legs.items()}), out_dir / "foot_pitch.png", 110)
+    _save(plot_k_sweep(result.sweep), out_dir / "k_sweep.png", 110)
+    for run in result.walks:
+        write_walk_csv(out_dir / f"{walk_name(run)}.csv", run)
+        write_walk_plot(out_dir / f"{walk_name(run)}.png", run, figsize=(12, 10), dpi=100)
+    return _markdown(result)

@@ -1,0 +1,27 @@
+"""The model section of the report: summaries of every variant and a side view of each biped."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pasibot_pin.model.params import VARIANTS
+from pasibot_pin.model.robot import load
+
+
+def section(out_dir: Path) -> str:
+    """Write ``info.txt`` and ``robot_<variant>.png`` into ``out_dir``; return the Markdown section."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pasibot_pin.viz.plots import plot_robot
+
+    sections = ["## Model", ""]
+    for variant in VARIANTS:
+        for legs in (1, 2):
+            sections += ["```", load(variant, legs).summary(), "```", ""]
+    (out_dir / "info.txt").write_text("\n\n".join(load(v, 2).summary() for v in VARIANTS) + "\n")
+    for variant in VARIANTS:
+        fig = plot_robot(load(variant, 2))
+        fig.savefig(out_dir / f"robot_{variant}.png", dpi=120)
+    sections += [f"![{v} biped at q0](robot_{v}.png)" for v in VARIANTS]
+    return "\n".join(sections)

@@ -1,0 +1,295 @@
+"""Files and the Markdown section of the forward simulation (:mod:`pasibot_pin.studies.simulation_study`).
+
+- :func:`prepare_outputs`, :func:`write_simulation`: the files of ``pasibot simulate``
+  (``simulation_<scenario>.png``, ``.csv`` and optionally ``.gif`` / ``.html``);
+  :func:`case_line`: its console line per spring case.
+- :func:`study_table`, :func:`run_table`: Markdown tables of the every-scenario study.
+- :func:`section`: the ``simulation`` section of ``pasibot analyze``: per seed scenario, the hip
+  excursion with the fitted spring, none, half and twice K_e, gravity's toppling stiffness, a
+  (K_e, beta0) sweep, the swing-foot model check and an animation of the fast walk.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections.abc import Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from pasibot_pin.report.animation import export_animation
+from pasibot_pin.report.files import write_columns_csv
+
+PLOT_NAME = "simulation_{scenario}.png"
+CSV_NAME = "simulation_{scenario}.csv"
+GIF_NAME = "simulation_{scenario}.gif"
+HTML_NAME = "simulation_{scenario}.html"
+POOL_WORKERS = 2
+"""Processes running the scenario studies of :func:`section`."""
+
+
+# --------------------------------------------------------------------------- pasibot simulate
+@dataclass(frozen=True)
+class SimulateFiles:
+    """The files of one ``pasibot simulate`` run.
+
+    Attributes:
+        plot: hip pitch of every case (or the static equilibria at omega = 0).
+        csv: the fitted run's time series.
+        gif: stick GIF of the fitted run (``None``: not asked for).
+        html: meshcat HTML of the fitted run (``None``: not asked for).
+
+    """
+
+    plot: Path
+    csv: Path
+    gif: Path | None = None
+    html: Path | None = None
+
+
+def prepare_outputs(
+    out: Path, scenario: str, gif: bool = False, html: bool = False, force: bool = False
+) -> SimulateFiles:
+    """Create ``out`` and name the files of scenario ``scenario`` in it.
+
+    Raises:
+        FileExistsError: one of them exists and ``force`` is false.
+
+    """
+    out = Path(out)
+    out.mkdir(parents=True, exist_ok=True)
+    tag = str(scenario).replace(" ", "_")
+    files = SimulateFiles(
+        out / PLOT_NAME.format(scenario=tag),
+        out / CSV_NAME.format(scenario=tag),
+        out / GIF_NAME.format(scenario=tag) if gif else None,
+        out / HTML_NAME.format(scenario=tag) if html else None,
+    )
+    existing = [str(p) for p in (files.plot, files.csv, files.gif, files.html) if p is not None and p.exists()]
+    if existing and not force:
+        raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    return files
+
+
+def write_simulation(files: SimulateFiles, run, fps: float = 20.0) -> list[Path]:
+    """Write a :class:`~pasibot_pin.studies.simulation_study.SimulationRun`.
+
+    At omega = 0 only the static-equilibrium plot; otherwise the hip-pitch plot, the fitted
+    run's CSV (:func:`~pasibot_pin.studies.simulation_study.simulation_columns`) and the
+    animations asked for in ``files`` (``fps`` frames per simulated second [1/s]).
+
+    Returns:
+        The animation files written.
+
+    """
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.studies.simulation_study import simulation_columns
+    from pasibot_pin.viz.plots_simulation import plot_simulation, plot_static_equilibrium
+
+    if run.setup.quasi_static:
+        fig = plot_static_equilibrium(run.statics)
+        fig.savefig(files.plot, dpi=110)
+        plt.close(fig)
+        return []
+    robot = run.setup.scenario.robot
+    fig = plot_simulation(run.runs, main="fitted", rest_angle=run.setup.spring.rest_angle)
+    fig.savefig(files.plot, dpi=110)
+    plt.close(fig)
+    write_columns_csv(files.csv, simulation_columns(robot, run.fitted))
+    return export_animation(robot, run.fitted, files.html, files.gif, fps)
+
+
+def case_line(label: str, outcome) -> str:
+    """One console line per spring case: a walk's excursion and drift, or a static path's largest pitch.
+
+    Args:
+        label: the case label (``fitted``, ``no spring``, ...).
+        outcome: a :class:`~pasibot_pin.dynamics.simulator.SimulationResult` or, at omega = 0, a
+            :class:`~pasibot_pin.studies.spring_study.StaticEquilibrium`.
+
+    """
+    from pasibot_pin.studies.spring_study import StaticEquilibrium
+
+    if isinstance(outcome, StaticEquilibrium):
+        exc = outcome.max_excursion
+        text = "no stable equilibrium" if math.isinf(exc) else f"{math.degrees(exc):.3f} deg"
+        return f"  {label:10s} largest equilibrium |hip pitch| = {text}"
+    tail = f" ({outcome.message})" if outcome.message else ""
+    return (
+        f"  {label:10s} max |hip pitch| = {math.degrees(outcome.max_hip_excursion):8.3f} deg, "
+        f"max drift before projection = {outcome.max_drift:.1e}{tail}"
+    )
+
+
+# --------------------------------------------------------------------------- pasibot analyze
+def _deg(value: float, static: bool = False) -> str:
+    if math.isfinite(value):
+        return f"{math.degrees(value):.2f}"
+    return "no stable eq." if static else "fell"
+
+
+def study_table(studies: Sequence) -> list[str]:
+    """Markdown table of the excursions and the sweep result, one row per scenario.
+
+    Args:
+        studies: :class:`~pasibot_pin.studies.simulation_study.ScenarioStudy` per scenario.
+
+    """
+    import numpy as np
+
+    from pasibot_pin.studies.spring_study import SPRING_CASES
+
+    head = "| scenario | omega [rad/s] | fit K_e [N.m/rad] | fit beta0 [deg] | R^2 | k_g [N.m/rad] | K_e - k_g | "
+    head += " | ".join(f"{label} [deg]" for label, _ in SPRING_CASES)
+    head += " | most level (K_e, beta0) | its max abs pitch [deg] |"
+    lines = [head, "|" + "---|" * (head.count("|") - 1)]
+    for entry in studies:
+        st, k_g, fit = entry.study, entry.toppling, entry.spring_fit
+        static = not st.runs
+        cells = [
+            st.name,
+            f"{st.omega:g}",
+            f"{st.fitted.stiffness:.1f}",
+            f"{math.degrees(st.fitted.rest_angle):.2f}",
+            f"{fit.r2:.3f}" if fit is not None else "-",
+            f"{k_g:.1f}",
+            f"{st.fitted.stiffness - k_g:+.1f}",
+        ]
+        cells += [_deg(st.excursion[label], static) for label, _ in SPRING_CASES]
+        if st.best is not None:
+            best = float(np.min(st.sweep_excursion))
+            cells += [
+                f"({st.best[0]:.0f}, {math.degrees(st.best[1]):.1f}) {st.sweep_method}",
+                _deg(best, st.sweep_method == "static"),
+            ]
+        else:
+            cells += [f"none in the {st.sweep_method} sweep", "-"]
+        lines.append("| " + " | ".join(cells) + " |")
+    return lines
+
+
+def run_table(studies: Sequence) -> list[str]:
+    """Markdown table of every walk: excursion, duration, landing mismatch, swing sole, drift."""
+    lines = [
+        "| scenario | spring | max abs hip pitch [deg] | simulated [s] | largest landing height mismatch [mm] | "
+        "lowest swing sole [mm] | largest drift per step before projection |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    for entry in studies:
+        for label, res in entry.study.runs.items():
+            landing = f"{1000 * max(abs(i.height) for i in res.impacts):.1f}" if res.impacts else "-"
+            lines.append(
+                f"| {entry.name} | {label} | {_deg(res.max_hip_excursion)} | "
+                f"{res.t[-1]:.2f}{' (fell)' if res.fell else ''} | {landing} | "
+                f"{1000 * float(res.swing_height.min()):.1f} | {res.max_drift:.1e} |"
+            )
+    return lines
+
+
+def write_figures(out_dir: Path, studies: Sequence) -> list[str]:
+    """Per scenario: hip pitch of the walks, static equilibria, the sweep. Returns the names to show."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_simulation import plot_simulation, plot_spring_sweep, plot_static_equilibrium
+
+    figures = []
+    for study in (entry.study for entry in studies):
+        name = study.name
+        if study.runs:
+            fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
+            fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
+            fig.savefig(out_dir / f"simulation_{name}.png", dpi=100)
+            plt.close(fig)
+            figures.append(f"simulation_{name}.png")
+        fig = plot_static_equilibrium(study.statics)
+        fig.axes[0].set_title(f"{name}: static equilibrium (omega -> 0); missing: none stable")
+        fig.savefig(out_dir / f"simulation_static_{name}.png", dpi=100)
+        plt.close(fig)
+        if study.sweep_excursion is not None:
+            fitted = (study.fitted.stiffness, study.fitted.rest_angle)
+            fig = plot_spring_sweep(
+                study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best
+            )
+            fig.axes[0].set_title(f"{name}: {study.sweep_method} sweep of (K_e, beta0)")
+            fig.savefig(out_dir / f"simulation_sweep_{name}.png", dpi=100)
+            plt.close(fig)
+            figures.append(f"simulation_sweep_{name}.png")
+    return figures
+
+
+def section(out_dir: Path) -> str:
+    """``pasibot analyze`` section "simulation": does the fitted spring hold the hip, per seed scenario.
+
+    Runs :mod:`~pasibot_pin.studies.simulation_study` with its default settings (the scenario
+    studies on a pool of :data:`POOL_WORKERS` processes), writes the figures and the animation
+    of the check scenario's fitted walk into ``out_dir``.
+
+    Returns:
+        The Markdown section.
+
+    """
+    import multiprocessing
+    from concurrent.futures import ProcessPoolExecutor
+
+    from pasibot_pin.studies.simulation_study import SimulationStudySettings, scenario_studies, swing_foot_check
+
+    settings = SimulationStudySettings()
+    start = time.perf_counter()
+    with ProcessPoolExecutor(max_workers=POOL_WORKERS, mp_context=multiprocessing.get_context("fork")) as pool:
+        studies = scenario_studies(settings, map=pool.map)
+    print(f"    simulation studies of {len(studies)} scenarios: {time.perf_counter() - start:.1f} s", flush=True)
+    figures = write_figures(out_dir, studies)
+
+    # cross-check of the swing-foot model, and the animation, on the fast scenario
+    check = swing_foot_check(studies, settings)
+    name, base, full = check.scenario.name, check.base, check.full
+    gif, html = out_dir / GIF_NAME.format(scenario=name), out_dir / HTML_NAME.format(scenario=name)
+    try:
+        anim = export_animation(check.scenario.robot, base, html=html, gif=gif, fps=20.0)
+    except Exception as err:  # noqa: BLE001 - the viewer is optional here; report why it is missing
+        anim_note = f"animation not written: {err}"
+    else:
+        anim_note = f"animation of the fitted {name} walk: " + ", ".join(f"[{p.name}]({p.name})" for p in anim)
+
+    lines = [
+        "## Does the spring work? Forward simulation with the hip pitch free",
+        "",
+        "The `spring` biped walks with its hip pitch **free**: the cranks follow theta0 + omega t (a rheonomic",
+        "motor constraint; its multiplier is the motor torque), each ankle carries T = -K_e (beta - beta0) - c",
+        "beta_dot (c critically damps the unloaded foot), the stance foot is welded flat, and at each half crank",
+        "turn the swing foot lands (inelastic impulse). Own KKT solve per evaluation, RK4, projection of q and v",
+        "every step. The robot starts still at its static equilibrium (level if none is stable). At omega = 0",
+        "(quasi-static) the answer is the static equilibrium pitch along the stance (cranks held).",
+        "",
+        "k_g = g sum m_i (z_i - z_ankle) is gravity's toppling stiffness about the stance ankle (hip level,",
+        "mid-stance): a rigid rotation of the robot about the ankle needs K_e > k_g to be stable at all. Columns",
+        "'fitted', 'no spring', 'half K_e', 'twice K_e': largest |hip pitch| over the run (dynamic scenarios:",
+        "2 steps at 0.1 rad/s, 4 at 5 rad/s; 'fell' = passed 60 deg) or over the static equilibrium path",
+        "(quasi-static). Sweep: K_e = 0.8..4 x fit, beta0 = fit -6..+6 deg; static (equilibrium path) for",
+        "omega <= 0.1 rad/s, dynamic (walks) for omega = 5 rad/s.",
+        "",
+        *study_table(studies),
+        "",
+        *run_table(studies),
+        "",
+        "A negative lowest swing sole means the swing foot passed below the ground (swing contact is not",
+        "modelled): such runs describe a robot that would have stumbled.",
+        "",
+        f"Swing-foot model check ({name}, fitted spring, {settings.check_steps} steps): with the swing foot "
+        f"integrated on its spring (dt {1000 * settings.check_dt:g} ms) instead of held at its rest angle "
+        f"(dt {1000 * base.settings.dt:g} ms), the hip-pitch history differs by at most "
+        f"{math.degrees(check.gap):.2f} deg; final pitch {math.degrees(base.hip_pitch[-1]):.2f} vs "
+        f"{math.degrees(full.hip_pitch[-1]):.2f} deg.",
+        "",
+        anim_note,
+        "",
+        *[f"![{f}]({f})" for f in figures],
+    ]
+    return "\n".join(lines)

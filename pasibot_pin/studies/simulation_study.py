@@ -1,0 +1,373 @@
+"""Forward simulation with the hip pitch free: does the fitted ankle spring hold the hip at all.
+
+Two studies, both built on :mod:`pasibot_pin.studies.spring_study` and the simulator of
+:mod:`pasibot_pin.dynamics.simulator`:
+
+- one scenario walked with the fitted spring, none, half and twice its stiffness
+  (:class:`SimulateSettings`, :func:`simulation_setup`, :func:`run_simulation`; ``pasibot simulate``);
+  at omega = 0 the answer is the static equilibrium along the stance instead of a walk,
+- every seed scenario: the hip excursion of those springs, gravity's toppling stiffness, a
+  (K_e, beta0) sweep, and a cross-check of the swing-foot model on the fast scenario
+  (:class:`SimulationStudySettings`, :func:`simulation_study`; the ``simulation`` section of
+  ``pasibot analyze``).
+
+Also the columns of a run's CSV (:func:`simulation_columns`) and the frames of its animation
+(:func:`animation_frames`). Nothing here writes files or draws.
+
+Units: SI; angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Iterable, Iterator
+from dataclasses import dataclass, field
+from functools import partial
+
+import numpy as np
+
+from pasibot_pin.dynamics.simulator import (
+    AnkleSpring,
+    SimulationResult,
+    SimulationSettings,
+    critical_foot_damping,
+    simulate,
+)
+from pasibot_pin.model.scenarios import SCENARIOS
+from pasibot_pin.studies.spring_study import (
+    SPRING_CASES,
+    ScenarioInputs,
+    SpringStudy,
+    StaticEquilibrium,
+    default_dt,
+    scenario_inputs,
+    spring_study,
+    standing_pitch,
+    static_equilibrium,
+    toppling_stiffness,
+)
+
+MapFunction = Callable[..., Iterable]
+"""A ``map``-like callable: ``map_fn(fn, items)`` yields ``fn(item)`` in order (builtin ``map``, a pool's ``map``)."""
+
+
+# --------------------------------------------------------------------------- one scenario (pasibot simulate)
+@dataclass(frozen=True)
+class SimulateSettings:
+    """One seed scenario walked with the hip pitch free.
+
+    Attributes:
+        scenario: seed scenario: ``quasi-static``, ``run1`` .. ``run4`` (or ``1`` .. ``4``).
+        steps: stance phases to walk (>= 1).
+        stiffness: ankle stiffness K_e [N.m/rad]; ``None``: the inverse-dynamics fit.
+        rest_angle: spring rest angle beta0 [rad]; ``None``: the inverse-dynamics fit.
+        damping: ankle damping c [N.m.s/rad]; ``None``: critical for the foot with this K_e.
+        swing_ankle: ``rest`` (swing foot held at the rest angle) or ``spring`` (integrated).
+        dt: integration step [s]; ``None`` (or 0): :func:`~pasibot_pin.studies.spring_study.default_dt`.
+        cases: also the cases with no spring, half and twice K_e (else the fitted spring only).
+        static_samples: crank angles over one stance for the quasi-static equilibria.
+
+    """
+
+    scenario: str = "1"
+    steps: int = 2
+    stiffness: float | None = None
+    rest_angle: float | None = None
+    damping: float | None = None
+    swing_ankle: str = "rest"
+    dt: float | None = None
+    cases: bool = True
+    static_samples: int = 19
+
+    def __post_init__(self) -> None:
+        if int(self.steps) < 1:
+            raise ValueError(f"parameter 'steps' must be a positive integer, got {self.steps!r}")
+        if int(self.static_samples) < 1:
+            raise ValueError(f"parameter 'static_samples' must be a positive integer, got {self.static_samples!r}")
+
+
+@dataclass
+class SimulationSetup:
+    """A scenario ready to simulate: its inverse-dynamics inputs and the spring to use.
+
+    Attributes:
+        settings: the settings.
+        scenario: robot, crank rate [rad/s] and fitted spring of the scenario.
+        spring: the spring of the ``fitted`` case (K_e [N.m/rad], beta0 [rad], c [N.m.s/rad]).
+
+    """
+
+    settings: SimulateSettings
+    scenario: ScenarioInputs
+    spring: AnkleSpring
+
+    @property
+    def quasi_static(self) -> bool:
+        """True when the crank rate is 0: answered by static equilibria, no walk."""
+        return self.scenario.omega <= 0
+
+    @property
+    def cases(self) -> tuple[tuple[str, float], ...]:
+        """The spring cases: label and factor on K_e."""
+        return SPRING_CASES if self.settings.cases else SPRING_CASES[:1]
+
+
+@dataclass
+class SimulationRun:
+    """The outcome of :func:`run_simulation`.
+
+    Attributes:
+        setup: what was simulated.
+        runs: case label -> walk (dynamic scenarios; empty at omega = 0).
+        statics: case label -> static equilibrium path (quasi-static scenario; empty otherwise).
+
+    """
+
+    setup: SimulationSetup
+    runs: dict[str, SimulationResult] = field(default_factory=dict)
+    statics: dict[str, StaticEquilibrium] = field(default_factory=dict)
+
+    @property
+    def fitted(self) -> SimulationResult | None:
+        """The walk with the fitted spring (``None`` at omega = 0)."""
+        return self.runs.get("fitted")
+
+
+CaseCallback = Callable[[str, "SimulationResult | StaticEquilibrium"], None]
+"""Called with a case label and its outcome as soon as the case is done (progress)."""
+
+
+def simulation_setup(settings: SimulateSettings) -> SimulationSetup:
+    """The scenario's inverse-dynamics inputs and the spring of the ``fitted`` case.
+
+    Raises:
+        ValueError: unknown scenario.
+
+    """
+    scen = scenario_inputs(settings.scenario)
+    k = scen.fit.stiffness if settings.stiffness is None else settings.stiffness
+    beta0 = scen.fit.rest_angle if settings.rest_angle is None else settings.rest_angle
+    damping = critical_foot_damping(scen.robot, k) if settings.damping is None else settings.damping
+    return SimulationSetup(settings, scen, AnkleSpring(k, beta0, damping))
+
+
+def simulation_cases(setup: SimulationSetup) -> Iterator[tuple[str, SimulationResult | StaticEquilibrium]]:
+    """Each spring case of ``setup`` in turn: (label, walk), or (label, static equilibrium) at omega = 0."""
+    settings, robot = setup.settings, setup.scenario.robot
+    if setup.quasi_static:
+        thetas = np.linspace(math.pi / 2, 1.5 * math.pi, settings.static_samples, endpoint=False)
+        for label, factor in setup.cases:
+            yield label, static_equilibrium(robot, setup.spring.scaled(factor), thetas)
+        return
+    for label, factor in setup.cases:
+        spring = setup.spring.scaled(factor)  # factor 0: no spring
+        sim = SimulationSettings(
+            omega=setup.scenario.omega,
+            spring=spring,
+            swing_ankle=settings.swing_ankle,
+            dt=settings.dt or default_dt(settings.swing_ankle),
+            initial_pitch=standing_pitch(robot, spring, math.pi / 2),
+        )
+        yield label, simulate(robot, sim, steps=settings.steps)
+
+
+def run_simulation(setup: SimulationSetup, on_case: CaseCallback | None = None) -> SimulationRun:
+    """Simulate every spring case of ``setup`` (static equilibria at omega = 0).
+
+    Args:
+        setup: from :func:`simulation_setup`.
+        on_case: optional progress callback, called with each case's label and outcome.
+
+    Returns:
+        The :class:`SimulationRun`.
+
+    """
+    result = SimulationRun(setup)
+    for label, outcome in simulation_cases(setup):
+        (result.statics if setup.quasi_static else result.runs)[label] = outcome
+        if on_case is not None:
+            on_case(label, outcome)
+    return result
+
+
+def simulation_columns(robot, result: SimulationResult) -> dict[str, np.ndarray]:
+    """A run's time series as CSV columns (SI units, angles [rad]).
+
+    Columns: ``t`` [s], ``theta_right`` (right crank angle), ``hip_pitch``, ``beta_right``,
+    ``beta_left`` [rad], ``Ta_right``, ``Ta_left`` (motor torques [N.m]), ``stance_right``
+    (1 when the right foot is the stance foot, else 0) and ``swing_sole_height`` [m].
+    """
+    return {
+        "t": result.t,
+        "theta_right": result.q[:, robot.idx_q("right_j0_crank")],
+        "hip_pitch": result.hip_pitch,
+        "beta_right": result.beta[:, 0],
+        "beta_left": result.beta[:, 1],
+        "Ta_right": result.motor_torque[:, 0],
+        "Ta_left": result.motor_torque[:, 1],
+        "stance_right": np.array([1.0 if s == "right" else 0.0 for s in result.stance]),
+        "swing_sole_height": result.swing_height,
+    }
+
+
+def animation_frames(result: SimulationResult, fps: float) -> np.ndarray:
+    """Rows of ``result.q`` resampled at ``fps`` frames per second of simulated time [1/s] (nearest sample)."""
+    if not (math.isfinite(fps) and fps > 0):
+        raise ValueError(f"parameter 'fps' must be positive [1/s], got {fps!r}")
+    times = np.arange(0.0, result.t[-1] + 1e-12, 1.0 / fps)
+    index = np.clip(np.searchsorted(result.t, times), 0, len(result.t) - 1)
+    return result.q[index]
+
+
+# --------------------------------------------------------------------------- every scenario (pasibot analyze)
+@dataclass(frozen=True)
+class SimulationStudySettings:
+    """The study of every seed scenario.
+
+    Attributes:
+        scenarios: scenario keys, in report order.
+        fast_omega: crank rate [rad/s] above which a scenario counts as fast.
+        fast_steps: stance phases walked by a fast scenario.
+        slow_steps: stance phases walked by a slow one.
+        fast_dt: integration step of a fast scenario [s].
+        slow_dt: integration step of a slow one [s].
+        static_samples: crank angles over one stance for the static paths.
+        check_scenario: scenario of the swing-foot model check (``""``: no check).
+        check_dt: integration step of the check's run with the swing foot on its spring [s].
+        check_steps: stance phases of that run.
+
+    """
+
+    scenarios: tuple[str, ...] = tuple(SCENARIOS)
+    fast_omega: float = 1.0
+    fast_steps: int = 4
+    slow_steps: int = 2
+    fast_dt: float = 0.01
+    slow_dt: float = 0.02
+    static_samples: int = 10
+    check_scenario: str = "run4"
+    check_dt: float = 0.002
+    check_steps: int = 4
+
+
+@dataclass
+class ScenarioStudy:
+    """One scenario of :func:`simulation_study`.
+
+    Attributes:
+        study: the spring study (fitted / none / half / twice K_e, the (K_e, beta0) sweep).
+        toppling: gravity's toppling stiffness k_g about the stance ankle [N.m/rad].
+        spring_fit: the inverse-dynamics fit (:class:`pasibot_pin.studies.spring_fit.SpringFit`, its R^2).
+
+    """
+
+    study: SpringStudy
+    toppling: float
+    spring_fit: object
+
+    @property
+    def name(self) -> str:
+        """The scenario key."""
+        return self.study.name
+
+
+@dataclass
+class SwingFootCheck:
+    """The fitted walk with the swing foot held at its rest angle vs integrated on its spring.
+
+    Attributes:
+        scenario: the scenario's inputs (its robot draws the animation).
+        base: the study's fitted run (swing foot at rest angle).
+        full: the same walk with the swing foot on its spring.
+        gap: largest hip-pitch difference between the two [rad].
+
+    """
+
+    scenario: ScenarioInputs
+    base: SimulationResult
+    full: SimulationResult
+    gap: float
+
+
+@dataclass
+class SimulationStudy:
+    """The outcome of :func:`simulation_study`.
+
+    Attributes:
+        settings: the settings.
+        scenarios: one :class:`ScenarioStudy` per scenario, in settings order.
+        check: the swing-foot model check (``None`` when not asked for).
+
+    """
+
+    settings: SimulationStudySettings
+    scenarios: list[ScenarioStudy]
+    check: SwingFootCheck | None = None
+
+
+def scenario_study(name: str, settings: SimulationStudySettings | None = None) -> ScenarioStudy:
+    """One scenario's spring study, toppling stiffness and fit (independent of the others: a pool task)."""
+    settings = settings or SimulationStudySettings()
+    scen = scenario_inputs(name)
+    fast = scen.omega > settings.fast_omega
+    study = spring_study(
+        scen.robot,
+        scen.omega,
+        scen.fit,
+        name=name,
+        steps=settings.fast_steps if fast else settings.slow_steps,
+        dt=settings.fast_dt if fast else settings.slow_dt,
+        static_samples=settings.static_samples,
+    )
+    return ScenarioStudy(study, toppling_stiffness(scen.robot), scen.spring_fit)
+
+
+def scenario_studies(settings: SimulationStudySettings | None = None, map: MapFunction = map) -> list[ScenarioStudy]:
+    """:func:`scenario_study` of every scenario of ``settings``.
+
+    Args:
+        settings: the study settings (default :class:`SimulationStudySettings`).
+        map: how to map the (independent) scenario studies, e.g. a process pool's ``map``;
+            results come back in scenario order, identical to the builtin ``map``.
+
+    """
+    settings = settings or SimulationStudySettings()
+    return list(map(partial(scenario_study, settings=settings), settings.scenarios))
+
+
+def swing_foot_check(studies: list[ScenarioStudy], settings: SimulationStudySettings | None = None) -> SwingFootCheck:
+    """Rerun the check scenario's fitted walk with the swing foot integrated on its spring.
+
+    Raises:
+        ValueError: the check scenario is not among ``studies`` or has no walk.
+
+    """
+    settings = settings or SimulationStudySettings()
+    names = [s.name for s in studies]
+    if settings.check_scenario not in names:
+        raise ValueError(f"check scenario {settings.check_scenario!r} not studied; studied: {', '.join(names)}")
+    base = studies[names.index(settings.check_scenario)].study.runs.get("fitted")
+    if base is None:
+        raise ValueError(f"check scenario {settings.check_scenario!r} has no walk (omega = 0)")
+    scen = scenario_inputs(settings.check_scenario)
+    full_settings = base.settings.with_(swing_ankle="spring", dt=settings.check_dt)
+    full = simulate(scen.robot, full_settings, steps=settings.check_steps)
+    gap = float(np.max(np.abs(np.interp(full.t, base.t, base.hip_pitch) - full.hip_pitch)))
+    return SwingFootCheck(scen, base, full, gap)
+
+
+def simulation_study(settings: SimulationStudySettings | None = None, map: MapFunction = map) -> SimulationStudy:
+    """Every scenario's spring study and the swing-foot model check.
+
+    Args:
+        settings: the study settings (default :class:`SimulationStudySettings`).
+        map: how to map the scenario studies (see :func:`scenario_studies`).
+
+    Returns:
+        The :class:`SimulationStudy`.
+
+    """
+    settings = settings or SimulationStudySettings()
+    studies = scenario_studies(settings, map)
+    check = swing_foot_check(studies, settings) if settings.check_scenario else None
+    return SimulationStudy(settings, studies, check)

@@ -1,0 +1,246 @@
+"""Crank and ankle torques of the seed's scenarios and the ankle spring fitted to them: pure compute.
+
+- :class:`TorqueSettings` / :func:`scenario_torques`: one scenario under one modelling preset
+  (with optional overrides): the inverse dynamics (:func:`pasibot_pin.dynamics.inverse.run_scenario`)
+  and the K_e fit (:func:`pasibot_pin.studies.spring_fit.fit_result`).
+- :func:`attribution`: K_e as the seed's modelling choices are switched on one at a time, from
+  the default model to the ``seed`` preset.
+- :func:`torque_survey`: every scenario with the default model and the seed preset, the
+  attribution of every dynamic scenario, and multi-step runs (the ``dynamics`` report section).
+
+Nothing here writes files or draws. Units: SI; angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass
+
+from pasibot_pin.dynamics.inverse import STANCE_RANGE, TorqueResult, crank_grid, run_scenario
+from pasibot_pin.model.scenarios import (
+    PRESETS,
+    SCENARIOS,
+    SEED_CHOICE_NAMES,
+    ModelChoices,
+    Scenario,
+    get_preset,
+    get_scenario,
+)
+from pasibot_pin.studies.spring_fit import SpringFit, fit_result
+
+SURVEY_PRESETS: tuple[str, ...] = ("default", "seed")
+"""The presets every scenario runs under in :func:`torque_survey`."""
+
+WALK_SCENARIO: str = "run4"
+"""The survey's multi-step run at the seed's fastest speed (every sample written to CSV)."""
+
+SLOW_SCENARIO: str = "run2"
+"""The survey's slow multi-step run, for comparison (plotted only)."""
+
+WALK_STEPS: int = 4
+"""Steps (half crank turns) of the survey's multi-step runs: two crank turns."""
+
+WALK_SAMPLES_PER_STEP: int = 48
+"""Crank intervals per step of :data:`WALK_SCENARIO`; :data:`SLOW_SCENARIO` takes every 4th sample."""
+
+
+@dataclass(frozen=True)
+class TorqueSettings:
+    """One scenario's inverse dynamics and spring fit (the ``pasibot torques`` command's settings).
+
+    Attributes:
+        scenario: key of :data:`pasibot_pin.model.scenarios.SCENARIOS`.
+        preset: key of :data:`pasibot_pin.model.scenarios.PRESETS`.
+        omega: crank speed override [rad/s] (0 = quasi-static); ``None``: the scenario's.
+        samples: samples per stance (at least 2 are taken); unused when the preset fixes a fit
+            window and ``steps`` is 1 (the window's samples are run).
+        steps: half crank turns (steps) to run, the stance swapping every step (>= 1).
+        swing_foot: override of the preset's swing foot (``level`` or ``square``); ``None``: keep.
+        accelerations: override of the acceleration mode (``exact``, ``central``, ``lagged``).
+        inertia: override of the inertia model (``point`` or ``uniform``).
+        swap_l5_l6: override of the seed's L5/L6 mass swap; ``None``: keep the preset's.
+
+    Raises:
+        ValueError: an unknown scenario, preset or choice, or ``steps`` < 1.
+
+    """
+
+    scenario: str = "run1"
+    preset: str = "default"
+    omega: float | None = None
+    samples: int = 61
+    steps: int = 1
+    swing_foot: str | None = None
+    accelerations: str | None = None
+    inertia: str | None = None
+    swap_l5_l6: bool | None = None
+
+    def __post_init__(self) -> None:
+        get_scenario(self.scenario)
+        self.choices()
+        if self.steps < 1:
+            raise ValueError(f"parameter 'steps' must be >= 1, got {self.steps}")
+
+    def choices(self) -> ModelChoices:
+        """The preset's modelling choices with the overrides applied."""
+        overrides = {
+            "swing_foot": self.swing_foot,
+            "accelerations": self.accelerations,
+            "inertia": self.inertia,
+            "swap_l5_l6": self.swap_l5_l6,
+        }
+        changes = {k: v for k, v in overrides.items() if v is not None}
+        choices = get_preset(self.preset)
+        return choices.with_(**changes) if changes else choices
+
+
+@dataclass(frozen=True)
+class ScenarioTorques:
+    """One scenario's torques and fitted ankle spring.
+
+    Attributes:
+        scenario: the seed scenario (crank speed, body mass and COM).
+        preset: name of the modelling preset the choices start from.
+        choices: the modelling choices run (the preset with any overrides).
+        result: torques and reactions along the motion [N.m, N].
+        fit: the linear spring fitted to the stance T_e(beta) (K_e [N.m/rad], beta0 [rad]).
+
+    """
+
+    scenario: Scenario
+    preset: str
+    choices: ModelChoices
+    result: TorqueResult
+    fit: SpringFit
+
+
+@dataclass(frozen=True)
+class AttributionRow:
+    """One row of the K_e attribution.
+
+    Attributes:
+        label: the choice switched on (``default model`` for the first row).
+        K_e: fitted stiffness with this and every earlier choice on [N.m/rad].
+        delta: change from the previous row [N.m/rad].
+
+    """
+
+    label: str
+    K_e: float
+    delta: float
+
+
+@dataclass(frozen=True)
+class TorqueSurvey:
+    """Every scenario under the survey presets, the K_e attribution and two multi-step runs.
+
+    Attributes:
+        runs: (scenario name, preset) -> torques and fit, for every scenario and
+            :data:`SURVEY_PRESETS` preset, in scenario then preset order.
+        quasi_static_clean: the quasi-static scenario's fit under the ``seed-clean`` preset
+            (the seed's quasi-static script, which does not swap L5/L6).
+        attribution: dynamic scenario name -> its :func:`attribution` rows.
+        walk: :data:`WALK_SCENARIO`, default model, :data:`WALK_STEPS` steps of
+            :data:`WALK_SAMPLES_PER_STEP` intervals each.
+        slow: :data:`SLOW_SCENARIO`, default model, every 4th crank angle of ``walk``.
+
+    """
+
+    runs: Mapping[tuple[str, str], ScenarioTorques]
+    quasi_static_clean: SpringFit
+    attribution: Mapping[str, list[AttributionRow]]
+    walk: TorqueResult
+    slow: TorqueResult
+
+
+def scenario_torques(settings: TorqueSettings | None = None) -> ScenarioTorques:
+    """Run one scenario's inverse dynamics and fit the ankle spring.
+
+    With ``steps`` = 1 and a preset that fixes a fit window (the seed's), the window's samples
+    are run (right foot welded) and fitted; otherwise ``steps`` x (``samples`` - 1) + 1 crank
+    angles from the start of stance, the stance swapping every step, all fitted.
+
+    Args:
+        settings: what to run (default :class:`TorqueSettings`: run1, default preset).
+
+    Returns:
+        The torques and the fitted spring.
+
+    """
+    settings = TorqueSettings() if settings is None else settings
+    scenario = get_scenario(settings.scenario)
+    choices = settings.choices()
+    thetas = None
+    if choices.fit_thetas is None or settings.steps > 1:
+        per_step = max(int(settings.samples), 2)
+        steps = settings.steps
+        thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + math.pi * steps, (per_step - 1) * steps + 1)
+    result = run_scenario(scenario, choices, thetas=thetas, omega=settings.omega)
+    window = choices.fit_thetas if thetas is None else None
+    fit = fit_result(result, window, warn=False)
+    return ScenarioTorques(scenario, settings.preset, choices, result, fit)
+
+
+def preset_torques(scenario: Scenario, preset: str, reactions: bool = True) -> ScenarioTorques:
+    """One scenario under one preset, on the preset's default samples, fitted on its window.
+
+    Args:
+        scenario: the seed scenario.
+        preset: key of :data:`pasibot_pin.model.scenarios.PRESETS`.
+        reactions: compute the tree-joint reactions too.
+
+    """
+    choices = get_preset(preset)
+    result = run_scenario(scenario, choices, reactions=reactions)
+    return ScenarioTorques(scenario, preset, choices, result, fit_result(result, choices.fit_thetas, warn=False))
+
+
+def attribution(
+    scenario: Scenario, default_K_e: float | None = None, seed_K_e: float | None = None
+) -> list[AttributionRow]:
+    """K_e as the seed's choices are switched on one at a time, from the default model to the seed preset.
+
+    The choices are switched on cumulatively in the order of
+    :data:`pasibot_pin.model.scenarios.SEED_CHOICE_NAMES`; the last row is the ``seed`` preset.
+
+    Args:
+        scenario: the seed scenario.
+        default_K_e: K_e of the default model [N.m/rad], if already computed.
+        seed_K_e: K_e of the seed preset [N.m/rad], if already computed.
+
+    Returns:
+        The ``default model`` row, then one row per choice.
+
+    """
+    if default_K_e is None:
+        default_K_e = preset_torques(scenario, "default", reactions=False).fit.K_e
+    seed = PRESETS["seed"]
+    choices = PRESETS["default"]
+    rows = [AttributionRow("default model", default_K_e, 0.0)]
+    previous = default_K_e
+    names = list(SEED_CHOICE_NAMES.items())
+    for k, (field_name, label) in enumerate(names):
+        choices = choices.with_(**{field_name: getattr(seed, field_name)})
+        if k == len(names) - 1 and seed_K_e is not None:
+            k_e = seed_K_e
+        else:
+            k_e = fit_result(run_scenario(scenario, choices, reactions=False), choices.fit_thetas, warn=False).K_e
+        rows.append(AttributionRow(label, k_e, k_e - previous))
+        previous = k_e
+    return rows
+
+
+def torque_survey() -> TorqueSurvey:
+    """Every scenario under :data:`SURVEY_PRESETS`, the attribution of each dynamic one, two multi-step runs."""
+    runs = {(name, preset): preset_torques(sc, preset) for name, sc in SCENARIOS.items() for preset in SURVEY_PRESETS}
+    qs_clean = fit_result(
+        run_scenario(SCENARIOS["quasi-static"], PRESETS["seed-clean"], reactions=False), None, warn=False
+    )
+    dynamic = [n for n in SCENARIOS if not SCENARIOS[n].quasi_static]
+    table = {n: attribution(SCENARIOS[n], runs[(n, "default")].fit.K_e, runs[(n, "seed")].fit.K_e) for n in dynamic}
+    n = WALK_STEPS * WALK_SAMPLES_PER_STEP + 1
+    thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + WALK_STEPS * math.pi, n)
+    walk = run_scenario(SCENARIOS[WALK_SCENARIO], PRESETS["default"], thetas=thetas)
+    slow = run_scenario(SCENARIOS[SLOW_SCENARIO], PRESETS["default"], thetas=thetas[::4])
+    return TorqueSurvey(runs, qs_clean, table, walk, slow)
