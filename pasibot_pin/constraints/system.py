@@ -173,10 +173,20 @@ def _wrap(angle: np.ndarray | float):
     return np.remainder(np.asarray(angle) + math.pi, 2 * math.pi) - math.pi
 
 
+_LOWER: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
 def symmetric_mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
-    """Joint-space mass matrix M(q), both triangles filled [kg, kg.m, kg.m^2]."""
-    mass = pin.crba(model, data, q)
-    return np.triu(mass) + np.triu(mass, 1).T
+    """Joint-space mass matrix M(q), both triangles filled [kg, kg.m, kg.m^2].
+
+    ``pin.crba`` fills the upper triangle; the lower one is copied from it.
+    """
+    mass = np.array(pin.crba(model, data, q))
+    lower = _LOWER.get(model.nv)
+    if lower is None:
+        lower = _LOWER[model.nv] = np.tril_indices(model.nv, -1)
+    mass[lower] = mass.T[lower]
+    return mass
 
 
 def kkt_solve(mass: np.ndarray, jac: np.ndarray, top: np.ndarray, bottom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -521,7 +531,8 @@ class ConstraintSystem:
 
     def _newton_step(self, q: np.ndarray, rows: Rows, metric: str) -> np.ndarray:
         jac = rows.jac
-        if metric == "mass":
+        # a square system has one Newton step whatever the metric: no mass matrix needed
+        if metric == "mass" and jac.shape[0] != jac.shape[1]:
             mass = symmetric_mass_matrix(self.model, self.data, q)
             return kkt_solve(mass, jac, np.zeros(self.model.nv), -rows.phi)[0]
         if jac.shape[0] == jac.shape[1]:

@@ -9,7 +9,6 @@
 from __future__ import annotations
 
 import math
-import time
 from pathlib import Path
 
 import numpy as np
@@ -87,7 +86,6 @@ def section(out_dir: Path) -> str:
     from pasibot_pin.studies.torques_study import SURVEY_PRESETS, torque_survey
     from pasibot_pin.viz.plots_dynamics import plot_stiffness_table, plot_torques_vs_beta, plot_torques_vs_time
 
-    start = time.perf_counter()
     survey = torque_survey()
     sub = out_dir / "dynamics"
     sub.mkdir(parents=True, exist_ok=True)
@@ -157,6 +155,5 @@ def section(out_dir: Path) -> str:
         f"Two crank turns of run4 (four steps, {len(walk)} samples): peak |T_a| = {float(np.max(np.abs(walk.Ta))):.2f} "
         f"N.m, peak |T_e| = {float(np.max(np.abs(walk.Te))):.1f} N.m. CSVs: `dynamics/torques_<scenario>_<preset>.csv` "
         "(columns t, theta, beta, Ta, Te, Ta_swing, Te_swing, then reactions).",
-        f"(step time {time.perf_counter() - start:.1f} s)",
     ]
     return "\n".join(lines)

@@ -89,14 +89,18 @@ class _StaticProblem:
         self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
         coords = [c for c in self.sim.coordinate_rows(stance) if c.name != "hip_pitch"]
         cmodels = list(robot.loop_constraints) + [weld]
-        self.cset = ConstraintSystem(robot.model, robot.data, cmodels, coords, robot.geometry.L)
-        self.row = self.cset.nrows  # the hip-pitch row, appended below
+        # the hip-pitch row is last; each pitch is a new target of that row, not a new system
+        rows = [*coords, coordinate("hip_pitch", 2)]
+        self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
+        self.targets = self.cset.targets(0.0)
+        self.row = self.cset.nrows - 1
 
     def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
-        cset = self.cset.with_scalars([*self.cset.scalars, coordinate("hip_pitch", 2, pitch)])
+        targets = self.targets.copy()
+        targets[-1] = pitch
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
-        q = cset.project(q, 0.0, metric="mass", max_iter=20)
-        _, lam, _ = self.sim.acceleration(cset, 0.0, q, np.zeros(self.robot.model.nv))
+        q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
+        _, lam, _ = self.sim.acceleration(self.cset, 0.0, q, np.zeros(self.robot.model.nv))
         return float(lam[self.row]), q
 
 
