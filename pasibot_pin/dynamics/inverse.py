@@ -37,7 +37,7 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import coupling, split_torques
+from pasibot_pin.constraints import coupling, is_weld, split_torques
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
@@ -285,7 +285,7 @@ def constraint_fext(robot: PasibotRobot, q: np.ndarray, cmodels, lam: np.ndarray
         force = np.array([lam[r], 0.0, lam[r + 1]])
         r += 2
         moment = np.zeros(3)
-        if cm.type == pin.ContactType.CONTACT_6D:
+        if is_weld(cm):
             moment = np.array([0.0, -lam[r], 0.0])
             r += 1
         for joint, placement, sign in (
@@ -513,7 +513,7 @@ def inverse_dynamics(
         qs[k], vs[k], accs[k], taus[k] = q, v, a, tau
         r = 0
         for cm in cms:
-            if cm.type == pin.ContactType.CONTACT_6D:
+            if is_weld(cm):
                 ground[k] = lam[r : r + 3]
                 r += 3
             else:
