@@ -191,9 +191,9 @@ def main() -> None:
     t_fb = best_time(lambda: free_body_solve(geo))
 
     def pipeline(reactions: bool) -> float:
-        """Per-sample cost of dynamics.inverse_dynamics over one stance (best of 3 runs) [s]."""
+        """Per-sample cost of dynamics.inverse_dynamics over one stance (best of 7 runs) [s]."""
         best = math.inf
-        for _ in range(3):
+        for _ in range(7):
             start = time.perf_counter()
             dynamics.inverse_dynamics(robot, thetas, scenario.omega, reactions=reactions)
             best = min(best, (time.perf_counter() - start) / len(thetas))

@@ -279,26 +279,58 @@ def constraint_fext(robot: PasibotRobot, q: np.ndarray, cmodels, lam: np.ndarray
     """
     model, data = robot.model, robot.data
     pin.forwardKinematics(model, data, q)
-    fext = [pin.Force.Zero() for _ in range(model.njoints)] if fext is None else fext
+    joints, unique, inverse, trans, sign, row_x, row_z, row_m = _fext_layout(robot, cmodels)
+    lam = np.asarray(lam, dtype=float)
+    force = np.zeros((len(joints), 3))
+    force[:, 0], force[:, 2] = sign * lam[row_x], sign * lam[row_z]
+    moment_y = np.where(row_m >= 0, -sign * lam[np.maximum(row_m, 0)], 0.0)
+    rot = np.array([data.oMi[j].rotation for j in unique])[inverse]  # (E, 3, 3)
+    f_local = np.einsum("eji,ej->ei", rot, force)  # R^T f
+    m_local = np.cross(trans, f_local) + rot[:, 1, :] * moment_y[:, None]  # R^T (0, m_y, 0)
+    wrench = np.zeros((model.njoints, 6))
+    np.add.at(wrench, joints, np.hstack((f_local, m_local)))
+    out = [pin.Force(w[:3], w[3:]) for w in wrench]
+    if fext is not None:
+        out = [f + g for f, g in zip(fext, out)]
+    return out
+
+
+def _fext_layout(robot: PasibotRobot, cmodels):
+    """Per constraint end on a moving joint: joint, local point, sign and the rows of its lambda (cached)."""
+    cache = robot.__dict__.setdefault("_fext_cache", {})
+    key = (id(robot.model), tuple(id(cm) for cm in cmodels))
+    if key in cache:
+        return cache[key][1]
+    joints, trans, sign, row_x, row_z, row_m = [], [], [], [], [], []
     r = 0
     for cm in cmodels:
-        force = np.array([lam[r], 0.0, lam[r + 1]])
-        r += 2
-        moment = np.zeros(3)
-        if is_weld(cm):
-            moment = np.array([0.0, -lam[r], 0.0])
-            r += 1
-        for joint, placement, sign in (
+        weld = is_weld(cm)
+        for joint, placement, sgn in (
             (cm.joint1_id, cm.joint1_placement, 1.0),
             (cm.joint2_id, cm.joint2_placement, -1.0),
         ):
             if joint == 0:
                 continue
-            rot = data.oMi[joint].rotation
-            f_local = rot.T @ (sign * force)
-            m_local = _cross(placement.translation, f_local) + rot.T @ (sign * moment)
-            fext[joint] = fext[joint] + pin.Force(f_local, m_local)
-    return fext
+            joints.append(int(joint))
+            trans.append(np.array(placement.translation))
+            sign.append(sgn)
+            row_x.append(r)
+            row_z.append(r + 1)
+            row_m.append(r + 2 if weld else -1)
+        r += 3 if weld else 2
+    unique, inverse = np.unique(joints, return_inverse=True)
+    layout = (
+        np.array(joints, dtype=int),
+        [int(j) for j in unique],
+        inverse.reshape(-1),
+        np.array(trans).reshape(-1, 3),
+        np.array(sign),
+        np.array(row_x, dtype=int),
+        np.array(row_z, dtype=int),
+        np.array(row_m, dtype=int),
+    )
+    cache[key] = (list(cmodels), layout)  # the entry keeps the models alive: no id reuse
+    return layout
 
 
 def ankle_angle(robot: PasibotRobot, q: np.ndarray, side: str) -> float:
@@ -350,13 +382,15 @@ def joint_reactions(robot: PasibotRobot, q, v, a, fext) -> np.ndarray:
     ``data.f[j]`` is the spatial force transmitted through joint j, at its origin.
     """
     model, data = robot.model, robot.data
+    pin.forwardKinematics(model, data, q)
     pin.rnea(model, data, q, v, a, fext)
+    joints = range(1, model.njoints)
+    rot = np.array([data.oMi[j].rotation for j in joints])  # (J, 3, 3)
+    wrench = np.array([data.f[j].vector for j in joints])  # (J, 6): linear, angular in the joint frame
+    lin = np.einsum("jik,jk->ji", rot, wrench[:, :3])
+    ang_y = np.einsum("jk,jk->j", rot[:, 1, :], wrench[:, 3:])
     out = np.zeros((model.njoints, 3))
-    for j in range(1, model.njoints):
-        rot = data.oMi[j].rotation
-        f = data.f[j]
-        lin, ang = rot @ f.linear, rot @ f.angular
-        out[j] = (lin[0], lin[2], -ang[1])
+    out[1:, 0], out[1:, 1], out[1:, 2] = lin[:, 0], lin[:, 2], -ang_y
     return out
 
 
@@ -447,6 +481,8 @@ def inverse_dynamics(
     q_prev = None
     theta_prev, predictor = 0.0, None
     rs = rows = s_matrix = prescribed = coupling_jac = None
+    cut_rows: list[tuple[str, int, bool]] = []
+    joint_names: list[tuple[int, str]] = []
     stance_x = 0.0
     for k, theta in enumerate(thetas):
         side = stance_side(theta) if stance == "auto" else stance
@@ -465,6 +501,12 @@ def inverse_dynamics(
             coupling_jac = closure.system(rs, [], _couplings(rs, layout)).jacobian(q_start)
             q_prev, theta_prev, predictor = q_start, theta, None
             current = side
+            # generic names (stance_/swing_) of the cut rows and tree joints, once per stance
+            cut_rows, r = [], 0
+            for cm in rs.constraint_models:
+                cut_rows.append((_generic(cm.name, side), r, is_weld(cm)))
+                r += 3 if is_weld(cm) else 2
+            joint_names = [(j, _generic(model.names[j], side)) for j in range(2, model.njoints)]
         targets = [theta, theta + math.pi, *free]
         guess = q_prev
         if predictor is not None:  # first-order predictor along the manifold: dq/dtheta (theta - theta_prev)
@@ -511,17 +553,14 @@ def inverse_dynamics(
         if spec.free_ankle:
             out["Te"][k], out["Te_swing"][k] = -u[n_motor], -u[n_motor + 1]
         qs[k], vs[k], accs[k], taus[k] = q, v, a, tau
-        r = 0
-        for cm in cms:
-            if is_weld(cm):
+        for name, r, weld in cut_rows:
+            if weld:
                 ground[k] = lam[r : r + 3]
-                r += 3
             else:
-                cuts.setdefault(_generic(cm.name, side), np.zeros((n, 2)))[k] = lam[r : r + 2]
-                r += 2
+                cuts.setdefault(name, np.zeros((n, 2)))[k] = lam[r : r + 2]
         if reactions:
-            for j in range(2, model.njoints):
-                joints.setdefault(_generic(model.names[j], side), np.zeros((n, 3)))[k] = reac[j]
+            for j, name in joint_names:
+                joints.setdefault(name, np.zeros((n, 3)))[k] = reac[j]
         sides_used.append(side)
 
     theta_stance = np.array([wrap_stance(th if s == "right" else th + math.pi) for th, s in zip(thetas, sides_used)])
