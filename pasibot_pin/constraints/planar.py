@@ -9,7 +9,7 @@ the pitch of the frame that carries it (and, for a slider, times its coordinate)
 
 Collecting the terms of every constraint end once turns the residual, the Jacobian and the
 drift J_dot v (the second time derivative at zero joint acceleration) into a handful of small
-matrix products, instead of one Python call per body. This is the same model Pinocchio
+matrix products (:class:`PlanarRowBlocks`), instead of one Python call per body. This is the same model Pinocchio
 evaluates (``tests/test_constraints.py`` checks both against each other and against finite
 differences); Pinocchio's C++ stays in charge of everything dynamic (rnea, crba).
 
@@ -145,48 +145,6 @@ class PlanarEnds:
         self.S = np.zeros((n_ends, len(a0)))
         for e, idx in enumerate(rows):
             self.S[e, idx] = 1.0
-
-    def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
-        """World positions (E, 2), Jacobians d(x, z)/dq (E, nv) x 2, drifts (E, 2) or None, pitches (E,).
-
-        Args:
-            q: configuration (nq == nv).
-            v: velocity for the drift J_dot v, or ``None``.
-
-        """
-        phi = self.a0 + self.A @ q
-        cos, sin = np.cos(phi), np.sin(phi)
-        cx, cz = self.cx, self.cz
-        vx, vz = cos * cx - sin * cz, sin * cx + cos * cz  # R(phi) c
-        px, pz = -vz, vx  # dR/dphi c = perp
-        if self.has_slider:
-            m = np.where(self.slider >= 0, q[np.maximum(self.slider, 0)], 1.0)
-        else:
-            m = 1.0
-        S = self.S
-        pos = np.column_stack((S @ (vx * m), S @ (vz * m)))
-        jx = S @ ((px * m)[:, None] * self.A)
-        jz = S @ ((pz * m)[:, None] * self.A)
-        if self.has_slider:
-            sl = self.slider >= 0
-            cols = self.slider[sl]
-            ex, ez = np.zeros((len(m), self.A.shape[1])), np.zeros((len(m), self.A.shape[1]))
-            ex[np.nonzero(sl)[0], cols] = vx[sl]
-            ez[np.nonzero(sl)[0], cols] = vz[sl]
-            jx = jx + S @ ex
-            jz = jz + S @ ez
-        drift = None
-        if v is not None:
-            w = self.A @ v
-            w2 = w * w
-            dx, dz = -vx * w2 * m, -vz * w2 * m
-            if self.has_slider:
-                mdot = np.where(self.slider >= 0, v[np.maximum(self.slider, 0)], 0.0)
-                dx = dx + 2 * px * w * mdot
-                dz = dz + 2 * pz * w * mdot
-            drift = np.column_stack((S @ dx, S @ dz))
-        pitch = self.pitch_a0 + self.pitch_A @ q
-        return pos, jx, jz, drift, pitch
 
 
 class PlanarRowBlocks:

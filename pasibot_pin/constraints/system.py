@@ -552,8 +552,8 @@ class ConstraintSystem:
 
         """
         rows = self.evaluate(q, None, t)
-        rhs = rows.phi_t if rates is None else self._rhs_rates(rates)
-        return _square_solve(rows.jac, -rhs if rates is None else rhs, "velocity")
+        rhs = -rows.phi_t if rates is None else self._rhs_rates(rates)
+        return _square_solve(rows.jac, rhs, "velocity")
 
     def _rhs_rates(self, rates: Sequence[float]) -> np.ndarray:
         rhs = np.zeros(self.nrows)
@@ -608,22 +608,6 @@ class ConstraintSystem:
         mass = symmetric_mass_matrix(self.model, self.data, q)
         return kkt_solve(mass, rows.jac, mass @ v_minus, -rows.phi_t)
 
-    def split(self, tau: np.ndarray, actuation: np.ndarray, jac: np.ndarray | None = None, q=None):
-        """Solve tau = S^T u + J^T lambda (square) for (u, lambda): inverse dynamics on these rows.
-
-        Args:
-            tau: the generalised force the motion needs (``rnea``) (nv,).
-            actuation: S (n_u, nv), the actuated and spring coordinates.
-            jac: J of the rows used (default: evaluated at ``q``).
-            q: configuration, when ``jac`` is not given.
-
-        Raises:
-            ValueError: a non-square or singular [S^T J^T] (the actuators cannot hold the motion).
-
-        """
-        jac = self.jacobian(q) if jac is None else jac
-        return split_torques(tau, actuation, jac)
-
 
 def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Solve tau = S^T u + J^T lambda (square) for (u, lambda).
@@ -661,12 +645,6 @@ def _square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
 
 
 # --------------------------------------------------------------------------- frame kinematics
-def frame_jacobian_xz(model: pin.Model, data: pin.Data, q: np.ndarray, frame: int) -> np.ndarray:
-    """d(x, z, pitch)/dq of a frame's origin and pitch, world axes (3, nv)."""
-    jac = pin.computeFrameJacobian(model, data, q, frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).reshape(6, model.nv)
-    return np.vstack((jac[0], jac[2], -jac[4]))
-
-
 def frame_jacobian(model: pin.Model, data: pin.Data, q: np.ndarray, frame: int) -> np.ndarray:
     """The 6 x nv LOCAL_WORLD_ALIGNED Jacobian of a frame (linear, then angular rows)."""
     return pin.computeFrameJacobian(model, data, q, frame, pin.ReferenceFrame.LOCAL_WORLD_ALIGNED).reshape(6, model.nv)
