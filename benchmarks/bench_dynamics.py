@@ -167,7 +167,7 @@ def main() -> None:
     def constrained_step():
         tau = pin.rnea(model, rs.data, q, v, a)
         jc = rows.constraint_jacobian(q)
-        return dynamics.split_torques(tau, s_matrix, jc)
+        return constraints.split_torques(tau, s_matrix, jc)
 
     cdata = model.createData()
     index, sign = constraints.inplane_rows(rs.constraint_models)
@@ -175,7 +175,7 @@ def main() -> None:
     def constrained_step_pin():
         tau = pin.rnea(model, cdata, q, v, a)
         jac = constraints.pinocchio_constraint_jacobian(model, cdata, rs.constraint_models, q)
-        return dynamics.split_torques(tau, s_matrix, jac[index] * sign)
+        return constraints.split_torques(tau, s_matrix, jac[index] * sign)
 
     u, _ = constrained_step()
     u_pin, _ = constrained_step_pin()

@@ -135,6 +135,22 @@ def pinocchio_constraint_jacobian(
     return jac
 
 
+def model_key(cmodel: pin.RigidConstraintModel) -> tuple:
+    """A hashable key of what a constraint model constrains: its type, joints and placements.
+
+    Two models with equal keys give the same rows, so caches keyed by it are shared between
+    equal models built anew (e.g. the same weld for every call of an analysis).
+    """
+    return (
+        int(cmodel.type),
+        int(cmodel.joint1_id),
+        int(cmodel.joint2_id),
+        cmodel.joint1_placement.homogeneous.tobytes(),
+        cmodel.joint2_placement.homogeneous.tobytes(),
+        cmodel.name,
+    )
+
+
 def anchor_points(cmodel: pin.RigidConstraintModel) -> tuple[tuple[int, pin.SE3], tuple[int, pin.SE3]]:
     """The two frames a constraint model ties together: ((joint1, placement1), (joint2, placement2)).
 

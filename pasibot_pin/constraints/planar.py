@@ -158,7 +158,8 @@ class PlanarRowBlocks:
 
     Args:
         ends: the constraint ends (:class:`PlanarEnds`).
-        pairs: (a, b) end indices of each point coincidence (a weld's position rows too).
+        pairs: (a, b) end indices of each point coincidence (a weld's position rows too); b = -1
+            gives the point a itself (its world position, Jacobian and drift).
         pitch_pairs: (a, b) end indices of each weld's pitch row (b may be -1: none).
 
     """
@@ -168,7 +169,7 @@ class PlanarRowBlocks:
         self.a0, self.A = ends.a0, ends.A
         self.slider = ends.slider
         self.has_slider = ends.has_slider
-        self.D = np.array([ends.S[a] - ends.S[b] for a, b in pairs]).reshape(len(pairs), len(self.a0))
+        self.D = np.array([ends.S[a] - (ends.S[b] if b >= 0 else 0.0) for a, b in pairs]).reshape(len(pairs), len(self.a0))
         pitch_a0, pitch_A = [], []
         for a, b in pitch_pairs:
             a0 = ends.pitch_a0[a] - (ends.pitch_a0[b] if b >= 0 else 0.0)

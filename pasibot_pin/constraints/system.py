@@ -335,6 +335,17 @@ class ConstraintSystem:
             template[self._pitch_rows] = self._blocks.pitch_A[n_weld:]
             template[self._lin_rows] = self._lin
             self._jac_template = template
+            # the rows in the order the planar kinematics gives them (x of every point pair, z of
+            # every pair, weld pitches, pitch rows, coordinate rows) and the permutation to ours
+            n_pairs = len(self.cmodels)
+            raw = np.concatenate((self._rx, self._rz, self._weld_rows, self._pitch_rows, self._lin_rows))
+            self._perm = np.argsort(raw.astype(int))
+            const = np.vstack((self._blocks.pitch_A, self._lin)).reshape(-1, nv)
+            self._const_jac = const
+            self._n_pairs, self._n_const = n_pairs, len(const)
+            self._phi_t = np.zeros(self.nrows)
+            self._phi_t[row:] = -self._rate
+            self._pitch_scalar = np.nonzero(self._is_pitch)[0] + row
 
     def _angular(self, row: CoordinateRow) -> bool:
         """True when every coordinate of the row is a rotation (revolute joints and the hip pitch)."""
@@ -432,40 +443,48 @@ class ConstraintSystem:
         return self._finish(phi, jac, drift, q, t, targets)
 
     def _finish(self, phi, jac, drift, q, t, targets) -> Rows:
-        """Fill the coordinate rows, subtract the scalar rows' targets and add Phi_t."""
-        m = self.nrows
+        """Fill the coordinate rows, subtract the scalar rows' targets and add Phi_t (any batch shape)."""
         lr = self._lin_rows
         if len(lr):
-            phi[lr] = self._lin @ q
-            jac[lr] = self._lin
+            phi[..., lr] = q @ self._lin.T
+            jac[..., lr, :] = self._lin
         n0 = self.n_constraint_rows
         if self.scalars:
             goal = self.targets(t) if targets is None else np.asarray(targets, dtype=float)
-            ds = phi[n0:] - goal
-            ds[self._is_pitch] = _wrap(ds[self._is_pitch])
-            phi[n0:] = ds
-        phi_t = np.zeros(m)
-        phi_t[n0:] = -self._rate
+            ds = phi[..., n0:] - goal
+            ds[..., self._is_pitch] = _wrap(ds[..., self._is_pitch])
+            phi[..., n0:] = ds
+        phi_t = np.zeros(phi.shape)
+        phi_t[..., n0:] = -self._rate
         return Rows(phi, jac, drift, phi_t)
 
     def _evaluate_planar(self, q, v, t, targets) -> Rows:
-        """:meth:`evaluate` through the exact planar kinematics (complex products, no Pinocchio call)."""
-        m = self.nrows
-        phi, drift = np.zeros(m), np.zeros(m)
-        jac = self._jac_template.copy()
+        """:meth:`evaluate` through the exact planar kinematics (complex products, no Pinocchio call).
+
+        ``q`` (and ``v``) may carry leading batch axes: (N, nv) gives rows (N, m) and J (N, m, nv).
+        The rows come out in the kinematics' order and are put in ours by one permutation.
+        """
+        batch = q.shape[:-1]
+        perm = self._perm
         rows, jc, dc, pitch = self._blocks.evaluate(q, v)
-        rx, rz = self._rx, self._rz
-        if len(rx):
-            phi[rx], phi[rz] = rows.real, rows.imag
-            jac[rx], jac[rz] = jc.real, jc.imag
-            if dc is not None:
-                drift[rx], drift[rz] = dc.real, dc.imag
         n_weld = len(self._weld_rows)
-        if n_weld:  # pitch is linear in q: constant Jacobian rows, no drift
-            phi[self._weld_rows] = _wrap(pitch[:n_weld])
-        if len(self._pitch_rows):
-            phi[self._pitch_rows] = pitch[n_weld:]
-        return self._finish(phi, jac, drift, q, t, targets)
+        if n_weld:
+            pitch = np.concatenate((_wrap(pitch[..., :n_weld]), pitch[..., n_weld:]), axis=-1)
+        phi = np.concatenate((rows.real, rows.imag, pitch, q @ self._lin.T), axis=-1)[..., perm]
+        const = self._const_jac if not batch else np.broadcast_to(self._const_jac, batch + self._const_jac.shape)
+        jac = np.concatenate((jc.real, jc.imag, const), axis=-2)[..., perm, :]
+        if dc is None:
+            drift = np.zeros(phi.shape)
+        else:  # pitch is linear in q: the constant rows have no drift
+            drift = np.concatenate((dc.real, dc.imag, np.zeros(batch + (self._n_const,))), axis=-1)[..., perm]
+        n0 = self.n_constraint_rows
+        if self.scalars:
+            goal = self.targets(t) if targets is None else np.asarray(targets, dtype=float)
+            phi[..., n0:] -= goal
+            if len(self._pitch_scalar):
+                phi[..., self._pitch_scalar] = _wrap(phi[..., self._pitch_scalar])
+        phi_t = self._phi_t.copy() if not batch else np.broadcast_to(self._phi_t, phi.shape).copy()
+        return Rows(phi, jac, drift, phi_t)
 
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""
@@ -528,6 +547,71 @@ class ConstraintSystem:
             f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[worst]):.3e} "
             f"after {max_iter} Newton iterations at t = {t:.4f} s; the loop cannot assemble there"
         )
+
+    def project_many(self, q: np.ndarray, targets: np.ndarray, max_iter: int = 50) -> tuple[np.ndarray, Rows]:
+        """Newton onto Phi = 0 for a batch of samples at once (square systems, planar kinematics).
+
+        Each sample iterates exactly as :meth:`project` would from its own start, and stops once
+        all its rows are below :attr:`tolerance`; the batch shares the kinematic evaluations and
+        the factorisations (one ``np.linalg.solve`` on (N, m, m) per iteration).
+
+        Args:
+            q: starting configurations (N, nq).
+            targets: the scalar rows' targets per sample (N, n_scalars) or shared (n_scalars,).
+            max_iter: iteration limit.
+
+        Returns:
+            (q, rows): the closed configurations (N, nq) and the rows evaluated there (J (N, m, nv)).
+
+        Raises:
+            ValueError: no convergence or a singular pose, naming the first failing sample.
+
+        """
+        q = np.array(q, dtype=float)
+        if q.ndim != 2 or self._planar_ends is None or self.nrows != self.model.nv:
+            raise ValueError("project_many needs a batch (N, nq) and a square planar constraint system")
+        targets = np.broadcast_to(np.asarray(targets, dtype=float), (len(q), len(self.scalars)))
+        rows = self.evaluate(q, None, 0.0, targets)
+        for _ in range(max_iter):
+            open_ = np.any(np.abs(rows.phi) >= self.tolerance, axis=1)
+            if not np.any(open_):
+                return q, rows
+            try:
+                step = np.linalg.solve(rows.jac[open_], -rows.phi[open_][:, :, None])[:, :, 0]
+            except np.linalg.LinAlgError as err:
+                raise ValueError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
+            largest = np.max(np.abs(step), axis=1, keepdims=True)
+            step *= np.minimum(1.0, STEP_LIMIT / np.maximum(largest, 1e-300))
+            q[open_] += step  # nq == nv and every joint is Euclidean: integrate is a sum
+            part = self.evaluate(q[open_], None, 0.0, targets[open_])
+            rows.phi[open_], rows.jac[open_] = part.phi, part.jac
+        k = int(np.argmax(np.any(np.abs(rows.phi) >= self.tolerance, axis=1)))
+        worst = int(np.argmax(np.abs(rows.phi[k]) / self.tolerance))
+        raise ValueError(
+            f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[k, worst]):.3e} "
+            f"after {max_iter} Newton iterations (sample {k}, targets {np.round(targets[k], 6).tolist()}); "
+            "the loop cannot assemble there"
+        )
+
+    def motion_many(self, q: np.ndarray, rates: np.ndarray, accelerations: np.ndarray, jac: np.ndarray | None = None):
+        """(v, a, J) for a batch of configurations on the manifold (square system).
+
+        Args:
+            q: configurations (N, nq) on the manifold.
+            rates: the scalar rows' rates (N, n_scalars) or (n_scalars,) [rad/s, m/s].
+            accelerations: their second derivatives, same shapes [rad/s^2, m/s^2].
+            jac: J at ``q`` (N, m, nv) if already known (from :meth:`project_many`).
+
+        """
+        jac = self.evaluate(q).jac if jac is None else jac
+        n0, shape = self.n_constraint_rows, (len(q), self.nrows)
+        rhs = np.zeros(shape)
+        rhs[:, n0:] = rates
+        v = _square_solve_many(jac, rhs, "velocity")
+        rows = self.evaluate(q, v)
+        rhs = -rows.drift
+        rhs[:, n0:] += accelerations
+        return v, _square_solve_many(rows.jac, rhs, "acceleration"), rows.jac
 
     def _newton_step(self, q: np.ndarray, rows: Rows, metric: str) -> np.ndarray:
         jac = rows.jac
@@ -627,6 +711,33 @@ def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tup
         raise ValueError("split: the actuator and constraint forces are not finite")
     ns = s_matrix.shape[0]
     return x[:ns], x[ns:]
+
+
+def split_torques_many(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`split_torques` for a batch: tau (N, nv), S (n_u, nv), J (N, m, nv) -> u (N, n_u), lambda (N, m)."""
+    n = len(tau)
+    mat = np.concatenate((np.broadcast_to(s_matrix.T, (n,) + s_matrix.T.shape), np.swapaxes(jac, 1, 2)), axis=2)
+    if mat.shape[1] != mat.shape[2]:
+        raise ValueError(f"split: {mat.shape[2]} unknowns for nv = {mat.shape[1]}; the system must be square")
+    x = _square_solve_many(mat, tau, "split")
+    ns = s_matrix.shape[0]
+    return x[:, :ns], x[:, ns:]
+
+
+def _square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
+    """Solve a batch of square systems (N, n, n) x = (N, n), with the errors of :func:`_square_solve`."""
+    if matrix.shape[-2] != matrix.shape[-1]:
+        raise ValueError(
+            f"{what}: constraints plus prescriptions give {matrix.shape[-2]} rows for nv = {matrix.shape[-1]}; "
+            "prescribe exactly the free coordinates"
+        )
+    try:
+        sol = np.linalg.solve(matrix, rhs[..., None])[..., 0]
+    except np.linalg.LinAlgError as err:
+        raise ValueError(f"{what}: singular pose, the matrix lost rank") from err
+    if not np.all(np.isfinite(sol)):
+        raise ValueError(f"{what}: singular pose, the solution is not finite")
+    return sol
 
 
 def _square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:

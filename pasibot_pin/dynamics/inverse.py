@@ -37,7 +37,10 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import coupling, is_weld, split_torques
+from pasibot_pin.constraints import coupling, is_weld
+from pasibot_pin.constraints.planar import PlanarRowBlocks
+from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
+from pasibot_pin.dynamics.newton_euler import batch_rnea, tree_layout
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
@@ -267,134 +270,70 @@ def _couplings(robot: PasibotRobot, layout: MotorLayout) -> list:
     return [coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings]
 
 
-def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
-    return np.array([a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0]])
+_ANKLE_ENDS: dict[tuple[int, str], tuple[pin.Model, PlanarRowBlocks]] = {}
 
 
-def constraint_fext(robot: PasibotRobot, q: np.ndarray, cmodels, lam: np.ndarray, fext: list[pin.Force] | None = None):
-    """External forces (joint-local ``pin.Force`` list) equivalent to J_c^T lambda (in-plane rows).
+def _ankle_ends(robot: PasibotRobot, side: str) -> PlanarRowBlocks:
+    """The shank frame's pitch and the toe and heel positions of ``side``, as planar rows (cached)."""
+    cache = _ANKLE_ENDS
+    key = (id(robot.model), side)
+    if key not in cache or cache[key][0] is not robot.model:
+        model = robot.model
+        frames = [model.frames[robot.frame_id(f"{side}_{name}")] for name in ("l5_shank", "toe", "heel")]
+        ends = planar_kinematics(model).ends(
+            np.array([f.parentJoint for f in frames]),
+            np.array([f.placement.translation for f in frames]),
+            np.array([f.placement.rotation for f in frames]),
+        )
+        if len(cache) >= 32:
+            cache.pop(next(iter(cache)))
+        cache[key] = (model, PlanarRowBlocks(ends, [(1, -1), (2, -1)], [(0, -1)]))  # keeps the model alive
+    return cache[key][1]
 
-    A point constraint's (lambda_x, lambda_z) acts on its first frame, the opposite on its
-    second; a weld's third row is a counter-clockwise moment on the welded body.
+
+def ankle_angles(robot: PasibotRobot, q: np.ndarray, side: str) -> np.ndarray:
+    """Beta of ``side`` for configurations q (N, nq): from the forward foot (heel -> toe) to the shank [rad].
+
+    With a spring ankle it is pi/2 - q_ankle; otherwise it is read from the frames
+    (pi/2 for the rigid foot; the parallel extension's foot follows the stabiliser).
     """
-    model, data = robot.model, robot.data
-    pin.forwardKinematics(model, data, q)
-    joints, unique, inverse, trans, sign, row_x, row_z, row_m = _fext_layout(robot, cmodels)
-    lam = np.asarray(lam, dtype=float)
-    force = np.zeros((len(joints), 3))
-    force[:, 0], force[:, 2] = sign * lam[row_x], sign * lam[row_z]
-    moment_y = np.where(row_m >= 0, -sign * lam[np.maximum(row_m, 0)], 0.0)
-    rot = np.array([data.oMi[j].rotation for j in unique])[inverse]  # (E, 3, 3)
-    f_local = np.einsum("eji,ej->ei", rot, force)  # R^T f
-    m_local = np.cross(trans, f_local) + rot[:, 1, :] * moment_y[:, None]  # R^T (0, m_y, 0)
-    wrench = np.zeros((model.njoints, 6))
-    np.add.at(wrench, joints, np.hstack((f_local, m_local)))
-    out = [pin.Force(w[:3], w[3:]) for w in wrench]
-    if fext is not None:
-        out = [f + g for f, g in zip(fext, out)]
-    return out
-
-
-def _fext_layout(robot: PasibotRobot, cmodels):
-    """Per constraint end on a moving joint: joint, local point, sign and the rows of its lambda (cached)."""
-    cache = robot.__dict__.setdefault("_fext_cache", {})
-    key = (id(robot.model), tuple(id(cm) for cm in cmodels))
-    if key in cache:
-        return cache[key][1]
-    joints, trans, sign, row_x, row_z, row_m = [], [], [], [], [], []
-    r = 0
-    for cm in cmodels:
-        weld = is_weld(cm)
-        for joint, placement, sgn in (
-            (cm.joint1_id, cm.joint1_placement, 1.0),
-            (cm.joint2_id, cm.joint2_placement, -1.0),
-        ):
-            if joint == 0:
-                continue
-            joints.append(int(joint))
-            trans.append(np.array(placement.translation))
-            sign.append(sgn)
-            row_x.append(r)
-            row_z.append(r + 1)
-            row_m.append(r + 2 if weld else -1)
-        r += 3 if weld else 2
-    unique, inverse = np.unique(joints, return_inverse=True)
-    layout = (
-        np.array(joints, dtype=int),
-        [int(j) for j in unique],
-        inverse.reshape(-1),
-        np.array(trans).reshape(-1, 3),
-        np.array(sign),
-        np.array(row_x, dtype=int),
-        np.array(row_z, dtype=int),
-        np.array(row_m, dtype=int),
-    )
-    cache[key] = (list(cmodels), layout)  # the entry keeps the models alive: no id reuse
-    return layout
+    q = np.atleast_2d(q)
+    if robot.spec.free_ankle:
+        return math.pi / 2 - q[:, robot.idx_q(f"{side}_{robot.spec.spring_joints[0]}")]
+    points, _, _, pitch = _ankle_ends(robot, side).evaluate(q)
+    up = pitch[:, 0] + math.pi  # ankle -> knee is minus the shank's x axis
+    sole = np.angle(points[:, 0] - points[:, 1])
+    diff = up - sole
+    return diff - 2 * math.pi * np.round(diff / (2 * math.pi))  # math.remainder, elementwise
 
 
 def ankle_angle(robot: PasibotRobot, q: np.ndarray, side: str) -> float:
-    """Beta of ``side``: the angle from the forward foot (sole, heel -> toe) to the shank (ankle -> knee) [rad].
-
-    With a spring ankle it is pi/2 - q_ankle; otherwise it is read from the frames at ``q``
-    (pi/2 for the rigid foot; the parallel extension's foot follows the stabiliser).
-    """
-    if robot.spec.free_ankle:
-        return math.pi / 2 - q[robot.idx_q(f"{side}_{robot.spec.spring_joints[0]}")]
-    model, data = robot.model, robot.data
-    pin.forwardKinematics(model, data, q)
-    shank = pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_l5_shank")).rotation
-    toe = pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_toe")).translation
-    heel = pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_heel")).translation
-    up = math.atan2(-shank[2, 0], -shank[0, 0])  # ankle -> knee is minus the shank's x axis
-    sole = math.atan2(toe[2] - heel[2], toe[0] - heel[0])
-    return math.remainder(up - sole, 2 * math.pi)
-
-
-def com_positions(robot: PasibotRobot, q: np.ndarray) -> np.ndarray:
-    """World COM of every joint's body (njoints x 3) [m] (row 0 unused)."""
-    model, data = robot.model, robot.data
-    pin.forwardKinematics(model, data, q)
-    out = np.zeros((model.njoints, 3))
-    for j in range(1, model.njoints):
-        out[j] = data.oMi[j].act(model.inertias[j].lever)
-    return out
-
-
-def inertial_fext(robot: PasibotRobot, q: np.ndarray, com_acc: np.ndarray) -> list[pin.Force]:
-    """The point masses' inertial forces -m_i a_i (world COM accelerations, njoints x 3) as joint-local forces."""
-    model, data = robot.model, robot.data
-    pin.forwardKinematics(model, data, q)
-    fext = [pin.Force.Zero() for _ in range(model.njoints)]
-    for j in range(1, model.njoints):
-        inertia = model.inertias[j]
-        if inertia.mass == 0.0:
-            continue
-        f_local = data.oMi[j].rotation.T @ (-inertia.mass * com_acc[j])
-        fext[j] = pin.Force(f_local, _cross(inertia.lever, f_local))
-    return fext
-
-
-def joint_reactions(robot: PasibotRobot, q, v, a, fext) -> np.ndarray:
-    """Force of each parent on its child at every tree joint: (njoints x 3) Fx, Fz [N], CCW moment [N.m].
-
-    From ``pin.rnea(q, v, a, fext)`` with every external force (constraint forces included):
-    ``data.f[j]`` is the spatial force transmitted through joint j, at its origin.
-    """
-    model, data = robot.model, robot.data
-    pin.forwardKinematics(model, data, q)
-    pin.rnea(model, data, q, v, a, fext)
-    joints = range(1, model.njoints)
-    rot = np.array([data.oMi[j].rotation for j in joints])  # (J, 3, 3)
-    wrench = np.array([data.f[j].vector for j in joints])  # (J, 6): linear, angular in the joint frame
-    lin = np.einsum("jik,jk->ji", rot, wrench[:, :3])
-    ang_y = np.einsum("jk,jk->j", rot[:, 1, :], wrench[:, 3:])
-    out = np.zeros((model.njoints, 3))
-    out[1:, 0], out[1:, 1], out[1:, 2] = lin[:, 0], lin[:, 2], -ang_y
-    return out
+    """Beta of ``side`` at one configuration [rad] (:func:`ankle_angles`)."""
+    return float(ankle_angles(robot, q, side)[0])
 
 
 # --------------------------------------------------------------------------- trajectory
+def _segments(sides: list[str]) -> list[tuple[int, int]]:
+    """(start, stop) of each run of samples with the same stance side."""
+    bounds = [0] + [k for k in range(1, len(sides)) if sides[k] != sides[k - 1]] + [len(sides)]
+    return list(zip(bounds[:-1], bounds[1:]))
+
+
+def _shift(delta: float, free: list[float]) -> np.ndarray:
+    """Move both crank targets by ``delta`` [rad], the held rows not."""
+    return np.array([delta, delta] + [0.0] * len(free))
+
+
+def _closed(rows, robot, thetas, targets, swing_pitch, side, stance_x, angular) -> np.ndarray:
+    """Closed configurations (N, nq) along ``thetas``: the analytic assembly, polished by a batched Newton.
+
+    The angles are unwrapped along the sweep, as a continuation would carry them.
+    """
+    guess, _ = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
+    guess[:, angular] = np.unwrap(guess[:, angular], axis=0)
+    return rows.project_many(guess, targets)[0]
+
+
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
     """``samples`` right-crank angles from ``start`` to ``stop`` inclusive [rad]."""
     if samples < 2:
@@ -471,97 +410,82 @@ def inverse_dynamics(
     ground = np.zeros((n, 3))
     cuts: dict[str, np.ndarray] = {}
     joints: dict[str, np.ndarray] = {}
-    sides_used: list[str] = []
+    sides_used = [stance_side(th) if stance == "auto" else stance for th in thetas]
 
     spec = robot.spec
     free = [0.0, 0.0] if spec.free_ankle else []  # hip pitch and swing foot held (spring variant)
+    swing_pitch = 0.0 if swing_foot == "level" else None
     n_motor = len(layout.motors)
     transmission = np.zeros(n)
-    current = None
-    q_prev = None
-    theta_prev, predictor = 0.0, None
-    rs = rows = s_matrix = prescribed = coupling_jac = None
-    cut_rows: list[tuple[str, int, bool]] = []
-    joint_names: list[tuple[int, str]] = []
+    angular = closure.angular_coordinates(model)
     stance_x = 0.0
-    for k, theta in enumerate(thetas):
-        side = stance_side(theta) if stance == "auto" else stance
-        if side != current:
-            if q_prev is not None:  # the landing foot becomes the stance foot where it lands
-                switch = math.pi / 2 + math.pi * math.floor((theta - math.pi / 2) / math.pi)
-                q_land = rows.project(q_prev, targets=[switch, switch + math.pi, *free])
-                pin.framesForwardKinematics(model, rs.data, q_land)
-                stance_x = float(rs.data.oMf[rs.frame_id(f"{side}_foot")].translation[0])
-            q_start = closure.assemble(robot, float(theta), stance=side, ankle_x=stance_x)
-            rs = robot.with_stance(side, q_start)
-            prescribed = _prescriptions(rs, side, swing_foot)
-            rows = closure.system(rs, rs.constraint_models, prescribed)
-            s_matrix = _actuation(rs, side, layout)
-            # the motor couplings are constraint rows of the force split (constant Jacobian)
-            coupling_jac = closure.system(rs, [], _couplings(rs, layout)).jacobian(q_start)
-            q_prev, theta_prev, predictor = q_start, theta, None
-            current = side
-            # generic names (stance_/swing_) of the cut rows and tree joints, once per stance
-            cut_rows, r = [], 0
-            for cm in rs.constraint_models:
-                cut_rows.append((_generic(cm.name, side), r, is_weld(cm)))
-                r += 3 if is_weld(cm) else 2
-            joint_names = [(j, _generic(model.names[j], side)) for j in range(2, model.njoints)]
-        targets = [theta, theta + math.pi, *free]
-        guess = q_prev
-        if predictor is not None:  # first-order predictor along the manifold: dq/dtheta (theta - theta_prev)
-            guess = pin.integrate(model, q_prev, predictor * (theta - theta_prev))
-        q = rows.project(guess, targets=targets)
-        q_prev, theta_prev = q, theta
-        cms = rs.constraint_models
+    previous = None  # (rows, last q) of the previous stance
+    for i0, i1 in _segments(sides_used):
+        side, th = sides_used[i0], thetas[i0:i1]
+        if previous is not None:  # the landing foot becomes the stance foot where it lands
+            switch = math.pi / 2 + math.pi * math.floor((th[0] - math.pi / 2) / math.pi)
+            q_land = previous[0].project(previous[1], targets=[switch, switch + math.pi, *free])
+            pin.framesForwardKinematics(model, robot.data, q_land)
+            stance_x = float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
+        # the analytic assembly of the whole stance, polished by one batched Newton
+        guess, weld = closure.analytic_configurations(robot, th, None, 0.0, swing_pitch, side, stance_x)
+        guess[:, angular] = np.unwrap(guess[:, angular], axis=0)  # angles carried along the sweep
+        rs = robot.with_weld(side, weld)
+        rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
+        s_matrix = _actuation(rs, side, layout)
+        # the motor couplings are constraint rows of the force split (constant Jacobian)
+        coupling_jac = closure.system(rs, [], _couplings(rs, layout)).jacobian(guess[0])
+        targets = np.column_stack([th, th + math.pi] + [np.full(th.size, f) for f in free])
+        q, closed = rows.project_many(guess, targets)
         if quasi_static:
-            v = a = np.zeros(nv)
-            jac = rows.last_rows.jac
+            v = a = np.zeros((th.size, nv))
+            jac = closed.jac
         else:
-            v, a, jac = rows.motion(q, [omega, omega, *free], [0.0] * len(targets), rows.last_rows.jac)
+            rates = np.array([omega, omega, *free])
+            v, a, jac = rows.motion_many(q, rates, np.zeros_like(rates), closed.jac)
+        tree = tree_layout(model, rs.constraint_models)
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []
             for j in offsets:
-                qj = q if j == 0 else rows.project(q, targets=[theta + j * step, theta + j * step + math.pi, *free])
-                coms.append(com_positions(rs, qj))
-            dt = step / omega
-            com_acc = (coms[2] - 2 * coms[1] + coms[0]) / dt**2
-            fext_inertia = inertial_fext(rs, q, com_acc)
-            tau = pin.rnea(model, rs.data, q, np.zeros(nv), np.zeros(nv), fext_inertia)
-            v_id = a_id = np.zeros(nv)
+                shifted = th + j * step
+                qj = q if j == 0 else _closed(rows, rs, shifted, targets + _shift(j * step, free), swing_pitch, side,
+                                              stance_x, angular)
+                coms.append(tree.coms.evaluate(qj)[0])
+            com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / omega) ** 2
+            com_pos, com_jac, _, _ = tree.coms.evaluate(q)
+            zero = np.zeros((th.size, nv))
+            tau = batch_rnea(model, q, zero, zero) + tree.point_forces_torque(com_jac, tree.mass * com_acc)
+            alpha = None
         else:
-            fext_inertia = None
-            tau = pin.rnea(model, rs.data, q, v, a)
-            v_id, a_id = v, a
+            tau = batch_rnea(model, q, v, a)
+            com_pos, com_acc, alpha = tree.body_motion(q, v, a)
         nc = rows.n_constraint_rows
-        u, lam_all = split_torques(tau, s_matrix, np.vstack((jac[:nc], coupling_jac)))
-        lam = lam_all[:nc]
-        if not quasi_static:
-            predictor = v / omega
-        if reactions:
-            fext = constraint_fext(rs, q, cms, lam, fext_inertia)
-            reac = joint_reactions(rs, q, v_id, a_id, fext)
-
-        swing = other(side)
-        out["beta"][k], out["beta_swing"][k] = ankle_angle(rs, q, side), ankle_angle(rs, q, swing)
-        out["Ta"][k] = u[0]
+        jac_split = np.concatenate((jac[:, :nc], np.broadcast_to(coupling_jac, (th.size,) + coupling_jac.shape)), 1)
+        u, lam_all = split_torques_many(tau, s_matrix, jac_split)
+        lam = lam_all[:, :nc]
+        seg = slice(i0, i1)
+        out["beta"][seg], out["beta_swing"][seg] = ankle_angles(rs, q, side), ankle_angles(rs, q, other(side))
+        out["Ta"][seg] = u[:, 0]
         if n_motor == 2:
-            out["Ta_swing"][k] = u[1]
+            out["Ta_swing"][seg] = u[:, 1]
         else:
-            transmission[k] = lam_all[nc]
+            transmission[seg] = lam_all[:, nc]
         if spec.free_ankle:
-            out["Te"][k], out["Te_swing"][k] = -u[n_motor], -u[n_motor + 1]
-        qs[k], vs[k], accs[k], taus[k] = q, v, a, tau
-        for name, r, weld in cut_rows:
-            if weld:
-                ground[k] = lam[r : r + 3]
+            out["Te"][seg], out["Te_swing"][seg] = -u[:, n_motor], -u[:, n_motor + 1]
+        qs[seg], vs[seg], accs[seg], taus[seg] = q, v, a, tau
+        r = 0
+        for cm in rs.constraint_models:
+            if is_weld(cm):
+                ground[seg] = lam[:, r : r + 3]
             else:
-                cuts.setdefault(name, np.zeros((n, 2)))[k] = lam[r : r + 2]
+                cuts.setdefault(_generic(cm.name, side), np.zeros((n, 2)))[seg] = lam[:, r : r + 2]
+            r += 3 if is_weld(cm) else 2
         if reactions:
-            for j, name in joint_names:
-                joints.setdefault(name, np.zeros((n, 3)))[k] = reac[j]
-        sides_used.append(side)
+            reac = tree.reactions(q, com_pos, com_acc, alpha, lam)
+            for j in range(2, model.njoints):
+                joints.setdefault(_generic(model.names[j], side), np.zeros((n, 3)))[seg] = reac[:, j]
+        previous = (rows, q[-1])
 
     theta_stance = np.array([wrap_stance(th if s == "right" else th + math.pi) for th, s in zip(thetas, sides_used)])
     t = (thetas - thetas[0]) / (omega if omega > 0 else 1.0)

@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
-from pasibot_pin.model.assembly import leg_joint_angles, leg_points, sole_angle
+from pasibot_pin.model.assembly import joint_angles_from_points, leg_points, sole_angle_from_points
 from pasibot_pin.model.description import sides
 
 RESIDUAL_TOL = 1e-12
@@ -57,7 +57,9 @@ def is_crank(robot, row: Prescribed) -> bool:
     return isinstance(row, CoordinateRow) and row.name in robot.actuated_joints
 
 
-_CACHE_SIZE = 32
+_CACHE_SIZE = 64
+_SYSTEMS: dict[tuple, ConstraintSystem] = {}
+_ANGULAR: dict[int, tuple[pin.Model, np.ndarray]] = {}
 
 
 def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> ConstraintSystem:
@@ -70,9 +72,9 @@ def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> Constr
 
     """
     cmodels = robot.constraint_models if cmodels is None else cmodels
-    cache = robot.__dict__.setdefault("_system_cache", {})
-    # the key keeps no ids of dead objects: the entry holds the models and the Pinocchio model
-    key = (id(robot.model), id(robot.data), tuple(id(cm) for cm in cmodels), tuple(prescribed))
+    cache = _SYSTEMS  # shared by the shallow copies of a robot (with_stance, with_weld): keyed by its model
+    # equal constraint models share an entry; the entry holds the Pinocchio model, so its id is not reused
+    key = (id(robot.model), id(robot.data), tuple(constraints.model_key(cm) for cm in cmodels), tuple(prescribed))
     entry = cache.get(key)
     if entry is None:
         entry = ConstraintSystem(robot.model, robot.data, cmodels, prescribed, robot.geometry.L)
@@ -183,6 +185,96 @@ def solve_acceleration(robot, q, v, prescribed, accelerations, cmodels=None) -> 
 
 
 # --------------------------------------------------------------------------- assembly
+def angular_coordinates(model: pin.Model) -> np.ndarray:
+    """Mask (nq,) of the coordinates that are angles (revolute joints, the hip pitch) [bool]."""
+    cached = _ANGULAR.get(id(model))
+    if cached is not None and cached[0] is model:
+        return cached[1]
+    mask = np.ones(model.nq, dtype=bool)
+    for joint in model.joints[1:]:
+        subjoints = joint.extract().joints if joint.shortname() == "JointModelComposite" else [joint]
+        index = joint.idx_q
+        for sub in subjoints:
+            name = sub.shortname()
+            if "Prismatic" in name or name in ("JointModelPX", "JointModelPY", "JointModelPZ"):
+                mask[index] = False
+            index += sub.nq
+    if len(_ANGULAR) >= _CACHE_SIZE:
+        _ANGULAR.pop(next(iter(_ANGULAR)))
+    _ANGULAR[id(model)] = (model, mask)  # keeps the model alive: no id reuse
+    return mask
+
+
+def analytic_configurations(
+    robot,
+    thetas,
+    theta_left=None,
+    hip_pitch_value: float = 0.0,
+    swing_foot_pitch: float | None = 0.0,
+    stance: str | None = None,
+    ankle_x: float = 0.0,
+) -> tuple[np.ndarray, pin.RigidConstraintModel | None]:
+    """Configurations from the analytic assembly alone, one per crank angle (closed to round-off).
+
+    Args:
+        robot: a loaded robot.
+        thetas: right crank angles (N,) [rad].
+        theta_left: left crank angles (N,) [rad] (default ``thetas + pi``).
+        hip_pitch_value: hip pitch for the ``spring`` biped [rad].
+        swing_foot_pitch: swing-foot pitch for the ``spring`` biped [rad]; ``None`` keeps the
+            swing foot square to its shank (ankle coordinate 0).
+        stance: the welded foot (two legs; default the robot's stance or ``right``).
+        ankle_x: world x of the stance ankle [m] (its z is 0: the sole is on the ground).
+
+    Returns:
+        (q (N, nq), the stance weld for a floating robot or ``None``).
+
+    Raises:
+        ValueError: a loop that cannot assemble at one of the crank angles (named).
+
+    """
+    thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
+    for name, value in (("theta", thetas), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
+        if value is not None and not np.all(np.isfinite(value)):
+            raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+    model = robot.model
+    g, variant = robot.geometry, robot.spec
+    left = thetas + math.pi if theta_left is None else np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
+    angles = {"right": thetas, "left": left}
+    q = np.tile(pin.neutral(model), (len(thetas), 1))
+    stance = stance or robot.stance or "right"
+    points = {side: leg_points(angles[side], g, variant) for side in sides(robot.legs)}
+    pitch = np.zeros(len(thetas))
+    if robot.floating:
+        if variant.free_ankle:
+            pitch[:] = hip_pitch_value
+        else:
+            pitch = -sole_angle_from_points(points[stance], variant)
+    for side in sides(robot.legs):
+        foot_angle = None
+        if variant.free_ankle:
+            if not robot.floating:
+                foot_angle = 0.0
+            elif side == stance:
+                foot_angle = -pitch
+            elif swing_foot_pitch is not None:
+                foot_angle = swing_foot_pitch - pitch
+        for joint, value in joint_angles_from_points(points[side], angles[side], variant, foot_angle).items():
+            q[:, robot.idx_q(f"{side}_{joint}")] = value
+    weld = None
+    if robot.floating:
+        ankle = points[stance]["p13"]
+        c, s = np.cos(pitch), np.sin(pitch)
+        q[:, 0] = ankle_x - (c * ankle[:, 0] - s * ankle[:, 1])
+        q[:, 1] = -(s * ankle[:, 0] + c * ankle[:, 1])
+        q[:, 2] = pitch
+        y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
+        weld = constraints.weld_constraint(
+            model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
+        )
+    return q, weld
+
+
 def assemble(
     robot,
     theta: float,
@@ -213,41 +305,14 @@ def assemble(
     for name, value in (("theta", theta), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not math.isfinite(value):
             raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
-    model = robot.model
-    g, variant = robot.geometry, robot.spec
-    thetas = {"right": float(theta), "left": float(theta + math.pi if theta_left is None else theta_left)}
-    q = pin.neutral(model)
     stance = stance or robot.stance or "right"
-    pitch = 0.0
-    if robot.floating:
-        if variant.free_ankle:
-            pitch = hip_pitch_value
-        else:
-            pitch = -sole_angle(thetas[stance], g, variant)
-    for side in sides(robot.legs):
-        foot_angle = None
-        if variant.free_ankle:
-            if not robot.floating:
-                foot_angle = 0.0
-            elif side == stance:
-                foot_angle = -pitch
-            else:
-                foot_angle = swing_foot_pitch - pitch
-        for joint, value in leg_joint_angles(thetas[side], g, variant, foot_angle).items():
-            q[robot.idx_q(f"{side}_{joint}")] = value
-    cmodels = list(robot.loop_constraints)
-    if robot.floating:
-        ankle = leg_points(thetas[stance], g, variant)["p13"]
-        c, s = math.cos(pitch), math.sin(pitch)
-        hip_xz = np.array([ankle_x, 0.0]) - np.array([c * ankle[0] - s * ankle[1], s * ankle[0] + c * ankle[1]])
-        q[:3] = [hip_xz[0], hip_xz[1], pitch]
-        y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
-        weld = constraints.weld_constraint(
-            model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
-        )
-        cmodels.append(weld)
+    q, weld = analytic_configurations(
+        robot, [float(theta)], None if theta_left is None else [float(theta_left)], hip_pitch_value,
+        swing_foot_pitch, stance, ankle_x,
+    )
+    cmodels = list(robot.loop_constraints) + ([weld] if weld is not None else [])
     prescribed = default_prescriptions(robot, stance)
-    return solve_configuration(robot, q, prescribed, None, cmodels)
+    return solve_configuration(robot, q[0], prescribed, None, cmodels)
 
 
 # --------------------------------------------------------------------------- mobility

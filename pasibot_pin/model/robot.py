@@ -206,8 +206,12 @@ class PasibotRobot:
 
     def with_stance(self, side: str, q: np.ndarray) -> PasibotRobot:
         """A shallow copy whose weld holds ``side``'s foot where it is in ``q``."""
+        return self.with_weld(side, self.weld_foot(side, q))
+
+    def with_weld(self, side: str, weld: pin.RigidConstraintModel) -> PasibotRobot:
+        """A shallow copy standing on ``side`` with the stance weld ``weld``."""
         copy = PasibotRobot(**{k: getattr(self, k) for k in self.__dataclass_fields__})
-        copy.constraint_models = list(self.loop_constraints) + [self.weld_foot(side, q)]
+        copy.constraint_models = list(self.loop_constraints) + [weld]
         copy.stance = side
         return copy
 

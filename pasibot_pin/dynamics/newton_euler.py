@@ -1,0 +1,204 @@
+"""Batched planar Newton-Euler of the tree: body motion, joint reactions, point-force torques.
+
+For a batch of samples (q, v, a) of a planar model, every body's centre of mass moves as
+c(q) = a point of the exact planar kinematics (:mod:`pasibot_pin.constraints.planar`), so its
+acceleration is J_c a + J_dot_c v, and its pitch is linear in q, so its angular
+acceleration is A a. With these, the force and moment that joint j's parent applies to the
+subtree below j follow from the subtree's Newton-Euler balance, in the world x-z plane:
+
+    F_j = sum_{k in sub(j)} m_k (a_k - g) - sum_{e in sub(j)} f_e
+    M_j = sum_{k in sub(j)} [(c_k - o_j) x m_k (a_k - g) + I_k alpha_k]
+          - sum_{e in sub(j)} [(p_e - o_j) x f_e + mu_e]
+
+with f_e, mu_e the external (constraint) forces and moments at points p_e, and r x F =
+r_x F_z - r_z F_x the counter-clockwise moment (seen from the right side, about -y). This is
+the force ``pin.rnea(q, v, a, fext)`` transmits through joint j (``data.f[j]``), for every
+sample in a few array products. ``tests/test_dynamics.py`` compares it with Pinocchio.
+
+Pinocchio's C++ computes the joint torques of the whole batch at once
+(``pin.rneaInParallel`` on a model pool): :func:`batch_rnea`.
+
+Units: SI; forces [N], moments [N.m].
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.constraints import anchor_points, is_weld, model_key
+from pasibot_pin.constraints.planar import PlanarRowBlocks
+from pasibot_pin.constraints.system import planar_kinematics
+
+_POOLS: dict[int, tuple[pin.Model, pin.ModelPool]] = {}
+
+
+def batch_rnea(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
+    """``pin.rnea`` of every sample (N, nv) in one C++ call [N.m, N]; (N, nv) out."""
+    entry = _POOLS.get(id(model))
+    if entry is None or entry[0] is not model:
+        if len(_POOLS) >= 16:
+            _POOLS.pop(next(iter(_POOLS)))
+        entry = _POOLS[id(model)] = (model, pin.ModelPool(model, 1))  # keeps the model alive: no id reuse
+    tau = np.zeros((model.nv, len(q)), order="F")
+    pin.rneaInParallel(1, entry[1], np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T), tau)
+    return tau.T
+
+
+def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
+    """Counter-clockwise moment r x F of complex points and forces (x + i z) [N.m]."""
+    return (np.conj(r) * f).imag
+
+
+@dataclass
+class TreeLayout:
+    """The bodies, joint origins and constraint ends of a planar model, and who is below whom.
+
+    Attributes:
+        mass: mass of each joint's body (J,) [kg], joints 1..njoints-1.
+        inertia_y: its rotational inertia about the y axis through its COM (J,) [kg.m^2].
+        coms: the COM points (position, Jacobian, drift in one evaluation).
+        origins: the joint origins.
+        ends: the constraint ends on moving bodies (J_e, sign, lambda rows).
+        below: (J, J) 1 where body k is in the subtree of joint j.
+        ends_below: (J, E) 1 where constraint end e is on a body of the subtree of joint j.
+        gravity: world gravity as x + i z [m/s^2].
+
+    """
+
+    mass: np.ndarray
+    inertia_y: np.ndarray
+    coms: PlanarRowBlocks
+    origins: PlanarRowBlocks
+    ends: PlanarRowBlocks | None
+    end_sign: np.ndarray
+    end_rx: np.ndarray
+    end_rz: np.ndarray
+    end_rm: np.ndarray
+    below: np.ndarray
+    ends_below: np.ndarray
+    gravity: complex
+
+    def body_motion(self, q: np.ndarray, v: np.ndarray, a: np.ndarray):
+        """COM positions and accelerations (N, J) complex, angular accelerations (N, J) [m, m/s^2, rad/s^2]."""
+        pos, jac, drift, _ = self.coms.evaluate(q, v)
+        acc = np.einsum("njk,nk->nj", jac, a) + drift
+        alpha = a @ self.coms.pitch_A.T
+        return pos, acc, alpha
+
+    def reactions(
+        self,
+        q: np.ndarray,
+        com_pos: np.ndarray,
+        com_acc: np.ndarray,
+        alpha: np.ndarray | None,
+        lam: np.ndarray,
+    ) -> np.ndarray:
+        """Force of each parent on its child at every joint, (N, njoints, 3): Fx, Fz [N], CCW moment [N.m].
+
+        Args:
+            q: configurations (N, nq).
+            com_pos, com_acc: COM positions and accelerations (N, J), complex x + i z.
+            alpha: angular accelerations (N, J) [rad/s^2], or None (point masses, no rotation term).
+            lam: the constraint multipliers (N, m): in-plane rows of the constraint models, in order.
+
+        """
+        n = len(q)
+        force = self.mass * (com_acc - self.gravity)  # (N, J) inertial force of each body
+        moment = _cross(com_pos, force)
+        if alpha is not None:
+            moment = moment + self.inertia_y * alpha
+        f_sub = force @ self.below.T
+        m_sub = moment @ self.below.T
+        if self.ends is not None:
+            p_end = self.ends.evaluate(q)[0]  # (N, E)
+            f_end = self.end_sign * (lam[:, self.end_rx] + 1j * lam[:, self.end_rz])
+            mu = np.where(self.end_rm >= 0, self.end_sign * lam[:, np.maximum(self.end_rm, 0)], 0.0)
+            f_sub = f_sub - f_end @ self.ends_below.T
+            m_sub = m_sub - (_cross(p_end, f_end) + mu) @ self.ends_below.T
+        origin = self.origins.evaluate(q)[0]  # (N, J)
+        out = np.zeros((n, len(self.mass) + 1, 3))
+        out[:, 1:, 0], out[:, 1:, 1] = f_sub.real, f_sub.imag
+        out[:, 1:, 2] = m_sub - _cross(origin, f_sub)
+        return out
+
+    def point_forces_torque(self, com_pos_jac: np.ndarray, forces: np.ndarray) -> np.ndarray:
+        """Generalised force sum_k J_k^T F_k of forces F_k (N, J) complex at the COMs, J_k (N, J, nv) complex."""
+        return np.einsum("njk,nj->nk", com_pos_jac.real, forces.real) + np.einsum(
+            "njk,nj->nk", com_pos_jac.imag, forces.imag
+        )
+
+
+_LAYOUTS: dict[tuple, tuple[object, TreeLayout]] = {}
+
+
+def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
+    """The :class:`TreeLayout` of ``model`` with constraint models ``cmodels``.
+
+    Cached per model, constraint models and the model's current inertias (a model whose
+    masses are changed in place gets a new layout).
+    """
+    joints = list(range(1, model.njoints))
+    inertias = np.array([model.inertias[j].toDynamicParameters() for j in joints])
+    # only the ends on moving bodies matter: a weld's world target (where the foot stands) does not
+    ends_key = tuple(k[:4] + (k[4] if k[2] != 0 else b"",) for k in map(model_key, cmodels))
+    key = (id(model), ends_key, inertias.tobytes())
+    entry = _LAYOUTS.get(key)
+    if entry is not None:
+        return entry[1]
+    kin = planar_kinematics(model)
+    if kin is None:
+        raise ValueError("the batched Newton-Euler needs a planar model (every rotation about y)")
+    eye = np.eye(3)
+    mass = np.array([model.inertias[j].mass for j in joints])
+    inertia_y = np.array([model.inertias[j].inertia[1, 1] for j in joints])
+    levers = np.array([model.inertias[j].lever for j in joints]).reshape(-1, 3)
+    rots = np.repeat(eye[None], len(joints), axis=0)
+    single = [(k, -1) for k in range(len(joints))]
+    coms = PlanarRowBlocks(kin.ends(np.array(joints), levers, rots), single, single)
+    origins = PlanarRowBlocks(kin.ends(np.array(joints), np.zeros((len(joints), 3)), rots), single, [])
+    supports = [set(int(s) for s in model.supports[j]) for j in range(model.njoints)]
+    below = np.array([[1.0 if j in supports[k] else 0.0 for k in joints] for j in joints])
+    end_joint, end_trans, sign, rx, rz, rm = [], [], [], [], [], []
+    r = 0
+    for cm in cmodels:
+        weld = is_weld(cm)
+        for (joint, placement), sgn in zip(anchor_points(cm), (1.0, -1.0)):
+            if joint == 0:
+                continue
+            end_joint.append(joint)
+            end_trans.append(np.array(placement.translation))
+            sign.append(sgn)
+            rx.append(r)
+            rz.append(r + 1)
+            rm.append(r + 2 if weld else -1)
+        r += 3 if weld else 2
+    ends = None
+    ends_below = np.zeros((len(joints), 0))
+    if end_joint:
+        ej = np.array(end_joint, dtype=int)
+        ends = PlanarRowBlocks(
+            kin.ends(ej, np.array(end_trans), np.repeat(eye[None], len(ej), axis=0)), [(e, -1) for e in range(len(ej))], []
+        )
+        ends_below = np.array([[1.0 if j in supports[int(e)] else 0.0 for e in ej] for j in joints])
+    g = model.gravity.linear
+    layout = TreeLayout(
+        mass=mass,
+        inertia_y=inertia_y,
+        coms=coms,
+        origins=origins,
+        ends=ends,
+        end_sign=np.array(sign),
+        end_rx=np.array(rx, dtype=int),
+        end_rz=np.array(rz, dtype=int),
+        end_rm=np.array(rm, dtype=int),
+        below=below,
+        ends_below=ends_below,
+        gravity=complex(g[0], g[2]),
+    )
+    if len(_LAYOUTS) >= 64:
+        _LAYOUTS.pop(next(iter(_LAYOUTS)))
+    _LAYOUTS[key] = ((model, list(cmodels)), layout)  # the entry keeps its keys' objects alive
+    return layout
