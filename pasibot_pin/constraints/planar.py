@@ -168,8 +168,8 @@ class PlanarRowBlocks:
         self.c = ends.cx + 1j * ends.cz
         self.a0, self.A = ends.a0, ends.A
         self.slider = ends.slider
-        self.has_slider = ends.has_slider
-        self.D = np.array([ends.S[a] - (ends.S[b] if b >= 0 else 0.0) for a, b in pairs]).reshape(len(pairs), len(self.a0))
+        diff = [ends.S[a] - (ends.S[b] if b >= 0 else 0.0) for a, b in pairs]
+        self.D = np.array(diff).reshape(len(pairs), len(self.a0))
         pitch_a0, pitch_A = [], []
         for a, b in pitch_pairs:
             a0 = ends.pitch_a0[a] - (ends.pitch_a0[b] if b >= 0 else 0.0)
@@ -178,35 +178,80 @@ class PlanarRowBlocks:
             pitch_A.append(A)
         self.pitch_a0 = np.array(pitch_a0, dtype=float)
         self.pitch_A = np.array(pitch_A, dtype=float).reshape(len(pitch_pairs), self.A.shape[1])
-        if self.has_slider:
-            sl = self.slider >= 0
-            self._slider_terms = np.nonzero(sl)[0]
-            self._slider_cols = self.slider[sl]
+        nv = self.A.shape[1]
+        slide = np.zeros((len(self.a0), nv))  # d(slider factor)/dq: a term is c exp(i phi) q[slider], or c exp(i phi)
+        for t, col in enumerate(self.slider):
+            if col >= 0:
+                slide[t, col] = 1.0
+        # Terms that no joint turns (A = 0: the root's sliders, constant offsets) are constant or linear
+        # in q: they are summed once into ``fixed_rows`` + ``fixed_jac`` q; the others ("moving") are evaluated.
+        fixed = ~np.any(self.A != 0.0, axis=1)
+        const = self.c * np.exp(1j * self.a0)
+        plain = fixed & (self.slider < 0)
+        self.fixed_rows = self.D[:, plain] @ const[plain]  # (n,) complex
+        self.fixed_jac = self.D[:, fixed & ~plain] @ (const[fixed & ~plain, None] * slide[fixed & ~plain])  # (n, nv)
+        moving = ~fixed
+        self.D_moving = self.D[:, moving]
+        self._c, self._a0 = self.c[moving], self.a0[moving]
+        self._AT = self.A[moving].T.copy()
+        self._iAT = 1j * self._AT
+        self._slide_T = slide[moving].T.copy()
+        self._unit = 1.0 - slide[moving].sum(axis=1)  # the factor of a moving term without a slider
+        self._slides = bool(np.any(slide[moving]))
+        self._DT = self.D_moving.T.astype(complex)  # complex copy: numpy would cast on every product
+        self._pitch_AT = self.pitch_A.T.copy()
+
+    def _turned(self, q: np.ndarray):
+        """(c exp(i phi), the slider factor or None) of every moving term."""
+        turned = self._c * np.exp(1j * (q @ self._AT + self._a0))
+        return turned, (q @ self._slide_T + self._unit) if self._slides else None
+
+    def terms(self, q: np.ndarray, v: np.ndarray | None = None):
+        """The moving terms' values (..., K), Jacobian transposed (..., nv, K) and drift (..., K) or None, complex.
+
+        A term is c exp(i phi) [times a slider coordinate]; the rows are ``D_moving`` times these,
+        plus ``fixed_rows + fixed_jac q`` (whose Jacobian is ``fixed_jac`` and drift zero).
+        """
+        turned, factor = self._turned(q)
+        if factor is not None:
+            value = turned * factor
+            jac_t = self._iAT * value[..., None, :] + self._slide_T * turned[..., None, :]
+        else:
+            value = turned
+            jac_t = self._iAT * value[..., None, :]
+        drift = None
+        if v is not None:
+            w = v @ self._AT
+            drift = value * (-w * w)
+            if factor is not None:
+                drift += 2j * turned * w * (v @ self._slide_T)
+        return value, jac_t, drift
+
+    def positions(self, q: np.ndarray) -> np.ndarray:
+        """The rows P (..., n), complex x + i z [m], without their Jacobian."""
+        turned, factor = self._turned(q)
+        value = turned if factor is None else turned * factor
+        return value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
+
+    def motion(self, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The rows P and their second time derivative J a + J_dot v (..., n), complex [m, m/s^2].
+
+        Directional derivatives of every term: no Jacobian is formed, so a batch costs O(N K n).
+        """
+        turned, factor = self._turned(q)
+        value = turned if factor is None else turned * factor
+        w, alpha = v @ self._AT, a @ self._AT
+        acc = value * (1j * alpha - w * w)
+        if factor is not None:
+            acc += turned * (a @ self._slide_T) + 2j * turned * w * (v @ self._slide_T)
+        rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
+        return rows, acc @ self._DT + a @ self.fixed_jac.T
 
     def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
         """Complex point rows P (..., n), their Jacobian (..., n, nv), drift (..., n) or None, pitch rows (..., p)."""
-        phi = self.a0 + q @ self.A.T  # (..., K)
-        value = self.c * np.exp(1j * phi)  # R(phi) c
-        turn = 1j * value  # dR/dphi c
-        if self.has_slider:
-            m = np.ones_like(phi)
-            m[..., self._slider_terms] = q[..., self._slider_cols]
-            term_value = value * m
-            term_jac = (turn * m)[..., None] * self.A
-            term_jac[..., self._slider_terms, self._slider_cols] += value[..., self._slider_terms]
-        else:
-            term_value = value
-            term_jac = turn[..., None] * self.A
-        rows = term_value @ self.D.T
-        jac = self.D @ term_jac
-        drift = None
-        if v is not None:
-            w = v @ self.A.T
-            term_drift = -term_value * w * w
-            if self.has_slider:
-                mdot = np.zeros_like(phi)
-                mdot[..., self._slider_terms] = v[..., self._slider_cols]
-                term_drift = term_drift + 2 * turn * w * mdot
-            drift = term_drift @ self.D.T
-        pitch = self.pitch_a0 + q @ self.pitch_A.T
+        value, jac_t, term_drift = self.terms(q, v)
+        rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
+        jac = np.swapaxes(jac_t @ self._DT, -1, -2) + self.fixed_jac
+        drift = None if term_drift is None else term_drift @ self._DT
+        pitch = q @ self._pitch_AT + self.pitch_a0
         return rows, jac, drift, pitch

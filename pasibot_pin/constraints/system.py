@@ -335,17 +335,24 @@ class ConstraintSystem:
             template[self._pitch_rows] = self._blocks.pitch_A[n_weld:]
             template[self._lin_rows] = self._lin
             self._jac_template = template
-            # the rows in the order the planar kinematics gives them (x of every point pair, z of
-            # every pair, weld pitches, pitch rows, coordinate rows) and the permutation to ours
-            n_pairs = len(self.cmodels)
-            raw = np.concatenate((self._rx, self._rz, self._weld_rows, self._pitch_rows, self._lin_rows))
-            self._perm = np.argsort(raw.astype(int))
-            const = np.vstack((self._blocks.pitch_A, self._lin)).reshape(-1, nv)
-            self._const_jac = const
-            self._n_pairs, self._n_const = n_pairs, len(const)
+            # point rows straight in our order: P (m, 2K) picks x (real part) and z (imaginary part)
+            # of every term, interleaved as a complex array viewed as floats; the pitch and coordinate
+            # rows are linear: L q + l0
+            blocks = self._blocks
+            n_terms = blocks.D_moving.shape[1]
+            pick = np.zeros((self.nrows, n_terms, 2))
+            pick[self._rx, :, 0] = blocks.D_moving
+            pick[self._rz, :, 1] = blocks.D_moving
+            self._pick_T = pick.reshape(self.nrows, 2 * n_terms).T.copy()
+            offset = np.zeros(self.nrows)
+            offset[self._weld_rows] = blocks.pitch_a0[:n_weld]
+            offset[self._pitch_rows] = blocks.pitch_a0[n_weld:]
+            offset[self._rx], offset[self._rz] = blocks.fixed_rows.real, blocks.fixed_rows.imag
+            template[self._rx], template[self._rz] = blocks.fixed_jac.real, blocks.fixed_jac.imag
+            self._linear_T, self._linear_0 = template.T.copy(), offset
             self._phi_t = np.zeros(self.nrows)
             self._phi_t[row:] = -self._rate
-            self._pitch_scalar = np.nonzero(self._is_pitch)[0] + row
+            self._wrapped = np.concatenate((self._weld_rows, np.nonzero(self._is_pitch)[0] + row)).astype(int)
 
     def _angular(self, row: CoordinateRow) -> bool:
         """True when every coordinate of the row is a rotation (revolute joints and the hip pitch)."""
@@ -462,28 +469,19 @@ class ConstraintSystem:
         """:meth:`evaluate` through the exact planar kinematics (complex products, no Pinocchio call).
 
         ``q`` (and ``v``) may carry leading batch axes: (N, nv) gives rows (N, m) and J (N, m, nv).
-        The rows come out in the kinematics' order and are put in ours by one permutation.
+        The point rows come out in our order from one product with the picking matrix; the pitch
+        and coordinate rows are linear in q.
         """
-        batch = q.shape[:-1]
-        perm = self._perm
-        rows, jc, dc, pitch = self._blocks.evaluate(q, v)
-        n_weld = len(self._weld_rows)
-        if n_weld:
-            pitch = np.concatenate((_wrap(pitch[..., :n_weld]), pitch[..., n_weld:]), axis=-1)
-        phi = np.concatenate((rows.real, rows.imag, pitch, q @ self._lin.T), axis=-1)[..., perm]
-        const = self._const_jac if not batch else np.broadcast_to(self._const_jac, batch + self._const_jac.shape)
-        jac = np.concatenate((jc.real, jc.imag, const), axis=-2)[..., perm, :]
-        if dc is None:
-            drift = np.zeros(phi.shape)
-        else:  # pitch is linear in q: the constant rows have no drift
-            drift = np.concatenate((dc.real, dc.imag, np.zeros(batch + (self._n_const,))), axis=-1)[..., perm]
-        n0 = self.n_constraint_rows
+        value, jac_t, term_drift = self._blocks.terms(q, v)
+        phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
+        jac = np.swapaxes(jac_t.view(float) @ self._pick_T, -1, -2) + self._jac_template
+        drift = np.zeros(phi.shape) if term_drift is None else term_drift.view(float) @ self._pick_T
         if self.scalars:
             goal = self.targets(t) if targets is None else np.asarray(targets, dtype=float)
-            phi[..., n0:] -= goal
-            if len(self._pitch_scalar):
-                phi[..., self._pitch_scalar] = _wrap(phi[..., self._pitch_scalar])
-        phi_t = self._phi_t.copy() if not batch else np.broadcast_to(self._phi_t, phi.shape).copy()
+            phi[..., self.n_constraint_rows :] -= goal
+        if len(self._wrapped):
+            phi[..., self._wrapped] = _wrap(phi[..., self._wrapped])
+        phi_t = self._phi_t.copy() if phi.ndim == 1 else np.broadcast_to(self._phi_t, phi.shape).copy()
         return Rows(phi, jac, drift, phi_t)
 
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
@@ -617,8 +615,9 @@ class ConstraintSystem:
         jac = rows.jac
         # a square system has one Newton step whatever the metric: no mass matrix needed
         if metric == "mass" and jac.shape[0] != jac.shape[1]:
-            mass = symmetric_mass_matrix(self.model, self.data, q)
-            return kkt_solve(mass, jac, np.zeros(self.model.nv), -rows.phi)[0]
+            # M delta = J^T lambda, J delta = -phi: the KKT with zero velocity and tau = g(q)
+            gravity = pin.computeGeneralizedGravity(self.model, self.data, q)
+            return self._kkt(q, self._zero_v, gravity, jac, rows.phi)[0]
         if jac.shape[0] == jac.shape[1]:
             try:
                 return np.linalg.solve(jac, -rows.phi)
@@ -669,28 +668,47 @@ class ConstraintSystem:
         return v, _square_solve(rows.jac, rhs, "acceleration"), rows.jac
 
     # ---- dynamics on the same rows
+    def _kkt(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):
+        """Solve M a + h(q, v) = tau + J^T lambda, J a = -gamma in Pinocchio's C++; returns (a, lambda).
+
+        ``pin.forwardDynamics`` with our rows as its constraint Jacobian: a Cholesky factorisation
+        of M and of J M^-1 J^T (J must have full row rank).
+
+        Raises:
+            ValueError: a singular system (the constraint Jacobian lost rank) or a non-finite answer.
+
+        """
+        try:
+            a = pin.forwardDynamics(self.model, self.data, q, v, tau, jac, gamma, 0.0).copy()
+        except RuntimeError as err:
+            raise ValueError(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
+        lam = self.data.lambda_c.copy()
+        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(lam))):
+            raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
+        return a, lam
+
     def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, t: float = 0.0):
         """Constrained forward dynamics, one KKT solve: returns (a, lambda, Rows).
 
-        J^T lambda is the constraint force (generalised); M a + h = tau + J^T lambda.
+        J^T lambda is the constraint force (generalised); M a + h = tau + J^T lambda, J a = -J_dot v.
         """
         rows = self.evaluate(q, v, t)
-        model, data = self.model, self.data
-        mass = symmetric_mass_matrix(model, data, q)
-        h = pin.nonLinearEffects(model, data, q, v)
-        a, lam = kkt_solve(mass, rows.jac, tau - h, -rows.drift)
+        a, lam = self._kkt(q, v, tau, rows.jac, rows.drift)
         return a, lam, rows
 
     def impulse(self, q: np.ndarray, v_minus: np.ndarray, t: float = 0.0, rows: Rows | None = None):
         """Inelastic impact / M-orthogonal velocity projection onto J v + Phi_t = 0.
+
+        M (v+ - v-) = J^T Lambda, J v+ = -Phi_t: the KKT with zero velocity and
+        tau = rnea(q, 0, v-) = M v- + g(q), so that its "acceleration" is v+.
 
         Returns:
             (v_plus, Lambda): the velocity after and the impulse per row [N.s, N.m.s].
 
         """
         rows = self.evaluate(q, None, t) if rows is None else rows
-        mass = symmetric_mass_matrix(self.model, self.data, q)
-        return kkt_solve(mass, rows.jac, mass @ v_minus, -rows.phi_t)
+        tau = pin.rnea(self.model, self.data, q, self._zero_v, v_minus).copy()
+        return self._kkt(q, self._zero_v, tau, rows.jac, rows.phi_t)
 
 
 def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -300,7 +300,8 @@ def ankle_angles(robot: PasibotRobot, q: np.ndarray, side: str) -> np.ndarray:
     q = np.atleast_2d(q)
     if robot.spec.free_ankle:
         return math.pi / 2 - q[:, robot.idx_q(f"{side}_{robot.spec.spring_joints[0]}")]
-    points, _, _, pitch = _ankle_ends(robot, side).evaluate(q)
+    ends = _ankle_ends(robot, side)
+    points, pitch = ends.positions(q), q @ ends.pitch_A.T + ends.pitch_a0
     up = pitch[:, 0] + math.pi  # ankle -> knee is minus the shank's x axis
     sole = np.angle(points[:, 0] - points[:, 1])
     diff = up - sole
@@ -451,7 +452,7 @@ def inverse_dynamics(
                 shifted = th + j * step
                 qj = q if j == 0 else _closed(rows, rs, shifted, targets + _shift(j * step, free), swing_pitch, side,
                                               stance_x, angular)
-                coms.append(tree.coms.evaluate(qj)[0])
+                coms.append(tree.coms.positions(qj))
             com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / omega) ** 2
             com_pos, com_jac, _, _ = tree.coms.evaluate(q)
             zero = np.zeros((th.size, nv))

@@ -83,8 +83,7 @@ class TreeLayout:
 
     def body_motion(self, q: np.ndarray, v: np.ndarray, a: np.ndarray):
         """COM positions and accelerations (N, J) complex, angular accelerations (N, J) [m, m/s^2, rad/s^2]."""
-        pos, jac, drift, _ = self.coms.evaluate(q, v)
-        acc = np.einsum("njk,nk->nj", jac, a) + drift
+        pos, acc = self.coms.motion(q, v, a)
         alpha = a @ self.coms.pitch_A.T
         return pos, acc, alpha
 
@@ -100,7 +99,8 @@ class TreeLayout:
 
         Args:
             q: configurations (N, nq).
-            com_pos, com_acc: COM positions and accelerations (N, J), complex x + i z.
+            com_pos: COM positions (N, J), complex x + i z [m].
+            com_acc: COM accelerations (N, J), complex x + i z [m/s^2].
             alpha: angular accelerations (N, J) [rad/s^2], or None (point masses, no rotation term).
             lam: the constraint multipliers (N, m): in-plane rows of the constraint models, in order.
 
@@ -113,12 +113,12 @@ class TreeLayout:
         f_sub = force @ self.below.T
         m_sub = moment @ self.below.T
         if self.ends is not None:
-            p_end = self.ends.evaluate(q)[0]  # (N, E)
+            p_end = self.ends.positions(q)  # (N, E)
             f_end = self.end_sign * (lam[:, self.end_rx] + 1j * lam[:, self.end_rz])
             mu = np.where(self.end_rm >= 0, self.end_sign * lam[:, np.maximum(self.end_rm, 0)], 0.0)
             f_sub = f_sub - f_end @ self.ends_below.T
             m_sub = m_sub - (_cross(p_end, f_end) + mu) @ self.ends_below.T
-        origin = self.origins.evaluate(q)[0]  # (N, J)
+        origin = self.origins.positions(q)  # (N, J)
         out = np.zeros((n, len(self.mass) + 1, 3))
         out[:, 1:, 0], out[:, 1:, 1] = f_sub.real, f_sub.imag
         out[:, 1:, 2] = m_sub - _cross(origin, f_sub)
@@ -179,9 +179,8 @@ def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
     ends_below = np.zeros((len(joints), 0))
     if end_joint:
         ej = np.array(end_joint, dtype=int)
-        ends = PlanarRowBlocks(
-            kin.ends(ej, np.array(end_trans), np.repeat(eye[None], len(ej), axis=0)), [(e, -1) for e in range(len(ej))], []
-        )
+        end_points = kin.ends(ej, np.array(end_trans), np.repeat(eye[None], len(ej), axis=0))
+        ends = PlanarRowBlocks(end_points, [(e, -1) for e in range(len(ej))], [])
         ends_below = np.array([[1.0 if j in supports[int(e)] else 0.0 for e in ej] for j in joints])
     g = model.gravity.linear
     layout = TreeLayout(

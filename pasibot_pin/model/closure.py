@@ -239,7 +239,9 @@ def analytic_configurations(
             raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
     model = robot.model
     g, variant = robot.geometry, robot.spec
-    left = thetas + math.pi if theta_left is None else np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
+    left = thetas + math.pi
+    if theta_left is not None:
+        left = np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
     angles = {"right": thetas, "left": left}
     q = np.tile(pin.neutral(model), (len(thetas), 1))
     stance = stance or robot.stance or "right"
