@@ -135,15 +135,42 @@ def test_forward_dynamics_is_a_kkt_solution_and_impulse_projects(robots):
     robot = robots[("spring", 2)]
     cs = _system(robot)
     q = cs.project(robot.q0, 0.2)
-    v = cs.impulse(q, np.random.default_rng(3).normal(size=robot.model.nv), 0.2)[0]
+    v_minus = np.random.default_rng(3).normal(size=robot.model.nv)
+    v, impulse = cs.impulse(q, v_minus, 0.2)
     rows = cs.evaluate(q, v, 0.2)
     np.testing.assert_allclose(rows.jac @ v, -rows.phi_t, atol=1e-10)
+    # the jump is M-orthogonal to the manifold: M (v+ - v-) = J^T Lambda, M from crba
+    data = robot.model.createData()
+    mass = pin.crba(robot.model, data, q)
+    mass = np.triu(mass) + np.triu(mass, 1).T
+    np.testing.assert_allclose(mass @ (v - v_minus), rows.jac.T @ impulse, atol=1e-9)
     tau = np.random.default_rng(4).normal(size=robot.model.nv)
     a, lam, rows = cs.forward_dynamics(q, v, tau, 0.2)
     data = robot.model.createData()
     rnea = pin.rnea(robot.model, data, q, v, a)
     np.testing.assert_allclose(rnea, tau + rows.jac.T @ lam, atol=1e-8)
     np.testing.assert_allclose(rows.jac @ a, -rows.drift, atol=1e-8)
+
+
+@pytest.mark.parametrize("variant", pp.VARIANTS)
+def test_batched_projection_and_motion_equal_one_sample_at_a_time(robots, variant):
+    robot = robots[(variant, 2)]
+    prescribed = closure.default_prescriptions(robot)
+    cs = closure.system(robot, None, prescribed)
+    thetas = np.linspace(1.7, 4.2, 7)
+    targets = np.array([closure.prescribed_values(robot, robot.q0, prescribed)] * len(thetas))
+    targets[:, 0], targets[:, 1] = thetas, thetas + math.pi
+    guesses, _ = closure.analytic_configurations(robot, thetas)
+    qs, rows = cs.project_many(guesses + 1e-4, targets)  # from a perturbed start: Newton has work to do
+    rates = np.linspace(0.5, 1.5, len(prescribed))
+    vs, accs, _ = cs.motion_many(qs, rates, -rates)
+    for k in range(len(thetas)):
+        q = cs.project(guesses[k] + 1e-4, targets=targets[k])
+        np.testing.assert_allclose(qs[k], q, atol=1e-11)
+        np.testing.assert_allclose(rows.jac[k], cs.jacobian(q), atol=1e-12)
+        v, a, _ = cs.motion(q, rates, -rates)
+        np.testing.assert_allclose(vs[k], v, rtol=1e-10, atol=1e-10)
+        np.testing.assert_allclose(accs[k], a, rtol=1e-9, atol=1e-9)
 
 
 def test_one_motor_coupling_row_and_errors(robots):

@@ -223,7 +223,7 @@ def proximal_impulse(
     Used to cross-check the simulator's KKT impulse. Checked with pin 4.1.0: it agrees for a weld
     to the world (joint2 = 0), but for a constraint between two moving bodies (a cut loop joint)
     its post-impact velocity violates that constraint (J v+ ~ 0.5 m/s for v- ~ 1), so the
-    simulator uses its own KKT impulse.
+    simulator's impulse is a KKT solve on its own rows (``ConstraintSystem.impulse``).
 
     Returns:
         The velocity after the impact (nv,).

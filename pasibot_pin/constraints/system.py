@@ -189,27 +189,6 @@ def symmetric_mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np
     return mass
 
 
-def kkt_solve(mass: np.ndarray, jac: np.ndarray, top: np.ndarray, bottom: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve [M J^T; J 0][x; mu] = [top; bottom]; returns (x, lambda = -mu).
-
-    Raises:
-        ValueError: a singular system (the constraint Jacobian lost rank) or a non-finite answer.
-
-    """
-    nv, m = mass.shape[0], jac.shape[0]
-    kkt = np.zeros((nv + m, nv + m))
-    kkt[:nv, :nv] = mass
-    kkt[:nv, nv:] = jac.T
-    kkt[nv:, :nv] = jac
-    try:
-        sol = np.linalg.solve(kkt, np.concatenate((top, bottom)))
-    except np.linalg.LinAlgError as err:
-        raise ValueError("KKT system singular: the constraint Jacobian lost rank (singular pose)") from err
-    if not np.all(np.isfinite(sol)):
-        raise ValueError("KKT solve returned non-finite values (singular pose)")
-    return sol[:nv], -sol[nv:]
-
-
 # --------------------------------------------------------------------------- the system
 class ConstraintSystem:
     """Constraint models (loops, welds, ground pins) plus scalar rows on one Pinocchio model.
