@@ -328,10 +328,11 @@ class ConstraintSystem:
             offset[self._pitch_rows] = blocks.pitch_a0[n_weld:]
             offset[self._rx], offset[self._rz] = blocks.fixed_rows.real, blocks.fixed_rows.imag
             template[self._rx], template[self._rz] = blocks.fixed_jac.real, blocks.fixed_jac.imag
-            self._linear_T, self._linear_0 = template.T.copy(), offset
+            self._linear_T, self._linear_0 = template.T.copy(), offset  # J is built transposed: no copy
             self._phi_t = np.zeros(self.nrows)
             self._phi_t[row:] = -self._rate
-            self._wrapped = np.concatenate((self._weld_rows, np.nonzero(self._is_pitch)[0] + row)).astype(int)
+            wrapped = np.concatenate((self._weld_rows, np.nonzero(self._is_pitch)[0] + row)).astype(int)
+            self._wrapped = [int(r) for r in wrapped]
 
     def _angular(self, row: CoordinateRow) -> bool:
         """True when every coordinate of the row is a rotation (revolute joints and the hip pitch)."""
@@ -453,15 +454,19 @@ class ConstraintSystem:
         """
         value, jac_t, term_drift = self._blocks.terms(q, v)
         phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
-        jac = np.swapaxes(jac_t.view(float) @ self._pick_T, -1, -2) + self._jac_template
+        # J transposed in memory (a column-major view): what Pinocchio's Eigen takes without a copy
+        jac = np.swapaxes(jac_t.view(float) @ self._pick_T + self._linear_T, -1, -2)
         drift = np.zeros(phi.shape) if term_drift is None else term_drift.view(float) @ self._pick_T
         if self.scalars:
-            goal = self.targets(t) if targets is None else np.asarray(targets, dtype=float)
+            goal = self._offset + self._rate * t if targets is None else np.asarray(targets, dtype=float)
             phi[..., self.n_constraint_rows :] -= goal
+        if phi.ndim == 1:
+            for r in self._wrapped:  # one or two angle rows: scalar arithmetic is cheaper here
+                phi[r] = math.remainder(phi[r], 2 * math.pi)
+            return Rows(phi, jac, drift, self._phi_t.copy())
         if len(self._wrapped):
             phi[..., self._wrapped] = _wrap(phi[..., self._wrapped])
-        phi_t = self._phi_t.copy() if phi.ndim == 1 else np.broadcast_to(self._phi_t, phi.shape).copy()
-        return Rows(phi, jac, drift, phi_t)
+        return Rows(phi, jac, drift, np.broadcast_to(self._phi_t, phi.shape).copy())
 
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""
@@ -662,7 +667,7 @@ class ConstraintSystem:
         except RuntimeError as err:
             raise ValueError(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
         lam = self.data.lambda_c.copy()
-        if not (np.all(np.isfinite(a)) and np.all(np.isfinite(lam))):
+        if not math.isfinite(a.sum() + lam.sum()):  # a NaN or an infinity anywhere shows in the sum
             raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
         return a, lam
 

@@ -133,12 +133,17 @@ def ankle_beta(robot, q: np.ndarray) -> dict[str, float]:
     return {side: math.pi / 2 - q[i] for side, i in ankle_indices(robot).items()}
 
 
-def spring_forces(robot, spring: AnkleSpring | None, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """Generalised force of the ankle springs (nv,) [N.m]: -T on each ankle coordinate."""
+def spring_forces(
+    robot, spring: AnkleSpring | None, q: np.ndarray, v: np.ndarray, ankles: dict[str, int] | None = None
+) -> np.ndarray:
+    """Generalised force of the ankle springs (nv,) [N.m]: -T on each ankle coordinate.
+
+    ``ankles``: :func:`ankle_indices` of ``robot`` if already known.
+    """
     tau = np.zeros(robot.model.nv)
     if spring is None:
         return tau
-    for i in ankle_indices(robot).values():
+    for i in (ankles or ankle_indices(robot)).values():
         tau[i] = -spring.torque(math.pi / 2 - q[i], -v[i])
     return tau
 
@@ -365,7 +370,7 @@ class BipedSimulator:
     # ---- dynamics
     def forces(self, t: float, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """Applied generalised forces: springs plus feed-forward (nv,)."""
-        tau = spring_forces(self.robot, self.settings.spring, q, v)
+        tau = spring_forces(self.robot, self.settings.spring, q, v, self.ankles)
         if self.settings.feedforward is not None:
             ff = np.asarray(self.settings.feedforward(t, q, v), dtype=float)
             if ff.shape != tau.shape or not np.all(np.isfinite(ff)):
