@@ -10,12 +10,16 @@ import argparse
 import importlib
 import sys
 
+import pinocchio as pin
+
+from pasibot_pin import __version__
 from pasibot_pin.cli import COMMANDS
 
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
     parser = argparse.ArgumentParser(prog="pasibot", description="PASIBOT closed-loop biped in Pinocchio")
+    parser.add_argument("--version", action="version", version=f"pasibot {__version__} (pin {pin.__version__})")
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMANDS:
         importlib.import_module(f"pasibot_pin.cli.{name}").register(sub)

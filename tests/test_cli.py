@@ -59,3 +59,20 @@ def test_analyze_model_step_writes_pictures(tmp_path, variant):
     section = model_report.section(tmp_path)
     assert (tmp_path / f"robot_{variant}.png").stat().st_size > 10_000
     assert "Gruebler DOF" in section and (tmp_path / "info.txt").is_file()
+
+
+def test_version_names_the_package_and_pinocchio(capsys):
+    from importlib.metadata import version
+
+    with pytest.raises(SystemExit) as stop:
+        main(["--version"])
+    assert stop.value.code == 0
+    out = capsys.readouterr().out.strip()
+    assert out.startswith(f"pasibot {version('pasibot-pin')} ") and "pin 4." in out
+    assert pp.__version__ == version("pasibot-pin")  # one version: the package's
+
+
+def test_robot_repr_is_one_short_line():
+    text = repr(pp.load("parallel", 2))
+    assert "\n" not in text and len(text) < 160
+    assert "variant='parallel'" in text and "nq=29" in text

@@ -215,6 +215,14 @@ class PasibotRobot:
         copy.stance = side
         return copy
 
+    def __repr__(self) -> str:
+        """One short line: variant, legs, L, K, nq, nv, loops and stance (``summary()`` says more)."""
+        return (
+            f"PasibotRobot(variant={self.variant!r}, legs={self.legs}, L={self.geometry.L:g} m, "
+            f"K={self.geometry.K:g}, nq={self.model.nq}, nv={self.model.nv}, loops={len(self.loops)}, "
+            f"stance={self.stance!r})"
+        )
+
     def summary(self) -> str:
         """A short human-readable description (nq, nv, loops, actuation, mobility)."""
         from pasibot_pin.model.closure import mobility
