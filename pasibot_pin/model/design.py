@@ -1,0 +1,323 @@
+"""The design record: every parameter a user may change, with its unit and its bounds (data only).
+
+A :class:`Design` is one PASIBOT: its variant and motor layout, its geometry (L, K, the link
+ratios, the sole), its masses (the human-percentage rule, the body's mass and COM), its ankle
+spring and its crank speed. It is the one parameter object the studies take, the row a design
+sweep varies, and a file (TOML or JSON) the command line reads with ``--design FILE``.
+
+Each numeric parameter has a :class:`ParameterSpec`: unit, default (the seed's design) and
+the bounds a sweep may explore. A value outside its bounds, NaN, or an unknown name is
+rejected with a one-line ``ValueError`` naming the parameter, before any work starts.
+
+Units: SI; link ratios and sole lengths over the crank length L; angles [rad].
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import sys
+import tempfile
+from collections.abc import Mapping
+from dataclasses import asdict, dataclass, field, fields, replace
+from pathlib import Path
+
+from pasibot_pin.model.params import (
+    MASS_RULES,
+    SEED_LINK_RATIOS,
+    SEED_MASS_FRACTIONS,
+    SEED_TOTAL_MASS,
+    VARIANTS,
+    Geometry,
+    MassModel,
+    human_description_fractions,
+    percentage_mass_model,
+)
+from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+from pasibot_pin.model.variants import MOTOR_LAYOUTS
+
+if sys.version_info >= (3, 11):
+    import tomllib
+else:  # pragma: no cover - Python 3.10
+    import tomli as tomllib
+
+
+@dataclass(frozen=True)
+class ParameterSpec:
+    """One numeric design parameter.
+
+    Attributes:
+        name: its name in the record, in files and in sweep tables (``L``, ``K``, ``r4`` ...).
+        unit: its unit (``m``, ``kg``, ``rad/s``, ``L`` for multiples of the crank length, ``-``).
+        default: the seed design's value.
+        low: the smallest value a sweep may use.
+        high: the largest value a sweep may use.
+        doc: what it is, in a few words.
+
+    """
+
+    name: str
+    unit: str
+    default: float
+    low: float
+    high: float
+    doc: str
+
+
+def _ratio_spec(key: str, value: float) -> ParameterSpec:
+    return ParameterSpec(key, "L", value, 0.5 * value, 2.0 * value, f"link L{key[1:]} over the crank length")
+
+
+SPECS: Mapping[str, ParameterSpec] = {
+    spec.name: spec
+    for spec in (
+        ParameterSpec("L", "m", 0.05, 0.005, 2.0, "crank length"),
+        ParameterSpec("K", "-", 2.0, 1.0, 4.0, "frame link 0-3 over L (a full crank turn needs 1.491 < K < 3)"),
+        *(_ratio_spec(k, v) for k, v in SEED_LINK_RATIOS.items()),
+        ParameterSpec("foot_toe", "L", 1.5, 0.1, 10.0, "ankle to toe along the sole (rigid, spring)"),
+        ParameterSpec("foot_heel", "L", 0.5, 0.1, 10.0, "ankle to heel along the sole (rigid, spring)"),
+        ParameterSpec("parallel_toe", "L", 1.5, 0.1, 10.0, "toe ahead of joint 13 (parallel)"),
+        ParameterSpec("parallel_heel", "L", 2.6, 0.1, 10.0, "heel behind joint 13 (parallel)"),
+        ParameterSpec("total_mass", "kg", SEED_TOTAL_MASS, 5.0, 500.0, "human mass the percentages refer to"),
+        ParameterSpec("thigh_fraction", "-", SEED_MASS_FRACTIONS["thigh"], 0.005, 0.5, "thigh links' share"),
+        ParameterSpec("shank_fraction", "-", SEED_MASS_FRACTIONS["shank"], 0.005, 0.5, "shank links' share"),
+        ParameterSpec("foot_fraction", "-", SEED_MASS_FRACTIONS["foot"], 0.002, 0.5, "each foot's share"),
+        ParameterSpec("body_mass", "kg", DEFAULT_BODY_MASS, 0.5, 500.0, "body (hip) mass"),
+        ParameterSpec("body_com_dx", "m", 0.0, -1.0, 1.0, "body COM ahead of joint 8"),
+        ParameterSpec("spring_stiffness", "N.m/rad", math.nan, 0.0, 5000.0, "ankle spring K_e (unset: fitted)"),
+        ParameterSpec("spring_rest_angle", "rad", math.nan, 0.3, 2.8, "spring rest angle beta0 (unset: fitted)"),
+        ParameterSpec("spring_damping", "N.m.s/rad", 0.0, 0.0, 200.0, "ankle damping"),
+        ParameterSpec("omega", "rad/s", 0.1, 0.0, 20.0, "crank speed"),
+    )
+}
+"""Every numeric parameter of a :class:`Design`, by name (``r1`` .. ``r13`` are the link ratios)."""
+
+CHOICES: Mapping[str, tuple[str, ...]] = {
+    "variant": VARIANTS,
+    "motors": tuple(MOTOR_LAYOUTS),
+    "mass_rule": tuple(MASS_RULES),
+    "inertia": ("point", "uniform"),
+}
+"""Every categorical parameter of a :class:`Design` and its valid values."""
+
+OPTIONAL = ("spring_stiffness", "spring_rest_angle", "thigh_fraction", "shank_fraction", "foot_fraction")
+"""Parameters that may be left unset (``None``, absent from a file): the study fits the spring, the
+mass rule gives the shares."""
+
+
+def check_value(name: str, value: object) -> float | str | None:
+    """``value`` if it is valid for parameter ``name``, else a one-line ValueError naming it."""
+    if name in CHOICES:
+        if value not in CHOICES[name]:
+            raise ValueError(f"parameter {name!r} must be one of {', '.join(CHOICES[name])}, got {value!r}")
+        return str(value)
+    spec = SPECS.get(name)
+    if spec is None:
+        raise ValueError(f"unknown design parameter {name!r}; valid: {', '.join([*CHOICES, *SPECS])}")
+    if value is None and name in OPTIONAL:
+        return None
+    if isinstance(value, bool):
+        raise ValueError(f"parameter {name!r} must be a number [{spec.unit}], got {value!r}")
+    try:
+        number = float(value)  # type: ignore[arg-type]
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter {name!r} must be a number [{spec.unit}], got {value!r}") from None
+    if not (spec.low <= number <= spec.high):  # NaN and infinities fail here
+        raise ValueError(f"parameter {name!r} = {number!r} [{spec.unit}] is outside [{spec.low:g}, {spec.high:g}]")
+    return number
+
+
+@dataclass(frozen=True)
+class Design:
+    """One PASIBOT design. Defaults are the seed's design (DESIGN §4, §5).
+
+    Attributes:
+        variant: ``rigid``, ``parallel`` or ``spring``.
+        motors: ``two`` (one per crank) or ``one`` (one motor, cranks coupled pi apart).
+        mass_rule: ``seed`` (the seed's Tab 7.1.1 percentages) or ``human``
+            (example-robot-data's human model); ``*_fraction`` override the rule's shares.
+        inertia: ``point`` masses or ``uniform`` rods.
+        L: crank length [m].
+        K: frame link 0-3 over L [-].
+        ratios: link lengths over L, ``r1`` .. ``r13`` [-].
+        foot_toe, foot_heel, parallel_toe, parallel_heel: sole extents over L [-].
+        total_mass: human mass the percentages refer to [kg].
+        thigh_fraction, shank_fraction, foot_fraction: shares of ``total_mass`` [-]
+            (``None``: the rule's own).
+        body_mass: body (hip) mass [kg].
+        body_com_dx: body COM ahead of joint 8 [m].
+        spring_stiffness: ankle spring K_e [N.m/rad] (``None``: fitted by the study).
+        spring_rest_angle: its rest angle beta0 [rad] (``None``: fitted).
+        spring_damping: ankle damping [N.m.s/rad].
+        omega: crank speed [rad/s].
+
+    """
+
+    variant: str = "spring"
+    motors: str = "two"
+    mass_rule: str = "seed"
+    inertia: str = "point"
+    L: float = 0.05
+    K: float = 2.0
+    ratios: Mapping[str, float] = field(default_factory=lambda: dict(SEED_LINK_RATIOS))
+    foot_toe: float = 1.5
+    foot_heel: float = 0.5
+    parallel_toe: float = 1.5
+    parallel_heel: float = 2.6
+    total_mass: float = SEED_TOTAL_MASS
+    thigh_fraction: float | None = None
+    shank_fraction: float | None = None
+    foot_fraction: float | None = None
+    body_mass: float = DEFAULT_BODY_MASS
+    body_com_dx: float = 0.0
+    spring_stiffness: float | None = None
+    spring_rest_angle: float | None = None
+    spring_damping: float = 0.0
+    omega: float = 0.1
+
+    def __post_init__(self) -> None:
+        unknown = set(self.ratios) - set(SEED_LINK_RATIOS)
+        if unknown:
+            raise ValueError(f"unknown link ratio(s) {sorted(unknown)}; valid: {', '.join(SEED_LINK_RATIOS)}")
+        merged = {**SEED_LINK_RATIOS, **{k: check_value(k, v) for k, v in self.ratios.items()}}
+        object.__setattr__(self, "ratios", merged)
+        for f in fields(self):
+            if f.name == "ratios":
+                continue
+            object.__setattr__(self, f.name, check_value(f.name, getattr(self, f.name)))
+
+    # ---- views for the model layer
+    def geometry(self) -> Geometry:
+        """The leg geometry [m] (:class:`~pasibot_pin.model.params.Geometry`)."""
+        return Geometry(
+            L=self.L,
+            K=self.K,
+            ratios=dict(self.ratios),
+            foot_toe=self.foot_toe,
+            foot_heel=self.foot_heel,
+            parallel_toe=self.parallel_toe,
+            parallel_heel=self.parallel_heel,
+        )
+
+    def fractions(self) -> dict[str, float]:
+        """The mass shares of the rule, with the design's overrides [-] (``hip`` is the body: see ``body_mass``)."""
+        base = dict(SEED_MASS_FRACTIONS) if self.mass_rule == "seed" else human_description_fractions()
+        out = {k: base[k] for k in ("hip", "thigh", "shank", "foot")}
+        for key in ("thigh", "shank", "foot"):
+            value = getattr(self, f"{key}_fraction")
+            if value is not None:
+                out[key] = value
+        return out
+
+    def masses(self) -> MassModel:
+        """Link, foot and body masses [kg] and where they sit [m]."""
+        model = percentage_mass_model(self.geometry(), self.variant, self.total_mass, self.fractions(), self.mass_rule)
+        return model.with_(hip=self.body_mass, hip_com=(self.body_com_dx, 0.0), rule=f"design ({self.mass_rule})")
+
+    # ---- records
+    def values(self) -> dict[str, float | str | None]:
+        """Every parameter by its flat name (``variant``, ``L``, ``K``, ``r1`` .. ``r13``, ...): a sweep row."""
+        out: dict[str, float | str | None] = {}
+        for f in fields(self):
+            if f.name == "ratios":
+                out.update(self.ratios)
+            else:
+                out[f.name] = getattr(self, f.name)
+        return out
+
+    def with_(self, **changes: float | str) -> Design:
+        """A copy with parameters changed by flat name (``K=2.2``, ``r4=9.5``, ``variant="rigid"``)."""
+        ratios = {k: v for k, v in changes.items() if k in SEED_LINK_RATIOS}
+        other = {k: v for k, v in changes.items() if k not in SEED_LINK_RATIOS}
+        names = {f.name for f in fields(self)} - {"ratios"}
+        for name in other:
+            if name not in names:
+                check_value(name, other[name])  # raises: unknown parameter
+        return replace(self, ratios={**self.ratios, **ratios}, **other)
+
+    def to_dict(self) -> dict:
+        """A plain dict (``None`` for the parameters left to the study's fit or to the mass rule)."""
+        data = asdict(self)
+        data["ratios"] = dict(self.ratios)
+        return data
+
+    @classmethod
+    def from_dict(cls, data: Mapping) -> Design:
+        """A design from a dict; keys absent keep the seed design's values, unknown keys are an error."""
+        data = dict(data)
+        ratios = dict(data.pop("ratios", {}) or {})
+        for key in list(data):
+            if key in SEED_LINK_RATIOS:  # flat ratio names are accepted too
+                ratios[key] = data.pop(key)
+        names = {f.name for f in fields(cls)}
+        for key in data:
+            if key not in names:
+                check_value(key, data[key])
+        return cls(ratios=ratios, **data)
+
+    def save(self, path: str | os.PathLike, force: bool = False) -> Path:
+        """Write the design to ``path`` (``.toml`` or ``.json``), atomically; never over a file without ``force``.
+
+        Raises:
+            FileExistsError: ``path`` exists and ``force`` is false.
+            ValueError: an extension other than ``.toml`` / ``.json``.
+
+        """
+        path = Path(path)
+        if path.suffix not in (".toml", ".json"):
+            raise ValueError(f"parameter 'path': a design file ends in .toml or .json, got {path.name!r}")
+        if path.exists() and not force:
+            raise FileExistsError(f"{path} exists; use --force (force=True) to overwrite it")
+        text = _to_toml(self.to_dict()) if path.suffix == ".toml" else _to_json(self.to_dict())
+        fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".tmp")
+        try:
+            with os.fdopen(fd, "w") as handle:
+                handle.write(text)
+            os.replace(tmp, path)
+        except BaseException:
+            Path(tmp).unlink(missing_ok=True)
+            raise
+        return path
+
+
+def load_design(path: str | os.PathLike) -> Design:
+    """Read a design file (``.toml`` or ``.json``); a one-line ValueError for a bad file or value."""
+    path = Path(path)
+    if not path.is_file():
+        raise ValueError(f"parameter 'design': no design file {str(path)!r}")
+    try:
+        if path.suffix == ".toml":
+            data = tomllib.loads(path.read_text())
+        elif path.suffix == ".json":
+            data = json.loads(path.read_text())
+        else:
+            raise ValueError(f"parameter 'design': a design file ends in .toml or .json, got {path.name!r}")
+    except (tomllib.TOMLDecodeError, json.JSONDecodeError, UnicodeDecodeError) as err:
+        raise ValueError(f"parameter 'design': {path} is not valid {path.suffix[1:].upper()}: {err}") from None
+    if not isinstance(data, dict):
+        raise ValueError(f"parameter 'design': {path} must hold a table of parameters")
+    return Design.from_dict(data)
+
+
+def _toml_value(value) -> str:
+    if isinstance(value, str):
+        return json.dumps(value)
+    return repr(float(value))
+
+
+def _to_toml(data: Mapping) -> str:
+    """The flat TOML of a design: parameters first, then the [ratios] table; unset values left out."""
+    lines = ["# PASIBOT design (pasibot_pin): SI units, link ratios and soles over L, angles in rad", ""]
+    for key, value in data.items():
+        if key == "ratios" or value is None:  # TOML has no null: an unset parameter is left out
+            continue
+        unit = SPECS[key].unit if key in SPECS else ""
+        lines.append(f"{key} = {_toml_value(value)}" + (f"  # [{unit}]" if unit else ""))
+    lines += ["", "[ratios]  # link length / L"]
+    lines += [f"{key} = {_toml_value(value)}" for key, value in data["ratios"].items()]
+    return "\n".join(lines) + "\n"
+
+
+def _to_json(data: Mapping) -> str:
+    return json.dumps(dict(data), indent=2) + "\n"
