@@ -122,7 +122,7 @@ def section(out_dir: Path) -> str:
         table["seed preset"].append(s.K_e)
         table["seed stored"].append(scenario.seed_K_e)
     grid.tight_layout()
-    grid.savefig(sub / "torques_vs_beta.png", dpi=70)
+    grid.savefig(sub / "torques_vs_beta.png", dpi=100)
     plt.close(grid)
     fig = plot_stiffness_table(list(SCENARIOS), table, title="ankle stiffness per scenario")
     fig.savefig(sub / "stiffness.png", dpi=100)
@@ -146,7 +146,7 @@ def section(out_dir: Path) -> str:
     plot_torques_vs_time(walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
     plot_torques_vs_time(slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
     fig.tight_layout()
-    fig.savefig(sub / "torques_vs_time.png", dpi=80)
+    fig.savefig(sub / "torques_vs_time.png", dpi=100)
     plt.close(fig)
     lines += [
         "![torques vs beta, default model (left) and seed preset (right)](dynamics/torques_vs_beta.png)",
