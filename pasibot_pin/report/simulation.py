@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pasibot_pin.report.animation import export_animation
-from pasibot_pin.report.files import write_columns_csv
+from pasibot_pin.report.files import save_figure_file, write_columns_csv
 
 PLOT_NAME = "simulation_{scenario}.png"
 CSV_NAME = "simulation_{scenario}.csv"
@@ -92,12 +92,12 @@ def write_simulation(files: SimulateFiles, run, fps: float = 20.0) -> list[Path]
 
     if run.setup.quasi_static:
         fig = plot_static_equilibrium(run.statics)
-        fig.savefig(files.plot, dpi=110)
+        save_figure_file(fig, files.plot, 110)
         plt.close(fig)
         return []
     robot = run.setup.scenario.robot
     fig = plot_simulation(run.runs, main="fitted", rest_angle=run.setup.spring.rest_angle)
-    fig.savefig(files.plot, dpi=110)
+    save_figure_file(fig, files.plot, 110)
     plt.close(fig)
     write_columns_csv(files.csv, simulation_columns(robot, run.fitted))
     return export_animation(robot, run.fitted, files.html, files.gif, fps)
@@ -210,12 +210,12 @@ def write_scenario_figures(out_dir: Path, study) -> list[str]:
     if study.runs:
         fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
         fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
-        fig.savefig(out_dir / f"simulation_{name}.png", dpi=100)
+        save_figure_file(fig, out_dir / f"simulation_{name}.png", 100)
         plt.close(fig)
         figures.append(f"simulation_{name}.png")
     fig = plot_static_equilibrium(study.statics)
     fig.axes[0].set_title(f"{name}: static equilibrium (omega -> 0); missing: none stable")
-    fig.savefig(out_dir / f"simulation_static_{name}.png", dpi=100)
+    save_figure_file(fig, out_dir / f"simulation_static_{name}.png", 100)
     plt.close(fig)
     if study.sweep_excursion is not None:
         fitted = (study.fitted.stiffness, study.fitted.rest_angle)
@@ -223,7 +223,7 @@ def write_scenario_figures(out_dir: Path, study) -> list[str]:
             study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best
         )
         fig.axes[0].set_title(f"{name}: {study.sweep_method} sweep of (K_e, beta0)")
-        fig.savefig(out_dir / f"simulation_sweep_{name}.png", dpi=100)
+        save_figure_file(fig, out_dir / f"simulation_sweep_{name}.png", 100)
         plt.close(fig)
         figures.append(f"simulation_sweep_{name}.png")
     return figures
@@ -248,12 +248,12 @@ def write_check_animation(out_dir: Path, name: str, base) -> str:
 
 # CPU estimates [s] of the pieces (measured on the default analysis; they only order the work:
 # longest first). Walks at 0.1 rad/s that do not fall integrate 3142 steps.
-_CASE_ESTIMATE = {"fitted": 5.0, "twice K_e": 5.0, "half K_e": 0.4, "no spring": 0.3}
+_CASE_ESTIMATE = {"fitted": 5.0, "twice K_e": 5.5, "half K_e": 0.4, "no spring": 0.3}
 _FAST_CASE_ESTIMATE = 0.4
-_ROW_ESTIMATE = {"dynamic": 3.3, "static": 0.6}
+_ROW_ESTIMATE = {"dynamic": 3.8, "static": 0.5}
 _CHECK_ESTIMATE = 2.0
-_FIGURES_ESTIMATE = 1.2
-_ANIMATION_ESTIMATE = 2.0
+_FIGURES_ESTIMATE = 1.0
+_ANIMATION_ESTIMATE = 3.0
 
 
 class SimulationPlan:
@@ -293,6 +293,8 @@ class SimulationPlan:
             out.append(Job(0.1, ("meta", name), sim.meta_task, (name,)))
             for label, _ in SPRING_CASES:
                 estimate = _FAST_CASE_ESTIMATE if fast or omega <= 0 else _CASE_ESTIMATE[label]
+                if name == st.check_scenario and label == "fitted":
+                    estimate += _ANIMATION_ESTIMATE  # it releases the animation: start it early
                 out.append(Job(estimate, ("case", name, label), sim.case_task, (name, label, st)))
             for row in range(len(SWEEP_OFFSETS_DEG)):
                 estimate = _ROW_ESTIMATE[sweep_method_for(omega)]

@@ -68,7 +68,10 @@ class _StaticProblem:
     """The hip-holding torque as a function of the hip pitch, at one crank angle.
 
     Cranks locked at ``theta``, swing ankle at the rest angle, stance foot welded flat.
-    ``cache`` (theta -> assembled start) lets several springs share the assembly.
+    ``cache`` (a dict) lets several springs share the work that does not depend on the
+    stiffness: the assembly at each crank angle, and per (crank angle, rest angle) the
+    constraint system and the projections onto it (the same start and pitch give the same q;
+    only the torque, from the spring forces, differs).
     """
 
     def __init__(self, robot, spring: AnkleSpring | None, theta: float, cache: dict | None = None):
@@ -77,6 +80,11 @@ class _StaticProblem:
         self.robot = robot
         self.sim = BipedSimulator(robot, settings)
         key = round(float(theta), 12)
+        shared_key = ("system", key, float(spring.rest_angle))
+        if cache is not None and shared_key in cache:
+            self.q_level, self.cset, self.targets, self.projections = cache[shared_key]
+            self.row = self.cset.nrows - 1
+            return
         if cache is not None and key in cache:
             q_level, stance, weld = cache[key]
         else:
@@ -94,12 +102,20 @@ class _StaticProblem:
         self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
         self.targets = self.cset.targets(0.0)
         self.row = self.cset.nrows - 1
+        self.projections: dict = {}
+        if cache is not None:
+            cache[shared_key] = (self.q_level, self.cset, self.targets, self.projections)
 
     def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
-        targets = self.targets.copy()
-        targets[-1] = pitch
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
-        q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
+        key = (float(pitch), q.tobytes())
+        if key in self.projections:
+            q = self.projections[key].copy()
+        else:
+            targets = self.targets.copy()
+            targets[-1] = pitch
+            q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
+            self.projections[key] = q.copy()
         _, lam, _ = self.sim.acceleration(self.cset, 0.0, q, np.zeros(self.robot.model.nv))
         return float(lam[self.row]), q
 

@@ -234,7 +234,9 @@ def _shared_palette(images: list) -> list:
     entries = np.asarray(palette, dtype=np.int32).reshape(-1, 3)
     rgb = np.stack([np.asarray(im) for im in images]).astype(np.uint32)
     packed = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
-    used = np.flatnonzero(np.bincount(packed.ravel(), minlength=1 << 24))
+    seen = np.zeros(1 << 24, dtype=bool)
+    seen[packed] = True
+    used = np.flatnonzero(seen)
     colours = np.stack([used >> 16, (used >> 8) & 255, used & 255], axis=1).astype(np.int32)
     lookup = np.zeros(1 << 24, dtype=np.uint8)
     lookup[used] = np.argmin(((colours[:, None, :] - entries[None, :, :]) ** 2).sum(axis=2), axis=1)
