@@ -2,17 +2,18 @@
 
 Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str``: it runs its studies,
 writes its files into ``out_dir`` and returns its Markdown for ``report.md``. The simulation
-section (the longest) runs in this process with its own process pool; the others run beside
-it in one worker process, longest first. ``report.md`` keeps the order of :data:`STEPS`.
+section, by far the longest, runs in pieces (:class:`pasibot_pin.report.simulation.SimulationPlan`:
+each spring case, each sweep row, the swing-foot check, each scenario's figures, the animation).
+Those pieces and the other sections share one pool of :data:`pasibot_pin.report.jobs.WORKERS`
+processes, longest first (:func:`pasibot_pin.report.jobs.run_jobs`). ``report.md`` keeps the
+order of :data:`STEPS`.
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
-import multiprocessing
 import time
-from concurrent.futures import ProcessPoolExecutor
 from pathlib import Path
 
 STEPS: list[tuple[str, str]] = [
@@ -25,8 +26,14 @@ STEPS: list[tuple[str, str]] = [
 ]
 """(step name, report module) in report order."""
 
-SIDE_ORDER: tuple[str, ...] = ("contact_energy", "kinematics", "dynamics", "animation", "model")
-"""The steps beside the simulation, longest first (measured: see the closing note of the redesign)."""
+ESTIMATES: dict[str, float] = {
+    "kinematics": 12.0,
+    "contact_energy": 10.0,
+    "dynamics": 5.0,
+    "animation": 3.0,
+    "model": 0.7,
+}
+"""CPU time [s] of the steps besides the simulation (measured; they only order the work)."""
 
 
 def run_step(name: str, out_dir: Path) -> tuple[str, float]:
@@ -44,18 +51,27 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Run every step (the simulation here, the others beside it) and write ``report.md``."""
+    """Run every step on one pool, longest pieces first, and write ``report.md``."""
+    from pasibot_pin.report.jobs import WORKERS, Job, run_jobs
+    from pasibot_pin.report.simulation import SimulationPlan
+
     out_dir: Path = args.out
     out_dir.mkdir(parents=True, exist_ok=True)
     sections: dict[str, str] = {}
-    with ProcessPoolExecutor(max_workers=1, mp_context=multiprocessing.get_context("fork")) as pool:
-        futures = {name: pool.submit(run_step, name, out_dir) for name in SIDE_ORDER}
-        print("[simulation] running here; beside it: " + ", ".join(SIDE_ORDER), flush=True)
-        sections["simulation"], seconds = run_step("simulation", out_dir)
-        print(f"[simulation] done in {seconds:.1f} s", flush=True)
-        for name, future in futures.items():
-            sections[name], seconds = future.result()
-            print(f"[{name}] done in {seconds:.1f} s", flush=True)
+    plan = SimulationPlan(out_dir)
+    start = time.perf_counter()
+
+    def on_done(key, result):
+        if key[0] == "step":
+            sections[key[1]], seconds = result
+            print(f"[{key[1]}] done in {seconds:.1f} s", flush=True)
+            return None
+        return plan.done(key, result)
+
+    jobs = [Job(ESTIMATES[name], ("step", name), run_step, (name, out_dir)) for name in ESTIMATES]
+    run_jobs(jobs + plan.jobs(), on_done, WORKERS)
+    sections["simulation"] = plan.markdown()
+    print(f"[simulation] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
     parts = ["# PASIBOT analysis", ""]
     for name, _ in STEPS:
         parts += [sections[name], ""]

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import write_columns_csv
+from pasibot_pin.report.files import save_figure_file, write_columns_csv
 from pasibot_pin.studies.contact import ContactResult
 from pasibot_pin.studies.contact_energy_study import (
     ContactEnergyResult,
@@ -56,7 +56,7 @@ def save_figure(fig, path: Path, dpi: int = DPI) -> None:
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
+    save_figure_file(fig, path, dpi)
     plt.close(fig)
 
 

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.report.files import save_figure_file
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
     KinematicsSurvey,
@@ -59,7 +60,7 @@ def _save(fig, path: Path, dpi: int) -> None:
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=dpi)
+    save_figure_file(fig, path, dpi)
     plt.close(fig)
 
 

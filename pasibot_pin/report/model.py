@@ -6,6 +6,7 @@ from pathlib import Path
 
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
+from pasibot_pin.report.files import save_figure_file
 
 
 def section(out_dir: Path) -> str:
@@ -22,6 +23,6 @@ def section(out_dir: Path) -> str:
     (out_dir / "info.txt").write_text("\n\n".join(load(v, 2).summary() for v in VARIANTS) + "\n")
     for variant in VARIANTS:
         fig = plot_robot(load(variant, 2))
-        fig.savefig(out_dir / f"robot_{variant}.png", dpi=120)
+        save_figure_file(fig, out_dir / f"robot_{variant}.png", 120)
     sections += [f"![{v} biped at q0](robot_{v}.png)" for v in VARIANTS]
     return "\n".join(sections)

@@ -18,7 +18,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from pasibot_pin.report.animation import export_animation
-from pasibot_pin.report.files import write_columns_csv
+from pasibot_pin.report.files import save_figure_file, write_columns_csv
 
 PLOT_NAME = "simulation_{scenario}.png"
 CSV_NAME = "simulation_{scenario}.csv"
@@ -92,12 +92,12 @@ def write_simulation(files: SimulateFiles, run, fps: float = 20.0) -> list[Path]
 
     if run.setup.quasi_static:
         fig = plot_static_equilibrium(run.statics)
-        fig.savefig(files.plot, dpi=110)
+        save_figure_file(fig, files.plot, 110)
         plt.close(fig)
         return []
     robot = run.setup.scenario.robot
     fig = plot_simulation(run.runs, main="fitted", rest_angle=run.setup.spring.rest_angle)
-    fig.savefig(files.plot, dpi=110)
+    save_figure_file(fig, files.plot, 110)
     plt.close(fig)
     write_columns_csv(files.csv, simulation_columns(robot, run.fitted))
     return export_animation(robot, run.fitted, files.html, files.gif, fps)
@@ -190,8 +190,14 @@ def run_table(studies: Sequence) -> list[str]:
     return lines
 
 
-def write_figures(out_dir: Path, studies: Sequence) -> list[str]:
-    """Per scenario: hip pitch of the walks, static equilibria, the sweep. Returns the names to show."""
+def write_scenario_figures(out_dir: Path, study) -> list[str]:
+    """One scenario's figures: hip pitch of the walks, static equilibria, the sweep. Returns the names to show.
+
+    Args:
+        out_dir: the analysis folder.
+        study: the scenario's :class:`~pasibot_pin.studies.spring_study.SpringStudy`.
+
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -200,64 +206,166 @@ def write_figures(out_dir: Path, studies: Sequence) -> list[str]:
     from pasibot_pin.viz.plots_simulation import plot_simulation, plot_spring_sweep, plot_static_equilibrium
 
     figures = []
-    for study in (entry.study for entry in studies):
-        name = study.name
-        if study.runs:
-            fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
-            fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
-            fig.savefig(out_dir / f"simulation_{name}.png", dpi=100)
-            plt.close(fig)
-            figures.append(f"simulation_{name}.png")
-        fig = plot_static_equilibrium(study.statics)
-        fig.axes[0].set_title(f"{name}: static equilibrium (omega -> 0); missing: none stable")
-        fig.savefig(out_dir / f"simulation_static_{name}.png", dpi=100)
+    name = study.name
+    if study.runs:
+        fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
+        fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
+        save_figure_file(fig, out_dir / f"simulation_{name}.png", 100)
         plt.close(fig)
-        if study.sweep_excursion is not None:
-            fitted = (study.fitted.stiffness, study.fitted.rest_angle)
-            fig = plot_spring_sweep(
-                study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best
-            )
-            fig.axes[0].set_title(f"{name}: {study.sweep_method} sweep of (K_e, beta0)")
-            fig.savefig(out_dir / f"simulation_sweep_{name}.png", dpi=100)
-            plt.close(fig)
-            figures.append(f"simulation_sweep_{name}.png")
+        figures.append(f"simulation_{name}.png")
+    fig = plot_static_equilibrium(study.statics)
+    fig.axes[0].set_title(f"{name}: static equilibrium (omega -> 0); missing: none stable")
+    save_figure_file(fig, out_dir / f"simulation_static_{name}.png", 100)
+    plt.close(fig)
+    if study.sweep_excursion is not None:
+        fitted = (study.fitted.stiffness, study.fitted.rest_angle)
+        fig = plot_spring_sweep(
+            study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best
+        )
+        fig.axes[0].set_title(f"{name}: {study.sweep_method} sweep of (K_e, beta0)")
+        save_figure_file(fig, out_dir / f"simulation_sweep_{name}.png", 100)
+        plt.close(fig)
+        figures.append(f"simulation_sweep_{name}.png")
     return figures
 
 
-def section(out_dir: Path) -> str:
-    """``pasibot analyze`` section "simulation": does the fitted spring hold the hip, per seed scenario.
+def write_figures(out_dir: Path, studies: Sequence) -> list[str]:
+    """Per scenario: hip pitch of the walks, static equilibria, the sweep. Returns the names to show."""
+    return [name for entry in studies for name in write_scenario_figures(out_dir, entry.study)]
 
-    Runs :mod:`~pasibot_pin.studies.simulation_study` with its default settings (the scenario
-    studies on a pool of :data:`POOL_WORKERS` processes), writes the figures and the animation
-    of the check scenario's fitted walk into ``out_dir``.
 
-    Returns:
-        The Markdown section.
+def write_check_animation(out_dir: Path, name: str, base) -> str:
+    """The animation files of the check scenario's fitted walk ``base``; returns the report's note on them."""
+    from pasibot_pin.studies.simulation_study import cached_inputs
 
-    """
-    import multiprocessing
-    from concurrent.futures import ProcessPoolExecutor
-
-    from pasibot_pin.studies.simulation_study import SimulationStudySettings, scenario_studies, swing_foot_check
-
-    settings = SimulationStudySettings()
-    start = time.perf_counter()
-    with ProcessPoolExecutor(max_workers=POOL_WORKERS, mp_context=multiprocessing.get_context("fork")) as pool:
-        studies = scenario_studies(settings, map=pool.map)
-    print(f"    simulation studies of {len(studies)} scenarios: {time.perf_counter() - start:.1f} s", flush=True)
-    figures = write_figures(out_dir, studies)
-
-    # cross-check of the swing-foot model, and the animation, on the fast scenario
-    check = swing_foot_check(studies, settings)
-    name, base, full = check.scenario.name, check.base, check.full
     gif, html = out_dir / GIF_NAME.format(scenario=name), out_dir / HTML_NAME.format(scenario=name)
     try:
-        anim = export_animation(check.scenario.robot, base, html=html, gif=gif, fps=20.0)
+        anim = export_animation(cached_inputs(name).robot, base, html=html, gif=gif, fps=20.0)
     except Exception as err:  # noqa: BLE001 - the viewer is optional here; report why it is missing
-        anim_note = f"animation not written: {err}"
-    else:
-        anim_note = f"animation of the fitted {name} walk: " + ", ".join(f"[{p.name}]({p.name})" for p in anim)
+        return f"animation not written: {err}"
+    return f"animation of the fitted {name} walk: " + ", ".join(f"[{p.name}]({p.name})" for p in anim)
 
+
+# CPU estimates [s] of the pieces (measured on the default analysis; they only order the work:
+# longest first). Walks at 0.1 rad/s that do not fall integrate 3142 steps.
+_CASE_ESTIMATE = {"fitted": 5.0, "twice K_e": 5.5, "half K_e": 0.4, "no spring": 0.3}
+_FAST_CASE_ESTIMATE = 0.4
+_ROW_ESTIMATE = {"dynamic": 3.8, "static": 0.5}
+_CHECK_ESTIMATE = 2.0
+_FIGURES_ESTIMATE = 1.0
+_ANIMATION_ESTIMATE = 3.0
+
+
+class SimulationPlan:
+    """The ``simulation`` section as pool jobs (:mod:`pasibot_pin.report.jobs`).
+
+    :meth:`jobs` gives the first jobs: per scenario its inputs, each spring case and each sweep
+    row, and the swing-foot check's run. :meth:`done` takes each result and releases a
+    scenario's figures once its pieces are in, and the animation once the check scenario's
+    fitted walk is in. :meth:`markdown` writes the section when everything is done.
+    """
+
+    def __init__(self, out_dir: Path, settings=None):
+        from pasibot_pin.studies.simulation_study import SimulationStudySettings
+
+        self.out_dir = Path(out_dir)
+        self.settings = settings or SimulationStudySettings()
+        self.meta: dict = {}
+        self.cases: dict = {name: {} for name in self.settings.scenarios}
+        self.rows: dict = {name: {} for name in self.settings.scenarios}
+        self.studies: dict = {}
+        self.figures: dict = {}
+        self.full = None
+        self.anim_note = None
+
+    def jobs(self) -> list:
+        """The first jobs: inputs, spring cases and sweep rows per scenario, the check."""
+        from pasibot_pin.model.scenarios import SCENARIOS
+        from pasibot_pin.report.jobs import Job
+        from pasibot_pin.studies import simulation_study as sim
+        from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG, sweep_method_for
+
+        st = self.settings
+        out = []
+        for name in st.scenarios:
+            omega = SCENARIOS[name].omega
+            fast = omega > st.fast_omega
+            out.append(Job(0.1, ("meta", name), sim.meta_task, (name,)))
+            for label, _ in SPRING_CASES:
+                estimate = _FAST_CASE_ESTIMATE if fast or omega <= 0 else _CASE_ESTIMATE[label]
+                if name == st.check_scenario and label == "fitted":
+                    estimate += _ANIMATION_ESTIMATE  # it releases the animation: start it early
+                out.append(Job(estimate, ("case", name, label), sim.case_task, (name, label, st)))
+            for row in range(len(SWEEP_OFFSETS_DEG)):
+                estimate = _ROW_ESTIMATE[sweep_method_for(omega)]
+                out.append(Job(estimate, ("row", name, row), sim.sweep_row_task, (name, row, st)))
+        if st.check_scenario:
+            out.append(Job(_CHECK_ESTIMATE, ("check",), sim.check_task, (st,)))
+        return out
+
+    def done(self, key, result) -> list:
+        """Take a job's result; return the jobs it releases (a scenario's figures, the animation)."""
+        from pasibot_pin.report.jobs import Job
+        from pasibot_pin.studies import simulation_study as sim
+        from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG
+
+        kind, name = key[0], key[1] if len(key) > 1 else None
+        released = []
+        if kind == "meta":
+            self.meta[name] = result
+        elif kind == "case":
+            self.cases[name][key[2]] = result
+            if name == self.settings.check_scenario and key[2] == "fitted" and result[1] is not None:
+                released.append(
+                    Job(
+                        _ANIMATION_ESTIMATE, ("animation", name), write_check_animation, (self.out_dir, name, result[1])
+                    )
+                )
+        elif kind == "row":
+            self.rows[name][key[2]] = result
+        elif kind == "check":
+            self.full = result
+        elif kind == "figures":
+            self.figures[name] = result
+        elif kind == "animation":
+            self.anim_note = result
+        if kind in ("meta", "case", "row") and name not in self.studies:
+            complete = (
+                name in self.meta
+                and len(self.cases[name]) == len(SPRING_CASES)
+                and len(self.rows[name]) == len(SWEEP_OFFSETS_DEG)
+            )
+            if complete:
+                cases = {label: self.cases[name][label] for label, _ in SPRING_CASES}
+                rows = [self.rows[name][i] for i in range(len(SWEEP_OFFSETS_DEG))]
+                self.studies[name] = sim.assemble_scenario(self.meta[name], cases, rows)
+                released.append(
+                    Job(
+                        _FIGURES_ESTIMATE,
+                        ("figures", name),
+                        write_scenario_figures,
+                        (self.out_dir, self.studies[name].study),
+                    )
+                )
+        return released
+
+    def markdown(self) -> str:
+        """The section, once every job is done."""
+        from pasibot_pin.studies.simulation_study import SwingFootCheck, hip_pitch_gap
+
+        studies = [self.studies[name] for name in self.settings.scenarios]
+        figures = [f for name in self.settings.scenarios for f in self.figures[name]]
+        check = None
+        if self.settings.check_scenario:
+            name = self.settings.check_scenario
+            base = self.studies[name].study.runs["fitted"]
+            check = SwingFootCheck(None, base, self.full, hip_pitch_gap(base, self.full))
+        return section_markdown(self.settings, studies, check, self.anim_note, figures)
+
+
+def section_markdown(settings, studies: Sequence, check, anim_note: str, figures: list[str]) -> str:
+    """The ``simulation`` section's Markdown."""
+    name, base, full = settings.check_scenario, check.base, check.full
     lines = [
         "## Does the spring work? Forward simulation with the hip pitch free",
         "",
@@ -293,3 +401,23 @@ def section(out_dir: Path) -> str:
         *[f"![{f}]({f})" for f in figures],
     ]
     return "\n".join(lines)
+
+
+def section(out_dir: Path) -> str:
+    """``pasibot analyze`` section "simulation": does the fitted spring hold the hip, per seed scenario.
+
+    Runs :mod:`~pasibot_pin.studies.simulation_study` with its default settings, in pieces on a
+    pool of :data:`POOL_WORKERS` processes (:class:`SimulationPlan`), writes the figures and the
+    animation of the check scenario's fitted walk into ``out_dir``.
+
+    Returns:
+        The Markdown section.
+
+    """
+    from pasibot_pin.report.jobs import run_jobs
+
+    plan = SimulationPlan(Path(out_dir))
+    start = time.perf_counter()
+    run_jobs(plan.jobs(), plan.done, POOL_WORKERS)
+    print(f"    simulation studies of {len(plan.studies)} scenarios: {time.perf_counter() - start:.1f} s", flush=True)
+    return plan.markdown()

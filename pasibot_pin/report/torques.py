@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import write_columns_csv
+from pasibot_pin.report.files import save_figure_file, write_columns_csv
 
 
 def write_result_csv(path: Path, result) -> None:
@@ -45,7 +45,7 @@ def write_beta_plot(path: Path, run) -> None:
     fig = plot_torques_vs_beta(run.result, run.fit, title=f"{run.scenario.description} [{run.preset}]")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    save_figure_file(fig, path, 120)
     plt.close(fig)
 
 
@@ -122,10 +122,10 @@ def section(out_dir: Path) -> str:
         table["seed preset"].append(s.K_e)
         table["seed stored"].append(scenario.seed_K_e)
     grid.tight_layout()
-    grid.savefig(sub / "torques_vs_beta.png", dpi=70)
+    save_figure_file(grid, sub / "torques_vs_beta.png", 100)
     plt.close(grid)
     fig = plot_stiffness_table(list(SCENARIOS), table, title="ankle stiffness per scenario")
-    fig.savefig(sub / "stiffness.png", dpi=100)
+    save_figure_file(fig, sub / "stiffness.png", 100)
     plt.close(fig)
     lines += [
         "",
@@ -146,7 +146,7 @@ def section(out_dir: Path) -> str:
     plot_torques_vs_time(walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
     plot_torques_vs_time(slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
     fig.tight_layout()
-    fig.savefig(sub / "torques_vs_time.png", dpi=80)
+    save_figure_file(fig, sub / "torques_vs_time.png", 100)
     plt.close(fig)
     lines += [
         "![torques vs beta, default model (left) and seed preset (right)](dynamics/torques_vs_beta.png)",

@@ -22,7 +22,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable, Iterable, Iterator
 from dataclasses import dataclass, field
-from functools import partial
+from functools import cache as _memo
 
 import numpy as np
 
@@ -39,11 +39,17 @@ from pasibot_pin.studies.spring_study import (
     ScenarioInputs,
     SpringStudy,
     StaticEquilibrium,
+    assemble_spring_study,
+    case_excursion,
+    case_of_cell,
     default_dt,
     scenario_inputs,
-    spring_study,
+    spring_case,
     standing_pitch,
     static_equilibrium,
+    sweep_cell,
+    sweep_method_for,
+    sweep_springs,
     toppling_stiffness,
 )
 
@@ -305,21 +311,127 @@ class SimulationStudy:
     check: SwingFootCheck | None = None
 
 
+# The scenario studies in independent pieces (pool tasks): each spring case, each row of the
+# sweep, the swing-foot check's run. A process keeps each scenario's inputs and static-assembly
+# cache, so its pieces share them; the results do not depend on which process ran what.
+@_memo
+def cached_inputs(name: str) -> ScenarioInputs:
+    """:func:`~pasibot_pin.studies.spring_study.scenario_inputs`, computed once per process."""
+    return scenario_inputs(name)
+
+
+@_memo
+def _static_cache(name: str) -> dict:
+    return {}
+
+
+def _walk_options(name: str, settings: SimulationStudySettings) -> dict:
+    fast = cached_inputs(name).omega > settings.fast_omega
+    return {
+        "steps": settings.fast_steps if fast else settings.slow_steps,
+        "dt": settings.fast_dt if fast else settings.slow_dt,
+        "static_samples": settings.static_samples,
+        "cache": _static_cache(name),
+    }
+
+
+def case_task(
+    name: str, label: str, settings: SimulationStudySettings
+) -> tuple[StaticEquilibrium, SimulationResult | None]:  # noqa: E501
+    """One spring case of scenario ``name``: its static path and walk (:func:`~.spring_study.spring_case`)."""
+    scen = cached_inputs(name)
+    spring = scen.fit.scaled(dict(SPRING_CASES)[label])
+    return spring_case(scen.robot, scen.omega, spring, **_walk_options(name, settings))
+
+
+def sweep_shape(name: str) -> tuple[int, int]:
+    """(rows = beta0 values, columns = K_e values) of scenario ``name``'s sweep."""
+    ks, bs = sweep_springs(cached_inputs(name).fit)
+    return len(bs), len(ks)
+
+
+def sweep_row_task(name: str, row: int, settings: SimulationStudySettings) -> np.ndarray:
+    """Row ``row`` (one beta0) of scenario ``name``'s (K_e, beta0) sweep [rad].
+
+    NaN marks a cell whose spring is one of the spring cases': :func:`assemble_scenario` fills
+    it from that case instead of computing it again.
+    """
+    scen = cached_inputs(name)
+    ks, bs = sweep_springs(scen.fit)
+    method = sweep_method_for(scen.omega)
+    out = np.full(len(ks), np.nan)
+    for j, k in enumerate(ks):
+        spring = AnkleSpring(float(k), float(bs[row]), scen.fit.damping)
+        if case_of_cell(scen.fit, spring) is None:
+            out[j] = sweep_cell(scen.robot, scen.omega, spring, method, **_walk_options(name, settings))
+    return out
+
+
+@dataclass(frozen=True)
+class ScenarioMeta:
+    """What assembling a scenario's study needs besides its pieces (small: it crosses processes).
+
+    Attributes:
+        name: scenario key.
+        omega: crank rate [rad/s].
+        fit: the inverse-dynamics spring.
+        toppling: gravity's toppling stiffness [N.m/rad].
+        spring_fit: the full fit.
+
+    """
+
+    name: str
+    omega: float
+    fit: AnkleSpring
+    toppling: float
+    spring_fit: object
+
+
+def meta_task(name: str) -> ScenarioMeta:
+    """Scenario ``name``'s :class:`ScenarioMeta`."""
+    scen = cached_inputs(name)
+    return ScenarioMeta(name, scen.omega, scen.fit, toppling_stiffness(scen.robot), scen.spring_fit)
+
+
+def assemble_scenario(meta: ScenarioMeta, cases: dict, rows: list[np.ndarray]) -> ScenarioStudy:
+    """A :class:`ScenarioStudy` from its :func:`case_task` (label -> outcome) and :func:`sweep_row_task` results."""
+    ks, bs = sweep_springs(meta.fit)
+    method = sweep_method_for(meta.omega)
+    grid = np.array(rows, dtype=float).reshape(len(bs), len(ks))
+    for i, beta0 in enumerate(bs):
+        for j, k in enumerate(ks):
+            label = case_of_cell(meta.fit, AnkleSpring(float(k), float(beta0), meta.fit.damping))
+            if label is not None:
+                grid[i, j] = case_excursion(meta.omega if method == "dynamic" else 0.0, *cases[label])
+    study = assemble_spring_study(meta.name, meta.omega, meta.fit, cases, ks, bs, grid, method)
+    return ScenarioStudy(study, meta.toppling, meta.spring_fit)
+
+
+def check_settings(settings: SimulationStudySettings) -> SimulationSettings:
+    """The check run's settings: the check scenario's fitted walk, swing foot on its spring."""
+    scen = cached_inputs(settings.check_scenario)
+    fast = scen.omega > settings.fast_omega
+    base = SimulationSettings(
+        omega=scen.omega,
+        spring=scen.fit,
+        swing_ankle="rest",
+        dt=settings.fast_dt if fast else settings.slow_dt,
+        initial_pitch=standing_pitch(scen.robot, scen.fit, math.pi / 2),
+    )
+    return base.with_(swing_ankle="spring", dt=settings.check_dt)
+
+
+def check_task(settings: SimulationStudySettings) -> SimulationResult:
+    """The swing-foot check's run (independent of the studies: a pool task)."""
+    return simulate(cached_inputs(settings.check_scenario).robot, check_settings(settings), steps=settings.check_steps)
+
+
 def scenario_study(name: str, settings: SimulationStudySettings | None = None) -> ScenarioStudy:
     """One scenario's spring study, toppling stiffness and fit (independent of the others: a pool task)."""
     settings = settings or SimulationStudySettings()
-    scen = scenario_inputs(name)
-    fast = scen.omega > settings.fast_omega
-    study = spring_study(
-        scen.robot,
-        scen.omega,
-        scen.fit,
-        name=name,
-        steps=settings.fast_steps if fast else settings.slow_steps,
-        dt=settings.fast_dt if fast else settings.slow_dt,
-        static_samples=settings.static_samples,
-    )
-    return ScenarioStudy(study, toppling_stiffness(scen.robot), scen.spring_fit)
+    cases = {label: case_task(name, label, settings) for label, _ in SPRING_CASES}
+    rows = [sweep_row_task(name, i, settings) for i in range(sweep_shape(name)[0])]
+    return assemble_scenario(meta_task(name), cases, rows)
 
 
 def scenario_studies(settings: SimulationStudySettings | None = None, map: MapFunction = map) -> list[ScenarioStudy]:
@@ -331,12 +443,21 @@ def scenario_studies(settings: SimulationStudySettings | None = None, map: MapFu
             results come back in scenario order, identical to the builtin ``map``.
 
     """
+    from functools import partial
+
     settings = settings or SimulationStudySettings()
     return list(map(partial(scenario_study, settings=settings), settings.scenarios))
 
 
-def swing_foot_check(studies: list[ScenarioStudy], settings: SimulationStudySettings | None = None) -> SwingFootCheck:
+def swing_foot_check(
+    studies: list[ScenarioStudy], settings: SimulationStudySettings | None = None, full: SimulationResult | None = None
+) -> SwingFootCheck:
     """Rerun the check scenario's fitted walk with the swing foot integrated on its spring.
+
+    Args:
+        studies: the scenario studies (the check scenario's fitted walk is the base).
+        settings: the study settings.
+        full: the check run if already computed (:func:`check_task`).
 
     Raises:
         ValueError: the check scenario is not among ``studies`` or has no walk.
@@ -349,11 +470,16 @@ def swing_foot_check(studies: list[ScenarioStudy], settings: SimulationStudySett
     base = studies[names.index(settings.check_scenario)].study.runs.get("fitted")
     if base is None:
         raise ValueError(f"check scenario {settings.check_scenario!r} has no walk (omega = 0)")
-    scen = scenario_inputs(settings.check_scenario)
+    scen = cached_inputs(settings.check_scenario)
     full_settings = base.settings.with_(swing_ankle="spring", dt=settings.check_dt)
-    full = simulate(scen.robot, full_settings, steps=settings.check_steps)
-    gap = float(np.max(np.abs(np.interp(full.t, base.t, base.hip_pitch) - full.hip_pitch)))
-    return SwingFootCheck(scen, base, full, gap)
+    if full is None or full.settings != full_settings:
+        full = simulate(scen.robot, full_settings, steps=settings.check_steps)
+    return SwingFootCheck(scen, base, full, hip_pitch_gap(base, full))
+
+
+def hip_pitch_gap(base: SimulationResult, full: SimulationResult) -> float:
+    """Largest difference of ``full``'s hip pitch from ``base``'s (interpolated at ``full``'s times) [rad]."""
+    return float(np.max(np.abs(np.interp(full.t, base.t, base.hip_pitch) - full.hip_pitch)))
 
 
 def simulation_study(settings: SimulationStudySettings | None = None, map: MapFunction = map) -> SimulationStudy:

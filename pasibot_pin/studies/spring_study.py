@@ -68,7 +68,10 @@ class _StaticProblem:
     """The hip-holding torque as a function of the hip pitch, at one crank angle.
 
     Cranks locked at ``theta``, swing ankle at the rest angle, stance foot welded flat.
-    ``cache`` (theta -> assembled start) lets several springs share the assembly.
+    ``cache`` (a dict) lets several springs share the work that does not depend on the
+    stiffness: the assembly at each crank angle, and per (crank angle, rest angle) the
+    constraint system and the projections onto it (the same start and pitch give the same q;
+    only the torque, from the spring forces, differs).
     """
 
     def __init__(self, robot, spring: AnkleSpring | None, theta: float, cache: dict | None = None):
@@ -77,6 +80,11 @@ class _StaticProblem:
         self.robot = robot
         self.sim = BipedSimulator(robot, settings)
         key = round(float(theta), 12)
+        shared_key = ("system", key, float(spring.rest_angle))
+        if cache is not None and shared_key in cache:
+            self.q_level, self.cset, self.targets, self.projections = cache[shared_key]
+            self.row = self.cset.nrows - 1
+            return
         if cache is not None and key in cache:
             q_level, stance, weld = cache[key]
         else:
@@ -94,12 +102,20 @@ class _StaticProblem:
         self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
         self.targets = self.cset.targets(0.0)
         self.row = self.cset.nrows - 1
+        self.projections: dict = {}
+        if cache is not None:
+            cache[shared_key] = (self.q_level, self.cset, self.targets, self.projections)
 
     def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
-        targets = self.targets.copy()
-        targets[-1] = pitch
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
-        q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
+        key = (float(pitch), q.tobytes())
+        if key in self.projections:
+            q = self.projections[key].copy()
+        else:
+            targets = self.targets.copy()
+            targets[-1] = pitch
+            q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
+            self.projections[key] = q.copy()
         _, lam, _ = self.sim.acceleration(self.cset, 0.0, q, np.zeros(self.robot.model.nv))
         return float(lam[self.row]), q
 
@@ -225,6 +241,122 @@ def _run_excursion(res: SimulationResult) -> float:
     return math.inf if res.fell else res.max_hip_excursion
 
 
+def _walk_settings(omega: float, spring: AnkleSpring, swing_ankle: str, dt: float, pitch: float) -> SimulationSettings:
+    return SimulationSettings(omega=omega, spring=spring, swing_ankle=swing_ankle, dt=dt, initial_pitch=pitch)
+
+
+def _standing_pitch_of(eq: StaticEquilibrium) -> float:
+    """:func:`standing_pitch` read from a static path whose first crank angle is pi/2 (the same solve)."""
+    if eq.found[0] and eq.stiffness[0] > 0:
+        return float(eq.hip_pitch[0])
+    return 0.0
+
+
+def _static_thetas(static_samples: int) -> np.ndarray:
+    return np.linspace(math.pi / 2, 1.5 * math.pi, static_samples, endpoint=False)
+
+
+def spring_case(
+    robot,
+    omega: float,
+    spring: AnkleSpring,
+    steps: int = 2,
+    swing_ankle: str = "rest",
+    dt: float | None = None,
+    static_samples: int = 19,
+    cache: dict | None = None,
+) -> tuple[StaticEquilibrium, SimulationResult | None]:
+    """One spring of :func:`spring_study`: its static path and, for omega > 0, its walk.
+
+    The walk starts at :func:`standing_pitch`, read from the static path's first crank angle
+    (pi/2: the same solve). ``cache`` is the static solves' assembly cache (see
+    :func:`static_equilibrium`).
+    """
+    dt = default_dt(swing_ankle) if dt is None else dt
+    thetas = _static_thetas(static_samples)
+    static = static_equilibrium(robot, spring, thetas, cache=cache)
+    if omega <= 0:
+        return static, None
+    settings = _walk_settings(omega, spring, swing_ankle, dt, _standing_pitch_of(static))
+    return static, simulate(robot, settings, steps=steps)
+
+
+def sweep_springs(fitted: AnkleSpring, sweep_stiffness=None, sweep_rest=None) -> tuple[np.ndarray, np.ndarray]:
+    """The (K_e, beta0) grids of :func:`spring_study` [N.m/rad], [rad]."""
+    ks = fitted.stiffness * np.array(SWEEP_FACTORS) if sweep_stiffness is None else np.asarray(sweep_stiffness)
+    bs = fitted.rest_angle + np.radians(SWEEP_OFFSETS_DEG) if sweep_rest is None else np.asarray(sweep_rest)
+    return ks, bs
+
+
+def sweep_method_for(omega: float, sweep_method: str | None = None) -> str:
+    """The sweep method of :func:`spring_study` (static for omega <= 0.1 rad/s, dynamic above)."""
+    method = sweep_method or ("static" if omega <= 0.1 else "dynamic")
+    if method not in ("static", "dynamic"):
+        raise ValueError(f"unknown sweep_method {method!r}; valid: static, dynamic")
+    if method == "dynamic" and omega <= 0:
+        raise ValueError("a dynamic sweep needs omega > 0")
+    return method
+
+
+def sweep_cell(
+    robot,
+    omega: float,
+    spring: AnkleSpring,
+    method: str,
+    steps: int = 2,
+    swing_ankle: str = "rest",
+    dt: float | None = None,
+    static_samples: int = 19,
+    cache: dict | None = None,
+) -> float:
+    """One cell of the (K_e, beta0) sweep: the largest |hip pitch| [rad] (inf: fell / none stable)."""
+    dt = default_dt(swing_ankle) if dt is None else dt
+    thetas = _static_thetas(static_samples)
+    if method == "static":
+        return static_equilibrium(robot, spring, thetas, cache=cache).max_excursion
+    settings = _walk_settings(omega, spring, swing_ankle, dt, standing_pitch(robot, spring, math.pi / 2))
+    return _run_excursion(simulate(robot, settings, steps=steps))
+
+
+def case_excursion(omega: float, static: StaticEquilibrium, run: SimulationResult | None) -> float:
+    """A spring case's excursion: its walk's (omega > 0) or its static path's (omega = 0) [rad]."""
+    return _run_excursion(run) if omega > 0 else static.max_excursion
+
+
+def assemble_spring_study(
+    name: str,
+    omega: float,
+    fitted: AnkleSpring,
+    cases: dict[str, tuple[StaticEquilibrium, SimulationResult | None]],
+    ks: np.ndarray,
+    bs: np.ndarray,
+    grid: np.ndarray | None,
+    method: str,
+) -> SpringStudy:
+    """A :class:`SpringStudy` from its spring cases (label -> (static path, walk)) and its sweep grid."""
+    study = SpringStudy(name=name, omega=omega, fitted=fitted)
+    for label, _ in SPRING_CASES:
+        static, run = cases[label]
+        study.statics[label] = static
+        if run is not None:
+            study.runs[label] = run
+        study.excursion[label] = case_excursion(omega, static, run)
+    if grid is not None:
+        study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, study.sweep_method = ks, bs, grid, method
+        if np.any(np.isfinite(grid)):
+            i, j = np.unravel_index(int(np.argmin(grid)), grid.shape)
+            study.best = (float(ks[j]), float(bs[i]))
+    return study
+
+
+def case_of_cell(fitted: AnkleSpring, spring: AnkleSpring) -> str | None:
+    """The spring case whose spring is exactly ``spring`` (its sweep cell repeats that case), or None."""
+    for label, factor in SPRING_CASES:
+        if fitted.scaled(factor) == spring:
+            return label
+    return None
+
+
 def spring_study(
     robot,
     omega: float,
@@ -256,58 +388,30 @@ def spring_study(
         static_samples: crank angles over one stance for the static paths.
 
     Returns:
-        The :class:`SpringStudy`.
+        The :class:`SpringStudy`. The pieces (:func:`spring_case`, :func:`sweep_cell`,
+        :func:`assemble_spring_study`) can also run apart, e.g. on a process pool; a sweep cell
+        whose spring is one of the cases' is not computed again.
 
     """
     _check_finite("omega", omega, 0.0)
     dt = default_dt(swing_ankle) if dt is None else dt
-    study = SpringStudy(name=name, omega=omega, fitted=fitted)
-    thetas = np.linspace(math.pi / 2, 1.5 * math.pi, static_samples, endpoint=False)
     cache: dict = {}
-    for label, factor in SPRING_CASES:
-        spring = fitted.scaled(factor)  # factor 0: no spring (the swing foot kept as in the other cases)
-        study.statics[label] = static_equilibrium(robot, spring, thetas, cache=cache)
-        if omega > 0:
-            settings = SimulationSettings(
-                omega=omega,
-                spring=spring,
-                swing_ankle=swing_ankle,
-                dt=dt,
-                initial_pitch=standing_pitch(robot, spring, math.pi / 2),
-            )
-            res = simulate(robot, settings, steps=steps)
-            study.runs[label] = res
-            study.excursion[label] = _run_excursion(res)
-        else:
-            study.excursion[label] = study.statics[label].max_excursion
-    ks = fitted.stiffness * np.array(SWEEP_FACTORS) if sweep_stiffness is None else np.asarray(sweep_stiffness)
-    bs = fitted.rest_angle + np.radians(SWEEP_OFFSETS_DEG) if sweep_rest is None else np.asarray(sweep_rest)
+    common = {"steps": steps, "swing_ankle": swing_ankle, "dt": dt, "static_samples": static_samples, "cache": cache}
+    cases = {label: spring_case(robot, omega, fitted.scaled(f), **common) for label, f in SPRING_CASES}
+    ks, bs = sweep_springs(fitted, sweep_stiffness, sweep_rest)
+    grid, method = None, ""
     if len(ks) and len(bs):
-        method = sweep_method or ("static" if omega <= 0.1 else "dynamic")
-        if method not in ("static", "dynamic"):
-            raise ValueError(f"unknown sweep_method {method!r}; valid: static, dynamic")
-        if method == "dynamic" and omega <= 0:
-            raise ValueError("a dynamic sweep needs omega > 0")
+        method = sweep_method_for(omega, sweep_method)
         grid = np.full((len(bs), len(ks)), math.inf)
         for i, beta0 in enumerate(bs):
             for j, k in enumerate(ks):
                 spring = AnkleSpring(float(k), float(beta0), fitted.damping)
-                if method == "static":
-                    grid[i, j] = static_equilibrium(robot, spring, thetas, cache=cache).max_excursion
+                label = case_of_cell(fitted, spring)
+                if label is not None:
+                    grid[i, j] = case_excursion(omega if method == "dynamic" else 0.0, *cases[label])
                 else:
-                    settings = SimulationSettings(
-                        omega=omega,
-                        spring=spring,
-                        swing_ankle=swing_ankle,
-                        dt=dt,
-                        initial_pitch=standing_pitch(robot, spring, math.pi / 2),
-                    )
-                    grid[i, j] = _run_excursion(simulate(robot, settings, steps=steps))
-        study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, study.sweep_method = ks, bs, grid, method
-        if np.any(np.isfinite(grid)):
-            i, j = np.unravel_index(int(np.argmin(grid)), grid.shape)
-            study.best = (float(ks[j]), float(bs[i]))
-    return study
+                    grid[i, j] = sweep_cell(robot, omega, spring, method, **common)
+    return assemble_spring_study(name, omega, fitted, cases, ks, bs, grid, method)
 
 
 # --------------------------------------------------------------------------- the seed's scenarios

@@ -43,22 +43,14 @@ def ankle_paths_xz(robot, qs: np.ndarray) -> dict[str, np.ndarray]:
     return out
 
 
-def stick_animation(robot, qs: np.ndarray, fps: float = 20.0, ax=None, title: str | None = None):
-    """A matplotlib ``FuncAnimation`` of the robot along ``qs``, one frame per row.
+def _stick_scene(robot, qs: np.ndarray, fps: float, ax=None, title: str | None = None):
+    """Draw the still part of the stick animation; return (figure, frame updater, moving artists).
 
-    Args:
-        robot: a loaded robot (one or two legs).
-        qs: configurations (N, nq), N >= 2.
-        fps: frames per second [1/s] (sets the frame interval and the time label).
-        ax: axes to draw on (default: a new figure).
-        title: figure title (default: variant and number of legs).
-
-    Returns:
-        The animation; its figure is ``anim._fig`` (also ``ax.figure``).
-
+    The moving artists (the bars, the ground line, the ankle paths: faint full path and bold
+    walked part, the clock and the legend) are listed in the order the axes draw them (z-order,
+    then order of creation). ``update(k)`` moves them to frame ``k``.
     """
     import matplotlib.pyplot as plt
-    from matplotlib.animation import FuncAnimation
     from matplotlib.collections import LineCollection
 
     qs = _check(robot, qs)
@@ -86,27 +78,96 @@ def stick_animation(robot, qs: np.ndarray, fps: float = 20.0, ax=None, title: st
     ax.set_ylabel("z [m]")
     ax.grid(True, alpha=0.3)
     ax.set_title(title or f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
+    lines = []
     if robot.floating:
-        ax.axhline(0.0, color="#8b5a2b", lw=1.2)
+        lines.append(ax.axhline(0.0, color="#8b5a2b", lw=1.2))
     paths = ankle_paths_xz(robot, qs)
     trails = {}
     for side, xz in paths.items():
-        ax.plot(xz[:, 0], xz[:, 1], color=PATH_COLOURS[side], lw=0.8, alpha=0.35)
+        lines += ax.plot(xz[:, 0], xz[:, 1], color=PATH_COLOURS[side], lw=0.8, alpha=0.35)
         (trails[side],) = ax.plot([], [], color=PATH_COLOURS[side], lw=1.6, label=f"{side} ankle path")
+        lines.append(trails[side])
     bars = LineCollection(segments[0], colors=colours, linewidths=widths, capstyle="round")
     ax.add_collection(bars)
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace")
     if paths:
         ax.legend(loc="upper right", fontsize=8)
+    # everything but the axes frame, ticks and grid moves; drawn in the axes' own order
+    children = ax.get_children()
+    moving = sorted(
+        [bars, *lines, clock, *([ax.get_legend()] if paths else [])], key=lambda a: (a.get_zorder(), children.index(a))
+    )
 
-    def draw(k: int):
+    def update(k: int):
         bars.set_segments(segments[k])
         for side, line in trails.items():
             line.set_data(paths[side][: k + 1, 0], paths[side][: k + 1, 1])
         clock.set_text(f"frame {k + 1}/{len(qs)}  t = {k / fps:5.2f} s")
         return [bars, clock, *trails.values()]
 
-    return FuncAnimation(fig, draw, frames=len(qs), interval=1000.0 / fps, blit=False)
+    return fig, update, moving
+
+
+def stick_animation(robot, qs: np.ndarray, fps: float = 20.0, ax=None, title: str | None = None):
+    """A matplotlib ``FuncAnimation`` of the robot along ``qs``, one frame per row.
+
+    Args:
+        robot: a loaded robot (one or two legs).
+        qs: configurations (N, nq), N >= 2.
+        fps: frames per second [1/s] (sets the frame interval and the time label).
+        ax: axes to draw on (default: a new figure).
+        title: figure title (default: variant and number of legs).
+
+    Returns:
+        The animation; its figure is ``anim._fig`` (also ``ax.figure``).
+
+    """
+    from matplotlib.animation import FuncAnimation
+
+    fig, update, _ = _stick_scene(robot, qs, fps, ax, title)
+    return FuncAnimation(fig, update, frames=len(qs), interval=1000.0 / fps, blit=False)
+
+
+def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None) -> list:
+    """The frames of :func:`stick_animation` as Pillow images (RGB when opaque), ``dpi`` dots per inch.
+
+    The still part (axes, ticks, labels, grid) is drawn once; each frame restores it and draws
+    only the moving artists over it (blitting), in the axes' own drawing order. The legend,
+    drawn last and the same in every frame, is rendered once as a transparent layer and
+    composited over each frame.
+    """
+    import matplotlib.pyplot as plt
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from PIL import Image
+
+    fig, update, moving = _stick_scene(robot, qs, fps, title=title)
+    try:
+        fig.set_dpi(dpi)
+        canvas = FigureCanvasAgg(fig)
+        for artist in moving:
+            artist.set_animated(True)
+        canvas.draw()
+        background = canvas.copy_from_bbox(fig.bbox)
+        renderer = canvas.get_renderer()
+        layer = None
+        if moving and moving[-1] is fig.axes[0].get_legend():
+            renderer.clear()
+            moving.pop().draw(renderer)
+            layer = Image.fromarray(np.asarray(canvas.buffer_rgba()).copy(), "RGBA")
+        images = []
+        for k in range(len(qs)):
+            canvas.restore_region(background)
+            update(k)
+            for artist in moving:
+                artist.draw(renderer)
+            image = Image.fromarray(np.asarray(canvas.buffer_rgba()).copy(), "RGBA")
+            if layer is not None:
+                image = Image.alpha_composite(image, layer)
+            # opaque frames as RGB (as matplotlib's PillowWriter does: it quantises better for GIF)
+            images.append(image if image.getextrema()[3][0] < 255 else image.convert("RGB"))
+    finally:
+        plt.close(fig)
+    return images
 
 
 def save_gif(
@@ -139,8 +200,6 @@ def save_gif(
     import matplotlib
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    from matplotlib.animation import PillowWriter
 
     out = Path(out)
     if out.exists() and not force:
@@ -149,10 +208,42 @@ def save_gif(
         raise ValueError(f"parameter 'out' must end in .gif, got {out}")
     if not (isinstance(dpi, int) and dpi > 0):
         raise ValueError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
-    anim = stick_animation(robot, qs, fps=fps, title=title)
+    images = stick_frames(robot, qs, fps=fps, dpi=dpi, title=title)
+    if all(im.mode == "RGB" for im in images):
+        images = _shared_palette(images)
     out.parent.mkdir(parents=True, exist_ok=True)
-    try:
-        anim.save(out, writer=PillowWriter(fps=fps), dpi=dpi)
-    finally:
-        plt.close(anim._fig)
+    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    return out
+
+
+def _shared_palette(images: list) -> list:
+    """RGB frames as palette frames sharing one adaptive palette (Pillow's, from three frames).
+
+    Pillow would compute a palette per frame; the stick frames share their colours, so one
+    palette serves them all. Each colour maps exactly to its nearest palette entry (Pillow's own
+    mapping to a given palette goes through a coarse colour cache: white would become grey).
+    """
+    from PIL import Image
+
+    w, h = images[0].size
+    sample = [images[0], images[len(images) // 2], images[-1]]
+    mosaic = Image.new("RGB", (w, h * len(sample)))
+    for i, im in enumerate(sample):
+        mosaic.paste(im, (0, h * i))
+    palette = mosaic.convert("P", palette=Image.Palette.ADAPTIVE).getpalette("RGB")
+    entries = np.asarray(palette, dtype=np.int32).reshape(-1, 3)
+    rgb = np.stack([np.asarray(im) for im in images]).astype(np.uint32)
+    packed = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+    seen = np.zeros(1 << 24, dtype=bool)
+    seen[packed] = True
+    used = np.flatnonzero(seen)
+    colours = np.stack([used >> 16, (used >> 8) & 255, used & 255], axis=1).astype(np.int32)
+    lookup = np.zeros(1 << 24, dtype=np.uint8)
+    lookup[used] = np.argmin(((colours[:, None, :] - entries[None, :, :]) ** 2).sum(axis=2), axis=1)
+    index = lookup[packed]
+    out = []
+    for k in range(len(images)):
+        frame = Image.fromarray(index[k], "P")
+        frame.putpalette(palette)
+        out.append(frame)
     return out

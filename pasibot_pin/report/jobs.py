@@ -1,0 +1,108 @@
+"""Run independent pieces of work on a process pool, longest first.
+
+``pasibot analyze`` hands every piece (a report section, a spring case, a sweep row, a figure
+task) to one pool of :data:`WORKERS` processes. :func:`run_jobs` keeps exactly one job per
+worker in flight and always starts the longest ready job next (by its CPU estimate), so the
+long ones do not end up alone at the end. A finished job may release new ones (e.g. a
+scenario's figures once its cases and sweep are in).
+
+Ctrl-C or SIGTERM: the workers ignore SIGINT (the main process handles it) and die with their
+parent (Linux ``PR_SET_PDEATHSIG``); the main process cancels the queued jobs and terminates
+the running ones before it re-raises, so no worker is left behind.
+"""
+
+from __future__ import annotations
+
+import heapq
+import itertools
+import multiprocessing
+import signal
+from collections.abc import Callable, Iterable
+from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
+from dataclasses import dataclass, field
+
+WORKERS = 2
+"""Processes of the pool (the machine the goal was set on has 2 cores)."""
+
+
+@dataclass(order=True)
+class Job:
+    """One piece of work: ``fn(*args)`` in a worker.
+
+    Attributes:
+        estimate: expected CPU time [s] (only orders the jobs: longest first).
+        key: the job's name, handed back with its result.
+        fn: a module-level function (it is pickled by reference).
+        args: its arguments (pickled).
+
+    """
+
+    estimate: float
+    key: object = field(compare=False)
+    fn: Callable = field(compare=False)
+    args: tuple = field(default=(), compare=False)
+
+
+OnDone = Callable[[object, object], Iterable[Job] | None]
+"""``on_done(key, result)``, called in the main process; returns the jobs it releases (or None)."""
+
+
+def _worker_init() -> None:
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
+    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    try:  # die with the parent, even if it is killed outright (Linux only)
+        import ctypes
+
+        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+    except (OSError, AttributeError):
+        pass
+
+
+def _raise_interrupt(signum, frame):
+    raise KeyboardInterrupt(f"signal {signum}")
+
+
+def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS) -> None:
+    """Run ``jobs`` (and those ``on_done`` releases) longest first on ``workers`` processes.
+
+    ``workers <= 1`` runs them one by one in this process (same order, same results).
+    Any job's exception is re-raised here after the pool is shut down.
+    """
+    order = itertools.count()
+    ready: list[tuple[float, int, Job]] = []
+
+    def push(new: Iterable[Job] | None) -> None:
+        for job in new or ():
+            heapq.heappush(ready, (-job.estimate, next(order), job))
+
+    push(jobs)
+    if workers <= 1:
+        while ready:
+            job = heapq.heappop(ready)[2]
+            push(on_done(job.key, job.fn(*job.args)))
+        return
+
+    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
+    pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"), initializer=_worker_init)
+    running: dict[Future, Job] = {}
+    try:
+        while ready or running:
+            while ready and len(running) < workers:
+                job = heapq.heappop(ready)[2]
+                running[pool.submit(job.fn, *job.args)] = job
+            finished, _ = wait(running, return_when=FIRST_COMPLETED)
+            for future in finished:
+                job = running.pop(future)
+                push(on_done(job.key, future.result()))
+    except BaseException:
+        processes = list((getattr(pool, "_processes", None) or {}).values())
+        pool.shutdown(wait=False, cancel_futures=True)
+        for process in processes:
+            process.terminate()
+        for process in processes:
+            process.join(timeout=5)
+        raise
+    else:
+        pool.shutdown(wait=True)
+    finally:
+        signal.signal(signal.SIGTERM, previous)
