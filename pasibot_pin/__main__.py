@@ -2,18 +2,30 @@
 
 Each subcommand lives in its own module of :mod:`pasibot_pin.cli` and registers
 itself with ``register(subparsers)``. Everything runs headless and writes files.
+
+Errors: bad input (``ValueError``, ``FileExistsError``) and a file the system refuses
+(``OSError``) are one line ``pasibot CMD: error: ...`` with exit code 2, never a traceback.
+SIGTERM and Ctrl-C stop the command, its child processes (process-pool workers, the meshcat
+server) and their children; files being written are left under no name (exit code 143 / 130).
 """
 
 from __future__ import annotations
 
 import argparse
 import importlib
+import os
+import signal
 import sys
+import time
 
 import pinocchio as pin
 
 from pasibot_pin import __version__
 from pasibot_pin.cli import COMMANDS
+
+
+class Terminated(BaseException):
+    """Raised in the main process by SIGTERM (a ``BaseException``, like Ctrl-C's: ``finally`` blocks run)."""
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -26,15 +38,117 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def descendants(pid: int | None = None) -> list[int]:
+    """Pids of every living descendant of ``pid`` (default this process), children first (Linux /proc)."""
+    pid = os.getpid() if pid is None else pid
+    children: dict[int, list[int]] = {}
+    try:
+        entries = os.listdir("/proc")
+    except OSError:
+        return []
+    for entry in entries:
+        if not entry.isdigit():
+            continue
+        try:
+            with open(f"/proc/{entry}/stat") as handle:
+                stat = handle.read()
+        except OSError:
+            continue
+        fields = stat[stat.rfind(")") + 2 :].split()
+        if fields and fields[0] != "Z":
+            children.setdefault(int(fields[1]), []).append(int(entry))
+    out: list[int] = []
+    todo = list(children.get(pid, []))
+    while todo:
+        child = todo.pop(0)
+        out.append(child)
+        todo.extend(children.get(child, []))
+    return out
+
+
+def stop_descendants(timeout: float = 3.0) -> None:
+    """SIGTERM every descendant process, then SIGKILL those still alive after ``timeout`` [s]."""
+    pids = descendants()
+    for pid in pids:
+        try:
+            os.kill(pid, signal.SIGTERM)
+        except OSError:
+            pass
+    deadline = time.monotonic() + timeout
+    while pids and time.monotonic() < deadline:
+        for pid in list(pids):
+            try:  # reap our own children; others (grandchildren) are reaped by their parent or init
+                os.waitpid(pid, os.WNOHANG)
+            except ChildProcessError:
+                pass
+            if not os.path.exists(f"/proc/{pid}") or _is_zombie(pid):
+                pids.remove(pid)
+        time.sleep(0.02)
+    for pid in pids:
+        try:
+            os.kill(pid, signal.SIGKILL)
+        except OSError:
+            pass
+
+
+def _is_zombie(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as handle:
+            stat = handle.read()
+    except OSError:
+        return True
+    return stat[stat.rfind(")") + 2 :].startswith("Z")
+
+
+def _install_signal_handlers() -> None:
+    """SIGTERM/SIGINT: in this process, stop the children and raise; in a forked child, die at once."""
+    main_pid = os.getpid()
+
+    def handler(signum, frame):
+        if os.getpid() != main_pid:  # a forked worker inherited this handler: die as by default
+            signal.signal(signum, signal.SIG_DFL)
+            os.kill(os.getpid(), signum)
+            return
+        signal.signal(signal.SIGTERM, signal.SIG_DFL)  # a second signal stops at once
+        signal.signal(signal.SIGINT, signal.SIG_DFL)
+        stop_descendants()
+        raise Terminated() if signum == signal.SIGTERM else KeyboardInterrupt()
+
+    signal.signal(signal.SIGTERM, handler)
+    signal.signal(signal.SIGINT, handler)
+
+
+def _os_message(err: OSError) -> str:
+    if err.filename is not None and err.strerror:
+        return f"{err.filename}: {err.strerror}"
+    return str(err) or type(err).__name__
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run the CLI; returns the exit code (2 for bad input, with a one-line message)."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    is_entry_point = argv is None
+    if is_entry_point:
+        _install_signal_handlers()
     try:
         return int(args.func(args) or 0)
     except (ValueError, FileExistsError) as err:
         print(f"pasibot {args.command}: error: {err}", file=sys.stderr)
         return 2
+    except OSError as err:
+        print(f"pasibot {args.command}: error: {_os_message(err)}", file=sys.stderr)
+        return 2
+    except MemoryError:
+        print(f"pasibot {args.command}: error: out of memory; ask for fewer samples or steps", file=sys.stderr)
+        return 2
+    except (KeyboardInterrupt, Terminated) as err:
+        if not is_entry_point:
+            raise
+        stop_descendants()
+        terminated = isinstance(err, Terminated)
+        print(f"pasibot {args.command}: {'terminated' if terminated else 'interrupted'}", file=sys.stderr)
+        return 128 + (signal.SIGTERM if terminated else signal.SIGINT)
 
 
 if __name__ == "__main__":

@@ -5,15 +5,19 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_robot_options
+from pasibot_pin.cli.common import add_robot_options, check_output_file, check_output_folder
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("build-urdf", help="render urdf/pasibot.urdf.xacro to URDF")
     add_robot_options(p)
-    p.add_argument("--out", type=Path, help="output file (default: print to stdout)")
-    p.add_argument("--defaults", action="store_true", help="re-render every committed default URDF in urdf/")
+    p.add_argument("--out", type=Path, help="output file (default: print to stdout); with --defaults, a folder")
+    p.add_argument(
+        "--defaults",
+        action="store_true",
+        help="re-render every default URDF: into urdf/ of a source checkout, or into the --out folder",
+    )
     p.add_argument("--force", action="store_true", help="overwrite an existing, different file")
     p.add_argument("--L", type=float, help="crank length [m]")
     p.add_argument("--K", type=float, help="L0 / L")
@@ -21,27 +25,46 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+def parse_ratios(items: list[str]) -> dict[str, float]:
+    """``['r4=9.5', ...]`` -> ``{'r4': 9.5}``; ValueError for anything but a known ``rN=NUMBER``."""
+    from pasibot_pin.model.params import SEED_LINK_RATIOS
+
+    out: dict[str, float] = {}
+    for item in items:
+        key, sep, value = item.partition("=")
+        key = key.strip()
+        if not sep or key not in SEED_LINK_RATIOS:
+            raise ValueError(f"--ratio expects rN=VALUE with rN one of r1..r{len(SEED_LINK_RATIOS)}, got {item!r}")
+        try:
+            out[key] = float(value)
+        except ValueError:
+            raise ValueError(f"--ratio expects rN=VALUE with a number VALUE, got {item!r}") from None
+    return out
+
+
 def run(args: argparse.Namespace) -> int:
     """Render and write (or print) the URDF."""
+    from pasibot_pin.model.assembly import check_full_turn
     from pasibot_pin.model.description import render_default_urdfs, render_urdf, write_urdf
-    from pasibot_pin.model.params import Geometry, percentage_mass_model
+    from pasibot_pin.model.params import Geometry, check_legs, check_variant, percentage_mass_model
 
     if args.defaults:
-        for path in render_default_urdfs(force=args.force):
+        if args.L is not None or args.K is not None or args.ratio:
+            raise ValueError("--defaults renders the default parameters; it takes no --L, --K or --ratio")
+        out_dir = None if args.out is None else check_output_folder(args.out, "--out")
+        for path in render_default_urdfs(out_dir, force=args.force):
             print(f"wrote {path}")
         return 0
-    changes: dict[str, float] = {}
+    check_variant(args.variant)
+    check_legs(args.legs)
+    check_output_file(args.out, "--out", force=True)  # an equal file is left alone; a different one needs --force
+    changes: dict[str, float] = parse_ratios(args.ratio)
     if args.L is not None:
         changes["L"] = args.L
     if args.K is not None:
         changes["K"] = args.K
-    for item in args.ratio:
-        key, _, value = item.partition("=")
-        try:
-            changes[key.strip()] = float(value)
-        except ValueError as err:
-            raise ValueError(f"--ratio expects rN=VALUE, got {item!r}") from err
     geometry = Geometry().with_(**changes)
+    check_full_turn(geometry, args.variant)
     text = render_urdf(args.variant, args.legs, geometry, percentage_mass_model(geometry, args.variant))
     if args.out is None:
         print(text, end="")

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, check_outputs
+from pasibot_pin.cli.common import add_output_options, atomic_path, check_outputs
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -56,6 +56,7 @@ def run(args: argparse.Namespace) -> int:
         write_columns_csv(args.csv, res.columns())
         print(f"wrote {args.csv}")
     if args.plot is not None:
-        write_contact_figure(args.plot, res, f"{args.scenario}: heel/toe contact, mu = {args.mu:g}", dpi=120)
+        with atomic_path(args.plot) as tmp:
+            write_contact_figure(tmp, res, f"{args.scenario}: heel/toe contact, mu = {args.mu:g}", dpi=120)
         print(f"wrote {args.plot}")
     return 0

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, check_outputs
+from pasibot_pin.cli.common import add_output_options, atomic_path, check_outputs
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
 
@@ -50,9 +50,16 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Print the table; write the optional CSV and figure."""
     from pasibot_pin.report.contact_energy import write_cost_of_transport, write_energy_csv
-    from pasibot_pin.studies.contact_energy_study import ContactEnergySettings, energy_sweep, flywheel_cases
+    from pasibot_pin.studies.contact_energy_study import (
+        ContactEnergySettings,
+        check_flywheel_inertia,
+        energy_sweep,
+        flywheel_cases,
+    )
 
     check_outputs(args)
+    if args.flywheel is not None:
+        check_flywheel_inertia(args.flywheel)
     variants = tuple(v.strip() for v in args.variants.split(",") if v.strip())
     for v in variants:
         if v not in VARIANTS:
@@ -78,9 +85,11 @@ def run(args: argparse.Namespace) -> int:
                     f"peak {fw.peak_without:.3f} N.m; speed fluctuation {fw.speed_fluctuation * 100:.3f} %"
                 )
     if args.csv is not None:
-        write_energy_csv(args.csv, sweep.rows)
+        with atomic_path(args.csv) as tmp:
+            write_energy_csv(tmp, sweep.rows)
         print(f"wrote {args.csv}")
     if args.plot is not None:
-        write_cost_of_transport(args.plot, sweep.rows, dpi=120)
+        with atomic_path(args.plot) as tmp:
+            write_cost_of_transport(tmp, sweep.rows, dpi=120)
         print(f"wrote {args.plot}")
     return 0 if sweep.all_finite else 1

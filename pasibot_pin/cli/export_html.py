@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from pasibot_pin.cli.common import check_output_file
 from pasibot_pin.model.params import VARIANTS
 
 
@@ -45,6 +46,7 @@ def run(args: argparse.Namespace) -> int:
     """Export the walk; refuses to overwrite without ``--force`` (FileExistsError, exit code 2)."""
     from pasibot_pin.viz.viewer import export_html
 
+    check_output_file(args.out, "--out", args.force)
     export = export_html(
         args.out,
         variant=args.variant,

@@ -12,7 +12,7 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_robot_options
+from pasibot_pin.cli.common import add_robot_options, atomic_path, check_outputs
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -28,19 +28,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--omega", type=float, default=0.1, help="crank rate [rad/s] (default 0.1, seed Fig 5.1)")
     p.add_argument(
         "--foot",
-        default="flat",
+        default=None,
         help="--legs 2 stance contact: flat (sole welded level), point (ankle pinned, hip level), "
         "toe (toe pinned, hip level) (default flat)",
     )
     p.add_argument("--csv", type=Path, default=None, help="write the samples to this CSV file")
-    p.add_argument("--plot", type=Path, default=None, help="write a figure to this file (.png, .pdf, .svg)")
+    p.add_argument(
+        "--plot", type=Path, default=None, help="write a figure to this file (.png, .pdf, .svg; no extension: .png)"
+    )
     p.add_argument("--force", action="store_true", help="overwrite existing output files")
     p.set_defaults(func=run)
-
-
-def _check_output(path: Path | None, force: bool, option: str) -> None:
-    if path is not None and path.exists() and not force:
-        raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
 
 
 def run(args: argparse.Namespace) -> int:
@@ -49,15 +46,16 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.studies.kinematics_study import GaitSettings, LegRun, gait_run
 
     settings = GaitSettings(args.variant, args.legs, args.steps, args.step_deg, args.omega, args.foot)
-    _check_output(args.csv, args.force, "--csv")
-    _check_output(args.plot, args.force, "--plot")
+    check_outputs(args)
     result = gait_run(settings)
     one_leg = isinstance(result, LegRun)
     print(rep.leg_summary(result) if one_leg else rep.walk_summary(result))
     if args.csv is not None:
-        (rep.write_leg_csv if one_leg else rep.write_walk_csv)(args.csv, result)
+        with atomic_path(args.csv) as tmp:
+            (rep.write_leg_csv if one_leg else rep.write_walk_csv)(tmp, result)
         print(f"wrote {args.csv}")
     if args.plot is not None:
-        (rep.write_leg_plot if one_leg else rep.write_walk_plot)(args.plot, result)
+        with atomic_path(args.plot) as tmp:
+            (rep.write_leg_plot if one_leg else rep.write_walk_plot)(tmp, result)
         print(f"wrote {args.plot}")
     return 0

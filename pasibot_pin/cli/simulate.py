@@ -9,9 +9,12 @@ Computed by :mod:`pasibot_pin.studies.simulation_study`, written by :mod:`pasibo
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import math
 import time
 from pathlib import Path
+
+from pasibot_pin.cli.common import atomic_paths, check_output_folder
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -41,10 +44,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Simulate the scenario, write plots and CSV, print the excursions."""
     from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation
-    from pasibot_pin.studies.simulation_study import SimulateSettings, run_simulation, simulation_setup
+    from pasibot_pin.studies.simulation_study import SimulateSettings, check_fps, run_simulation, simulation_setup
 
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")
+    if args.gif or args.html:
+        check_fps(args.fps)
+    check_output_folder(args.out, "--out")
     start = time.perf_counter()
     settings = SimulateSettings(
         scenario=args.scenario,
@@ -56,20 +62,24 @@ def run(args: argparse.Namespace) -> int:
         dt=args.dt,
         cases=not args.no_cases,
     )
-    setup = simulation_setup(settings)
     files = prepare_outputs(args.out, args.scenario, gif=args.gif, html=args.html, force=args.force)
+    setup = simulation_setup(settings)
     scen, spring = setup.scenario, setup.spring
     print(
         f"scenario {scen.name}: omega = {scen.omega:g} rad/s, "
         f"K_e = {spring.stiffness:.2f} N.m/rad, beta0 = {math.degrees(spring.rest_angle):.2f} deg"
     )
-    written = write_simulation(
-        files, run_simulation(setup, on_case=lambda label, outcome: print(case_line(label, outcome))), args.fps
-    )
+    run = run_simulation(setup, on_case=lambda label, outcome: print(case_line(label, outcome)))
+    # every file under a temporary name, all renamed together at the end (none on failure or Ctrl-C)
+    targets = (files.plot, None, None, None) if setup.quasi_static else (files.plot, files.csv, files.gif, files.html)
+    with atomic_paths(*targets) as temps:
+        plot, csv, gif, html = temps
+        written = write_simulation(dataclasses.replace(files, plot=plot, csv=csv, gif=gif, html=html), run, args.fps)
     if setup.quasi_static:
         print(f"wrote {files.plot} (quasi-static: static equilibria, no walk)")
         return 0
+    final = dict(zip(temps, targets))
     for path in written:
-        print(f"wrote {path}")
+        print(f"wrote {final.get(Path(path), path)}")
     print(f"wrote {files.plot}, {files.csv} in {time.perf_counter() - start:.1f} s")
     return 0

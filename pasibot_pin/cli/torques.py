@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, check_outputs
+from pasibot_pin.cli.common import add_output_options, atomic_path, check_outputs
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -20,7 +20,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--scenario", default="run1", help=f"one of {', '.join(SCENARIOS)} (default run1)")
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
     p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s] (0 = quasi-static)")
-    p.add_argument("--samples", type=int, default=61, help="samples over one stance (default 61; not with a window)")
+    p.add_argument(
+        "--samples", type=int, default=None, help="samples over one stance, 2..100000 (default 61; not with a window)"
+    )
     p.add_argument("--steps", type=int, default=1, help="half crank turns (steps) to run, stance swapping (default 1)")
     p.add_argument("--swing-foot", choices=SWING_FOOT_MODES, default=None, help="override: level or square")
     p.add_argument("--accelerations", choices=ACCELERATION_MODES, default=None, help="override the acceleration mode")
@@ -36,8 +38,6 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
 
     check_outputs(args)
-    if args.steps < 1:
-        raise ValueError(f"parameter '--steps' must be >= 1, got {args.steps}")
     settings = TorqueSettings(
         scenario=args.scenario,
         preset=args.preset,
@@ -59,9 +59,11 @@ def run(args: argparse.Namespace) -> int:
             f"seed stored K_e = {scenario.seed_K_e:.2f} N.m/rad (without swap and lag: {scenario.seed_K_e_clean:.2f})"
         )
     if args.csv is not None:
-        write_result_csv(args.csv, res.result)
+        with atomic_path(args.csv) as tmp:
+            write_result_csv(tmp, res.result)
         print(f"wrote {args.csv}")
     if args.plot is not None:
-        write_beta_plot(args.plot, res)
+        with atomic_path(args.plot) as tmp:
+            write_beta_plot(tmp, res)
         print(f"wrote {args.plot}")
     return 0

@@ -9,6 +9,7 @@ Ctrl-C.
 from __future__ import annotations
 
 import argparse
+import math
 import time
 
 from pasibot_pin.cli.export_html import add_walk_view_options
@@ -30,12 +31,22 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Start the viewer, play the walk live, hold, exit."""
     from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, reaction_forces, walk_trajectory
+    from pasibot_pin.viz.viewer import (
+        WalkViewer,
+        build_walk_scene,
+        check_meshcat_server,
+        reaction_forces,
+        walk_trajectory,
+    )
 
     if args.repeat < 1:
         raise ValueError(f"--repeat must be >= 1, got {args.repeat}")
-    if args.hold < 0 and args.hold != -1:
+    if not (math.isfinite(args.hold) and (args.hold >= 0 or args.hold == -1)):
         raise ValueError(f"--hold must be >= 0 s or -1 (until Ctrl-C), got {args.hold}")
+    if not (math.isfinite(args.fps) and args.fps > 0):
+        raise ValueError(f"--fps must be a positive frame rate [1/s], got {args.fps}")
+    if args.zmq_url is not None:
+        check_meshcat_server(args.zmq_url)
     robot = load(args.variant, legs=2)
     walk = walk_trajectory(robot, steps=args.steps, samples_per_step=args.samples_per_step)
     forces = None if args.reactions is None else reaction_forces(robot, walk, omega=args.reactions)

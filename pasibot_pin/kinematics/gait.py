@@ -40,6 +40,9 @@ from pasibot_pin.model import closure
 FOOT_MODES: tuple[str, ...] = ("flat", "point", "toe")
 """How the stance foot holds the ground (see the module docstring)."""
 
+MAX_WALK_SAMPLES: int = 1_000_000
+"""Most samples one :func:`walk` takes (``steps * samples_per_step + 1``): memory stays bounded."""
+
 CLOSURE_TOL: float = 1e-10
 """Largest closure residual accepted at any sample of a walk [m, rad]."""
 
@@ -191,6 +194,11 @@ def _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, f
         raise ValueError(f"parameter 'steps' must be an integer >= 1, got {steps!r}")
     if not _is_int(samples_per_step) or samples_per_step < 2:
         raise ValueError(f"parameter 'samples_per_step' must be an integer >= 2, got {samples_per_step!r}")
+    if steps * samples_per_step + 1 > MAX_WALK_SAMPLES:
+        raise ValueError(
+            f"parameters 'steps' x 'samples_per_step' + 1 = {steps * samples_per_step + 1} samples "
+            f"exceed {MAX_WALK_SAMPLES}; take fewer steps or samples"
+        )
     if not math.isfinite(theta_start):
         raise ValueError(f"parameter 'theta_start' must be finite, got {theta_start!r}")
     if omega is not None and (not math.isfinite(omega) or omega <= 0.0):

@@ -123,7 +123,46 @@ def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant =
         p["p9"] = p["p10"] + (l8 / 2) * u8
         p["p11"] = p["p9"] + g.length(9) * u4
         p["p12"] = p["p11"] + g.length(11) * u5
+        r = g.ratios
+        if r["r9"] != r["r4"] or r["r8"] != 2 * r["r10"]:
+            # 4-6-11-9 is no parallelogram: joint 11 is where L9 (from 9) meets L10 (from 6),
+            # on the side nearer the parallelogram's point
+            p["p11"] = _nearer(p["p9"], g.length(9), p["p6"], g.length(10), p["p11"], "j11", theta)
+        if r["r11"] != r["r5"] or r["r9"] != r["r4"] or r["r8"] != 2 * r["r10"]:
+            # 6-11-12-13 is no parallelogram: joint 12 is where L11 (from 11) meets the foot bar (from 13)
+            guess = p["p11"] + g.length(11) * u5
+            p["p12"] = _nearer(p["p11"], g.length(11), p["p13"], g.length(10), guess, "j13", theta)
     return p
+
+
+FULL_TURN_SAMPLES: int = 720
+"""Crank angles (every 0.5 deg) at which :func:`check_full_turn` assembles the leg."""
+
+
+def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "spring") -> None:
+    """Raise ``ValueError`` unless one leg of ``variant`` assembles at every crank angle of a full turn.
+
+    The analytic assembly (:func:`leg_points`) is tried every 0.5 deg. With the seed's link
+    ratios the frame ratio K must lie in about (1.491, 3.0).
+
+    Raises:
+        ValueError: naming the loop and the first crank angle where it cannot close.
+
+    """
+    g = geometry or Geometry()
+    theta = np.linspace(0.0, 2 * math.pi, FULL_TURN_SAMPLES, endpoint=False)
+    try:
+        leg_points(theta, g, variant)
+    except ValueError as err:
+        raise ValueError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
+
+
+def _nearer(c1: Point, r1: float, c2: Point, r2: float, guess: Point, loop: str, theta) -> Point:
+    """The intersection of two circles nearer to ``guess`` (per sample); ValueError naming ``loop`` if none."""
+    left = circle_intersection(c1, r1, c2, r2, True, loop, theta)
+    right = circle_intersection(c1, r1, c2, r2, False, loop, theta)
+    use_left = np.linalg.norm(left - guess, axis=-1) <= np.linalg.norm(right - guess, axis=-1)
+    return np.where(use_left[..., None], left, right)
 
 
 def leg_joint_angles(

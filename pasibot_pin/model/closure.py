@@ -396,4 +396,45 @@ def crank_sweep(robot, thetas: Sequence[float], **assemble_kwargs) -> np.ndarray
                 targets[row] = base_targets[row] + (thetas[k] - thetas[0])
         q = solve_configuration(robot, q, prescribed, targets, cmodels)
         out[k] = q
+    _check_branch(robot, thetas, out, assemble_kwargs.get("theta_left"))
     return out
+
+
+BRANCH_TOL = 1e-6
+"""Largest gap [rad] between a swept leg joint and the analytic assembly's branch (:func:`crank_sweep`)."""
+
+
+def _check_branch(robot, thetas: np.ndarray, qs: np.ndarray, theta_left: float | None) -> None:
+    """Raise ``ValueError`` where a sweep left the analytic assembly's branch (knee forward, coupler below).
+
+    The leg linkage has one degree of freedom per leg: every leg joint but the ankle spring is a
+    function of the crank angle on a given branch, so comparing them detects a branch switch.
+    """
+    left = None if theta_left is None else theta_left + (thetas - thetas[0])
+    try:
+        ref, _ = analytic_configurations(robot, thetas, left)
+    except ValueError:
+        return  # the analytic assembly fails somewhere: Newton's own errors name the loop
+    model = robot.model
+    columns = [
+        model.joints[j].idx_q
+        for j in range(1, model.njoints)
+        if model.joints[j].nq == 1
+        and model.names[j] not in robot.spring_joints
+        and model.names[j].split("_", 1)[0] in sides(robot.legs)
+        and angular_coordinates(model)[model.joints[j].idx_q]
+    ]
+    gap = np.abs(np.angle(np.exp(1j * (qs[:, columns] - ref[:, columns]))))
+    switched = gap.max(axis=1) > BRANCH_TOL
+    if np.any(switched):
+        k = int(np.argmax(switched))
+        joint = model.names[[j for j in range(1, model.njoints) if model.joints[j].nq == 1][0]]
+        for j in range(1, model.njoints):
+            if model.joints[j].nq == 1 and model.joints[j].idx_q == columns[int(np.argmax(gap[k]))]:
+                joint = model.names[j]
+        raise ValueError(
+            f"the crank sweep switched assembly branch (knee or coupler flipped, {joint} off by "
+            f"{math.degrees(gap[k].max()):.1f} deg) at crank angle {math.degrees(thetas[k]):.3f} deg; "
+            f"K = {robot.geometry.K:g} is near the end of the range where the crank turns fully: "
+            "take a larger K or finer crank steps"
+        )

@@ -134,18 +134,42 @@ def render_urdf(
 
 
 def write_urdf(path: Path, text: str, force: bool = False) -> Path:
-    """Write ``text`` to ``path``; refuse to overwrite a different file unless ``force``."""
+    """Write ``text`` to ``path`` (through a temporary file); refuse to overwrite a different file unless ``force``."""
+    from pasibot_pin.report.files import write_text_atomic
+
     path = Path(path)
+    if path.is_dir():
+        raise ValueError(f"{path} is a folder; give a file name")
     if path.exists() and not force and path.read_text() != text:
         raise FileExistsError(f"{path} exists and differs; pass force=True (--force) to overwrite it")
-    path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(text)
-    return path
+    return write_text_atomic(path, text)
+
+
+def is_installed_package_dir(path: Path) -> bool:
+    """True when ``path`` lies inside an installed distribution (a ``site-packages`` or ``dist-packages`` folder)."""
+    return any(part in ("site-packages", "dist-packages") for part in Path(path).resolve().parts)
 
 
 def render_default_urdfs(out_dir: Path | None = None, force: bool = True) -> list[Path]:
-    """Render the committed default URDFs (every variant, one and two legs)."""
-    out_dir = Path(out_dir) if out_dir is not None else URDF_DIR
+    """Render the default URDFs (every variant, one and two legs) into ``out_dir``.
+
+    Args:
+        out_dir: target folder; ``None``: the package's own ``urdf/`` folder of a source checkout.
+        force: overwrite files that differ.
+
+    Raises:
+        ValueError: ``out_dir`` is ``None`` and the package is installed (its ``urdf/`` folder is
+            inside ``site-packages``): name a folder of your own instead.
+
+    """
+    if out_dir is None:
+        if is_installed_package_dir(URDF_DIR):
+            raise ValueError(
+                f"the default URDFs belong to the installed package ({URDF_DIR}); it is not rewritten: "
+                "write them elsewhere with --out FOLDER (Python: render_default_urdfs(out_dir=...))"
+            )
+        out_dir = URDF_DIR
+    out_dir = Path(out_dir)
     written = []
     for variant in VARIANT_RECORDS:
         for legs in (1, 2):

@@ -53,12 +53,38 @@ SEED_TOTAL_MASS: float = 65.0
 THIGH_LINKS: tuple[str, ...] = ("l1", "l2", "l3", "l4", "l6")
 SHANK_LINKS: tuple[str, ...] = ("l5", "l7")
 EXTENSION_LINKS: tuple[str, ...] = ("l8", "l9", "l10", "l11", "foot_bar")
+MASS_LINKS: tuple[str, ...] = (*THIGH_LINKS, *SHANK_LINKS, "slider", *EXTENSION_LINKS)
+"""Every key a :class:`MassModel` may give a mass."""
+
+
+def required_mass_links(variant: str | Variant) -> tuple[str, ...]:
+    """The link masses a leg of ``variant`` needs (:attr:`MassModel.links` keys)."""
+    names = ("l1", "l2", "l3", "l4", "l5", "l6", "l7")
+    return names + ("slider", *EXTENSION_LINKS) if get_variant(variant).extension else names
+
+
+LENGTH_RANGE: tuple[float, float] = (1e-12, 1e12)
+"""Accepted crank length L and hip half width [m]: wide, but every length, square and mass stays a finite float."""
+
+RATIO_RANGE: tuple[float, float] = (1e-3, 1e3)
+"""Accepted dimensionless sizes (K, link ratios, sole extents over L) [-]."""
 
 
 def _check_positive(name: str, value: float) -> float:
-    value = float(value)
+    try:
+        value = float(value)
+    except (TypeError, ValueError):
+        raise ValueError(f"parameter {name!r} must be a positive finite number, got {value!r}") from None
     if not math.isfinite(value) or value <= 0.0:
         raise ValueError(f"parameter {name!r} must be a positive finite number, got {value!r}")
+    return value
+
+
+def _check_range(name: str, value: float, bounds: tuple[float, float], unit: str) -> float:
+    value = _check_positive(name, value)
+    low, high = bounds
+    if not low <= value <= high:
+        raise ValueError(f"parameter {name!r} = {value!r} {unit} is outside [{low:g}, {high:g}] {unit}")
     return value
 
 
@@ -101,18 +127,21 @@ class Geometry:
     hip_half_width: float = 0.1
 
     def __post_init__(self) -> None:
-        _check_positive("L", self.L)
-        _check_positive("K", self.K)
+        _check_range("L", self.L, LENGTH_RANGE, "m")
+        _check_range("K", self.K, RATIO_RANGE, "[-]")
+        if not isinstance(self.ratios, Mapping):
+            raise ValueError(f"parameter 'ratios' must map r1..r13 to numbers, got {self.ratios!r}")
         unknown = set(self.ratios) - set(SEED_LINK_RATIOS)
         if unknown:
             raise ValueError(f"unknown link ratio(s) {sorted(unknown)}; valid: {list(SEED_LINK_RATIOS)}")
         merged = dict(SEED_LINK_RATIOS)
         merged.update(self.ratios)
         for key, value in merged.items():
-            _check_positive(key, value)
+            merged[key] = _check_range(key, value, RATIO_RANGE, "[-]")
         object.__setattr__(self, "ratios", merged)
-        for name in ("foot_toe", "foot_heel", "parallel_toe", "parallel_heel", "hip_half_width"):
-            _check_positive(name, getattr(self, name))
+        for name in ("foot_toe", "foot_heel", "parallel_toe", "parallel_heel"):
+            _check_range(name, getattr(self, name), RATIO_RANGE, "[-]")
+        _check_range("hip_half_width", self.hip_half_width, LENGTH_RANGE, "m")
         if merged["r4"] <= merged["r7"]:
             raise ValueError("parameter 'r4' must exceed 'r7' (joint 5 lies on L4 at L4 - L7 from joint 4)")
         if merged["r5"] <= merged["r6"]:
@@ -134,6 +163,11 @@ class Geometry:
             raise ValueError(
                 f"unknown geometry parameter(s) {sorted(bad)}; valid: {sorted(valid | set(SEED_LINK_RATIOS))}"
             )
+        if "ratios" in other:
+            given = other.pop("ratios")
+            if not isinstance(given, Mapping):
+                raise ValueError(f"parameter 'ratios' must map r1..r13 to numbers, got {given!r}")
+            ratio_changes = {**given, **ratio_changes}
         ratios = dict(self.ratios)
         ratios.update(ratio_changes)
         return replace(self, ratios=ratios, **other)
@@ -170,6 +204,11 @@ class MassModel:
     def __post_init__(self) -> None:
         _check_positive("hip mass", self.hip)
         _check_positive("foot mass", self.foot)
+        if not isinstance(self.links, Mapping):
+            raise ValueError(f"parameter 'links' must map link names to masses, got {self.links!r}")
+        unknown = set(self.links) - set(MASS_LINKS)
+        if unknown:
+            raise ValueError(f"parameter 'links': unknown link(s) {sorted(unknown)}; valid: {', '.join(MASS_LINKS)}")
         for key, value in self.links.items():
             _check_positive(f"mass of {key}", value)
         for value, name in ((self.foot_com, "foot_com"), *zip(self.hip_com, ("hip_com x", "hip_com z"))):
@@ -179,6 +218,15 @@ class MassModel:
     def with_(self, **changes: object) -> MassModel:
         """Copy with some fields changed (``hip=30.0``, ``hip_com=(0.3, 0.0)``, ...)."""
         return replace(self, **changes)
+
+    def check_links(self, variant: str | Variant) -> None:
+        """Raise ``ValueError`` naming the links ``variant`` needs that have no mass here."""
+        missing = [n for n in required_mass_links(variant) if n not in self.links]
+        if missing:
+            raise ValueError(
+                f"parameter 'links' of the mass model lacks {', '.join(missing)} "
+                f"(the {get_variant(variant).name} variant needs {', '.join(required_mass_links(variant))})"
+            )
 
     def leg_mass(self, variant: str | Variant) -> float:
         """Total mass of one leg of ``variant``, foot included [kg]."""

@@ -10,6 +10,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin import constraints
+from pasibot_pin.model.assembly import check_full_turn
 from pasibot_pin.model.description import Loop, loop_table, render_urdf, sides
 from pasibot_pin.model.params import (
     MASS_RULES,
@@ -278,8 +279,11 @@ def load(
         A :class:`PasibotRobot` whose ``q0`` satisfies every constraint.
 
     Raises:
-        ValueError: unknown variant, leg count, mass rule or inertia mode; a non-positive
-            or non-finite parameter; a geometry whose loops cannot assemble at q0.
+        ValueError: unknown variant, leg count, mass rule or inertia mode; a non-positive,
+            non-finite or out-of-range parameter (:data:`~pasibot_pin.model.params.LENGTH_RANGE`,
+            :data:`~pasibot_pin.model.params.RATIO_RANGE`); a mass model lacking a link the
+            variant needs; a geometry whose loops cannot assemble at q0 or at some crank angle
+            of a full turn (:func:`~pasibot_pin.model.assembly.check_full_turn`).
 
     """
     spec = get_variant(variant)
@@ -292,6 +296,7 @@ def load(
         if mass_rule not in MASS_RULES:
             raise ValueError(f"unknown mass_rule {mass_rule!r}; valid: {', '.join(MASS_RULES)}")
         masses = MASS_RULES[mass_rule](geometry, variant)
+    masses.check_links(variant)
     if inertia not in INERTIA_MODES:
         raise ValueError(f"unknown inertia mode {inertia!r}; valid: {', '.join(INERTIA_MODES)}")
 
@@ -304,6 +309,12 @@ def load(
         model = pin.buildModelFromXML(text)
     model.name = f"pasibot_{variant}_{legs}leg"
     apply_masses(model, masses, geometry, variant, legs, inertia)
+    for j in range(model.njoints):
+        if not np.all(np.isfinite(model.inertias[j].toDynamicParameters())):
+            raise ValueError(
+                f"the geometry and masses give a non-finite inertia on joint {model.names[j]!r}; "
+                "check the sizes (L, link ratios, sole) and masses"
+            )
     visual_model = pin.buildGeomFromUrdfString(model, text, pin.GeometryType.VISUAL)
     collision_model = pin.buildGeomFromUrdfString(model, text, pin.GeometryType.COLLISION)
 
@@ -329,6 +340,7 @@ def load(
     from pasibot_pin.model.closure import assemble
 
     q0 = assemble(robot, math.pi)
+    check_full_turn(geometry, spec)
     if legs == 2:
         robot.constraint_models.append(robot.weld_foot("right", q0))
         robot.stance = "right"

@@ -319,6 +319,15 @@ def power_profile(settings: ContactEnergySettings | None = None) -> PowerProfile
     return PowerProfile(variant, omega, res.theta, powers)
 
 
+def check_flywheel_inertia(inertia: float) -> float:
+    """Return ``inertia`` if it is a positive finite flywheel inertia [kg.m^2], else raise ``ValueError``."""
+    if isinstance(inertia, bool) or not isinstance(inertia, (int, float)) or not (
+        math.isfinite(inertia) and inertia > 0
+    ):
+        raise ValueError(f"parameter 'flywheel' must be a positive flywheel inertia [kg.m^2], got {inertia!r}")
+    return float(inertia)
+
+
 def flywheel_cases(
     omegas: Sequence[float],
     variants: Sequence[str],
@@ -340,7 +349,11 @@ def flywheel_cases(
     Returns:
         One :class:`FlywheelCase` each; too small an inertia gives ``flywheel=None`` and the reason.
 
+    Raises:
+        ValueError: ``inertia`` not a positive finite number (:func:`check_flywheel_inertia`).
+
     """
+    check_flywheel_inertia(inertia)
     cases = []
     for omega in omegas:
         for variant in variants:

@@ -19,7 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pasibot_pin.kinematics import leg as kin
-from pasibot_pin.kinematics.gait import Walk, walk
+from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
 
@@ -128,12 +128,18 @@ def samples(span_deg: float, step_deg: float) -> int:
         step_deg: the crank increment [deg].
 
     Raises:
-        ValueError: ``step_deg`` not positive, or not dividing the span into >= 2 samples.
+        ValueError: ``step_deg`` not positive, not dividing the span into >= 2 samples, or
+            giving more than :data:`~pasibot_pin.kinematics.gait.MAX_WALK_SAMPLES` of them.
 
     """
     if not math.isfinite(step_deg) or step_deg <= 0.0:
         raise ValueError(f"parameter '--step-deg' must be a positive crank increment [deg], got {step_deg!r}")
     count = span_deg / step_deg
+    if count > MAX_WALK_SAMPLES:
+        raise ValueError(
+            f"parameter '--step-deg' = {step_deg:g} deg gives {count:.3g} samples per {span_deg:g} deg; "
+            f"at most {MAX_WALK_SAMPLES} (take a step of at least {span_deg / MAX_WALK_SAMPLES:g} deg)"
+        )
     n = round(count)
     if n < 2 or abs(count - n) > 1e-9 * count:
         raise ValueError(f"parameter '--step-deg' = {step_deg:g} deg must divide {span_deg:g} deg into >= 2 samples")
@@ -257,10 +263,14 @@ class GaitSettings:
         steps: steps to walk with 2 legs (``None``: 2); must be ``None`` with 1 leg.
         step_deg: crank increment between samples [deg].
         omega: crank rate [rad/s].
-        foot: stance contact with 2 legs: ``flat``, ``point`` or ``toe``.
+        foot: stance contact with 2 legs: ``flat``, ``point`` or ``toe`` (``None``: ``flat``);
+            must be ``None`` with 1 leg.
 
     Raises:
-        ValueError: ``legs`` not 1 or 2, or ``omega`` not a positive number.
+        ValueError: ``legs`` not 1 or 2, ``omega`` not a positive number, ``steps`` or
+            ``foot`` given with 1 leg, an unknown ``foot``, ``steps`` < 1, a bad ``step_deg``,
+            or more than :data:`~pasibot_pin.kinematics.gait.MAX_WALK_SAMPLES` samples: all
+            checked here, before any work.
 
     """
 
@@ -269,13 +279,35 @@ class GaitSettings:
     steps: int | None = None
     step_deg: float = 5.0
     omega: float = 0.1
-    foot: str = "flat"
+    foot: str | None = None
 
     def __post_init__(self) -> None:
         if self.legs not in (1, 2):
             raise ValueError(f"parameter '--legs' must be 1 or 2, got {self.legs!r}")
         if not math.isfinite(self.omega) or self.omega <= 0:
             raise ValueError(f"parameter '--omega' must be a positive crank rate [rad/s], got {self.omega!r}")
+        if self.legs == 1:
+            if self.steps is not None:
+                raise ValueError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
+            if self.foot is not None:
+                raise ValueError("parameter '--foot' applies to --legs 2; --legs 1 has no stance contact")
+            samples(360.0, self.step_deg)
+            return
+        if self.foot is not None and self.foot not in FOOT_MODES:
+            raise ValueError(f"parameter '--foot' must be one of {', '.join(FOOT_MODES)}, got {self.foot!r}")
+        steps = self.walk_steps
+        if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
+            raise ValueError(f"parameter '--steps' must be an integer >= 1, got {steps!r}")
+        total = steps * samples(180.0, self.step_deg) + 1
+        if total > MAX_WALK_SAMPLES:
+            raise ValueError(
+                f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_WALK_SAMPLES}"
+            )
+
+    @property
+    def walk_steps(self) -> int:
+        """Steps to walk with 2 legs (``steps`` or 2)."""
+        return 2 if self.steps is None else self.steps
 
 
 def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
@@ -291,8 +323,7 @@ def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
         if settings.steps is not None:
             raise ValueError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
         return leg_run(robot, settings.step_deg, settings.omega)
-    steps = 2 if settings.steps is None else settings.steps
-    return walk_run(robot, steps, settings.step_deg, settings.omega, settings.foot)
+    return walk_run(robot, settings.walk_steps, settings.step_deg, settings.omega, settings.foot or "flat")
 
 
 # --------------------------------------------------------------------------- the survey

@@ -44,6 +44,7 @@ from pasibot_pin.studies.spring_study import (
     case_of_cell,
     default_dt,
     scenario_inputs,
+    scenario_key,
     spring_case,
     standing_pitch,
     static_equilibrium,
@@ -52,6 +53,12 @@ from pasibot_pin.studies.spring_study import (
     sweep_springs,
     toppling_stiffness,
 )
+
+MIN_STEPS_PER_STANCE: int = 20
+"""Fewest integration steps per stance :class:`SimulateSettings` accepts (``dt`` <= stance / 20)."""
+
+MAX_INTEGRATION_STEPS: int = 10_000_000
+"""Most integration steps :class:`SimulateSettings` accepts over all its stances."""
 
 MapFunction = Callable[..., Iterable]
 """A ``map``-like callable: ``map_fn(fn, items)`` yields ``fn(item)`` in order (builtin ``map``, a pool's ``map``)."""
@@ -69,7 +76,8 @@ class SimulateSettings:
         rest_angle: spring rest angle beta0 [rad]; ``None``: the inverse-dynamics fit.
         damping: ankle damping c [N.m.s/rad]; ``None``: critical for the foot with this K_e.
         swing_ankle: ``rest`` (swing foot held at the rest angle) or ``spring`` (integrated).
-        dt: integration step [s]; ``None`` (or 0): :func:`~pasibot_pin.studies.spring_study.default_dt`.
+        dt: integration step [s]; ``None``: :func:`~pasibot_pin.studies.spring_study.default_dt`. At most
+            1/:data:`MIN_STEPS_PER_STANCE` of a stance, and at most :data:`MAX_INTEGRATION_STEPS` in all.
         cases: also the cases with no spring, half and twice K_e (else the fitted spring only).
         static_samples: crank angles over one stance for the quasi-static equilibria.
 
@@ -90,6 +98,38 @@ class SimulateSettings:
             raise ValueError(f"parameter 'steps' must be a positive integer, got {self.steps!r}")
         if int(self.static_samples) < 1:
             raise ValueError(f"parameter 'static_samples' must be a positive integer, got {self.static_samples!r}")
+        if self.swing_ankle not in ("rest", "spring"):
+            raise ValueError(f"parameter 'swing_ankle' must be rest or spring, got {self.swing_ankle!r}")
+        for name in ("stiffness", "rest_angle", "damping"):
+            value = getattr(self, name)
+            if value is not None and not math.isfinite(value):
+                raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+        for name in ("stiffness", "damping"):
+            value = getattr(self, name)
+            if value is not None and value < 0:
+                raise ValueError(f"parameter {name!r} must be >= 0, got {value!r}")
+        omega = SCENARIOS[scenario_key(self.scenario)].omega  # ValueError naming the scenarios
+        if self.dt is None:
+            return
+        if not (math.isfinite(self.dt) and self.dt > 0):
+            raise ValueError(f"parameter 'dt' must be a positive integration step [s], got {self.dt!r}")
+        if omega > 0:
+            stance = math.pi / omega
+            if self.dt > stance / MIN_STEPS_PER_STANCE:
+                raise ValueError(
+                    f"parameter 'dt' = {self.dt:g} s is too long: a stance of scenario {self.scenario!r} lasts "
+                    f"{stance:.3g} s; take dt <= {stance / MIN_STEPS_PER_STANCE:.3g} s"
+                )
+            if self.steps * stance / self.dt > MAX_INTEGRATION_STEPS:
+                raise ValueError(
+                    f"parameter 'dt' = {self.dt:g} s gives {self.steps * stance / self.dt:.3g} integration steps "
+                    f"for {self.steps} stance(s); at most {MAX_INTEGRATION_STEPS}"
+                )
+
+    @property
+    def step(self) -> float:
+        """The integration step used [s]: ``dt``, or the default for ``swing_ankle``."""
+        return self.dt if self.dt is not None else default_dt(self.swing_ankle)
 
 
 @dataclass
@@ -171,7 +211,7 @@ def simulation_cases(setup: SimulationSetup) -> Iterator[tuple[str, SimulationRe
             omega=setup.scenario.omega,
             spring=spring,
             swing_ankle=settings.swing_ankle,
-            dt=settings.dt or default_dt(settings.swing_ankle),
+            dt=settings.step,
             initial_pitch=standing_pitch(robot, spring, math.pi / 2),
         )
         yield label, simulate(robot, sim, steps=settings.steps)
@@ -216,10 +256,16 @@ def simulation_columns(robot, result: SimulationResult) -> dict[str, np.ndarray]
     }
 
 
+def check_fps(fps: float) -> float:
+    """Return ``fps`` if it is a positive finite frame rate [1/s], else raise ``ValueError``."""
+    if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not (math.isfinite(fps) and fps > 0):
+        raise ValueError(f"parameter 'fps' must be positive [1/s], got {fps!r}")
+    return float(fps)
+
+
 def animation_frames(result: SimulationResult, fps: float) -> np.ndarray:
     """Rows of ``result.q`` resampled at ``fps`` frames per second of simulated time [1/s] (nearest sample)."""
-    if not (math.isfinite(fps) and fps > 0):
-        raise ValueError(f"parameter 'fps' must be positive [1/s], got {fps!r}")
+    check_fps(fps)
     times = np.arange(0.0, result.t[-1] + 1e-12, 1.0 / fps)
     index = np.clip(np.searchsorted(result.t, times), 0, len(result.t) - 1)
     return result.q[index]

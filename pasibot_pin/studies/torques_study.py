@@ -44,6 +44,12 @@ WALK_STEPS: int = 4
 WALK_SAMPLES_PER_STEP: int = 48
 """Crank intervals per step of :data:`WALK_SCENARIO`; :data:`SLOW_SCENARIO` takes every 4th sample."""
 
+DEFAULT_SAMPLES: int = 61
+"""Samples over one stance when :attr:`TorqueSettings.samples` is not given."""
+
+MAX_SAMPLES: int = 100_000
+"""Most crank angles one :func:`scenario_torques` run takes (``steps`` x (``samples`` - 1) + 1): memory stays small."""
+
 
 @dataclass(frozen=True)
 class TorqueSettings:
@@ -53,8 +59,9 @@ class TorqueSettings:
         scenario: key of :data:`pasibot_pin.model.scenarios.SCENARIOS`.
         preset: key of :data:`pasibot_pin.model.scenarios.PRESETS`.
         omega: crank speed override [rad/s] (0 = quasi-static); ``None``: the scenario's.
-        samples: samples per stance (at least 2 are taken); unused when the preset fixes a fit
-            window and ``steps`` is 1 (the window's samples are run).
+        samples: samples per stance, 2 .. :data:`MAX_SAMPLES`; ``None``: :data:`DEFAULT_SAMPLES`.
+            A preset that fixes a fit window (the seed's) runs the window's samples: it takes
+            neither ``samples`` nor ``steps`` > 1 (refused rather than silently ignored).
         steps: half crank turns (steps) to run, the stance swapping every step (>= 1).
         swing_foot: override of the preset's swing foot (``level`` or ``square``); ``None``: keep.
         accelerations: override of the acceleration mode (``exact``, ``central``, ``lagged``).
@@ -62,14 +69,16 @@ class TorqueSettings:
         swap_l5_l6: override of the seed's L5/L6 mass swap; ``None``: keep the preset's.
 
     Raises:
-        ValueError: an unknown scenario, preset or choice, or ``steps`` < 1.
+        ValueError: an unknown scenario, preset or choice, ``steps`` < 1, ``samples`` < 2, more
+            than :data:`MAX_SAMPLES` crank angles in all, a non-finite ``omega``, or
+            ``samples`` / ``steps`` > 1 with a preset's fit window.
 
     """
 
     scenario: str = "run1"
     preset: str = "default"
     omega: float | None = None
-    samples: int = 61
+    samples: int | None = None
     steps: int = 1
     swing_foot: str | None = None
     accelerations: str | None = None
@@ -78,9 +87,37 @@ class TorqueSettings:
 
     def __post_init__(self) -> None:
         get_scenario(self.scenario)
-        self.choices()
-        if self.steps < 1:
-            raise ValueError(f"parameter 'steps' must be >= 1, got {self.steps}")
+        choices = self.choices()
+        if isinstance(self.steps, bool) or not isinstance(self.steps, int) or self.steps < 1:
+            raise ValueError(f"parameter 'steps' must be an integer >= 1, got {self.steps!r}")
+        if self.omega is not None and not math.isfinite(self.omega):
+            raise ValueError(f"parameter 'omega' must be a finite crank speed [rad/s], got {self.omega!r}")
+        if self.samples is not None:
+            if isinstance(self.samples, bool) or not isinstance(self.samples, int) or self.samples < 2:
+                raise ValueError(f"parameter 'samples' must be an integer >= 2, got {self.samples!r}")
+            if self.samples > MAX_SAMPLES:
+                raise ValueError(f"parameter 'samples' must be at most {MAX_SAMPLES}, got {self.samples}")
+        if choices.fit_thetas is not None:
+            if self.samples is not None:
+                raise ValueError(
+                    f"parameter 'samples' does not apply to preset {self.preset!r}: it runs its fit window's "
+                    f"{len(choices.fit_thetas)} crank angles"
+                )
+            if self.steps > 1:
+                raise ValueError(
+                    f"parameter 'steps' must be 1 with preset {self.preset!r}: its fit window covers one stance"
+                )
+        total = (self.per_step - 1) * self.steps + 1
+        if total > MAX_SAMPLES:
+            raise ValueError(
+                f"parameter 'steps' x ('samples' - 1) + 1 = {total} crank angles exceeds {MAX_SAMPLES}; "
+                "take fewer steps or samples"
+            )
+
+    @property
+    def per_step(self) -> int:
+        """Samples per stance (``samples`` or :data:`DEFAULT_SAMPLES`)."""
+        return DEFAULT_SAMPLES if self.samples is None else int(self.samples)
 
     def choices(self) -> ModelChoices:
         """The preset's modelling choices with the overrides applied."""
@@ -173,7 +210,7 @@ def scenario_torques(settings: TorqueSettings | None = None) -> ScenarioTorques:
     choices = settings.choices()
     thetas = None
     if choices.fit_thetas is None or settings.steps > 1:
-        per_step = max(int(settings.samples), 2)
+        per_step = settings.per_step
         steps = settings.steps
         thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + math.pi * steps, (per_step - 1) * steps + 1)
     result = run_scenario(scenario, choices, thetas=thetas, omega=settings.omega)

@@ -54,6 +54,9 @@ CUT_FORCE_COLOUR = "#ffd400"
 GROUND_THICKNESS = 0.01
 """Thickness of the ground slab [m]."""
 
+ZMQ_TIMEOUT = 5.0
+"""How long :func:`check_meshcat_server` waits for a reused meshcat server to answer [s]."""
+
 LOOP_REPETITIONS = 1_000_000
 """Repetitions of the exported animation (it loops for as long as anyone watches)."""
 
@@ -212,22 +215,59 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
         start_new_session=True,
         text=True,
     )
+    server = ServerProcess(process, "", "")
+    atexit.register(server.close)  # at once: a Ctrl-C from here on still stops the server
     urls: dict[str, str] = {}
-    deadline = time.monotonic() + timeout
-    while len(urls) < 2:
-        line = process.stdout.readline()
-        if not line:
-            process.wait(timeout=5)
-            raise RuntimeError(f"the meshcat server exited with code {process.returncode} before it was ready")
-        key, _, value = line.strip().partition("=")
-        if key in ("zmq_url", "web_url"):
-            urls[key] = value
-        if time.monotonic() > deadline:
-            process.kill()
-            raise RuntimeError(f"the meshcat server did not start within {timeout} s")
-    server = ServerProcess(process, urls["zmq_url"], urls["web_url"])
-    atexit.register(server.close)
+    try:
+        deadline = time.monotonic() + timeout
+        while len(urls) < 2:
+            line = process.stdout.readline()
+            if not line:
+                process.wait(timeout=5)
+                raise RuntimeError(f"the meshcat server exited with code {process.returncode} before it was ready")
+            key, _, value = line.strip().partition("=")
+            if key in ("zmq_url", "web_url"):
+                urls[key] = value
+            if time.monotonic() > deadline:
+                raise RuntimeError(f"the meshcat server did not start within {timeout} s")
+    except BaseException:
+        server.close()
+        atexit.unregister(server.close)
+        raise
+    server.zmq_url, server.web_url = urls["zmq_url"], urls["web_url"]
     return server
+
+
+def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
+    """Ask the meshcat server at ``zmq_url`` for its web address, waiting at most ``timeout`` [s].
+
+    meshcat's own client waits forever for a server that does not answer; this asks first.
+
+    Returns:
+        The server's web address.
+
+    Raises:
+        ValueError: nothing answered at ``zmq_url`` within ``timeout``.
+
+    """
+    import zmq
+
+    context = zmq.Context.instance()
+    socket = context.socket(zmq.REQ)
+    socket.setsockopt(zmq.LINGER, 0)
+    try:
+        socket.connect(zmq_url)
+        socket.send(b"url")
+        if not socket.poll(int(timeout * 1000), zmq.POLLIN):
+            raise ValueError(
+                f"parameter 'zmq_url': no meshcat server answered at {zmq_url} within {timeout:g} s "
+                "(start one with meshcat-server, or leave --zmq-url out to start our own)"
+            )
+        return socket.recv().decode()
+    except zmq.ZMQError as err:
+        raise ValueError(f"parameter 'zmq_url': cannot reach {zmq_url}: {err}") from None
+    finally:
+        socket.close(linger=0)
 
 
 # --------------------------------------------------------------------------- scene content
@@ -452,6 +492,8 @@ class WalkViewer:
             self.zmq_url = self.server.zmq_url
         elif not isinstance(self.zmq_url, str) or not self.zmq_url.startswith(("tcp://", "ipc://")):
             raise ValueError(f"parameter 'zmq_url' must look like tcp://HOST:PORT, got {self.zmq_url!r}")
+        else:
+            check_meshcat_server(self.zmq_url)
         with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints its URL; ``url`` has it
             self.meshcat = meshcat.Visualizer(zmq_url=self.zmq_url)
         self.visual_model = coloured_visual_model(self.robot)
@@ -808,6 +850,7 @@ def export_html(
         html = viewer.static_html()
     finally:
         viewer.close()
-    out.parent.mkdir(parents=True, exist_ok=True)
-    out.write_text(html, encoding="utf-8")
+    from pasibot_pin.report.files import write_text_atomic
+
+    write_text_atomic(out, html)
     return Export(path=out, q=walk.q.copy(), fps=fps, walk=walk, paths=paths)

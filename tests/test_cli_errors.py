@@ -1,0 +1,160 @@
+"""Bad input is refused before any work: one line on stderr, exit code 2, no traceback, no file.
+
+Each case is ``argv -> fragment of the message``. ``{locked}`` is a folder nobody may write
+(mode 0o500; as root, where chmod stops nothing, a regular file standing where a folder should
+be), ``{dir}`` an existing folder and ``{tmp}`` a fresh folder.
+"""
+
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import pytest
+
+from pasibot_pin.__main__ import main
+
+LOCKED = r"(is not writable|is a file, not a folder)"
+
+CASES: list[tuple[str, str]] = [
+    # unwritable folders (PermissionError tracebacks before)
+    ("build-urdf --out {locked}/a.urdf", LOCKED),
+    ("gait --csv {locked}/a.csv", LOCKED),
+    ("gait --plot {locked}/a.png", LOCKED),
+    ("torques --csv {locked}/a.csv", LOCKED),
+    ("simulate --out {locked}/sim --no-cases", LOCKED),
+    ("export-html --out {locked}/a.html", LOCKED),
+    ("analyze --out {locked}/out", r"(Permission denied|Not a directory|File exists)"),
+    # a folder where a file should be (IsADirectoryError before)
+    ("build-urdf --out {dir}", "is a folder"),
+    ("gait --csv {dir} --force", "is a folder"),
+    ("gait --plot {dir} --force", "is a folder"),
+    # memory (MemoryError before)
+    ("gait --step-deg 1e-9", "at most"),
+    ("gait --legs 2 --steps 1000000000", "at most"),
+    ("torques --samples 100000000", "at most 100000"),
+    ("torques --steps 100000 --samples 1000", "exceeds 100000"),
+    # silent accepts
+    ("build-urdf --K 5", "cannot assemble"),
+    ("build-urdf --K 0.5", "cannot make a full turn"),
+    ("build-urdf --K 1e200 --L 1e200", "outside"),
+    ("simulate --dt 0", "parameter 'dt'"),
+    ("simulate --dt 1e6", "too long"),
+    ("simulate --dt nan", "parameter 'dt'"),
+    ("energy --flywheel -1", "parameter 'flywheel'"),
+    ("energy --flywheel 0", "parameter 'flywheel'"),
+    ("view --hold nan", "--hold"),
+    ("torques --preset seed --samples -3", "parameter 'samples'"),
+    ("torques --samples -3", "parameter 'samples' must be an integer >= 2"),
+    ("torques --preset seed --steps 2", "parameter 'steps' must be 1 with preset 'seed'"),
+    ("gait --legs 1 --foot point", "'--foot' applies to --legs 2"),
+    ("gait --legs 2 --foot heel", "'--foot' must be one of"),
+    ("build-urdf --ratio K=3", "--ratio expects rN=VALUE"),
+    # fails only after the work (before)
+    ("simulate --fps 0 --gif", "parameter 'fps'"),
+    ("gait --csv {tmp}/a.csv --plot {tmp}/a.xyz", "matplotlib cannot write .xyz"),
+    ("torques --csv {tmp}/a.csv --plot {tmp}/a.docx", "matplotlib cannot write .docx"),
+    ("build-urdf --ratio ratios=1", "--ratio expects rN=VALUE"),
+]
+
+
+@pytest.fixture
+def locked(tmp_path):
+    """A folder no one may write into (root: a file where the folder should be)."""
+    if os.geteuid() == 0:  # chmod does not stop root: a path through a regular file fails for root too
+        path = tmp_path / "locked"
+        path.write_text("a file, not a folder\n")
+        yield path
+        return
+    path = tmp_path / "locked"
+    path.mkdir()
+    path.chmod(0o500)
+    yield path
+    path.chmod(0o700)
+
+
+def _files(root: Path) -> set[Path]:
+    return {p for p in root.rglob("*")}
+
+
+def run_cli(argv: list[str], capsys) -> tuple[int, str]:
+    code = main(argv)
+    err = capsys.readouterr().err
+    return code, err
+
+
+def assert_one_line_error(code: int, err: str, command: str, fragment: str) -> None:
+    import re
+
+    assert code == 2, err
+    assert "Traceback" not in err
+    lines = err.strip().splitlines()
+    assert len(lines) == 1, err
+    assert lines[0].startswith(f"pasibot {command}: error: "), err
+    assert re.search(fragment, lines[0]), err
+
+
+@pytest.mark.parametrize(("argv", "fragment"), CASES, ids=[c[0] for c in CASES])
+def test_bad_input_is_one_line_exit_2_and_writes_nothing(argv, fragment, tmp_path, locked, capsys, monkeypatch):
+    folder = tmp_path / "existing"
+    folder.mkdir()
+    work = tmp_path / "cwd"
+    work.mkdir()
+    monkeypatch.chdir(work)  # default outputs (out/, gait.html) land here, and must not appear
+    args = argv.format(locked=locked, dir=folder, tmp=tmp_path).split()
+    before = _files(tmp_path)
+    code, err = run_cli(args, capsys)
+    assert_one_line_error(code, err, args[0], fragment)
+    assert _files(tmp_path) == before  # nothing written, no half file
+
+
+def test_zmq_url_without_server_is_refused_within_seconds(capsys):
+    import time
+
+    start = time.monotonic()
+    code, err = run_cli(["view", "--zmq-url", "tcp://127.0.0.1:1"], capsys)
+    assert_one_line_error(code, err, "view", "no meshcat server answered at tcp://127.0.0.1:1")
+    assert time.monotonic() - start < 30
+
+
+def test_plot_without_extension_checks_the_png_that_would_be_written(tmp_path, capsys):
+    (tmp_path / "walk.png").write_text("precious")
+    code, err = run_cli(["gait", "--plot", str(tmp_path / "walk")], capsys)
+    assert_one_line_error(code, err, "gait", r"walk\.png exists; pass --force")
+    assert (tmp_path / "walk.png").read_text() == "precious"
+
+
+def test_plot_without_extension_writes_png(tmp_path, capsys):
+    assert main(["gait", "--step-deg", "30", "--plot", str(tmp_path / "walk")]) == 0
+    assert "wrote " + str(tmp_path / "walk.png") in capsys.readouterr().out
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["walk.png"]  # no temporary file left
+
+
+def test_build_urdf_defaults_refuses_site_packages(tmp_path, capsys, monkeypatch):
+    from pasibot_pin.model import description
+
+    installed = tmp_path / "lib" / "python3" / "site-packages" / "pasibot_pin" / "urdf"
+    installed.mkdir(parents=True)
+    monkeypatch.setattr(description, "URDF_DIR", installed)
+    code, err = run_cli(["build-urdf", "--defaults"], capsys)
+    assert_one_line_error(code, err, "build-urdf", "installed package .*--out FOLDER")
+    assert list(installed.iterdir()) == []
+
+
+def test_build_urdf_defaults_into_a_folder(tmp_path, capsys):
+    assert main(["build-urdf", "--defaults", "--out", str(tmp_path / "urdf")]) == 0
+    names = sorted(p.name for p in (tmp_path / "urdf").iterdir())
+    assert names == sorted(f"pasibot_{v}_{n}leg.urdf" for v in ("rigid", "parallel", "spring") for n in (1, 2))
+
+
+def test_os_errors_during_work_are_one_line(tmp_path, capsys, monkeypatch):
+    """A write the system refuses after the checks (a full disk, a race) is still one line, exit 2."""
+    from pasibot_pin.report import files
+
+    def refuse(*args, **kwargs):
+        raise PermissionError(13, "Permission denied", str(tmp_path / "a.csv"))
+
+    monkeypatch.setattr(files.csv, "writer", refuse)
+    code, err = run_cli(["gait", "--step-deg", "30", "--csv", str(tmp_path / "a.csv")], capsys)
+    assert_one_line_error(code, err, "gait", "a.csv: Permission denied")
+    assert list(tmp_path.iterdir()) == []  # the temporary file is gone too

@@ -1,0 +1,122 @@
+"""SIGTERM and Ctrl-C stop a command and every process it started, within seconds, leaving no half file."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import time
+
+import pytest
+
+from pasibot_pin.__main__ import descendants
+
+
+def _alive(pid: int) -> bool:
+    try:
+        with open(f"/proc/{pid}/stat") as handle:
+            stat = handle.read()
+    except OSError:
+        return False
+    return not stat[stat.rfind(")") + 2 :].startswith("Z")
+
+
+def _wait_for(predicate, timeout: float) -> bool:
+    deadline = time.monotonic() + timeout
+    while time.monotonic() < deadline:
+        if predicate():
+            return True
+        time.sleep(0.1)
+    return False
+
+
+def _start(args: list[str], cwd) -> subprocess.Popen:
+    return subprocess.Popen(
+        [sys.executable, "-m", "pasibot_pin", *args],
+        cwd=cwd,
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        start_new_session=True,  # its own process group, as a terminal's foreground job
+    )
+
+
+def _stop_and_check(proc: subprocess.Popen, sig: int, children: list[int], group: bool, ok=()) -> str:
+    start = time.monotonic()
+    if group:  # Ctrl-C in a terminal: the whole foreground group gets SIGINT
+        os.killpg(proc.pid, sig)
+    else:
+        proc.send_signal(sig)
+    try:
+        _, err = proc.communicate(timeout=20)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        for pid in children:
+            if _alive(pid):
+                os.kill(pid, signal.SIGKILL)
+        pytest.fail("the command did not exit within 20 s of the signal")
+    elapsed = time.monotonic() - start
+    left = [pid for pid in children if _alive(pid)]
+    for pid in left:
+        os.kill(pid, signal.SIGKILL)
+    assert not left, f"orphan processes {left}"
+    assert proc.returncode in (128 + sig, *ok), err
+    assert "Traceback" not in err
+    assert elapsed < 15, f"took {elapsed:.1f} s to exit"
+    return err
+
+
+@pytest.mark.parametrize(("sig", "group"), [(signal.SIGTERM, False), (signal.SIGINT, True)])
+def test_view_stops_its_meshcat_server(tmp_path, sig, group):
+    proc = _start(["view", "--steps", "1", "--samples-per-step", "4", "--hold", "-1"], tmp_path)
+    try:
+        assert _wait_for(lambda: len(descendants(proc.pid)) >= 1, 120), "the meshcat server never started"
+        assert proc.poll() is None
+    except BaseException:
+        proc.kill()
+        raise
+    time.sleep(1.0)
+    children = descendants(proc.pid)
+    # Ctrl-C is the documented end of --hold -1: exit code 0 then
+    err = _stop_and_check(proc, sig, children, group, ok=(0,) if sig == signal.SIGINT else ())
+    assert sig == signal.SIGINT or "terminated" in err
+
+
+@pytest.mark.parametrize(("sig", "group"), [(signal.SIGTERM, False), (signal.SIGINT, True)])
+def test_analyze_stops_its_pool_workers_and_leaves_no_half_file(tmp_path, sig, group):
+    out = tmp_path / "out"
+    proc = _start(["analyze", "--out", str(out)], tmp_path)
+    try:
+        # the side pool (1 worker) and the simulation pool (2 workers) are running
+        assert _wait_for(lambda: len(descendants(proc.pid)) >= 3, 180), "the pools never started"
+    except BaseException:
+        proc.kill()
+        raise
+    time.sleep(2.0)
+    children = descendants(proc.pid)
+    _stop_and_check(proc, sig, children, group)
+    assert not [p for p in out.rglob("*") if ".part-" in p.name]  # no temporary file left
+
+
+def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):
+    """A Ctrl-C that lands before the server reported its address still stops the server."""
+    from pasibot_pin.viz import viewer
+
+    started: list[subprocess.Popen] = []
+    real_popen = subprocess.Popen
+
+    class Recording(real_popen):
+        def __init__(self, *args, **kwargs):
+            super().__init__(*args, **kwargs)
+            started.append(self)
+
+    def interrupt():
+        raise KeyboardInterrupt
+
+    monkeypatch.setattr(viewer.subprocess, "Popen", Recording)
+    monkeypatch.setattr(viewer.time, "monotonic", interrupt)
+    with pytest.raises(KeyboardInterrupt):
+        viewer.start_server()
+    assert len(started) == 1
+    assert started[0].poll() is not None  # stopped, not left to the end of the interpreter
