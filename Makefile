@@ -26,7 +26,7 @@ test: install browser-deps
 	$(PY) -m pytest -q
 
 demo: install
-	$(VENV)/bin/pasibot analyze --out $(OUT)
+	$(VENV)/bin/pasibot analyze --out $(OUT) --force
 
 urdf: install
 	$(VENV)/bin/pasibot build-urdf --defaults --force

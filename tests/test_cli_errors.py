@@ -24,7 +24,7 @@ CASES: list[tuple[str, str]] = [
     ("torques --csv {locked}/a.csv", LOCKED),
     ("simulate --out {locked}/sim --no-cases", LOCKED),
     ("export-html --out {locked}/a.html", LOCKED),
-    ("analyze --out {locked}/out", r"(Permission denied|Not a directory|File exists)"),
+    ("analyze --out {locked}/out", LOCKED),  # checked before any work
     # a folder where a file should be (IsADirectoryError before)
     ("build-urdf --out {dir}", "is a folder"),
     ("gait --csv {dir} --force", "is a folder"),
@@ -158,3 +158,15 @@ def test_os_errors_during_work_are_one_line(tmp_path, capsys, monkeypatch):
     code, err = run_cli(["gait", "--step-deg", "30", "--csv", str(tmp_path / "a.csv")], capsys)
     assert_one_line_error(code, err, "gait", "a.csv: Permission denied")
     assert list(tmp_path.iterdir()) == []  # the temporary file is gone too
+
+
+def test_analyze_refuses_a_folder_with_files_before_any_work(tmp_path, capsys):
+    from pasibot_pin.__main__ import main
+
+    out = tmp_path / "out"
+    out.mkdir()
+    (out / "notes.txt").write_text("mine")
+    assert main(["analyze", "--out", str(out)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "already holds files" in err and "--force" in err and "\n" not in err
+    assert [p.name for p in out.iterdir()] == ["notes.txt"]

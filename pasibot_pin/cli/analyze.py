@@ -47,15 +47,20 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("analyze", help="run the full analysis into an output folder (the main job)")
     p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
+    p.add_argument("--force", action="store_true", help="write into an output folder that already holds files")
     p.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     """Run every step on one pool, longest pieces first, and write ``report.md``."""
+    from pasibot_pin.cli.common import check_output_folder
+    from pasibot_pin.report.files import write_text_atomic
     from pasibot_pin.report.jobs import WORKERS, Job, run_jobs
     from pasibot_pin.report.simulation import SimulationPlan
 
-    out_dir: Path = args.out
+    out_dir: Path = check_output_folder(args.out, "--out")
+    if out_dir.is_dir() and any(out_dir.iterdir()) and not args.force:
+        raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
     out_dir.mkdir(parents=True, exist_ok=True)
     sections: dict[str, str] = {}
     plan = SimulationPlan(out_dir)
@@ -75,7 +80,6 @@ def run(args: argparse.Namespace) -> int:
     parts = ["# PASIBOT analysis", ""]
     for name, _ in STEPS:
         parts += [sections[name], ""]
-    report = out_dir / "report.md"
-    report.write_text("\n".join(parts))
+    report = write_text_atomic(out_dir / "report.md", "\n".join(parts))
     print(f"wrote {report}")
     return 0

@@ -7,8 +7,10 @@ long ones do not end up alone at the end. A finished job may release new ones (e
 scenario's figures once its cases and sweep are in).
 
 Ctrl-C or SIGTERM: the workers ignore SIGINT (the main process handles it) and die with their
-parent (Linux ``PR_SET_PDEATHSIG``); the main process cancels the queued jobs and terminates
-the running ones before it re-raises, so no worker is left behind.
+parent (Linux ``PR_SET_PDEATHSIG``). The command line's handler (``pasibot_pin.__main__``) stops
+every descendant, grandchildren included, and raises in the main process; :func:`run_jobs` then
+cancels the queued jobs and terminates any worker still running before it re-raises, so no
+worker is left behind.
 """
 
 from __future__ import annotations
@@ -58,10 +60,6 @@ def _worker_init() -> None:
         pass
 
 
-def _raise_interrupt(signum, frame):
-    raise KeyboardInterrupt(f"signal {signum}")
-
-
 def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS) -> None:
     """Run ``jobs`` (and those ``on_done`` releases) longest first on ``workers`` processes.
 
@@ -82,7 +80,6 @@ def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS) -> No
             push(on_done(job.key, job.fn(*job.args)))
         return
 
-    previous = signal.signal(signal.SIGTERM, _raise_interrupt)
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"), initializer=_worker_init)
     running: dict[Future, Job] = {}
     try:
@@ -104,5 +101,3 @@ def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS) -> No
         raise
     else:
         pool.shutdown(wait=True)
-    finally:
-        signal.signal(signal.SIGTERM, previous)
