@@ -204,3 +204,26 @@ def test_torques_cli_prints_stiffness_and_writes_csv(tmp_path, capsys):
     assert main(["torques", "--scenario", "run3", "--csv", str(out)]) == 2  # no overwrite without --force
     assert main(["torques", "--scenario", "run9"]) == 2
     assert "unknown scenario" in capsys.readouterr().err
+
+
+@pytest.mark.parametrize("scenario", ["run1", "run4"])
+def test_one_k_e_whichever_way_it_is_asked(scenario, capsys):
+    """The command line's grid over one stance ([pi/2, 3 pi/2], both ends) is one stance: its K_e
+    is the library's run_scenario (the README's), and the header says the crank speed used."""
+    from pasibot_pin.__main__ import main
+
+    choices = scenarios.PRESETS["default"]
+    library = spring.fit_result(dynamics.run_scenario(scenarios.SCENARIOS[scenario], choices), None, warn=False)
+    assert main(["torques", "--scenario", scenario]) == 0
+    text = capsys.readouterr().out
+    assert sum(line.startswith("K_e = ") for line in text.splitlines()) == 1  # printed once
+    assert float(text.split("K_e = ")[1].split(" N.m/rad")[0]) == pytest.approx(library.K_e, abs=0.005)
+    assert main(["torques", "--scenario", scenario, "--omega", "5"]) == 0
+    assert "at omega = 5 rad/s" in capsys.readouterr().out.splitlines()[0]
+
+
+def test_a_sweep_ending_at_touchdown_keeps_its_stance_but_one_crossing_it_swaps():
+    one = dynamics.sweep_stances(np.linspace(math.pi / 2, 3 * math.pi / 2, 5))
+    assert one == ["right"] * 5
+    two = dynamics.sweep_stances(np.linspace(math.pi / 2, 5 * math.pi / 2, 9))
+    assert two == ["right"] * 4 + ["left"] * 5

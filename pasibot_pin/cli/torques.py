@@ -51,8 +51,12 @@ def run(args: argparse.Namespace) -> int:
     )
     res = scenario_torques(settings)
     scenario, fit = res.scenario, res.fit
-    print(f"scenario {scenario.name}: {scenario.description}; preset {args.preset}; {len(res.result)} samples")
-    print(f"K_e = {fit.K_e:.2f} N.m/rad")
+    omega = res.result.omega
+    note = "" if omega == scenario.omega else f" (the scenario's own: {scenario.omega:g} rad/s)"
+    print(
+        f"scenario {scenario.name} ({scenario.description}) at omega = {omega:g} rad/s{note}; "
+        f"preset {args.preset}; {len(res.result)} samples"
+    )
     print(fit.summary())
     if scenario.seed_K_e is not None:
         print(

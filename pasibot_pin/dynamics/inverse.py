@@ -74,6 +74,23 @@ def stance_side(theta_right: float) -> str:
     return "right" if phase < math.pi else "left"
 
 
+def sweep_stances(thetas: np.ndarray, stance: str = "auto") -> list[str]:
+    """The stance side of every sample of a sweep of right-crank angles.
+
+    ``auto``: :func:`stance_side` (a touchdown angle pi/2 + k pi starts the new stance), except
+    that a sweep that *ends* exactly at a touchdown keeps its last stance there: a grid over one
+    stance, theta in [pi/2, 3 pi/2] inclusive, is one stance (double support at both ends).
+    """
+    if stance != "auto":
+        return [stance] * len(thetas)
+    sides = [stance_side(th) for th in thetas]
+    if len(sides) > 1 and sides[-1] != sides[-2]:
+        turns = (thetas[-1] - math.pi / 2) / math.pi
+        if abs(turns - round(turns)) < 1e-9:
+            sides[-1] = sides[-2]
+    return sides
+
+
 def wrap_stance(theta: float) -> float:
     """A stance crank angle mapped to [pi/2, 5 pi/2) [rad]."""
     return math.pi / 2 + (theta - math.pi / 2) % (2 * math.pi)
@@ -411,7 +428,7 @@ def inverse_dynamics(
     ground = np.zeros((n, 3))
     cuts: dict[str, np.ndarray] = {}
     joints: dict[str, np.ndarray] = {}
-    sides_used = [stance_side(th) if stance == "auto" else stance for th in thetas]
+    sides_used = sweep_stances(thetas, stance)
 
     spec = robot.spec
     free = [0.0, 0.0] if spec.free_ankle else []  # hip pitch and swing foot held (spring variant)
