@@ -9,6 +9,7 @@ COMMANDS: list[str] = [
     "analyze",
     "view",
     "export_html",
+    "export_mjcf",
     "gait",
     "torques",
     "simulate",

@@ -281,6 +281,13 @@ class Design:
         return path
 
 
+def design_robot(design: Design, legs: int = 2):
+    """The robot of ``design`` (:func:`pasibot_pin.model.robot.load` with its geometry, masses and inertia)."""
+    from pasibot_pin.model.robot import load
+
+    return load(design.variant, legs, geometry=design.geometry(), masses=design.masses(), inertia=design.inertia)
+
+
 def load_design(path: str | os.PathLike) -> Design:
     """Read a design file (``.toml`` or ``.json``); a one-line ValueError for a bad file or value."""
     path = Path(path)

@@ -134,3 +134,32 @@ def fit_result(result, fit_thetas=None, warn: bool = True) -> SpringFit:
                 raise ValueError(f"parameter 'fit_thetas': {th:.4f} rad is not a sample of the result")
             mask |= hit
     return fit_spring(result.beta[mask], result.Te[mask], warn=warn)
+
+
+def design_spring(design, robot=None):
+    """The ankle spring of a design [N.m/rad, rad, N.m.s/rad], fitted where the design leaves it unset.
+
+    K_e and beta0 come from the design if it sets them, otherwise from the stance fit of the
+    constrained inverse dynamics of the design's two-legged robot at its crank speed (the
+    torque analysis, right foot held, one stance). Returns ``None`` for a variant without a
+    spring ankle.
+
+    Args:
+        design: a :class:`~pasibot_pin.model.design.Design`.
+        robot: its two-legged robot, if already loaded (:func:`~pasibot_pin.model.design.design_robot`).
+
+    """
+    from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
+    from pasibot_pin.dynamics.simulator import AnkleSpring
+    from pasibot_pin.model.design import design_robot
+
+    robot = design_robot(design, 2) if robot is None or robot.legs != 2 else robot
+    if not robot.spec.free_ankle:
+        return None
+    stiffness, rest = design.spring_stiffness, design.spring_rest_angle
+    if stiffness is None or rest is None:
+        result = inverse_dynamics(robot, crank_grid(*STANCE_RANGE, 61), design.omega, stance="right")
+        fit = fit_result(result, None, warn=False)
+        stiffness = fit.K_e if stiffness is None else stiffness
+        rest = fit.beta0 if rest is None else rest
+    return AnkleSpring(stiffness, rest, design.spring_damping)

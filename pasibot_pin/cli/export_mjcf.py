@@ -1,0 +1,65 @@
+"""``pasibot export-mjcf``: the robot as an MJCF file for MuJoCo (any variant and design).
+
+The tree, masses and COMs are the Pinocchio model's; the loop closures are ``equality
+connect`` constraints at the cut joints; the ankle springs are joint stiffness and damping
+about their rest angle (the design's, or fitted by the torque analysis where the design
+leaves them unset); the cranks have position (default) or velocity servos; the soles are
+capsules on a floor plane. The ``home`` keyframe closes every loop.
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from pasibot_pin.cli.common import check_output_file
+from pasibot_pin.model.params import VARIANTS
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the subcommand."""
+    p = sub.add_parser("export-mjcf", help="write the robot as an MJCF file for MuJoCo", description=__doc__)
+    p.add_argument("--out", type=Path, required=True, help="MJCF file to write (.xml)")
+    p.add_argument("--design", type=Path, default=None, help="design file (.toml or .json) instead of the seed design")
+    p.add_argument("--variant", default=None, choices=VARIANTS, help="leg variant (default: the design's, spring)")
+    p.add_argument("--legs", type=int, default=2, choices=(1, 2), help="1 or 2 legs (default 2)")
+    p.add_argument("--actuator", default="position", choices=("position", "velocity", "none"), help="crank servos")
+    p.add_argument("--weld", default="none", choices=("none", "right", "left"), help="weld this foot where it stands")
+    p.add_argument("--no-floor", action="store_true", help="no floor contact (e.g. with --weld)")
+    p.add_argument("--mu", type=float, default=0.8, help="sole-floor Coulomb friction (default 0.8)")
+    p.add_argument("--force", action="store_true", help="overwrite an existing file")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Build the design's robot and spring, write the MJCF."""
+    from pasibot_pin.model.design import Design, design_robot, load_design
+    from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
+    from pasibot_pin.report.files import write_text_atomic
+    from pasibot_pin.studies.spring_fit import design_spring
+
+    check_output_file(args.out, "--out", args.force)
+    design = load_design(args.design) if args.design is not None else Design()
+    if args.variant is not None:
+        design = design.with_(variant=args.variant)
+    robot = design_robot(design, args.legs)
+    spring = design_spring(design)
+    options = MjcfOptions(
+        actuator=args.actuator,
+        weld_foot=None if args.weld == "none" else args.weld,
+        floor=not args.no_floor,
+        mu=args.mu,
+        **(
+            {}
+            if spring is None
+            else {
+                "spring_stiffness": spring.stiffness,
+                "spring_rest_angle": spring.rest_angle,
+                "spring_damping": spring.damping,
+            }
+        ),
+    )
+    write_text_atomic(args.out, to_mjcf(robot, options))
+    text = f" (ankle spring K_e = {spring.stiffness:.2f} N.m/rad)" if spring is not None else ""
+    print(f"wrote {args.out}: {design.variant}, {args.legs} leg(s), {len(robot.loops)} loop closures{text}")
+    return 0

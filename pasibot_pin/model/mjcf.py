@@ -1,0 +1,264 @@
+"""MJCF export: the same robot for MuJoCo users (and an independent engine to check ours against).
+
+The MJCF is written from the loaded Pinocchio model, so it has exactly its tree, joint
+placements, masses and COMs, whatever the variant and parameters:
+
+* one ``<body>`` per Pinocchio joint, nested as the tree (the same depth-first order, so
+  MuJoCo's ``qpos`` is Pinocchio's ``q``); the planar floating hip is two slides (x, z) and a
+  hinge about +y; every revolute joint a hinge about its axis (-y);
+* every frame that matters (the cut-joint markers, feet, toes and heels) as a ``<site>``;
+* the loop closures as ``<equality><connect site1 site2>`` at the cut joints;
+* optionally a stance-foot weld (``<equality><weld>`` of the foot's site to a world site);
+* the ankle springs as joint ``stiffness`` about ``springref`` = pi/2 - beta0, with ``damping``;
+* the crank motors: a position servo (``ctrl`` = the crank angle) or a velocity servo;
+* each sole as a capsule from heel to toe (the only geoms that collide) and a floor plane
+  with Coulomb friction ``mu``.
+
+Point masses have no rotational inertia; MuJoCo needs some, so ``boundinertia`` gives every
+body at least ``1e-8`` kg.m^2 (a torque error below 1e-6 N.m at the accelerations here).
+
+Units: SI, angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+import xml.etree.ElementTree as ET
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.model.description import sides
+
+ACTUATORS: tuple[str, ...] = ("position", "velocity", "none")
+
+
+@dataclass(frozen=True)
+class MjcfOptions:
+    """What goes into the MJCF beyond the robot itself.
+
+    Attributes:
+        spring_stiffness: ankle spring K_e [N.m/rad] (0: no spring).
+        spring_rest_angle: its rest angle beta0, forward foot to shank [rad].
+        spring_damping: ankle damping [N.m.s/rad].
+        actuator: ``position`` (servo on the crank angle), ``velocity`` (servo on its rate) or ``none``.
+        kp: position gain [N.m/rad]. The crank alone has a tiny inertia: with MuJoCo's explicit
+            position term, kp dt^2 must stay small (5000 N.m/rad at 0.1 ms is stable; 2e4 at
+            0.25 ms is not). A servo on theta0 + omega t lags by kv omega / kp: add it to ``ctrl``.
+        kv: velocity gain [N.m.s/rad] (the position servo's damping, or the velocity servo's gain).
+        weld_foot: ``right``/``left`` to weld that foot where it stands in ``q_weld``, or ``None``.
+        floor: a floor plane the soles touch (``False``: no contact at all, e.g. with a welded foot).
+        mu: sole-floor Coulomb friction [-].
+        sole_radius: radius of the sole capsules [m].
+        timestep: MuJoCo's step [s].
+        solref: (time constant [s], damping ratio) of the equality constraints.
+        solimp: MuJoCo's impedance (d0, dwidth, width) of the equality constraints: near 1 is
+            near a hard constraint (MuJoCo's default 0.9 lets the loops give way enough to change
+            the hip's fall by tens of percent: the spring and gravity nearly cancel here).
+
+    """
+
+    spring_stiffness: float = 0.0
+    spring_rest_angle: float = math.pi / 2
+    spring_damping: float = 0.0
+    actuator: str = "position"
+    kp: float = 5.0e3
+    kv: float = 20.0
+    weld_foot: str | None = None
+    floor: bool = True
+    mu: float = 0.8
+    sole_radius: float = 0.002
+    timestep: float = 1e-4
+    solref: tuple[float, float] = (1e-3, 1.0)
+    solimp: tuple[float, float, float] = (0.9999, 0.9999, 0.001)
+
+    def __post_init__(self) -> None:
+        for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep"):
+            value = getattr(self, name)
+            if not (math.isfinite(value) and value >= 0):
+                raise ValueError(f"parameter {name!r} must be a finite number >= 0, got {value!r}")
+        if self.timestep <= 0 or self.sole_radius <= 0:
+            raise ValueError("parameters 'timestep' and 'sole_radius' must be positive")
+        if not math.isfinite(self.spring_rest_angle):
+            raise ValueError(f"parameter 'spring_rest_angle' must be finite, got {self.spring_rest_angle!r}")
+        if self.actuator not in ACTUATORS:
+            raise ValueError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
+        if self.weld_foot not in (None, "right", "left"):
+            raise ValueError(f"parameter 'weld_foot' must be right, left or None, got {self.weld_foot!r}")
+
+
+def _vec(values) -> str:
+    return " ".join(repr(float(x)) for x in values)
+
+
+def _quat(rotation: np.ndarray) -> str:
+    q = pin.Quaternion(rotation)  # MuJoCo: w x y z
+    return _vec((q.w, q.x, q.y, q.z))
+
+
+def _pose(element: ET.Element, placement: pin.SE3) -> None:
+    element.set("pos", _vec(placement.translation))
+    if not np.allclose(placement.rotation, np.eye(3), atol=1e-15):
+        element.set("quat", _quat(placement.rotation))
+
+
+def _hinge_axis(joint) -> np.ndarray:
+    kind = joint.shortname()
+    if kind == "JointModelRevoluteUnaligned":
+        return np.array(joint.extract().axis)
+    if kind in ("JointModelRY", "JointModelRX", "JointModelRZ"):
+        return np.eye(3)["XYZ".index(kind[-1])]
+    raise ValueError(f"joint kind {kind} has no MJCF hinge")
+
+
+def _joints(body: ET.Element, model: pin.Model, j: int) -> list[str]:
+    """Add the MJCF joints of Pinocchio joint ``j`` to ``body``; returns their names."""
+    joint, name = model.joints[j], model.names[j]
+    subjoints = joint.extract().joints if joint.shortname() == "JointModelComposite" else [joint]
+    names = []
+    for k, sub in enumerate(subjoints):
+        kind = sub.shortname()
+        sub_name = name if len(subjoints) == 1 else f"{name}_{k}"
+        if kind in ("JointModelPX", "JointModelPY", "JointModelPZ"):
+            axis = np.eye(3)["XYZ".index(kind[-1])]
+            ET.SubElement(body, "joint", name=sub_name, type="slide", axis=_vec(axis))
+        elif kind == "JointModelPrismaticUnaligned":
+            ET.SubElement(body, "joint", name=sub_name, type="slide", axis=_vec(sub.extract().axis))
+        else:
+            ET.SubElement(body, "joint", name=sub_name, type="hinge", axis=_vec(_hinge_axis(sub)))
+        names.append(sub_name)
+    return names
+
+
+def _inertial(body: ET.Element, inertia: pin.Inertia) -> None:
+    i = inertia.inertia
+    if inertia.mass <= 0:
+        return
+    ET.SubElement(
+        body,
+        "inertial",
+        pos=_vec(inertia.lever),
+        mass=repr(float(inertia.mass)),
+        fullinertia=_vec((i[0, 0], i[1, 1], i[2, 2], i[0, 1], i[0, 2], i[1, 2])),
+    )
+
+
+def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None = None) -> str:
+    """The MJCF text of ``robot`` (any variant, one or two legs).
+
+    Args:
+        robot: a loaded robot (:func:`pasibot_pin.load`).
+        options: springs, actuators, weld, floor (:class:`MjcfOptions`).
+        q_weld: the configuration whose foot pose the weld keeps (default ``robot.q0``).
+
+    Returns:
+        The MJCF document.
+
+    """
+    options = options or MjcfOptions()
+    model = robot.model
+    spring_joints = {f"{side}_{j}" for side in sides(robot.legs) for j in robot.spec.spring_joints}
+    motors = list(robot.actuated_joints)
+
+    root = ET.Element("mujoco", model=f"pasibot_{robot.variant}_{robot.legs}leg")
+    ET.SubElement(root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false", boundinertia="1e-8")
+    ET.SubElement(
+        root, "option", timestep=repr(options.timestep), gravity=_vec(model.gravity.linear), integrator="implicitfast"
+    )
+    default = ET.SubElement(root, "default")
+    ET.SubElement(default, "geom", contype="0", conaffinity="0", rgba="0.6 0.6 0.7 1")
+    ET.SubElement(default, "equality", solref=_vec(options.solref), solimp=_vec(options.solimp))
+    world = ET.SubElement(root, "worldbody")
+    ET.SubElement(world, "light", pos="0 -2 3", dir="0 1 -1")
+    ET.SubElement(
+        world,
+        "geom",
+        name="floor",
+        type="plane",
+        size="20 2 0.1",
+        contype="1" if options.floor else "0",
+        conaffinity="1" if options.floor else "0",
+        friction=f"{options.mu!r} 0.005 0.0001",
+        rgba="0.85 0.85 0.8 1",
+    )
+
+    bodies: dict[int, ET.Element] = {0: world}
+    frames_by_joint: dict[int, list[pin.Frame]] = {}
+    for frame in model.frames:
+        if frame.type == pin.FrameType.BODY and frame.parentJoint > 0:
+            frames_by_joint.setdefault(int(frame.parentJoint), []).append(frame)
+    for j in range(1, model.njoints):
+        body = ET.SubElement(bodies[model.parents[j]], "body", name=f"{model.names[j]}_body")
+        _pose(body, model.jointPlacements[j])
+        _joints(body, model, j)
+        _inertial(body, model.inertias[j])
+        for child in [k for k in range(j + 1, model.njoints) if model.parents[k] == j]:
+            end = model.jointPlacements[child].translation
+            if np.linalg.norm(end) > 1e-9:  # a visual stick along the link (no mass, no contact)
+                ET.SubElement(body, "geom", type="capsule", fromto=_vec((0, 0, 0, *end)), size="0.004", group="1")
+        for frame in frames_by_joint.get(j, []):
+            site = ET.SubElement(body, "site", name=frame.name, size="0.003")
+            _pose(site, frame.placement)
+        bodies[j] = body
+    # soles: a capsule from heel to toe on each foot body, the only geoms that collide (with the floor)
+    for side in sides(robot.legs):
+        toe, heel = (model.frames[robot.frame_id(f"{side}_{p}")] for p in ("toe", "heel"))
+        if toe.parentJoint != heel.parentJoint:
+            raise ValueError(f"the {side} toe and heel are on different bodies")
+        ET.SubElement(
+            bodies[int(toe.parentJoint)],
+            "geom",
+            name=f"{side}_sole",
+            type="capsule",
+            fromto=_vec((*heel.placement.translation, *toe.placement.translation)),
+            size=repr(options.sole_radius),
+            contype="1",
+            conaffinity="0",
+            condim="3",
+            friction=f"{options.mu!r} 0.005 0.0001",
+            rgba="0.2 0.2 0.2 1",
+        )
+    for name in spring_joints:  # joint springs: springref where beta = beta0, q = pi/2 - beta
+        joint = root.find(f".//joint[@name='{name}']")
+        joint.set("stiffness", repr(float(options.spring_stiffness)))
+        joint.set("springref", repr(math.pi / 2 - options.spring_rest_angle))
+        joint.set("damping", repr(float(options.spring_damping)))
+
+    equality = ET.SubElement(root, "equality")
+    for loop in robot.loops:
+        ET.SubElement(equality, "connect", name=loop.name, site1=loop.frame_a, site2=loop.frame_b)
+    if options.weld_foot is not None:
+        if not robot.floating:
+            raise ValueError("the one-leg model has a fixed hip: it has no foot to weld")
+        q = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
+        data = model.createData()
+        pin.framesForwardKinematics(model, data, q)
+        foot = data.oMf[robot.frame_id(f"{options.weld_foot}_foot")]
+        anchor = ET.SubElement(world, "site", name=f"{options.weld_foot}_foot_anchor", size="0.003")
+        _pose(anchor, foot)
+        ET.SubElement(
+            equality,
+            "weld",
+            name=f"{options.weld_foot}_foot_weld",
+            site1=f"{options.weld_foot}_foot",
+            site2=f"{options.weld_foot}_foot_anchor",
+        )
+
+    # the "home" keyframe: q0, a configuration that closes every loop (MuJoCo's qpos0 = 0 does not)
+    keyframe = ET.SubElement(root, "keyframe")
+    home = ET.SubElement(keyframe, "key", name="home", qpos=_vec(robot.q0 if q_weld is None else q_weld))
+    if options.actuator == "position" and motors:
+        q_home = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
+        home.set("ctrl", _vec([q_home[robot.idx_q(motor)] for motor in motors]))
+    elif options.actuator == "velocity" and motors:
+        home.set("ctrl", _vec([0.0] * len(motors)))
+    if options.actuator != "none" and motors:
+        actuators = ET.SubElement(root, "actuator")
+        for motor in motors:
+            if options.actuator == "position":
+                ET.SubElement(actuators, "position", name=motor, joint=motor, kp=repr(options.kp), kv=repr(options.kv))
+            else:
+                ET.SubElement(actuators, "velocity", name=motor, joint=motor, kv=repr(options.kv))
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode") + "\n"
