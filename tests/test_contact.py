@@ -212,3 +212,17 @@ def test_parallel_quasi_static_contact_uses_its_longer_sole():
     assert res.feasible.any() and not res.feasible.all()
     with pytest.raises(ValueError, match="variant"):
         contact.scenario_contact("run1", variant="wheel")
+
+
+def test_contact_command_and_report_count_the_same_samples(capsys):
+    """One definition of the stance grid: the command's default is the report's (13/60 for run 1)."""
+    from pasibot_pin.__main__ import main
+    from pasibot_pin.studies.contact import CONTACT_SAMPLES, scenario_contact
+    from pasibot_pin.studies.contact_energy_study import ContactEnergySettings
+
+    assert ContactEnergySettings().contact_samples == CONTACT_SAMPLES
+    _, res = scenario_contact("run1")
+    n_ok = int(np.sum(res.feasible))
+    assert main(["contact", "--scenario", "run1"]) == 0
+    line = [s for s in capsys.readouterr().out.splitlines() if "samples feasible" in s][0]
+    assert line.endswith(f" {n_ok}/{CONTACT_SAMPLES} samples feasible") and len(res) == CONTACT_SAMPLES

@@ -16,6 +16,7 @@ from pasibot_pin.cli.common import add_output_options, atomic_path, check_output
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
+    from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES
 
     p = sub.add_parser(
         "contact",
@@ -25,8 +26,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--scenario", default="run1", help=f"one of {', '.join(SCENARIOS)} (default run1)")
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
     p.add_argument("--variant", default="spring", help="spring or parallel (default spring)")
-    p.add_argument("--mu", type=float, default=0.6, help="Coulomb friction coefficient (default 0.6)")
-    p.add_argument("--samples", type=int, default=61, help="samples over one stance (default 61)")
+    p.add_argument(
+        "--mu", type=float, default=CONTACT_MU, help=f"Coulomb friction coefficient (default {CONTACT_MU:g})"
+    )
+    p.add_argument(
+        "--samples", type=int, default=CONTACT_SAMPLES, help=f"samples over one stance (default {CONTACT_SAMPLES})"
+    )
     p.add_argument(
         "--sole",
         type=float,

@@ -419,11 +419,19 @@ def contact_along(robot, result, mu: float, sole: tuple[float, float] | None = N
     )
 
 
+CONTACT_MU: float = 0.6
+"""The default sole-ground Coulomb friction of the contact study [-]."""
+
+CONTACT_SAMPLES: int = 60
+"""The default crank samples of one right stance, theta in [pi/2, 3 pi/2) (one definition for the
+report, the command line and the library)."""
+
+
 def scenario_contact(
     name: str,
     preset: str = "default",
-    mu: float = 0.6,
-    samples: int = 60,
+    mu: float = CONTACT_MU,
+    samples: int = CONTACT_SAMPLES,
     sole: tuple[float, float] | None = None,
     variant: str = "spring",
 ):

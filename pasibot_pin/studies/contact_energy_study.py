@@ -18,7 +18,7 @@ import numpy as np
 
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS
 from pasibot_pin.studies import energy, single_motor
-from pasibot_pin.studies.contact import ContactResult, scenario_contact
+from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES, ContactResult, scenario_contact
 
 
 @dataclass(frozen=True)
@@ -50,9 +50,9 @@ class ContactEnergySettings:
 
     """
 
-    mu: float = 0.6
+    mu: float = CONTACT_MU
     preset: str = "default"
-    contact_samples: int = 60
+    contact_samples: int = CONTACT_SAMPLES
     variants: tuple[str, ...] = ("spring", "parallel")
     scenarios: tuple[str, ...] = tuple(SCENARIOS)
     slip_scenario: str = "run4"
