@@ -72,13 +72,13 @@ def _ratio_spec(key: str, value: float) -> ParameterSpec:
 SPECS: Mapping[str, ParameterSpec] = {
     spec.name: spec
     for spec in (
-        ParameterSpec("L", "m", 0.05, 0.005, 2.0, "crank length"),
-        ParameterSpec("K", "-", 2.0, 1.0, 4.0, "frame link 0-3 over L (a full crank turn needs 1.491 < K < 3)"),
+        ParameterSpec("L", "m", Geometry.L, 0.005, 2.0, "crank length"),
+        ParameterSpec("K", "-", Geometry.K, 1.0, 4.0, "frame link 0-3 over L (a full crank turn needs 1.491 < K < 3)"),
         *(_ratio_spec(k, v) for k, v in SEED_LINK_RATIOS.items()),
-        ParameterSpec("foot_toe", "L", 1.5, 0.1, 10.0, "ankle to toe along the sole (rigid, spring)"),
-        ParameterSpec("foot_heel", "L", 0.5, 0.1, 10.0, "ankle to heel along the sole (rigid, spring)"),
-        ParameterSpec("parallel_toe", "L", 1.5, 0.1, 10.0, "toe ahead of joint 13 (parallel)"),
-        ParameterSpec("parallel_heel", "L", 2.6, 0.1, 10.0, "heel behind joint 13 (parallel)"),
+        ParameterSpec("foot_toe", "L", Geometry.foot_toe, 0.1, 10.0, "ankle to toe along the sole (rigid, spring)"),
+        ParameterSpec("foot_heel", "L", Geometry.foot_heel, 0.1, 10.0, "ankle to heel along the sole (rigid, spring)"),
+        ParameterSpec("parallel_toe", "L", Geometry.parallel_toe, 0.1, 10.0, "toe ahead of joint 13 (parallel)"),
+        ParameterSpec("parallel_heel", "L", Geometry.parallel_heel, 0.1, 10.0, "heel behind joint 13 (parallel)"),
         ParameterSpec("total_mass", "kg", SEED_TOTAL_MASS, 5.0, 500.0, "human mass the percentages refer to"),
         ParameterSpec("thigh_fraction", "-", SEED_MASS_FRACTIONS["thigh"], 0.005, 0.5, "thigh links' share"),
         ParameterSpec("shank_fraction", "-", SEED_MASS_FRACTIONS["shank"], 0.005, 0.5, "shank links' share"),
@@ -158,13 +158,14 @@ class Design:
     motors: str = "two"
     mass_rule: str = "seed"
     inertia: str = "point"
-    L: float = 0.05
-    K: float = 2.0
+    # the geometry's defaults are Geometry's own (one source for the seed's numbers)
+    L: float = Geometry.L
+    K: float = Geometry.K
     ratios: Mapping[str, float] = field(default_factory=lambda: dict(SEED_LINK_RATIOS))
-    foot_toe: float = 1.5
-    foot_heel: float = 0.5
-    parallel_toe: float = 1.5
-    parallel_heel: float = 2.6
+    foot_toe: float = Geometry.foot_toe
+    foot_heel: float = Geometry.foot_heel
+    parallel_toe: float = Geometry.parallel_toe
+    parallel_heel: float = Geometry.parallel_heel
     total_mass: float = SEED_TOTAL_MASS
     thigh_fraction: float | None = None
     shank_fraction: float | None = None
