@@ -76,3 +76,13 @@ def test_robot_repr_is_one_short_line():
     text = repr(pp.load("parallel", 2))
     assert "\n" not in text and len(text) < 160
     assert "variant='parallel'" in text and "nq=29" in text
+
+
+@pytest.mark.parametrize("command", [["torques"], ["contact"]])
+def test_scenario_1_is_run1_in_every_command(command, capsys):
+    assert main([*command, "--scenario", "1"]) == 0
+    short = capsys.readouterr().out
+    assert main([*command, "--scenario", "run1"]) == 0
+    assert capsys.readouterr().out == short
+    assert main([*command, "--scenario", "9"]) == 2
+    assert "unknown scenario '9'" in capsys.readouterr().err

@@ -54,8 +54,11 @@ def run(args: argparse.Namespace) -> int:
     if args.samples < 2:
         raise ValueError(f"parameter '--samples' must be >= 2, got {args.samples!r}")
     sole = tuple(args.sole) if args.sole is not None else None
+    from pasibot_pin.model.scenarios import get_scenario
+
     _torques, res = scenario_contact(args.scenario, args.preset, args.mu, args.samples, sole, args.variant)
-    print(f"scenario {args.scenario}, {args.variant} variant, preset {args.preset}, {len(res)} samples over one stance")
+    name = get_scenario(args.scenario).name
+    print(f"scenario {name}, {args.variant} variant, preset {args.preset}, {len(res)} samples over one stance")
     print(res.summary())
     if args.csv is not None:
         write_columns_csv(args.csv, res.columns())

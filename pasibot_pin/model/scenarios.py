@@ -176,11 +176,18 @@ SEED_CHOICE_NAMES: Mapping[str, str] = {
 """Human names of the seed's choices, in the order the attribution table switches them on."""
 
 
-def get_scenario(name: str) -> Scenario:
-    """The scenario called ``name`` (ValueError naming the valid ones otherwise)."""
-    if name not in SCENARIOS:
-        raise ValueError(f"unknown scenario {name!r}; valid: {', '.join(SCENARIOS)}")
-    return SCENARIOS[name]
+def get_scenario(name: str | int) -> Scenario:
+    """The scenario called ``name``: ``quasi-static``, ``run1`` .. ``run4``, or just ``1`` .. ``4``.
+
+    Every command and study names scenarios through this one function, so ``1`` and ``run1``
+    are the same everywhere (ValueError naming the valid ones otherwise).
+    """
+    key = str(name)
+    if key not in SCENARIOS and f"run{key}" in SCENARIOS:
+        key = f"run{key}"
+    if key not in SCENARIOS:
+        raise ValueError(f"unknown scenario {name!r}; valid: {', '.join(SCENARIOS)} (or 1..4)")
+    return SCENARIOS[key]
 
 
 def get_preset(name: str) -> ModelChoices:

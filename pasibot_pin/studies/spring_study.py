@@ -437,14 +437,9 @@ class ScenarioInputs:
 
 def scenario_key(name: str) -> str:
     """``1`` -> ``run1``; ``quasi-static`` and ``runN`` unchanged (ValueError for unknown ones)."""
-    from pasibot_pin.model.scenarios import SCENARIOS
+    from pasibot_pin.model.scenarios import get_scenario
 
-    key = str(name)
-    if key not in SCENARIOS and f"run{key}" in SCENARIOS:
-        key = f"run{key}"
-    if key not in SCENARIOS:
-        raise ValueError(f"unknown scenario {name!r}; valid: {', '.join(SCENARIOS)} (or 1..4)")
-    return key
+    return get_scenario(name).name
 
 
 def scenario_inputs(name: str, preset: str = "default", damping: float | None = None) -> ScenarioInputs:
