@@ -14,6 +14,7 @@ from __future__ import annotations
 import argparse
 import importlib
 import os
+import re
 import signal
 import sys
 import time
@@ -35,7 +36,22 @@ def build_parser() -> argparse.ArgumentParser:
     sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
     for name in COMMANDS:
         importlib.import_module(f"pasibot_pin.cli.{name}").register(sub)
+    for command in sub.choices.values():  # --help is plain text: no docstring markup
+        command.description = plain_text(command.description)
+        for action in command._actions:
+            action.help = plain_text(action.help)
     return parser
+
+
+_ROLE = re.compile(r":(?:func|mod|class|data|meth|attr|obj):`~?([^`]+)`")
+
+
+def plain_text(text: str | None) -> str | None:
+    """Docstring markup made plain: ``code`` -> code, :func:`~pkg.mod.name` -> name."""
+    if text is None:
+        return None
+    text = _ROLE.sub(lambda m: m.group(1).split(".")[-1], text)
+    return text.replace("``", "")
 
 
 def descendants(pid: int | None = None) -> list[int]:

@@ -86,3 +86,12 @@ def test_scenario_1_is_run1_in_every_command(command, capsys):
     assert capsys.readouterr().out == short
     assert main([*command, "--scenario", "9"]) == 2
     assert "unknown scenario '9'" in capsys.readouterr().err
+
+
+def test_help_is_plain_text():
+    from pasibot_pin.__main__ import build_parser
+
+    sub = next(a for a in build_parser()._actions if a.dest == "command")
+    for name, parser in sub.choices.items():
+        text = parser.format_help()
+        assert "``" not in text and ":func:" not in text and ":mod:" not in text and ":class:" not in text, name
