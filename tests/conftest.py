@@ -37,8 +37,11 @@ SPLIT_MODULES = frozenset({"test_notebooks.py", "test_simulate.py", "test_energy
 # keeps one worker busy alone). A nodeid prefix each; the other units follow in collection order.
 LONGEST_FIRST = (
     "tests/test_browser.py",
-    "tests/test_notebooks.py::test_notebook_runs[05_simulation",
     "tests/test_energy.py::test_analyze_step_contact_energy",
+    "tests/test_cli_signals.py",
+    "tests/test_mjcf.py",
+    "tests/test_cli_errors.py",
+    "tests/test_notebooks.py::test_notebook_runs[05_simulation",
     "tests/test_simulate.py::test_energy_is_conserved_without_motor_damping_or_impact[cranks-free",
     "tests/test_viewer.py",
     "tests/test_notebooks.py::test_notebook_runs[04_viewer",

@@ -54,7 +54,7 @@ CUT_FORCE_COLOUR = "#ffd400"
 GROUND_THICKNESS = 0.01
 """Thickness of the ground slab [m]."""
 
-ZMQ_TIMEOUT = 5.0
+ZMQ_TIMEOUT = 2.0
 """How long :func:`check_meshcat_server` waits for a reused meshcat server to answer [s]."""
 
 LOOP_REPETITIONS = 1_000_000
