@@ -1,0 +1,282 @@
+"""Walking on a real floor: heel and toe as unilateral Coulomb contacts, time-stepped (first version).
+
+The welded simulator (:mod:`pasibot_pin.dynamics.simulator`) holds the stance foot flat on the
+ground. Here nothing holds either foot: each sole touches the floor at its heel and its toe,
+each point unilateral (it may lift, never sink) with Coulomb friction mu. The loops and the
+motors stay bilateral rows of the same :class:`~pasibot_pin.constraints.ConstraintSystem`.
+
+One step of length h is a velocity-level time-stepping (Moreau, Anitescu): the velocity after
+the step solves the convex QP
+
+    min_v  1/2 (v - v-)^T M (v - v-) - h (tau - b)^T v
+    s.t.   J_b v = -Phi_t                                  (loops, cranks: bilateral)
+           (J_n +- mu J_t) v >= -gap / h                   (each contact point: its friction cone)
+
+with proxsuite. Its multipliers are the contact impulses: a point's normal impulse is the sum
+of its two cone rows' and the tangential one mu times their difference, so |F_t| <= mu F_n
+holds by construction (the planar cone is exactly two half-planes). A point that reaches the
+floor stops there in one step (an inelastic touchdown, found by the step rather than
+scheduled); a point leaves the floor when its normal impulse is zero. Positions are then
+projected back onto the loops (mass metric), so the loops drift by less than Newton's
+tolerance. Each step reports the contact mode of each foot: ``flat`` (heel and toe load),
+``heel``, ``toe``, ``sliding`` or ``air``.
+
+Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+import pinocchio as pin
+import proxsuite
+
+from pasibot_pin.constraints import ConstraintSystem, coordinate, symmetric_mass_matrix
+from pasibot_pin.constraints.planar import PlanarRowBlocks
+from pasibot_pin.constraints.system import planar_kinematics
+from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
+
+SIDES = ("right", "left")
+POINTS = ("heel", "toe")
+MODES = ("flat", "heel", "toe", "sliding", "air")
+LOAD_TOL = 1e-3
+"""A contact point carries load when its normal force exceeds this [N] (the QP's impulses are
+accurate to about 1e-8 N.s)."""
+SLIP_TOL = 1e-4
+"""A loaded point slides when its tangential speed exceeds this [m/s]."""
+
+
+def _check(name: str, value: float, low: float, high: float = math.inf, low_open: bool = False) -> float:
+    value = float(value)
+    ok = math.isfinite(value) and (value > low if low_open else value >= low) and value <= high
+    if not ok:
+        bound = f"> {low:g}" if low_open else f">= {low:g}"
+        raise ValueError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
+    return value
+
+
+@dataclass(frozen=True)
+class FloorSettings:
+    """How to simulate on the floor.
+
+    Attributes:
+        omega: crank rate [rad/s] (rheonomic cranks, theta0 + omega t).
+        spring: the ankle springs (``None``: free ankles).
+        mu: sole-floor Coulomb friction [-].
+        dt: time step [s].
+        theta0: initial right crank angle [rad].
+        hip: ``free`` or ``level`` (pitch held at 0).
+        fall_limit: the run stops when |hip pitch| passes this [rad].
+
+    """
+
+    omega: float = 0.1
+    spring: AnkleSpring | None = None
+    mu: float = 0.8
+    dt: float = 5e-4
+    theta0: float = math.pi / 2
+    hip: str = "free"
+    fall_limit: float = math.radians(60.0)
+
+    def __post_init__(self) -> None:
+        _check("omega", self.omega, 0.0)
+        _check("mu", self.mu, 0.0)
+        _check("dt", self.dt, 0.0, 0.01, low_open=True)
+        _check("theta0", self.theta0, -1e3, 1e3)
+        _check("fall_limit", self.fall_limit, 0.0, math.pi, low_open=True)
+        if self.hip not in ("free", "level"):
+            raise ValueError(f"parameter 'hip' must be free or level, got {self.hip!r}")
+
+
+@dataclass
+class FloorResult:
+    """Samples of a floor run, one per step.
+
+    Attributes:
+        t: times [s].
+        q, v: configurations and velocities.
+        hip_pitch: [rad].
+        modes: contact mode of each foot per sample, ``{"right": [...], "left": [...]}`` (:data:`MODES`).
+        normal, tangential: contact forces (n, 4) [N], columns right heel, right toe, left heel, left toe.
+        motor_torque: crank torques (n, 2) [N.m], right, left.
+        touchdowns: (t, side, point) of every point that starts to carry load after carrying none.
+        outcome: ``"ran to the end"`` or why and when it stopped.
+
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    v: np.ndarray
+    hip_pitch: np.ndarray
+    modes: dict[str, list[str]]
+    normal: np.ndarray
+    tangential: np.ndarray
+    motor_torque: np.ndarray
+    touchdowns: list[tuple[float, str, str]] = field(default_factory=list)
+    outcome: str = ""
+
+    def friction_use(self) -> np.ndarray:
+        """|F_t| / F_n of each point (n, 4) [-] (0 where the point carries no load)."""
+        with np.errstate(invalid="ignore", divide="ignore"):
+            use = np.abs(self.tangential) / self.normal
+        return np.where(self.normal > 0, use, 0.0)
+
+
+class FloorSimulator:
+    """The ``spring`` biped on a floor (see the module docstring).
+
+    Args:
+        robot: ``pp.load("spring", 2)`` (or a copy with other masses).
+        settings: :class:`FloorSettings`.
+
+    """
+
+    def __init__(self, robot, settings: FloorSettings):
+        if robot.legs != 2 or not robot.floating:
+            raise ValueError("the floor simulator needs the two-legged robot with its floating hip")
+        self.robot, self.settings = robot, settings
+        model = robot.model
+        self.ankles = ankle_indices(robot) if robot.spec.free_ankle else {}
+        scalars = [
+            coordinate(
+                f"{side}_j0_crank", robot.idx_v(f"{side}_j0_crank"), settings.theta0 + k * math.pi, settings.omega
+            )
+            for k, side in enumerate(SIDES)
+        ]
+        if settings.hip == "level":
+            scalars.append(coordinate("hip_pitch", 2, 0.0, 0.0))
+        self.bilateral = ConstraintSystem(model, robot.data, robot.loop_constraints, scalars, robot.geometry.L)
+        frames = [model.frames[robot.frame_id(f"{side}_{point}")] for side in SIDES for point in POINTS]
+        ends = planar_kinematics(model).ends(
+            np.array([f.parentJoint for f in frames]),
+            np.array([f.placement.translation for f in frames]),
+            np.array([f.placement.rotation for f in frames]),
+        )
+        self.points = PlanarRowBlocks(ends, [(k, -1) for k in range(len(frames))], [])
+        self._crank_rows = [self.bilateral.labels.index(f"{side}_j0_crank") for side in SIDES]
+
+    # ---- one step
+    def contact_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Gaps (4,) [m], tangential positions (4,) [m], J_n (4, nv) and J_t (4, nv) of heel and toe points."""
+        rows, jac, _, _ = self.points.evaluate(q)
+        return rows.imag, rows.real, jac.imag, jac.real
+
+    def step(self, t: float, q: np.ndarray, v: np.ndarray, h: float):
+        """One step: (q+, v+, normal and tangential impulses (4,) [N.s], bilateral impulses)."""
+        model, data, s = self.robot.model, self.robot.data, self.settings
+        rows = self.bilateral.evaluate(q, None, t + h)
+        gap, _, jn, jt = self.contact_rows(q)
+        mass = symmetric_mass_matrix(model, data, q)
+        bias = pin.nonLinearEffects(model, data, q, v)
+        tau = spring_forces(self.robot, s.spring, q, v, self.ankles) if s.spring is not None else np.zeros(model.nv)
+        g = -(mass @ v + h * (tau - bias))
+        cone = np.vstack((jn + s.mu * jt, jn - s.mu * jt))
+        lower = np.concatenate((-gap / h, -gap / h))
+        result = proxsuite.proxqp.dense.solve(
+            H=mass,
+            g=g,
+            A=rows.jac,
+            b=-rows.phi_t - rows.phi / h,
+            C=cone,
+            l=lower,
+            u=np.full(len(lower), 1e20),
+            eps_abs=1e-10,
+        )
+        if result.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+            raise ValueError(f"the contact QP did not solve ({result.info.status})")
+        v_new = np.array(result.x)
+        z = -np.array(result.z)  # impulses of the cone rows (>= 0)
+        k = len(gap)
+        normal, tangential = z[:k] + z[k:], s.mu * (z[:k] - z[k:])
+        q_new = self.bilateral.project(q + h * v_new, t + h, metric="mass", max_iter=20)
+        return q_new, v_new, normal, tangential, -np.array(result.y)
+
+    def modes(self, normal: np.ndarray, slip: np.ndarray) -> dict[str, str]:
+        """Contact mode of each foot from its heel and toe normal forces [N] and tangential speeds [m/s]."""
+        out = {}
+        for i, side in enumerate(SIDES):
+            loaded = normal[2 * i : 2 * i + 2] > LOAD_TOL
+            sliding = np.any(loaded & (np.abs(slip[2 * i : 2 * i + 2]) > SLIP_TOL))
+            if not loaded.any():
+                out[side] = "air"
+            elif sliding:
+                out[side] = "sliding"
+            elif loaded.all():
+                out[side] = "flat"
+            else:
+                out[side] = POINTS[int(np.argmax(loaded))]
+        return out
+
+    # ---- a run
+    def initial_state(self, swing_pitch: float | None = 0.0) -> tuple[np.ndarray, np.ndarray]:
+        """Both feet flat on the floor at theta0, the hip level; the velocity that keeps them there.
+
+        At the touchdown angle (theta0 = pi/2) both ankles lie on the stance line, so both soles
+        rest on the floor; the velocity keeps both feet still, the hip level and the cranks at
+        omega (a least-squares solve of the consistent, redundant rows).
+        """
+        from pasibot_pin.model.closure import analytic_configurations
+
+        robot = self.robot
+        guess, _ = analytic_configurations(robot, [self.settings.theta0], swing_foot_pitch=swing_pitch)
+        q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance
+        _, _, jn, jt = self.contact_rows(q)
+        rows = self.bilateral.evaluate(q, None, 0.0)
+        jac = np.vstack((rows.jac, jn, jt, np.eye(q.size)[2:3]))
+        rhs = np.concatenate((-rows.phi_t, np.zeros(2 * len(jn) + 1)))
+        v = np.linalg.lstsq(jac, rhs, rcond=None)[0]
+        return q, v
+
+    def run(self, duration: float, q0: np.ndarray | None = None, v0: np.ndarray | None = None) -> FloorResult:
+        """Integrate for ``duration`` [s] (or until the hip passes the fall limit or a step fails)."""
+        s = self.settings
+        _check("duration", duration, 0.0, 1e4, low_open=True)
+        q, v = self.initial_state() if q0 is None else (np.array(q0, float), np.array(v0, float))
+        n = max(1, math.ceil(duration / s.dt - 1e-9))
+        h = duration / n
+        rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
+        modes: dict[str, list[str]] = {side: [] for side in SIDES}
+        touchdowns: list[tuple[float, str, str]] = []
+        loaded_before = np.zeros(2 * len(SIDES), dtype=bool)
+        outcome = "ran to the end"
+        t = 0.0
+        for _ in range(n):
+            try:
+                q_new, v_new, normal, tangential, bilateral = self.step(t, q, v, h)
+            except ValueError as err:
+                outcome = f"stopped at t = {t:.4f} s: {err}"
+                break
+            t += h
+            q, v = q_new, v_new
+            _, _, _, jt = self.contact_rows(q)
+            mode = self.modes(normal / h, jt @ v)
+            loaded = normal / h > LOAD_TOL
+            for k in np.nonzero(loaded & ~loaded_before)[0]:
+                touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
+            loaded_before = loaded
+            rec["t"].append(t)
+            rec["q"].append(q)
+            rec["v"].append(v)
+            rec["normal"].append(normal / h)
+            rec["tangential"].append(tangential / h)
+            rec["motor"].append(bilateral[self._crank_rows] / h)
+            for side in SIDES:
+                modes[side].append(mode[side])
+            if abs(q[2]) > s.fall_limit:
+                outcome = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
+                break
+        qs = np.array(rec["q"]).reshape(-1, self.robot.model.nq)
+        return FloorResult(
+            t=np.array(rec["t"]),
+            q=qs,
+            v=np.array(rec["v"]).reshape(qs.shape),
+            hip_pitch=qs[:, 2].copy(),
+            modes=modes,
+            normal=np.array(rec["normal"]).reshape(-1, 4),
+            tangential=np.array(rec["tangential"]).reshape(-1, 4),
+            motor_torque=np.array(rec["motor"]).reshape(-1, 2),
+            touchdowns=touchdowns,
+            outcome=outcome,
+        )

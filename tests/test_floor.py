@@ -1,0 +1,100 @@
+"""The floor simulator: unilateral heel/toe contacts with Coulomb friction (dynamics/floor.py).
+
+Independent references: the total weight (a robot standing still on the floor), free fall and
+the momentum balance of an inelastic touchdown (closed form), the friction cone, and MuJoCo on
+the exported model (the same robot hops off the floor when the fitted springs release).
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+import pytest
+
+import pasibot_pin as pp
+from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
+from pasibot_pin.model.robot import total_mass
+from pasibot_pin.studies import spring_study
+
+G = 9.81
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return pp.load("spring", 2)
+
+
+def test_standing_still_the_floor_carries_the_weight(robot):
+    # cranks held, hip held level, free ankles: both feet flat on the floor hold the rest
+    sim = FloorSimulator(robot, FloorSettings(omega=0.0, hip="level", dt=1e-3))
+    res = sim.run(0.2)
+    assert res.outcome == "ran to the end"
+    weight = total_mass(robot) * G
+    assert np.sum(res.normal[-1]) == pytest.approx(weight, rel=1e-6)  # vertical balance of the whole robot
+    assert res.modes["right"][-1] == "flat" and res.modes["left"][-1] == "flat"
+    assert np.max(np.abs(res.v[-1])) < 1e-6
+    assert np.all(np.abs(res.tangential) <= sim.settings.mu * res.normal + 1e-9)  # inside the cone
+    loops = sim.bilateral.evaluate(res.q[-1]).phi[: sim.bilateral.n_constraint_rows]
+    assert np.max(np.abs(loops)) < 1e-8
+
+
+def test_a_dropped_robot_lands_when_free_fall_says_and_stops_inelastically(robot):
+    height = 0.01
+    # in free fall gravity strains nothing: the robot keeps its shape and lands on all four points at once
+    sim = FloorSimulator(robot, FloorSettings(omega=0.0, hip="level", dt=2e-4))
+    q0, v0 = sim.initial_state()
+    q0 = q0.copy()
+    q0[1] += height  # the hip's z: everything 1 cm up
+    res = sim.run(0.08, q0, v0 * 0.0)
+    first = min(t for t, _, _ in res.touchdowns)
+    assert first == pytest.approx(math.sqrt(2 * height / G), abs=2 * sim.settings.dt)
+    k = int(np.searchsorted(res.t, first - 1e-12))  # the step in which the points reach the floor
+    gap, _, jn, _ = sim.contact_rows(res.q[k])
+    assert np.max(np.abs(gap)) < 1e-9  # they end the step on it ...
+    assert np.max(np.abs(jn @ res.v[k + 1])) < 1e-6  # ... and stay: an inelastic touchdown
+    # momentum balance over the two steps: the floor's impulse = M (0 - v_z) + M g 2 h (M the total mass)
+    mass, h = total_mass(robot), sim.settings.dt
+    impulse = np.sum(res.normal[k : k + 2]) * h
+    assert abs(res.v[k + 1][1]) < 1e-6
+    assert impulse == pytest.approx(mass * (0.0 - res.v[k - 1][1]) + mass * G * 2 * h, rel=1e-3)
+
+
+def test_bad_settings_are_named():
+    with pytest.raises(ValueError, match="'mu'"):
+        FloorSettings(mu=-0.1)
+    with pytest.raises(ValueError, match="'dt'"):
+        FloorSettings(dt=0.0)
+    with pytest.raises(ValueError, match="'omega'"):
+        FloorSettings(omega=float("nan"))
+
+
+def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
+    """Run 1's fitted spring from double support: the preload throws both feet off the floor
+    (our time-stepping and MuJoCo's soft contacts agree on when, and on the feet's heights)."""
+    inputs = spring_study.scenario_inputs("run1")
+    robot, spring = inputs.robot, inputs.fit
+    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=5e-4))
+    q0, v0 = sim.initial_state()
+    ours = sim.run(0.1)
+    airborne = [t for t, r, left in zip(ours.t, ours.modes["right"], ours.modes["left"]) if r == left == "air"]
+    assert airborne and 0.02 < airborne[0] < 0.07
+    options = MjcfOptions(spring.stiffness, spring.rest_angle, spring.damping, mu=sim.settings.mu)
+    model = mujoco.MjModel.from_xml_string(to_mjcf(robot, options, q_weld=q0))
+    data = mujoco.MjData(model)
+    data.qpos[:], data.qvel[:] = q0, v0
+    start = np.array([q0[robot.idx_q(m)] for m in robot.actuated_joints])
+    lag = options.kv * inputs.omega / options.kp
+    mj_airborne = None
+    while data.time < 0.09:
+        data.ctrl[:] = start + inputs.omega * data.time + lag
+        mujoco.mj_step(model, data)
+        if mj_airborne is None and data.ncon == 0:
+            mj_airborne = data.time
+    assert mj_airborne is not None and abs(mj_airborne - airborne[0]) < 0.02
+    k = int(np.searchsorted(ours.t, 0.09))
+    ours_heights = sim.contact_rows(ours.q[k])[0]
+    mj_heights = [data.site(f"{side}_{p}").xpos[2] for side in ("right", "left") for p in ("heel", "toe")]
+    np.testing.assert_allclose(ours_heights, mj_heights, atol=3e-3)
