@@ -31,7 +31,7 @@ def test_standing_still_the_floor_carries_the_weight(robot):
     # cranks held, hip held level, free ankles: both feet flat on the floor hold the rest
     sim = FloorSimulator(robot, FloorSettings(omega=0.0, hip="level", dt=1e-3))
     res = sim.run(0.2)
-    assert res.outcome == "ran to the end"
+    assert not res.failed and res.outcome.startswith("walks 0 steps")
     weight = total_mass(robot) * G
     assert np.sum(res.normal[-1]) == pytest.approx(weight, rel=1e-6)  # vertical balance of the whole robot
     assert res.modes["right"][-1] == "flat" and res.modes["left"][-1] == "flat"
@@ -76,7 +76,7 @@ def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
     (our time-stepping and MuJoCo's soft contacts agree on when, and on the feet's heights)."""
     inputs = spring_study.scenario_inputs("run1")
     robot, spring = inputs.robot, inputs.fit
-    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=5e-4))
+    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=1e-3))
     q0, v0 = sim.initial_state()
     ours = sim.run(0.1)
     airborne = [t for t, r, left in zip(ours.t, ours.modes["right"], ours.modes["left"]) if r == left == "air"]

@@ -46,6 +46,13 @@ LOAD_TOL = 1e-3
 accurate to about 1e-8 N.s)."""
 SLIP_TOL = 1e-4
 """A loaded point slides when its tangential speed exceeds this [m/s]."""
+ROLL_LIMIT = math.radians(60.0)
+"""A foot standing on its heel or toe alone has rolled over it past this sole pitch [rad]."""
+SLIP_LIMIT = 0.02
+"""A foot has slipped when its loaded points have slid this far in all while it bore weight [m]."""
+BEARING_SHARE = 0.25
+"""A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
+swing toe does not count as a slip) [-]."""
 
 
 def _check(name: str, value: float, low: float, high: float = math.inf, low_open: bool = False) -> float:
@@ -75,7 +82,7 @@ class FloorSettings:
     omega: float = 0.1
     spring: AnkleSpring | None = None
     mu: float = 0.8
-    dt: float = 5e-4
+    dt: float = 1e-3
     theta0: float = math.pi / 2
     hip: str = "free"
     fall_limit: float = math.radians(60.0)
@@ -102,7 +109,11 @@ class FloorResult:
         normal, tangential: contact forces (n, 4) [N], columns right heel, right toe, left heel, left toe.
         motor_torque: crank torques (n, 2) [N.m], right, left.
         touchdowns: (t, side, point) of every point that starts to carry load after carrying none.
-        outcome: ``"ran to the end"`` or why and when it stopped.
+        steps: (t, side, ankle x [m]) of every foot that lands after a flight of its own (air -> loaded).
+        outcome: ``walks N steps`` (N landings, no failure), or the cause and time of the failure:
+            the hip pitch beyond its limit, a foot rolled over its heel or toe, a foot slipped, a
+            loop that cannot close, a contact problem the solver could not solve.
+        failed: True when the run stopped on a failure.
 
     """
 
@@ -115,7 +126,17 @@ class FloorResult:
     tangential: np.ndarray
     motor_torque: np.ndarray
     touchdowns: list[tuple[float, str, str]] = field(default_factory=list)
+    steps: list[tuple[float, str, float]] = field(default_factory=list)
     outcome: str = ""
+    failed: bool = False
+
+    def step_lengths(self) -> np.ndarray:
+        """Ankle x from one landing to the next (any feet) [m]."""
+        return np.diff([x for _, _, x in self.steps])
+
+    def step_durations(self) -> np.ndarray:
+        """Time from one landing to the next [s]."""
+        return np.diff([t for t, _, _ in self.steps])
 
     def friction_use(self) -> np.ndarray:
         """|F_t| / F_n of each point (n, 4) [-] (0 where the point carries no load)."""
@@ -156,6 +177,8 @@ class FloorSimulator:
         )
         self.points = PlanarRowBlocks(ends, [(k, -1) for k in range(len(frames))], [])
         self._crank_rows = [self.bilateral.labels.index(f"{side}_j0_crank") for side in SIDES]
+        gravity = float(np.linalg.norm(model.gravity.linear))
+        self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
 
     # ---- one step
     def contact_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -239,22 +262,37 @@ class FloorSimulator:
         rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
         modes: dict[str, list[str]] = {side: [] for side in SIDES}
         touchdowns: list[tuple[float, str, str]] = []
+        steps: list[tuple[float, str, float]] = []
         loaded_before = np.zeros(2 * len(SIDES), dtype=bool)
-        outcome = "ran to the end"
+        slid = np.zeros(len(SIDES))
+        failure = ""
         t = 0.0
         for _ in range(n):
             try:
                 q_new, v_new, normal, tangential, bilateral = self.step(t, q, v, h)
             except ValueError as err:
-                outcome = f"stopped at t = {t:.4f} s: {err}"
+                cause = "a loop cannot close" if "loop closure" in str(err) else "the contact problem failed"
+                failure = f"{cause} at t = {t:.3f} s ({err})"
                 break
             t += h
             q, v = q_new, v_new
-            _, _, _, jt = self.contact_rows(q)
-            mode = self.modes(normal / h, jt @ v)
+            gap, along, _, jt = self.contact_rows(q)
+            slip = jt @ v
+            mode = self.modes(normal / h, slip)
             loaded = normal / h > LOAD_TOL
             for k in np.nonzero(loaded & ~loaded_before)[0]:
                 touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
+            for i, side in enumerate(SIDES):
+                pair = slice(2 * i, 2 * i + 2)
+                if loaded[pair].any() and not loaded_before[pair].any() and t > h:
+                    steps.append((t, side, float(np.mean(along[pair]))))
+                if np.sum(normal[pair]) / h > BEARING_SHARE * self.weight:
+                    slid[i] += h * float(np.max(np.where(loaded[pair], np.abs(slip[pair]), 0.0)))
+                pitch = math.atan2(gap[2 * i + 1] - gap[2 * i], along[2 * i + 1] - along[2 * i])
+                if mode[side] in POINTS and abs(pitch) > ROLL_LIMIT:
+                    failure = f"the {side} foot rolled over its {mode[side]} at t = {t:.3f} s"
+                if slid[i] > SLIP_LIMIT:
+                    failure = f"the {side} foot slipped {1e3 * slid[i]:.0f} mm by t = {t:.3f} s"
             loaded_before = loaded
             rec["t"].append(t)
             rec["q"].append(q)
@@ -265,7 +303,8 @@ class FloorSimulator:
             for side in SIDES:
                 modes[side].append(mode[side])
             if abs(q[2]) > s.fall_limit:
-                outcome = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
+                failure = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
+            if failure:
                 break
         qs = np.array(rec["q"]).reshape(-1, self.robot.model.nq)
         return FloorResult(
@@ -278,5 +317,7 @@ class FloorSimulator:
             tangential=np.array(rec["tangential"]).reshape(-1, 4),
             motor_torque=np.array(rec["motor"]).reshape(-1, 2),
             touchdowns=touchdowns,
-            outcome=outcome,
+            steps=steps,
+            outcome=failure or f"walks {len(steps)} steps in {t:.3f} s",
+            failed=bool(failure),
         )
