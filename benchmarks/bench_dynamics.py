@@ -219,6 +219,11 @@ def main() -> None:
     t_fd = best_time(lambda: sim.acceleration(cset, 0.0, q0, v0))
     t_rk4 = best_time(lambda: sim.step(cset, 0.0, q0, v0, 2e-3), repeat=50)
     t_rnea_sim = best_time(lambda: pin.rnea(inputs.robot.model, inputs.robot.data, q0, v0, v0), repeat=5000)
+    from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+
+    floor = FloorSimulator(inputs.robot, FloorSettings(omega=inputs.omega, spring=inputs.fit))
+    fq, fv = floor.initial_state()
+    t_floor = best_time(lambda: floor.step(0.0, fq, fv, floor.settings.dt), repeat=50)
 
     def line(label: str, seconds: float, ref: float, goal: str) -> None:
         print(f"{label:58s}: {seconds * 1e6:9.1f} us = {seconds / ref:7.1f} x rnea   ({goal})")
@@ -236,6 +241,11 @@ def main() -> None:
     line("the same, J_c from Pinocchio's getConstraintsJacobian", t_step_pin, t_rnea, "")
     line("one forward-dynamics evaluation (KKT, simulator rows)", t_fd, t_rnea_sim, "goal <= 20")
     line("one RK4 step with projection", t_rk4, t_rnea_sim, "goal <= 100")
+    line("one floor step (contact QP + projection)", t_floor, t_rnea_sim, "goal <= 2 x the welded step")
+    print(
+        f"floor step / welded RK4 step: {t_floor / t_rk4:5.2f}; simulated time per wall second: "
+        f"welded {2e-3 / t_rk4:5.1f}, floor {floor.settings.dt / t_floor:5.1f}   (goal: 10 s of walking < 10 s wall)"
+    )
     print(f"{'seed free-body A.F = b (assemble + solve)':58s}: {t_fb * 1e6:9.1f} us")
     print(f"full sample speed-up over the free-body method: {t_fb / t_full:6.2f} x   (goal >= 10)")
     print(f"the same with one 400-sample stance:            {t_fb / best_long:6.2f} x")
