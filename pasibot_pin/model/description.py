@@ -135,7 +135,7 @@ def render_urdf(
 
 def write_urdf(path: Path, text: str, force: bool = False) -> Path:
     """Write ``text`` to ``path`` (through a temporary file); refuse to overwrite a different file unless ``force``."""
-    from pasibot_pin.report.files import write_text_atomic
+    from pasibot_pin.files import write_text_atomic
 
     path = Path(path)
     if path.is_dir():

@@ -850,7 +850,7 @@ def export_html(
         html = viewer.static_html()
     finally:
         viewer.close()
-    from pasibot_pin.report.files import write_text_atomic
+    from pasibot_pin.files import write_text_atomic
 
     write_text_atomic(out, html)
     return Export(path=out, q=walk.q.copy(), fps=fps, walk=walk, paths=paths)
