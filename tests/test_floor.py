@@ -98,3 +98,24 @@ def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
     ours_heights = sim.contact_rows(ours.q[k])[0]
     mj_heights = [data.site(f"{side}_{p}").xpos[2] for side in ("right", "left") for p in ("heel", "toe")]
     np.testing.assert_allclose(ours_heights, mj_heights, atol=3e-3)
+
+
+def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsys):
+    """``pasibot simulate`` (floor by default): one outcome line per case, a CSV with t, hip_pitch_deg
+    and a contact-mode column per foot, a figure; never over existing files without --force."""
+    import csv
+
+    from pasibot_pin.__main__ import main
+    from pasibot_pin.dynamics.floor import MODES
+
+    out = tmp_path / "sim"
+    assert main(["simulate", "--scenario", "4", "--duration", "0.3", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert text.count("floor, ") == 4 and "wrote" in text
+    with (out / "floor_run4.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    assert {"t", "hip_pitch_deg", "right_mode", "left_mode", "right_heel_Fn", "left_toe_friction_use"} <= set(rows[0])
+    assert {r["right_mode"] for r in rows} <= set(MODES) and float(rows[-1]["t"]) <= 0.3 + 1e-9
+    assert (out / "floor_run4.png").stat().st_size > 10_000
+    assert main(["simulate", "--scenario", "4", "--duration", "0.3", "--out", str(out)]) == 2
+    assert "exists" in capsys.readouterr().err

@@ -444,7 +444,8 @@ def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
     from pasibot_pin.__main__ import main
 
     out = tmp_path / "sim"
-    argv = ["simulate", "--scenario", "4", "--steps", "1", "--no-cases", "--dt", "0.02", "--gif", "--out", str(out)]
+    argv = ["simulate", "--ground", "weld", "--scenario", "4", "--steps", "1", "--no-cases", "--dt", "0.02"]
+    argv += ["--gif", "--out", str(out)]
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "scenario run4" in text and "max |hip pitch|" in text
@@ -457,9 +458,9 @@ def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
     assert main(argv) == 2, "existing files are kept without --force"
     assert "--force" in capsys.readouterr().err
     assert main(argv + ["--force"]) == 0
-    assert main(["simulate", "--scenario", "9", "--out", str(out)]) == 2
+    assert main(["simulate", "--ground", "weld", "--scenario", "9", "--out", str(out)]) == 2
     assert "unknown scenario" in capsys.readouterr().err
-    quasi = ["simulate", "--scenario", "quasi-static", "--no-cases", "--out", str(out)]
+    quasi = ["simulate", "--ground", "weld", "--scenario", "quasi-static", "--no-cases", "--out", str(out)]
     assert main(quasi) == 0
     assert "equilibrium" in capsys.readouterr().out
     assert (out / "simulation_quasi-static.png").exists()

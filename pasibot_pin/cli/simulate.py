@@ -1,9 +1,10 @@
 """``pasibot simulate``: walk the spring biped with its hip pitch free (does the fitted spring hold the hip?).
 
-Writes into ``--out``: ``simulation_<scenario>.png`` (hip pitch of the fitted spring, no spring,
-half and twice the stiffness; ankle angles and motor torque of the fitted run),
-``simulation_<scenario>.csv`` (the fitted run's time series) and prints the excursions.
-Computed by :mod:`pasibot_pin.studies.simulation_study`, written by :mod:`pasibot_pin.report.simulation`.
+``--ground floor`` (default): both feet on a floor, heel and toe unilateral with Coulomb friction
+(:mod:`pasibot_pin.studies.floor_study`); writes ``floor_<scenario>.csv`` (the fitted case: t,
+hip_pitch_deg, right_mode, left_mode, forces, crank torques) and ``floor_<scenario>.png``, and
+prints each case's outcome. ``--ground weld``: the stance foot welded flat
+(:mod:`pasibot_pin.studies.simulation_study`); writes ``simulation_<scenario>.png`` and ``.csv``.
 """
 
 from __future__ import annotations
@@ -21,7 +22,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("simulate", help="forward-simulate the walking spring biped with the hip pitch free")
     p.add_argument("--scenario", default="1", help="seed scenario: quasi-static, 1, 2, 3 or 4 (default 1)")
-    p.add_argument("--steps", type=int, default=2, help="stance phases to walk (default 2)")
+    p.add_argument("--ground", choices=("floor", "weld"), default="floor", help="feet on a floor (default) or welded")
+    p.add_argument("--duration", type=float, default=10.0, help="floor: simulated time per case [s] (default 10)")
+    p.add_argument("--mu", type=float, default=0.8, help="floor: sole-floor friction coefficient (default 0.8)")
+    p.add_argument("--steps", type=int, default=None, help="weld: stance phases to walk (default 2)")
     p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
     p.add_argument("--stiffness", type=float, help="K_e [N.m/rad] (default: the inverse-dynamics fit)")
     p.add_argument("--rest-angle", type=float, help="beta0 [deg] (default: the inverse-dynamics fit)")
@@ -46,6 +50,11 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation
     from pasibot_pin.studies.simulation_study import SimulateSettings, check_fps, run_simulation, simulation_setup
 
+    if args.ground == "floor":
+        from pasibot_pin.cli.simulate_floor import run_floor
+
+        return run_floor(args)
+    args.steps = 2 if args.steps is None else args.steps
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")
     if args.gif or args.html:

@@ -50,6 +50,9 @@ ROLL_LIMIT = math.radians(60.0)
 """A foot standing on its heel or toe alone has rolled over it past this sole pitch [rad]."""
 SLIP_LIMIT = 0.02
 """A foot has slipped when its loaded points have slid this far in all while it bore weight [m]."""
+STEP_ADVANCE = 2.0
+"""A landing is a step when the foot lands at least this many crank lengths L ahead of where it
+last stood (a foot that lands where it stood has hopped, not stepped) [-]."""
 BEARING_SHARE = 0.25
 """A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
 swing toe does not count as a slip) [-]."""
@@ -109,7 +112,10 @@ class FloorResult:
         normal, tangential: contact forces (n, 4) [N], columns right heel, right toe, left heel, left toe.
         motor_torque: crank torques (n, 2) [N.m], right, left.
         touchdowns: (t, side, point) of every point that starts to carry load after carrying none.
-        steps: (t, side, ankle x [m]) of every foot that lands after a flight of its own (air -> loaded).
+        steps: (t, side, x, length) of every step: a foot that lands (air -> loaded) at least
+            :data:`STEP_ADVANCE` L ahead of where it last stood; x is where it lands (the middle of
+            its heel and toe) and length its distance ahead of the other foot [m].
+        landings: (t, side, x) of every landing, steps and hops alike [m].
         outcome: ``walks N steps`` (N landings, no failure), or the cause and time of the failure:
             the hip pitch beyond its limit, a foot rolled over its heel or toe, a foot slipped, a
             loop that cannot close, a contact problem the solver could not solve.
@@ -126,17 +132,18 @@ class FloorResult:
     tangential: np.ndarray
     motor_torque: np.ndarray
     touchdowns: list[tuple[float, str, str]] = field(default_factory=list)
-    steps: list[tuple[float, str, float]] = field(default_factory=list)
+    steps: list[tuple[float, str, float, float]] = field(default_factory=list)
+    landings: list[tuple[float, str, float]] = field(default_factory=list)
     outcome: str = ""
     failed: bool = False
 
     def step_lengths(self) -> np.ndarray:
-        """Ankle x from one landing to the next (any feet) [m]."""
-        return np.diff([x for _, _, x in self.steps])
+        """The landing foot's distance ahead of the other foot at each step [m]."""
+        return np.array([length for *_, length in self.steps])
 
     def step_durations(self) -> np.ndarray:
-        """Time from one landing to the next [s]."""
-        return np.diff([t for t, _, _ in self.steps])
+        """Time from one step to the next [s]."""
+        return np.diff([t for t, *_ in self.steps])
 
     def friction_use(self) -> np.ndarray:
         """|F_t| / F_n of each point (n, 4) [-] (0 where the point carries no load)."""
@@ -262,7 +269,11 @@ class FloorSimulator:
         rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
         modes: dict[str, list[str]] = {side: [] for side in SIDES}
         touchdowns: list[tuple[float, str, str]] = []
-        steps: list[tuple[float, str, float]] = []
+        steps: list[tuple[float, str, float, float]] = []
+        landings: list[tuple[float, str, float]] = []
+        along0 = self.contact_rows(q)[1]
+        stand = {side: float(np.mean(along0[2 * i : 2 * i + 2])) for i, side in enumerate(SIDES)}
+        advance = STEP_ADVANCE * self.robot.geometry.L
         loaded_before = np.zeros(2 * len(SIDES), dtype=bool)
         slid = np.zeros(len(SIDES))
         failure = ""
@@ -285,7 +296,11 @@ class FloorSimulator:
             for i, side in enumerate(SIDES):
                 pair = slice(2 * i, 2 * i + 2)
                 if loaded[pair].any() and not loaded_before[pair].any() and t > h:
-                    steps.append((t, side, float(np.mean(along[pair]))))
+                    x = float(np.mean(along[pair]))
+                    landings.append((t, side, x))
+                    if x > stand[side] + advance:
+                        steps.append((t, side, x, x - stand[SIDES[1 - i]]))
+                    stand[side] = x
                 if np.sum(normal[pair]) / h > BEARING_SHARE * self.weight:
                     slid[i] += h * float(np.max(np.where(loaded[pair], np.abs(slip[pair]), 0.0)))
                 pitch = math.atan2(gap[2 * i + 1] - gap[2 * i], along[2 * i + 1] - along[2 * i])
@@ -318,6 +333,7 @@ class FloorSimulator:
             motor_torque=np.array(rec["motor"]).reshape(-1, 2),
             touchdowns=touchdowns,
             steps=steps,
+            landings=landings,
             outcome=failure or f"walks {len(steps)} steps in {t:.3f} s",
             failed=bool(failure),
         )

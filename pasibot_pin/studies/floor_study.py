@@ -1,0 +1,137 @@
+"""The spring study on a real floor: run a scenario's spring cases with both feet free on the floor.
+
+For a seed scenario, the fitted ankle spring (the inverse-dynamics fit), no spring, half and
+twice its stiffness are each simulated by :class:`~pasibot_pin.dynamics.floor.FloorSimulator`
+from double support at theta = pi/2 (both feet flat where the geometry puts them, the velocity
+that keeps them there). Each case reports what happened: the contact mode of each foot over
+time, the landings, step lengths and durations, and the outcome (``walks N steps`` or the
+failure and its time). No files, no figures: :mod:`pasibot_pin.report.floor` writes them.
+
+Units: SI, angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs
+
+MAX_DURATION: float = 600.0
+"""The longest floor run a study accepts [s] (10 minutes of simulated walking)."""
+
+
+@dataclass(frozen=True)
+class FloorStudySettings:
+    """What to simulate on the floor.
+
+    Attributes:
+        scenario: ``quasi-static`` is refused (the cranks must turn); ``run1`` .. ``run4`` or ``1`` .. ``4``.
+        duration: simulated time of each case [s].
+        mu: sole-floor Coulomb friction [-].
+        dt: time step [s].
+        cases: all four spring cases, or the fitted spring only.
+
+    """
+
+    scenario: str = "run1"
+    duration: float = 10.0
+    mu: float = 0.8
+    dt: float = 1e-3
+    cases: bool = True
+
+    def __post_init__(self) -> None:
+        from pasibot_pin.model.scenarios import get_scenario
+
+        scenario = get_scenario(self.scenario)  # names an unknown scenario
+        if scenario.omega <= 0:
+            raise ValueError(f"scenario {scenario.name!r} does not walk (omega = 0): pick run1 .. run4")
+        if not (math.isfinite(self.duration) and 0 < self.duration <= MAX_DURATION):
+            raise ValueError(f"parameter 'duration' must be in (0, {MAX_DURATION:g}] s, got {self.duration!r}")
+        FloorSettings(mu=self.mu, dt=self.dt)  # names a bad mu or dt before any work
+
+
+@dataclass
+class FloorCase:
+    """One spring case on the floor: its label, spring and run."""
+
+    label: str
+    spring: AnkleSpring | None
+    result: FloorResult
+
+
+@dataclass
+class FloorStudy:
+    """A scenario's spring cases on the floor.
+
+    Attributes:
+        scenario: the scenario's name.
+        omega: crank speed [rad/s].
+        fit: the fitted spring.
+        cases: one :class:`FloorCase` per spring case, fitted first.
+        settings: the settings used.
+
+    """
+
+    scenario: str
+    omega: float
+    fit: AnkleSpring
+    cases: list[FloorCase] = field(default_factory=list)
+    settings: FloorStudySettings | None = None
+
+    def case(self, label: str) -> FloorCase:
+        """The case called ``label`` (``fitted``, ``no spring``, ``half K_e``, ``twice K_e``)."""
+        return next(c for c in self.cases if c.label == label)
+
+
+def floor_study(settings: FloorStudySettings, on_case: Callable[[FloorCase], None] | None = None) -> FloorStudy:
+    """Simulate the scenario's spring cases on the floor (see the module docstring)."""
+    inputs = scenario_inputs(settings.scenario)
+    study = FloorStudy(inputs.name, inputs.omega, inputs.fit, settings=settings)
+    cases = SPRING_CASES if settings.cases else SPRING_CASES[:1]
+    for label, factor in cases:
+        spring = inputs.fit.scaled(factor) if factor > 0 else None
+        floor = FloorSettings(omega=inputs.omega, spring=spring, mu=settings.mu, dt=settings.dt)
+        case = FloorCase(label, spring, FloorSimulator(inputs.robot, floor).run(settings.duration))
+        study.cases.append(case)
+        if on_case is not None:
+            on_case(case)
+    return study
+
+
+def floor_columns(result: FloorResult) -> dict[str, np.ndarray]:
+    """The CSV columns of a floor run.
+
+    t [s], hip_pitch_deg, hip_z_m, the contact mode of each foot (``right_mode``, ``left_mode``),
+    then the heel and toe normal and tangential forces [N], the friction use |F_t|/F_n and the
+    crank torques [N.m].
+    """
+    cols: dict[str, np.ndarray] = {
+        "t": result.t,
+        "hip_pitch_deg": np.degrees(result.hip_pitch),
+        "hip_z_m": result.q[:, 1],
+    }
+    for side in SIDES:
+        cols[f"{side}_mode"] = np.array(result.modes[side], dtype=object)
+    use = result.friction_use()
+    for k, name in enumerate(f"{side}_{point}" for side in SIDES for point in ("heel", "toe")):
+        cols[f"{name}_Fn"] = result.normal[:, k]
+        cols[f"{name}_Ft"] = result.tangential[:, k]
+        cols[f"{name}_friction_use"] = use[:, k]
+    for k, side in enumerate(SIDES):
+        cols[f"{side}_crank_torque"] = result.motor_torque[:, k]
+    return cols
+
+
+def case_summary(case: FloorCase) -> str:
+    """One line: the case, its outcome, the largest hip pitch and the landings."""
+    res = case.result
+    pitch = math.degrees(float(np.max(np.abs(res.hip_pitch)))) if len(res.t) else 0.0
+    lengths = res.step_lengths()
+    steps = f"; steps {', '.join(f'{x:+.3f}' for x in lengths[:4])} m" if len(lengths) else ""
+    return f"  floor, {case.label:10s}: {res.outcome}; max |hip pitch| {pitch:.1f} deg{steps}"
