@@ -342,14 +342,14 @@ def _shift(delta: float, free: list[float]) -> np.ndarray:
     return np.array([delta, delta] + [0.0] * len(free))
 
 
-def _closed(rows, robot, thetas, targets, swing_pitch, side, stance_x, angular) -> np.ndarray:
-    """Closed configurations (N, nq) along ``thetas``: the analytic assembly, polished by a batched Newton.
+def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular):
+    """(q (N, nq), stance weld): the analytic assembly along ``thetas``, to be polished by one batched Newton.
 
     The angles are unwrapped along the sweep, as a continuation would carry them.
     """
-    guess, _ = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
+    guess, weld = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
     guess[:, angular] = np.unwrap(guess[:, angular], axis=0)
-    return rows.project_many(guess, targets)[0]
+    return guess, weld
 
 
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
@@ -446,8 +446,7 @@ def inverse_dynamics(
             pin.framesForwardKinematics(model, robot.data, q_land)
             stance_x = float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
         # the analytic assembly of the whole stance, polished by one batched Newton
-        guess, weld = closure.analytic_configurations(robot, th, None, 0.0, swing_pitch, side, stance_x)
-        guess[:, angular] = np.unwrap(guess[:, angular], axis=0)  # angles carried along the sweep
+        guess, weld = _stance_guess(robot, th, swing_pitch, side, stance_x, angular)
         rs = robot.with_weld(side, weld)
         rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
         s_matrix = _actuation(rs, side, layout)
@@ -467,8 +466,11 @@ def inverse_dynamics(
             coms = []
             for j in offsets:
                 shifted = th + j * step
-                qj = q if j == 0 else _closed(rows, rs, shifted, targets + _shift(j * step, free), swing_pitch, side,
-                                              stance_x, angular)
+                if j == 0:
+                    qj = q
+                else:
+                    shifted_guess = _stance_guess(rs, shifted, swing_pitch, side, stance_x, angular)[0]
+                    qj = rows.project_many(shifted_guess, targets + _shift(j * step, free))[0]
                 coms.append(tree.coms.positions(qj))
             com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / omega) ** 2
             com_pos, com_jac, _, _ = tree.coms.evaluate(q)
