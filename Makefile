@@ -9,7 +9,7 @@ OUT ?= out
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
 	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e ".[dev,mujoco]"
+	$(PY) -m pip install --quiet -e ".[dev,mujoco,sweep]"
 	touch $@
 
 install: $(VENV)/.installed

@@ -241,3 +241,33 @@ def sole_angle_from_points(p: dict[str, Point], variant: str | Variant = "spring
     else:
         out = _angle(p["p6"], p["p13"]) + math.pi / 2
     return float(out) if np.ndim(out) == 0 else out
+
+
+def _between(a: Point, b: Point):
+    """Angle between the vectors a and b (rows), in [0, pi] [rad]."""
+    cross = a[..., 0] * b[..., 1] - a[..., 1] * b[..., 0]
+    dot = a[..., 0] * b[..., 0] + a[..., 1] * b[..., 1]
+    return np.abs(np.arctan2(cross, dot))
+
+
+def transmission_angles(p: dict[str, Point], variant: str | Variant = "spring") -> dict[str, np.ndarray]:
+    """Transmission angle of each closed loop, from the points of :func:`leg_points` [rad].
+
+    The angle between the two links that meet at the loop's closing joint: at 0 or pi the two
+    circles are tangent, the loop is singular (it locks or may switch branch). The
+    *distance to singularity* of a loop is min(gamma, pi - gamma).
+
+    Returns:
+        ``{loop: gamma}``: ``j2`` (coupler L2 and rocker L3 at joint 2), ``j5`` (L4 and L6 at the
+        knee 5) and, for the parallel extension, ``j4`` (the stabiliser L8 and the normal of the
+        slider line at joint 10: 0 or pi when L8 stands square to the slider, its dead point).
+        Arrays like the points' first axis.
+
+    """
+    out = {
+        "j2": _between(p["p1"] - p["p2"], p["p3"] - p["p2"]),
+        "j5": _between(p["p4"] - p["p5"], p["p8"] - p["p5"]),
+    }
+    if get_variant(variant).extension:
+        out["j4"] = _between(p["p4"] - p["p10"], np.broadcast_to(np.array([0.0, 1.0]), p["p10"].shape))
+    return out

@@ -94,6 +94,34 @@ def _qp(h: np.ndarray, g: np.ndarray, a_eq, b_eq, c_in: np.ndarray, u_in: np.nda
     return np.array(qp.results.x), qp.results.info.status
 
 
+def cop_metrics(wrench, s_heel: float, s_toe: float, pitch=0.0) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Centre of pressure, its margin inside the sole and the friction needed, for many wrenches.
+
+    Args:
+        wrench: (N, 3) ground wrenches on the foot at the ankle, world axes: Fx, Fz [N], CCW moment [N.m].
+        s_heel: heel position along the sole from the ankle [m] (negative: behind).
+        s_toe: toe position along the sole from the ankle [m].
+        pitch: sole pitch in the world (CCW) [rad], a float or (N,).
+
+    Returns:
+        (s_cop [m] along the sole from the ankle, margin [m]: signed distance of the CoP to the
+        nearer sole edge, negative outside; mu_needed = |F_t| / F_n [-]), each (N,). A wrench
+        that pulls the foot off the ground (F_n <= 0) has margin -inf and mu_needed inf.
+
+    """
+    w = np.atleast_2d(np.asarray(wrench, dtype=float))
+    pitch = np.asarray(pitch, dtype=float)
+    f_n = -np.sin(pitch) * w[:, 0] + np.cos(pitch) * w[:, 1]
+    f_t = np.cos(pitch) * w[:, 0] + np.sin(pitch) * w[:, 1]
+    pushing = f_n > 0
+    safe = np.where(pushing, f_n, 1.0)
+    off = np.where(w[:, 2] != 0, np.copysign(np.inf, w[:, 2]), -np.inf)
+    s_cop = np.where(pushing, w[:, 2] / safe, off)
+    margin = np.where(pushing, np.minimum(s_cop - s_heel, s_toe - s_cop), -np.inf)
+    mu_needed = np.where(pushing, np.abs(f_t) / safe, np.inf)
+    return s_cop, margin, mu_needed
+
+
 def distribute(
     wrench: Sequence[float],
     s_heel: float,
@@ -166,15 +194,7 @@ def distribute(
     forces = x.reshape(2, 2)
 
     f_n = float(n @ w[:2])
-    f_t = float(t @ w[:2])
-    if f_n > 0:
-        s_cop = w[2] / f_n
-        margin = min(s_cop - s_heel, s_toe - s_cop)
-        mu_needed = abs(f_t) / f_n
-    else:
-        s_cop = math.copysign(math.inf, w[2]) if w[2] != 0 else -math.inf
-        margin = -math.inf
-        mu_needed = math.inf
+    s_cop, margin, mu_needed = (float(x[0]) for x in cop_metrics(w[None, :], s_heel, s_toe, pitch))
     reasons: list[str] = []
     if not feasible:
         tol = FEASIBILITY_TOL * scale

@@ -271,21 +271,52 @@ def step_energy(
         (StepEnergy, the TorqueResult at [start, nodes..., end]).
 
     """
-    from pasibot_pin.dynamics.inverse import check_omega, inverse_dynamics
-    from pasibot_pin.studies.spring_fit import fit_spring
+    from pasibot_pin.dynamics.inverse import check_omega
 
     omega = check_omega(omega)
     if omega == 0:
         raise ValueError("parameter 'omega' must be > 0 for energy per step (a quasi-static step takes forever)")
     if not (STEP_START < theta_end <= STEP_END):
         raise ValueError(f"parameter 'theta_end' must be in (pi/2, 3 pi/2] [rad], got {theta_end!r}")
-    robot = variant_robot(variant, body_mass, body_com_dx)
+    return robot_step_energy(variant_robot(variant, body_mass, body_com_dx), omega, nodes, theta_end, fit)
+
+
+def robot_step_energy(
+    robot: PasibotRobot,
+    omega: float,
+    nodes: int = NODES,
+    theta_end: float = STEP_END,
+    fit: bool | object = True,
+    motors: str = "two",
+) -> tuple[StepEnergy, object]:
+    """Energy over one step of a given two-legged robot (the work of :func:`step_energy`).
+
+    Args:
+        robot: a two-legged robot of any variant (e.g. a design's).
+        omega: crank speed [rad/s], > 0.
+        nodes: Gauss-Legendre nodes.
+        theta_end: stance crank angle where the integration stops [rad].
+        fit: with a spring ankle: ``True`` fits the spring (K_e, beta0) on 61 uniform samples
+            of the same stance and speed; a :class:`~pasibot_pin.studies.spring_fit.SpringFit`
+            is used as given; ``False`` leaves the spring out.
+        motors: ``two`` or ``one`` (the inverse dynamics' motor layout).
+
+    Returns:
+        (StepEnergy, the TorqueResult at [start, nodes..., end]).
+
+    """
+    from pasibot_pin.dynamics.inverse import inverse_dynamics
+    from pasibot_pin.studies.spring_fit import fit_spring
+
     th, w = gauss_legendre(STEP_START, theta_end, nodes)
-    result = inverse_dynamics(robot, np.concatenate(([STEP_START], th, [theta_end])), omega, stance="right")
+    thetas = np.concatenate(([STEP_START], th, [theta_end]))
+    result = inverse_dynamics(robot, thetas, omega, stance="right", reactions=False, motors=motors)
     spring_fit = None
-    if fit and robot.spec.free_ankle:  # K_e, beta0 on 61 uniform samples of the right stance, both ends included
-        uniform = inverse_dynamics(robot, np.linspace(STEP_START, STEP_END, 61), omega, stance="right")
+    if robot.spec.free_ankle and fit is True:  # K_e, beta0 on 61 uniform samples of the right stance, ends included
+        uniform = inverse_dynamics(robot, np.linspace(STEP_START, STEP_END, 61), omega, stance="right", reactions=False)
         spring_fit = fit_spring(uniform.beta, uniform.Te, warn=False)
+    elif robot.spec.free_ankle and fit is not False:
+        spring_fit = fit
     return _step_energy(robot, result, w, omega, robot.variant, spring_fit), result
 
 
