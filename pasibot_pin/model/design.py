@@ -282,11 +282,17 @@ class Design:
         return path
 
 
-def design_robot(design: Design, legs: int = 2):
-    """The robot of ``design`` (:func:`pasibot_pin.model.robot.load` with its geometry, masses and inertia)."""
+def design_robot(design: Design, legs: int = 2, visuals: bool = True):
+    """The robot of ``design`` (:func:`pasibot_pin.model.robot.load` with its geometry, masses and inertia).
+
+    ``visuals=False`` skips the URDF text and the geometry models (design sweeps).
+    """
     from pasibot_pin.model.robot import load
 
-    return load(design.variant, legs, geometry=design.geometry(), masses=design.masses(), inertia=design.inertia)
+    return load(
+        design.variant, legs, geometry=design.geometry(), masses=design.masses(), inertia=design.inertia,
+        visuals=visuals,
+    )
 
 
 def load_design(path: str | os.PathLike) -> Design:

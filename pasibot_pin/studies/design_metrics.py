@@ -32,7 +32,8 @@ each crank):
   (weight x distance walked in the step).
 
 Infeasible designs (``feasible`` false, every metric NaN, ``reason`` says why, ``failure`` names
-the kind): ``assembly`` (a loop cannot close somewhere on the turn), ``singular`` (a loop within
+the kind): ``invalid`` (a combination the geometry rejects, e.g. L4 not longer than L7),
+``assembly`` (a loop cannot close somewhere on the turn), ``singular`` (a loop within
 :data:`SINGULAR_DEG` of a dead point, or a constraint Jacobian that loses rank), ``branch`` (the
 solved configuration left the assembly branch: knee forward, coupler below the line 1-3) and
 ``non-finite``.
@@ -93,7 +94,7 @@ METRICS: Mapping[str, MetricSpec] = {
 }
 """Every metric of :class:`DesignMetrics`, by column name."""
 
-FAILURES: tuple[str, ...] = ("", "assembly", "singular", "branch", "non-finite")
+FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "non-finite")
 """The kinds of infeasibility (``""``: feasible)."""
 
 
@@ -116,8 +117,12 @@ class DesignMetrics:
 
     def row(self) -> dict[str, float | str | bool]:
         """The metrics, then ``feasible``, ``failure`` and ``reason`` (a sweep table's right half)."""
-        return {**{k: float(self.values.get(k, math.nan)) for k in METRICS}, "feasible": self.feasible,
-                "failure": self.failure, "reason": self.reason}
+        return {
+            **{k: float(self.values.get(k, math.nan)) for k in METRICS},
+            "feasible": self.feasible,
+            "failure": self.failure,
+            "reason": self.reason,
+        }
 
     def __getitem__(self, name: str) -> float:
         return self.values[name]
@@ -146,7 +151,10 @@ def path_metrics(design: Design, samples: int = PATH_SAMPLES) -> dict[str, float
     """
     from pasibot_pin.model.assembly import leg_points, sole_angle_from_points, transmission_angles, wrap
 
-    geometry = design.geometry()
+    try:
+        geometry = design.geometry()
+    except ValueError as err:
+        raise Infeasible("invalid", str(err)) from None
     turn = np.linspace(0.0, 2 * math.pi, samples, endpoint=False)
     stance = np.linspace(math.pi / 2, 3 * math.pi / 2, samples // 2 + 1)  # both ends exact
     try:
@@ -217,10 +225,14 @@ def dynamic_metrics(design: Design, robot=None) -> dict[str, float]:
     from pasibot_pin.studies.spring_study import toppling_stiffness
 
     try:
-        robot = design_robot(design, 2) if robot is None else robot
+        robot = design_robot(design, 2, visuals=False) if robot is None else robot
         omega = design.omega
         uniform = inverse_dynamics(
-            robot, crank_grid(*STANCE_RANGE, STANCE_SAMPLES), omega, stance="right", reactions=False,
+            robot,
+            crank_grid(*STANCE_RANGE, STANCE_SAMPLES),
+            omega,
+            stance="right",
+            reactions=False,
             motors=design.motors,
         )
         _check_branch(robot, uniform)
@@ -229,8 +241,9 @@ def dynamic_metrics(design: Design, robot=None) -> dict[str, float]:
         if robot.spec.free_ankle:
             fit = fit_spring(uniform.beta, uniform.Te, warn=False)
             stiffness = fit.K_e if stiffness is None else stiffness
-        energy, nodes = robot_step_energy(robot, max(omega, 1e-3), fit=fit if fit is not None else False,
-                                          motors=design.motors)
+        energy, nodes = robot_step_energy(
+            robot, max(omega, 1e-3), fit=fit if fit is not None else False, motors=design.motors
+        )
         _x, _z, pitch, s_heel, s_toe = sole_geometry(robot, uniform.q[0], "right")  # welded: one sole pose
         _s_cop, margin, mu_needed = cop_metrics(uniform.ground, s_heel, s_toe, pitch)
         topple = toppling_stiffness(robot) if robot.spec.free_ankle else math.nan
@@ -290,3 +303,20 @@ def design_metrics(design: Design) -> DesignMetrics:
     if bad:
         return infeasible("non-finite", f"non-finite {', '.join(bad)}")
     return DesignMetrics({k: values[k] for k in METRICS})
+
+
+def pareto_mask(x: np.ndarray, y: np.ndarray, senses: tuple[str, str] = ("min", "max")) -> np.ndarray:
+    """True for the points no other point beats in both ``x`` and ``y`` (NaN points are never on it)."""
+    sx = 1.0 if senses[0] == "min" else -1.0
+    sy = 1.0 if senses[1] == "min" else -1.0
+    a, b = sx * np.asarray(x, dtype=float), sy * np.asarray(y, dtype=float)
+    ok = np.isfinite(a) & np.isfinite(b)
+    mask = np.zeros(len(a), dtype=bool)
+    idx = np.flatnonzero(ok)
+    order = idx[np.lexsort((b[idx], a[idx]))]  # by a, then b
+    best = math.inf
+    for i in order:
+        if b[i] < best:
+            mask[i] = True
+            best = b[i]
+    return mask

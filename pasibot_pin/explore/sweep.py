@@ -1,0 +1,220 @@
+"""A design sweep: every design of a plan, its metrics, one table, its figures, the best designs.
+
+:func:`run_sweep` evaluates the designs of a :class:`~pasibot_pin.explore.plan.SweepPlan` with
+:func:`~pasibot_pin.studies.design_metrics.design_metrics` on an executor
+(:mod:`~pasibot_pin.explore.executors`), streams the rows to disk and resumes an interrupted run
+(:mod:`~pasibot_pin.explore.store`). :func:`write_figures` draws the Pareto front and the
+sensitivity map; :func:`export_best` writes the best designs as design files, URDF and MJCF.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from pasibot_pin.explore.plan import SweepPlan
+from pasibot_pin.explore.store import ResultStore, column
+from pasibot_pin.studies.design_metrics import pareto_mask  # noqa: F401 (re-exported)
+
+CHUNK: int = 4
+"""Designs per task (a task's result comes back as one piece)."""
+
+
+def evaluate_designs(base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float]]]) -> list[dict]:
+    """Rows of ``items`` (index, values of ``names``) on the ``base`` design; runs in a worker.
+
+    A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
+    """
+    from pasibot_pin.explore.store import design_row
+    from pasibot_pin.model.design import Design
+    from pasibot_pin.studies.design_metrics import design_metrics, infeasible
+
+    base_design = Design.from_dict(base)
+    rows = []
+    for index, values in items:
+        changes = {name: float(v) for name, v in zip(names, values)}
+        try:
+            design = base_design.with_(**changes)
+        except ValueError as err:
+            rows.append(design_row(index, {**base_design.values(), **changes}, infeasible("invalid", str(err)).row()))
+            continue
+        rows.append(design_row(index, design.values(), design_metrics(design).row()))
+    return rows
+
+
+@dataclass
+class SweepResult:
+    """What a sweep produced.
+
+    Attributes:
+        folder: the run's folder.
+        plan: its plan.
+        table: every row (a pyarrow Table, sorted by ``index``).
+        evaluated: designs evaluated by this call (the others were on disk already).
+        results: path of ``results.parquet``.
+
+    """
+
+    folder: Path
+    plan: SweepPlan
+    table: object
+    evaluated: int
+    results: Path
+
+    @property
+    def feasible(self) -> int:
+        """The number of feasible designs."""
+        return int(np.sum(column(self.table, "feasible")))
+
+
+def run_sweep(
+    plan: SweepPlan,
+    folder: Path,
+    *,
+    workers: int | None = None,
+    dask: str | None = None,
+    force: bool = False,
+    csv: bool = False,
+    progress: bool = True,
+    chunk: int = CHUNK,
+    on_progress: Callable[[int, int], None] | None = None,
+) -> SweepResult:
+    """Evaluate every design of ``plan`` into ``folder``; resume what an earlier run left.
+
+    Args:
+        plan: the designs.
+        folder: the run's folder (created; resumed when it holds the same plan).
+        workers: processes (default one per core).
+        dask: ``None``, ``"local"`` or a Dask scheduler address (:func:`~pasibot_pin.explore.executors.run_tasks`).
+        force: start over in a folder that holds another run or other files.
+        csv: also write ``results.csv``.
+        progress: show a progress bar (tqdm) with the ETA.
+        chunk: designs per task.
+        on_progress: called with (done, total) after each finished task.
+
+    Returns:
+        A :class:`SweepResult`.
+
+    Raises:
+        FileExistsError: ``folder`` holds another run or other files and ``force`` is false.
+
+    """
+    from pasibot_pin.explore.executors import check_workers, run_tasks
+
+    if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
+        raise ValueError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
+    workers = check_workers(workers)
+    points = plan.points()
+    store = ResultStore(Path(folder), {"kind": "sweep", **plan.to_dict()}, len(points), force=force)
+    todo = [(i, [float(x) for x in row]) for i, row in enumerate(points) if i not in store.done]
+    tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk]) for k in range(0, len(todo), chunk)]
+    bar = _progress(len(points), len(points) - len(todo), progress)
+
+    def on_result(rows: list[dict]) -> None:
+        store.add(rows)
+        bar.update(len(rows))
+        if on_progress is not None:
+            on_progress(len(store.done), len(points))
+
+    try:
+        run_tasks(evaluate_designs, tasks, on_result, workers=workers, dask=dask)
+    finally:
+        store.flush()  # every finished design is kept, even when interrupted
+        bar.close()
+    results = store.finish(csv=csv)
+    return SweepResult(Path(folder), plan, store.table(), len(todo), results)
+
+
+def _progress(total: int, done: int, enabled: bool):
+    from tqdm.auto import tqdm
+
+    return tqdm(total=total, initial=done, unit="design", disable=not enabled, smoothing=0.1, dynamic_ncols=True)
+
+
+# --------------------------------------------------------------------------- after the run
+def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[str, str] | None = None) -> list[Path]:
+    """``pareto.png`` and ``sensitivity.png`` of a results table into ``folder``."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pasibot_pin.files import atomic_path
+    from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity
+
+    written = []
+    figures = (
+        ("pareto.png", lambda: plot_pareto(table, *(objectives or ("peak_crank_torque_Nm", "stride_m")))),
+        ("sensitivity.png", lambda: plot_sensitivity(table, varied)),
+    )
+    for name, draw in figures:
+        fig = draw()
+        with atomic_path(Path(folder) / name) as tmp:
+            fig.savefig(tmp, dpi=120, format="png")
+        matplotlib.pyplot.close(fig)
+        written.append(Path(folder) / name)
+    return written
+
+
+def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callable | None = None) -> list[int]:
+    """Row numbers of the ``count`` best feasible designs by metric ``by`` (``sense`` min or max)."""
+    from pasibot_pin.studies.design_metrics import METRICS
+
+    if by not in METRICS:
+        raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(METRICS)}")
+    values = column(table, by).astype(float)
+    ok = column(table, "feasible").astype(bool) & np.isfinite(values)
+    if where is not None:
+        ok &= np.asarray(where(table), dtype=bool)
+    idx = np.flatnonzero(ok)
+    key = values[idx] if sense == "min" else -values[idx]
+    return [int(i) for i in idx[np.argsort(key, kind="stable")][:count]]
+
+
+def design_of_row(table, row: int):
+    """The :class:`~pasibot_pin.model.design.Design` of one table row."""
+    from pasibot_pin.explore.store import parameter_names
+    from pasibot_pin.model.design import Design
+
+    values = {}
+    for name in parameter_names():
+        value = table.column(name)[row].as_py()
+        values[name] = None if isinstance(value, float) and math.isnan(value) else value
+    return Design.from_dict(values)
+
+
+def export_best(table, rows: Sequence[int], folder: Path) -> list[Path]:
+    """Write each row's design as ``NN_index<i>.toml``, ``.urdf`` and ``.xml`` (MJCF) into ``folder``."""
+    from pasibot_pin.files import write_text_atomic
+    from pasibot_pin.model.description import render_urdf
+    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
+    from pasibot_pin.studies.spring_fit import design_spring
+
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    written = []
+    for rank, row in enumerate(rows, start=1):
+        design = design_of_row(table, row)
+        stem = folder / f"{rank:02d}_index{int(table.column('index')[row].as_py())}"
+        written.append(design.save(stem.with_suffix(".toml"), force=True))
+        written.append(
+            write_text_atomic(
+                stem.with_suffix(".urdf"), render_urdf(design.variant, 2, design.geometry(), design.masses())
+            )
+        )
+        robot = design_robot(design, 2)
+        spring = design_spring(design, robot)
+        springs = (
+            {}
+            if spring is None
+            else {
+                "spring_stiffness": spring.stiffness,
+                "spring_rest_angle": spring.rest_angle,
+                "spring_damping": spring.damping,
+            }
+        )
+        written.append(write_text_atomic(stem.with_suffix(".xml"), to_mjcf(robot, MjcfOptions(**springs))))
+    return written

@@ -1,0 +1,148 @@
+"""The kinematic tree of any geometry without rendering the xacro each time (for design sweeps).
+
+Rendering the xacro costs about 70 ms, most of a design's evaluation in a sweep. But every joint
+and frame origin in ``urdf/pasibot.urdf.xacro`` is a linear combination of a few lengths (L, the
+link lengths L0 .. L13, the sole's toe and heel, the hip half-width), and every orientation is a
+constant. So the tree of any geometry is the seed's tree with its translations replaced by
+
+    t(x) = t(x0) + A (x - x0),     x = :func:`length_vector` (geometry),
+
+where A is *measured on the xacro itself*: one rendering per length, each length changed in
+turn by 5 % (:func:`placement_map`, once per variant and leg count and process). The xacro stays the
+only source; this module never writes a number of its own. :func:`placement_map` checks the map
+on a rendering at an unrelated geometry and refuses to work (RuntimeError) if any translation
+differs by more than :data:`CHECK_TOL` relative to L; ``tests/test_design_metrics.py`` checks it
+on random geometries against :func:`pasibot_pin.model.robot.load`.
+
+Inertias are not part of the map: :func:`pasibot_pin.model.robot.apply_masses` sets them all.
+"""
+
+from __future__ import annotations
+
+import functools
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.model.params import Geometry, percentage_mass_model
+from pasibot_pin.model.variants import get_variant
+
+STEP: float = 0.05
+"""Relative change of each length when the map is measured (the map is exact: any step works
+while the geometry stays valid)."""
+
+CHECK_TOL: float = 1e-12
+"""Largest translation error of the map at the check geometry, relative to L [-]."""
+
+
+def length_names() -> tuple[str, ...]:
+    """The lengths the tree's translations are linear in: L, l0 .. l13, foot_toe, foot_heel, hip_half_width."""
+    return ("L", *(f"l{i}" for i in range(14)), "foot_toe", "foot_heel", "hip_half_width")
+
+
+def length_vector(geometry: Geometry, variant: str) -> np.ndarray:
+    """The lengths of :func:`length_names` for ``geometry`` [m]."""
+    toe, heel = geometry.foot_extent(variant)
+    return np.array(
+        [geometry.L, *(geometry.length(i) for i in range(14)), toe, heel, geometry.hip_half_width], dtype=float
+    )
+
+
+def _geometry_of(x: np.ndarray, variant: str) -> Geometry:
+    """A geometry whose :func:`length_vector` is ``x``."""
+    L = float(x[0])
+    ratios = {f"r{i}": float(x[1 + i]) / L for i in range(1, 14)}
+    toe, heel = float(x[15]), float(x[16])
+    sole = (
+        {"parallel_toe": toe / L, "parallel_heel": heel / L}
+        if get_variant(variant).extension
+        else {
+            "foot_toe": toe / L,
+            "foot_heel": heel / L,
+        }
+    )
+    return Geometry(L=L, K=float(x[1]) / L, ratios=ratios, hip_half_width=float(x[17]), **sole)
+
+
+def _tree(variant: str, legs: int, geometry: Geometry) -> pin.Model:
+    from pasibot_pin.model.description import render_urdf
+    from pasibot_pin.model.robot import ROOT_JOINT_NAME, planar_root_joint
+
+    text = render_urdf(variant, legs, geometry, percentage_mass_model(geometry, variant))
+    if legs == 2:
+        return pin.buildModelFromXML(text, planar_root_joint(), ROOT_JOINT_NAME)
+    return pin.buildModelFromXML(text)
+
+
+def _translations(model: pin.Model) -> np.ndarray:
+    joints = [model.jointPlacements[j].translation for j in range(model.njoints)]
+    frames = [f.placement.translation for f in model.frames]
+    return np.array(joints + frames)
+
+
+@dataclass(frozen=True)
+class PlacementMap:
+    """The seed's tree and the linear map from lengths to its translations.
+
+    Attributes:
+        model: the seed geometry's tree (inertias as rendered; :func:`tree` resets them).
+        x0: its :func:`length_vector` [m].
+        t0: its translations, joints then frames (n, 3) [m].
+        A: d t / d x (n, 3, len(x0)) [-].
+
+    """
+
+    model: pin.Model
+    x0: np.ndarray
+    t0: np.ndarray
+    A: np.ndarray
+
+    def translations(self, x: np.ndarray) -> np.ndarray:
+        """Every joint and frame translation (n, 3) [m] for the lengths ``x``."""
+        return self.t0 + self.A @ (np.asarray(x, dtype=float) - self.x0)
+
+
+@functools.cache
+def placement_map(variant: str, legs: int) -> PlacementMap:
+    """The :class:`PlacementMap` of a variant and leg count, measured on the xacro (cached).
+
+    Raises:
+        RuntimeError: the translations are not linear in the lengths (the xacro changed in a
+            way this module does not support): the map disagrees with a direct rendering.
+
+    """
+    base = Geometry()
+    x0 = length_vector(base, variant)
+    model = _tree(variant, legs, base)
+    t0 = _translations(model)
+    columns = []
+    for k in range(len(x0)):
+        x = x0.copy()
+        x[k] *= 1.0 + STEP
+        columns.append((_translations(_tree(variant, legs, _geometry_of(x, variant))) - t0) / (x[k] - x0[k]))
+    out = PlacementMap(model, x0, t0, np.stack(columns, axis=-1))
+    # check at an unrelated geometry (every length changed at once)
+    x = x0 * (1.0 + 0.03 * np.cos(np.arange(len(x0))))
+    err = np.max(np.abs(_translations(_tree(variant, legs, _geometry_of(x, variant))) - out.translations(x)))
+    if err > CHECK_TOL * x[0]:
+        raise RuntimeError(f"the xacro's translations are not linear in the lengths (error {err:.3g} m)")
+    return out
+
+
+def tree(variant: str, legs: int, geometry: Geometry) -> pin.Model:
+    """The kinematic tree of ``geometry`` (a copy of the seed's with its translations mapped)."""
+    spec = get_variant(variant)
+    pmap = placement_map(spec.name, legs)
+    t = pmap.translations(length_vector(geometry, spec.name))
+    model = pin.Model(pmap.model)
+    for j in range(model.njoints):
+        placement = model.jointPlacements[j]
+        placement.translation = t[j]
+        model.jointPlacements[j] = placement
+    for i, frame in enumerate(model.frames):
+        placement = frame.placement
+        placement.translation = t[model.njoints + i]
+        frame.placement = placement
+        model.frames[i] = frame
+    return model

@@ -1,0 +1,105 @@
+"""Figures of a design sweep: the Pareto front of two metrics, and which parameter drives which metric."""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+
+
+def _label(name: str) -> str:
+    from pasibot_pin.model.design import SPECS
+    from pasibot_pin.studies.design_metrics import METRICS
+
+    if name in METRICS:
+        unit = METRICS[name].unit
+        return f"{name} [{unit}]"
+    if name in SPECS:
+        return f"{name} [{SPECS[name].unit}]"
+    return name
+
+
+def _values(table, name: str) -> np.ndarray:
+    return np.asarray(table.column(name).to_numpy(zero_copy_only=False), dtype=float)
+
+
+def plot_pareto(table, x: str = "peak_crank_torque_Nm", y: str = "stride_m", ax=None, color: str = "cop_margin_m"):
+    """Every feasible design in the (x, y) plane, the Pareto front (x as low, y as high as can be) marked.
+
+    Args:
+        table: a sweep's results (pyarrow Table).
+        x: the metric along x (lower is better unless its ``sense`` in
+            :data:`~pasibot_pin.studies.design_metrics.METRICS` says otherwise).
+        y: the metric along y (higher is better unless its ``sense`` says otherwise).
+        ax: axes to draw on (default: a new figure).
+        color: the metric that colours the points.
+
+    Returns:
+        The figure.
+
+    """
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.studies.design_metrics import METRICS, pareto_mask
+
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(6.4, 4.6), layout="constrained")
+    fig = ax.figure
+    ok = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
+    xs, ys, cs = _values(table, x)[ok], _values(table, y)[ok], _values(table, color)[ok]
+    senses = (METRICS[x].sense or "min", METRICS[y].sense or "max")
+    front = pareto_mask(xs, ys, senses)
+    points = ax.scatter(xs, ys, c=cs, s=12, cmap="viridis", label=f"feasible designs ({ok.sum()} of {len(ok)})")
+    fig.colorbar(points, ax=ax, label=_label(color))
+    order = np.argsort(xs[front])
+    ax.plot(xs[front][order], ys[front][order], "o-", color="crimson", ms=4, lw=1.2, label="Pareto front")
+    ax.set_xlabel(_label(x))
+    ax.set_ylabel(_label(y))
+    ax.set_title(f"{x} ({senses[0]}) against {y} ({senses[1]})")
+    ax.legend(loc="best", fontsize=8)
+    ax.grid(alpha=0.3)
+    return fig
+
+
+def rank_correlations(table, varied: Sequence[str], metrics: Sequence[str]) -> np.ndarray:
+    """Spearman rank correlation of each varied parameter (rows) with each metric (columns), feasible designs."""
+    from scipy.stats import spearmanr
+
+    ok = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
+    out = np.full((len(varied), len(metrics)), np.nan)
+    if ok.sum() < 3:
+        return out
+    for i, p in enumerate(varied):
+        for j, m in enumerate(metrics):
+            a, b = _values(table, p)[ok], _values(table, m)[ok]
+            if np.ptp(a) > 0 and np.ptp(b) > 0:
+                out[i, j] = spearmanr(a, b).statistic
+    return out
+
+
+def plot_sensitivity(table, varied: Sequence[str], metrics: Sequence[str] | None = None, ax=None):
+    """Heat map of the rank correlation of every varied parameter with every metric (-1 .. 1).
+
+    Returns:
+        The figure.
+
+    """
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.studies.design_metrics import METRICS
+
+    metrics = list(metrics or [m for m in METRICS if np.isfinite(_values(table, m)).any()])
+    rho = rank_correlations(table, varied, metrics)
+    if ax is None:
+        fig, ax = plt.subplots(figsize=(1.0 + 0.55 * len(metrics), 1.6 + 0.4 * len(varied)), layout="constrained")
+    fig = ax.figure
+    image = ax.imshow(rho, cmap="RdBu_r", vmin=-1, vmax=1, aspect="auto")
+    ax.set_xticks(range(len(metrics)), [_label(m) for m in metrics], rotation=60, ha="right", fontsize=8)
+    ax.set_yticks(range(len(varied)), [_label(p) for p in varied], fontsize=8)
+    for i in range(rho.shape[0]):
+        for j in range(rho.shape[1]):
+            if np.isfinite(rho[i, j]):
+                ax.text(j, i, f"{rho[i, j]:.2f}", ha="center", va="center", fontsize=6)
+    fig.colorbar(image, ax=ax, label="Spearman rank correlation [-]")
+    ax.set_title("Which parameter drives which metric (feasible designs)")
+    return fig
