@@ -15,4 +15,5 @@ COMMANDS: list[str] = [
     "simulate",
     "contact",
     "energy",
+    "sweep",
 ]

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 
 from pasibot_pin.explore.plan import SweepPlan
-from pasibot_pin.explore.store import ResultStore, column
+from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column
 from pasibot_pin.studies.design_metrics import pareto_mask  # noqa: F401 (re-exported)
 
 CHUNK: int = 4
@@ -125,7 +125,9 @@ def run_sweep(
     finally:
         store.flush()  # every finished design is kept, even when interrupted
         bar.close()
-    results = store.finish(csv=csv)
+    results = Path(folder) / RESULTS
+    if todo or not results.is_file() or (csv and not (Path(folder) / RESULTS_CSV).is_file()):
+        results = store.finish(csv=csv)  # a complete run's table is never rewritten
     return SweepResult(Path(folder), plan, store.table(), len(todo), results)
 
 

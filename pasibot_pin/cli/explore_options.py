@@ -1,0 +1,80 @@
+"""Options and steps shared by ``pasibot sweep`` and ``pasibot optimize``."""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+
+def add_explore_options(p: argparse.ArgumentParser) -> None:
+    """``--out``, ``--vary``, ``--design``, executors, outputs and the best designs."""
+    p.add_argument("--out", type=Path, required=True, help="folder of the run (created; resumed if it holds one)")
+    p.add_argument(
+        "--vary",
+        action="append",
+        default=None,
+        metavar="NAME=LO:HI",
+        help="a parameter and its range (repeatable; default: K, r4, r5, foot_toe, foot_heel, body_com_dx, body_mass)",
+    )
+    p.add_argument("--design", type=Path, default=None, help="base design file (.toml/.json; default the seed's)")
+    p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    p.add_argument("--dask", default=None, metavar="ADDRESS", help="'local' (a LocalCluster) or a scheduler address")
+    p.add_argument("--csv", action="store_true", help="also write results.csv")
+    p.add_argument("--best", type=int, default=3, help="export the N best designs as TOML, URDF, MJCF (default 3)")
+    p.add_argument(
+        "--by",
+        default="peak_crank_torque_Nm:min",
+        metavar="METRIC[:min|max]",
+        help="how the best designs are ranked (default peak_crank_torque_Nm:min)",
+    )
+    p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    p.add_argument("--force", action="store_true", help="replace another run (or other files) in --out")
+
+
+def parse_by(text: str) -> tuple[str, str]:
+    """``METRIC[:min|max]`` -> (metric, sense); ValueError naming --by."""
+    from pasibot_pin.studies.design_metrics import METRICS
+
+    name, _, sense = str(text).partition(":")
+    sense = sense or METRICS.get(name, None) and METRICS[name].sense or "min"
+    if name not in METRICS:
+        raise ValueError(f"--by {text!r}: unknown metric {name!r}; valid: {', '.join(METRICS)}")
+    if sense not in ("min", "max"):
+        raise ValueError(f"--by {text!r}: the sense must be min or max")
+    return name, sense
+
+
+def start_run(args: argparse.Namespace):
+    """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
+    from pasibot_pin.cli.common import check_output_folder
+    from pasibot_pin.explore.executors import check_workers
+    from pasibot_pin.explore.plan import ranges_or_default
+    from pasibot_pin.model.design import Design, load_design
+
+    check_output_folder(args.out, "--out")
+    base = load_design(args.design) if args.design is not None else Design()
+    ranges = ranges_or_default(args.vary)
+    check_workers(args.workers)
+    if isinstance(args.best, bool) or not 0 <= args.best <= 100:
+        raise ValueError(f"--best must be in [0, 100], got {args.best!r}")
+    return base, ranges, parse_by(args.by)
+
+
+def finish_run(args: argparse.Namespace, table, varied, by: tuple[str, str], what: str) -> None:
+    """Figures, the best designs, a summary line."""
+    import numpy as np
+
+    from pasibot_pin.explore.sweep import best_rows, export_best, write_figures
+
+    out = Path(args.out)
+    figures = write_figures(table, out, varied)
+    feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))
+    print(f"{what}; {table.num_rows} in {out / 'results.parquet'}, {feasible} feasible")
+    print(f"figures: {', '.join(str(f) for f in figures)}")
+    rows = best_rows(table, by[0], by[1], args.best)
+    if rows:
+        export_best(table, rows, out / "best")
+        for rank, row in enumerate(rows, 1):
+            value = table.column(by[0])[row].as_py()
+            print(f"  best {rank}: index {table.column('index')[row].as_py()}, {by[0]} = {value:.4g}")
+        print(f"best designs (TOML, URDF, MJCF): {out / 'best'}")

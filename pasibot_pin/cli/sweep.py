@@ -1,0 +1,50 @@
+"""``pasibot sweep``: evaluate many designs (Latin hypercube or grid), one table, resumable.
+
+Every design is the base design (the seed's, or ``--design FILE``) with the ``--vary``
+parameters set; its metrics (path, torques, spring, contact, energy) go in one row of
+``OUT/results.parquet``. An interrupted run keeps every finished design: run the same command
+again to continue. ``--dask local`` runs on a Dask LocalCluster, ``--dask tcp://HOST:8786`` on a
+cluster (``dask scheduler`` on one machine, ``dask worker tcp://HOST:8786`` on each).
+"""
+
+from __future__ import annotations
+
+import argparse
+from pathlib import Path
+
+from pasibot_pin.cli.explore_options import add_explore_options, finish_run, start_run
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the subcommand."""
+    p = sub.add_parser("sweep", help="evaluate many designs into one table (resumable)", description=__doc__)
+    p.add_argument("--n", type=int, default=100, help="number of designs (grid: about n) (default 100)")
+    p.add_argument("--method", default="lhs", choices=("lhs", "grid"), help="Latin hypercube or grid (default lhs)")
+    p.add_argument("--seed", type=int, default=0, help="the Latin hypercube's random seed (default 0)")
+    add_explore_options(p)
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check every input, run the sweep, write the table, figures and best designs."""
+    from pasibot_pin.explore.plan import SweepPlan
+    from pasibot_pin.explore.sweep import run_sweep
+
+    base, ranges, by = start_run(args)
+    plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base)
+    out = Path(args.out)
+    try:
+        result = run_sweep(
+            plan,
+            out,
+            workers=args.workers,
+            dask=args.dask,
+            force=args.force,
+            csv=args.csv,
+            progress=not args.no_progress,
+        )
+    except KeyboardInterrupt:
+        print(f"pasibot sweep: stopped; the finished designs are kept in {out}: run the same command to continue")
+        raise
+    finish_run(args, result.table, plan.names, by, f"{result.evaluated} designs evaluated")
+    return 0
