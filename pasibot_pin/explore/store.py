@@ -10,7 +10,7 @@ A run's folder holds:
   run is complete.
 
 Rows: ``index``, every parameter of the design record by its flat name (``variant``, ``L``, ``K``,
-``r1`` .. ``r13``, ...; NaN for an unset optional one), every metric of
+``r1`` .. ``r13``, ...; null for an unset optional one), every metric of
 :data:`~pasibot_pin.studies.design_metrics.METRICS`, then ``feasible``, ``failure`` and
 ``reason``; a study may add columns of its own (``trial``).
 """
@@ -18,7 +18,6 @@ Rows: ``index``, every parameter of the design record by its flat name (``varian
 from __future__ import annotations
 
 import json
-import math
 import shutil
 import time
 from collections.abc import Iterable, Mapping, Sequence
@@ -58,9 +57,9 @@ def schema(extra: Mapping[str, str] | None = None):
 
 
 def design_row(index: int, values: Mapping[str, object], metrics_row: Mapping[str, object], **extra) -> dict:
-    """One table row: the design's flat values (None -> NaN), any extra columns, its metrics."""
+    """One table row: the design's flat values (None: null), any extra columns, its metrics."""
     row: dict[str, object] = {"index": int(index)}
-    row.update({k: (math.nan if v is None else v) for k, v in values.items()})
+    row.update(values)  # an unset optional parameter (None) is a null
     row.update(extra)
     row.update(metrics_row)
     return row
@@ -123,7 +122,7 @@ class ResultStore:
                     f"--out {folder} holds a different run ({PLAN_FILE} differs); "
                     "use another folder, or --force to replace it"
                 )
-        elif folder.is_dir() and any(folder.iterdir()):
+        elif not force and folder.is_dir() and any(folder.iterdir()):
             raise FileExistsError(f"--out {folder} is not empty and holds no run; use another folder or --force")
         (folder / PARTS).mkdir(parents=True, exist_ok=True)
         if not saved.is_file():

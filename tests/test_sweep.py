@@ -1,0 +1,174 @@
+"""Design sweeps: the table, resume after an interruption, executors bit for bit, bad input."""
+
+from __future__ import annotations
+
+import json
+import subprocess
+import sys
+
+import numpy as np
+import pyarrow as pa
+import pyarrow.parquet as pq
+import pytest
+
+from pasibot_pin.explore.plan import Range, SweepPlan, parse_range
+from pasibot_pin.explore.store import parameter_names
+from pasibot_pin.explore.sweep import best_rows, design_of_row, run_sweep
+from pasibot_pin.model.design import load_design
+from pasibot_pin.studies.design_metrics import METRICS, design_metrics, pareto_mask
+
+
+def bits(table) -> bytes:
+    """The table as Arrow IPC bytes: equal bytes are equal bits (NaN included)."""
+    sink = pa.BufferOutputStream()
+    with pa.ipc.new_stream(sink, table.schema) as writer:
+        writer.write_table(table)
+    return sink.getvalue().to_pybytes()
+
+
+PLAN = SweepPlan(ranges=(Range("K", 1.7, 2.5), Range("foot_toe", 1.0, 2.5)), n=6, seed=3)
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """The plan run in this process, in one go."""
+    folder = tmp_path_factory.mktemp("ref")
+    return run_sweep(PLAN, folder, workers=1, progress=False)
+
+
+def test_table_has_every_parameter_and_metric(reference):
+    names = reference.table.column_names
+    assert names[0] == "index"
+    assert names[1 : 1 + len(parameter_names())] == parameter_names()  # named as in the design record
+    for metric in METRICS:
+        assert metric in names
+    assert reference.table.num_rows == PLAN.n
+    assert json.loads((reference.folder / "plan.json").read_text())["n"] == PLAN.n
+    # each row is the design's own metrics, and its parameters rebuild the design
+    row = 2
+    design = design_of_row(reference.table, row)
+    assert design == PLAN.design(PLAN.points()[row])
+    metrics = design_metrics(design).row()
+    for name in METRICS:
+        got = reference.table.column(name)[row].as_py()
+        assert got == metrics[name] or (np.isnan(got) and np.isnan(metrics[name]))
+
+
+def test_interrupted_sweep_resumes_to_the_same_table(tmp_path, reference):
+    calls = []
+
+    def stop_after_two(done, total):
+        calls.append(done)
+        if len(calls) == 2:
+            raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_sweep(PLAN, tmp_path, workers=1, progress=False, chunk=1, on_progress=stop_after_two)
+    parts = list((tmp_path / "parts").glob("part-*.parquet"))
+    kept = sum(pq.read_table(p).num_rows for p in parts)
+    assert kept == 2 and not (tmp_path / "results.parquet").exists()
+    assert not list(tmp_path.rglob("*.tmp"))  # no half file
+    again = run_sweep(PLAN, tmp_path, workers=2, progress=False)
+    assert again.evaluated == PLAN.n - 2
+    assert bits(again.table) == bits(reference.table)  # bit for bit
+    # complete: nothing to do, nothing rewritten
+    stamp = (tmp_path / "results.parquet").stat().st_mtime_ns
+    third = run_sweep(PLAN, tmp_path, workers=1, progress=False)
+    assert third.evaluated == 0 and (tmp_path / "results.parquet").stat().st_mtime_ns == stamp
+
+
+def test_another_plan_in_the_same_folder_needs_force(tmp_path, reference):
+    other = SweepPlan(ranges=PLAN.ranges, n=PLAN.n, seed=PLAN.seed + 1)
+    with pytest.raises(FileExistsError, match="different run"):
+        run_sweep(other, reference.folder, workers=1, progress=False)
+    (tmp_path / "mine.txt").write_text("a user's file")
+    with pytest.raises(FileExistsError, match="not empty"):
+        run_sweep(PLAN, tmp_path, workers=1, progress=False)
+    out = run_sweep(PLAN, tmp_path, workers=1, progress=False, force=True)
+    assert bits(out.table) == bits(reference.table) and (tmp_path / "mine.txt").read_text() == "a user's file"
+
+
+def test_dask_local_cluster_gives_the_same_table_bit_for_bit(tmp_path, reference):
+    pytest.importorskip("distributed")
+    out = run_sweep(PLAN, tmp_path, workers=2, dask="local", progress=False)
+    assert bits(out.table) == bits(reference.table)
+
+
+def test_grid_and_hypercube_plans():
+    grid = SweepPlan(ranges=(Range("K", 1.8, 2.2), Range("r4", 8.0, 10.0)), n=9, method="grid").points()
+    assert grid.shape == (9, 2) and sorted(set(grid[:, 0])) == [1.8, 2.0, 2.2]
+    lhs = SweepPlan(ranges=PLAN.ranges, n=50, seed=1).points()
+    for k, r in enumerate(PLAN.ranges):  # one point in each of the n strata of every parameter
+        strata = np.floor((lhs[:, k] - r.low) / (r.high - r.low) * 50).astype(int)
+        assert sorted(strata) == list(range(50))
+    assert np.array_equal(lhs, SweepPlan(ranges=PLAN.ranges, n=50, seed=1).points())
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("Q=1:2", "unknown"),
+        ("K=2.4:1.8", "low bound"),
+        ("K=nan:2", "finite"),
+        ("K=0.5:2", "outside"),
+        ("K1:2", "NAME=LO:HI"),
+        ("variant=1:2", "categorical"),
+    ],
+)
+def test_bad_ranges_are_named(text, message):
+    with pytest.raises(ValueError, match=message):
+        parse_range(text)
+
+
+def test_pareto_front_by_brute_force():
+    rng = np.random.default_rng(0)
+    x, y = rng.random(200), rng.random(200)
+    x[5] = np.nan
+    mask = pareto_mask(x, y, ("min", "max"))
+    for i in range(200):
+        beaten = np.any((x <= x[i]) & (y >= y[i]) & ((x < x[i]) | (y > y[i])))
+        assert mask[i] == (np.isfinite(x[i]) and not beaten)
+
+
+def test_best_rows_are_sorted_and_feasible(reference):
+    rows = best_rows(reference.table, "peak_crank_torque_Nm", "min", 3)
+    values = [reference.table.column("peak_crank_torque_Nm")[r].as_py() for r in rows]
+    assert values == sorted(values)
+    assert all(reference.table.column("feasible")[r].as_py() for r in rows)
+
+
+def _cli(*args, cwd=None):
+    return subprocess.run([sys.executable, "-m", "pasibot_pin", *args], capture_output=True, text=True, cwd=cwd)
+
+
+def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path):
+    out = tmp_path / "run"
+    res = _cli("sweep", "--n", "4", "--vary", "K=1.8:2.2", "--out", str(out), "--csv", "--best", "2", "--no-progress")
+    assert res.returncode == 0, res.stderr
+    for name in ("results.parquet", "results.csv", "pareto.png", "sensitivity.png", "plan.json"):
+        assert (out / name).is_file(), name
+    best = sorted((out / "best").iterdir())
+    assert [p.suffix for p in best] == [".toml", ".urdf", ".xml"] * 2
+    design = load_design(best[0])
+    assert 1.8 <= design.K <= 2.2
+    again = _cli("sweep", "--n", "5", "--vary", "K=1.8:2.2", "--out", str(out), "--no-progress")
+    assert again.returncode == 2 and "different run" in again.stderr and again.stderr.count("\n") == 1
+
+
+@pytest.mark.parametrize(
+    "args",
+    [
+        ["--vary", "Q=1:2"],
+        ["--vary", "K=2.4:1.8"],
+        ["--vary", "K=nan:2"],
+        ["--n", "0"],
+        ["--workers", "0"],
+        ["--by", "speed"],
+    ],
+)
+def test_cli_bad_input_is_one_line_before_any_work(tmp_path, args):
+    out = tmp_path / "never"
+    res = _cli("sweep", "--out", str(out), *args)
+    assert res.returncode == 2
+    assert res.stderr.startswith("pasibot sweep: error:") and res.stderr.count("\n") == 1
+    assert "Traceback" not in res.stderr and not out.exists()
