@@ -16,4 +16,5 @@ COMMANDS: list[str] = [
     "contact",
     "energy",
     "sweep",
+    "optimize",
 ]

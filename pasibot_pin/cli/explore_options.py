@@ -60,18 +60,20 @@ def start_run(args: argparse.Namespace):
     return base, ranges, parse_by(args.by)
 
 
-def finish_run(args: argparse.Namespace, table, varied, by: tuple[str, str], what: str) -> None:
-    """Figures, the best designs, a summary line."""
+def finish_run(
+    args: argparse.Namespace, table, varied, by: tuple[str, str], what: str, objectives=None, rows=None
+) -> None:
+    """Figures, the best designs (``rows``, or the ``--best`` by ``--by``), a summary line."""
     import numpy as np
 
     from pasibot_pin.explore.sweep import best_rows, export_best, write_figures
 
     out = Path(args.out)
-    figures = write_figures(table, out, varied)
+    figures = write_figures(table, out, varied, objectives)
     feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))
     print(f"{what}; {table.num_rows} in {out / 'results.parquet'}, {feasible} feasible")
     print(f"figures: {', '.join(str(f) for f in figures)}")
-    rows = best_rows(table, by[0], by[1], args.best)
+    rows = (best_rows(table, by[0], by[1], args.best) if rows is None else list(rows))[: args.best]
     if rows:
         export_best(table, rows, out / "best")
         for rank, row in enumerate(rows, 1):

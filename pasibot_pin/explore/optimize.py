@@ -1,0 +1,304 @@
+"""Multi-objective design optimisation: Optuna's NSGA-II over the design record, with constraints.
+
+Each trial is a design: the base design with the varied parameters drawn by the sampler. Its
+metrics (:func:`~pasibot_pin.studies.design_metrics.design_metrics`) give the objectives (e.g.
+``peak_crank_torque_Nm:min``) and the constraints (e.g. ``cop_margin_m>=0``, ``stride_m>=0.45``).
+Optuna's constrained NSGA-II prefers feasible trials; a design that cannot be built is a failed
+trial. A generation's trials are asked together and evaluated on the executor of the sweep
+(:mod:`~pasibot_pin.explore.executors`), so a pool and a Dask cluster give the same trials.
+
+The study lives in ``OUT/optuna.db`` (SQLite) and the rows in the run's table
+(:mod:`~pasibot_pin.explore.store`), both written as trials finish: an interrupted run continues
+where it stopped (a trial asked but not finished is evaluated again), and the same command with
+more ``--trials`` continues a finished one. The trials already done are kept as they were; the
+sampler of a resumed run starts its random stream afresh, so its later generations are not those
+an uninterrupted run would have drawn (an uninterrupted run is reproducible bit for bit, on any
+executor).
+"""
+
+from __future__ import annotations
+
+import math
+import re
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import numpy as np
+
+from pasibot_pin.explore.plan import DEFAULT_RANGES, Range
+from pasibot_pin.explore.store import ResultStore
+from pasibot_pin.model.design import Design
+from pasibot_pin.studies.design_metrics import METRICS
+
+STUDY_NAME = "pasibot"
+
+
+@dataclass(frozen=True)
+class Objective:
+    """A metric to minimise or maximise."""
+
+    metric: str
+    sense: str = "min"
+
+    def __post_init__(self) -> None:
+        if self.metric not in METRICS:
+            raise ValueError(f"--objective {self.metric!r}: unknown metric; valid: {', '.join(METRICS)}")
+        if self.sense not in ("min", "max"):
+            raise ValueError(f"--objective {self.metric}:{self.sense}: the sense must be min or max")
+
+    def text(self) -> str:
+        """``METRIC:SENSE``."""
+        return f"{self.metric}:{self.sense}"
+
+
+def parse_objective(text: str) -> Objective:
+    """An :class:`Objective` from ``METRIC[:min|max]`` (default: the metric's usual sense)."""
+    name, _, sense = str(text).partition(":")
+    default = METRICS[name].sense if name in METRICS else "min"
+    return Objective(name, sense or default or "min")
+
+
+@dataclass(frozen=True)
+class Constraint:
+    """``metric >= bound`` or ``metric <= bound``; violated by ``violation(value) > 0``."""
+
+    metric: str
+    op: str
+    bound: float
+
+    def __post_init__(self) -> None:
+        if self.metric not in METRICS:
+            raise ValueError(f"--constraint {self.metric!r}: unknown metric; valid: {', '.join(METRICS)}")
+        if self.op not in (">=", "<="):
+            raise ValueError(f"--constraint {self.text()}: use >= or <=")
+        if not math.isfinite(self.bound):
+            raise ValueError(f"--constraint {self.metric}: the bound must be a finite number, got {self.bound!r}")
+
+    def violation(self, value: float) -> float:
+        """How far ``value`` is on the wrong side of the bound (<= 0: satisfied)."""
+        if not math.isfinite(value):
+            return math.inf
+        return self.bound - value if self.op == ">=" else value - self.bound
+
+    def text(self) -> str:
+        """``METRIC>=BOUND``."""
+        return f"{self.metric}{self.op}{self.bound:g}"
+
+
+def parse_constraint(text: str) -> Constraint:
+    """A :class:`Constraint` from ``METRIC>=BOUND`` or ``METRIC<=BOUND``."""
+    match = re.fullmatch(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(>=|<=)\s*(\S+)\s*", str(text))
+    if match is None:
+        raise ValueError(f"--constraint {text!r}: write METRIC>=BOUND or METRIC<=BOUND, e.g. cop_margin_m>=0")
+    try:
+        bound = float(match.group(3))
+    except ValueError:
+        raise ValueError(f"--constraint {text!r}: the bound must be a number") from None
+    return Constraint(match.group(1), match.group(2), bound)
+
+
+@dataclass(frozen=True)
+class OptimizePlan:
+    """An optimisation run.
+
+    Attributes:
+        ranges: the varied parameters and their bounds.
+        objectives: one or more objectives.
+        constraints: constraints on the metrics.
+        trials: the number of designs evaluated.
+        population: NSGA-II's population (designs per generation).
+        seed: the sampler's seed.
+        base: the design every other parameter is taken from.
+
+    """
+
+    ranges: tuple[Range, ...] = DEFAULT_RANGES
+    objectives: tuple[Objective, ...] = (Objective("peak_crank_torque_Nm", "min"),)
+    constraints: tuple[Constraint, ...] = ()
+    trials: int = 200
+    population: int = 20
+    seed: int = 0
+    base: Design = field(default_factory=Design)
+
+    def __post_init__(self) -> None:
+        for name, value, low in (("trials", self.trials, 1), ("population", self.population, 2)):
+            if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= 1_000_000:
+                raise ValueError(f"parameter {name!r} must be an integer in [{low}, 1e6], got {value!r}")
+        if not self.objectives:
+            raise ValueError("an optimisation needs at least one --objective")
+        if not self.ranges:
+            raise ValueError("an optimisation needs at least one --vary NAME=LO:HI")
+        for attr in ("ranges", "objectives", "constraints"):
+            object.__setattr__(self, attr, tuple(getattr(self, attr)))
+
+    @property
+    def names(self) -> tuple[str, ...]:
+        """The varied parameters."""
+        return tuple(r.name for r in self.ranges)
+
+    def to_dict(self) -> dict:
+        """A JSON-able record (``plan.json``)."""
+        return {
+            "ranges": [[r.name, r.low, r.high] for r in self.ranges],
+            "objectives": [o.text() for o in self.objectives],
+            "constraints": [c.text() for c in self.constraints],
+            "trials": self.trials,
+            "population": self.population,
+            "seed": self.seed,
+            "base": self.base.to_dict(),
+        }
+
+    def violations(self, row: dict) -> list[float]:
+        """Each constraint's violation for a table row (<= 0: satisfied)."""
+        return [c.violation(float(row[c.metric])) for c in self.constraints]
+
+
+@dataclass
+class OptimizeResult:
+    """What an optimisation produced: the folder, plan, table, trials evaluated now, Pareto rows."""
+
+    folder: Path
+    plan: OptimizePlan
+    table: object
+    evaluated: int
+    pareto: list[int]
+    results: Path
+
+
+def _sampler(plan: OptimizePlan):
+    import warnings
+
+    import optuna
+
+    warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
+    return optuna.samplers.NSGAIISampler(
+        population_size=plan.population,
+        seed=plan.seed,
+        constraints_func=(lambda t: t.user_attrs["violations"]) if plan.constraints else None,
+    )
+
+
+def run_optimize(
+    plan: OptimizePlan,
+    folder: Path,
+    *,
+    workers: int | None = None,
+    dask: str | None = None,
+    force: bool = False,
+    csv: bool = False,
+    progress: bool = True,
+    on_generation: Callable[[int, int], None] | None = None,
+) -> OptimizeResult:
+    """Run (or continue) an optimisation in ``folder``.
+
+    Args:
+        plan: the optimisation.
+        folder: the run's folder (created; resumed when it holds the same plan).
+        workers: processes (default one per core).
+        dask: ``None``, ``"local"`` or a Dask scheduler address.
+        force: start over in a folder that holds another run or other files.
+        csv: also write ``results.csv``.
+        progress: show a progress bar with the ETA.
+        on_generation: called with (trials done, trials) after each generation.
+
+    Returns:
+        An :class:`OptimizeResult`.
+
+    """
+    import optuna
+
+    from pasibot_pin.explore.executors import check_workers, run_tasks
+    from pasibot_pin.explore.sweep import _progress, evaluate_designs
+
+    workers = check_workers(workers)
+    folder = Path(folder)
+    record = {k: v for k, v in plan.to_dict().items() if k != "trials"}  # more trials continue the same run
+    store = ResultStore(folder, {"kind": "optimize", **record}, plan.trials, force=force)
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.create_study(
+        study_name=STUDY_NAME,
+        storage=f"sqlite:///{folder / 'optuna.db'}",
+        sampler=_sampler(plan),
+        directions=["minimize" if o.sense == "min" else "maximize" for o in plan.objectives],
+        load_if_exists=True,
+    )
+    done_before = len(store.done)
+    bar = _progress(plan.trials, done_before, progress)
+    base = plan.base.to_dict()
+
+    ids: dict[int, int] = {}  # trial number -> storage id
+
+    def tell(rows: list[dict]) -> None:
+        for row in rows:
+            _tell_row(study, plan, row, ids[int(row["index"])])
+        store.add(rows)
+        bar.update(len(rows))
+
+    try:
+        # trials asked but never finished (an interrupted run): told from the table, or evaluated again
+        running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
+        table_rows = {int(r["index"]): r for r in store.table().to_pylist()} if running else {}
+        again = []
+        ids.update({t.number: t._trial_id for t in running})
+        for t in running:
+            if t.number in table_rows:  # finished and saved, not yet told
+                _tell_row(study, plan, table_rows[t.number], t._trial_id)
+            else:
+                again.append((t.number, [t.params[n] for n in plan.names]))
+        if again:
+            run_tasks(
+                evaluate_designs, [(base, plan.names, [item]) for item in again], tell, workers=workers, dask=dask
+            )
+        while len(store.done) < plan.trials:
+            size = min(plan.population, plan.trials - len(store.done))
+            asked = [study.ask() for _ in range(size)]
+            ids.update({t.number: t._trial_id for t in asked})
+            items = [(t.number, [t.suggest_float(r.name, r.low, r.high) for r in plan.ranges]) for t in asked]
+            run_tasks(
+                evaluate_designs, [(base, plan.names, [item]) for item in items], tell, workers=workers, dask=dask
+            )
+            if on_generation is not None:
+                on_generation(len(store.done), plan.trials)
+    finally:
+        store.flush()
+        bar.close()
+    results = store.finish(csv=csv)
+    table = store.table()
+    return OptimizeResult(folder, plan, table, len(store.done) - done_before, pareto_rows(table, plan), results)
+
+
+def _tell_row(study, plan: OptimizePlan, row: dict, trial_id: int) -> None:
+    """Tell the study a trial's result: its objectives and constraint violations, or a failure."""
+    import optuna
+
+    number = int(row["index"])
+    if row["feasible"]:
+        optuna.trial.Trial(study, trial_id).set_user_attr("violations", plan.violations(row))
+        study.tell(number, [float(row[o.metric]) for o in plan.objectives], skip_if_finished=True)
+    else:
+        study.tell(number, state=optuna.trial.TrialState.FAIL, skip_if_finished=True)
+
+
+def pareto_rows(table, plan: OptimizePlan) -> list[int]:
+    """Rows of the feasible, constraint-satisfying designs no other such design beats in every objective.
+
+    Sorted by the first objective.
+    """
+    rows = table.to_pylist()
+    ok = [i for i, r in enumerate(rows) if r["feasible"] and all(v <= 0 for v in plan.violations(r))]
+    signs = np.array([1.0 if o.sense == "min" else -1.0 for o in plan.objectives])
+    values = np.array([[float(rows[i][o.metric]) for o in plan.objectives] for i in ok]).reshape(len(ok), -1) * signs
+    front, seen = [], set()
+    for a, i in enumerate(ok):
+        beaten = np.any(np.all(values <= values[a], axis=1) & np.any(values < values[a], axis=1))
+        key = tuple(values[a])
+        if not beaten and key not in seen:  # NSGA-II may draw the same design twice: listed once
+            front.append(i)
+            seen.add(key)
+    return sorted(front, key=lambda i: signs[0] * float(rows[i][plan.objectives[0].metric]))
+
+
+def objectives_of(texts: Sequence[str] | None) -> tuple[Objective, ...]:
+    """The ``--objective`` options, or minimal peak crank torque."""
+    return tuple(parse_objective(t) for t in texts) if texts else (Objective("peak_crank_torque_Nm", "min"),)

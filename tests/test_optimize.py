@@ -1,0 +1,110 @@
+"""Design optimisation (Optuna NSGA-II): constraints, Pareto front, resume, executors."""
+
+from __future__ import annotations
+
+import pytest
+
+from pasibot_pin.explore.optimize import (
+    Objective,
+    OptimizePlan,
+    pareto_rows,
+    parse_constraint,
+    parse_objective,
+    run_optimize,
+)
+from pasibot_pin.explore.plan import Range
+from tests.test_sweep import bits
+
+pytest.importorskip("optuna")
+
+PLAN = OptimizePlan(
+    ranges=(Range("K", 1.8, 2.4), Range("foot_toe", 1.0, 3.0)),
+    objectives=(Objective("peak_crank_torque_Nm", "min"), Objective("cop_margin_m", "max")),
+    constraints=(parse_constraint("stride_m>=0.45"),),
+    trials=12,
+    population=6,
+    seed=1,
+)
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    return run_optimize(PLAN, tmp_path_factory.mktemp("opt"), workers=1, progress=False)
+
+
+def test_every_trial_is_a_row_and_the_front_respects_the_constraint(reference):
+    import optuna
+
+    assert reference.table.num_rows == PLAN.trials and reference.evaluated == PLAN.trials
+    rows = reference.table.to_pylist()
+    assert reference.pareto
+    for i in reference.pareto:
+        assert rows[i]["stride_m"] >= 0.45
+    # no feasible, constraint-satisfying row beats a front row in both objectives
+    ok = [r for r in rows if r["feasible"] and r["stride_m"] >= 0.45]
+    for i in reference.pareto:
+        p = rows[i]
+        assert not any(
+            r["peak_crank_torque_Nm"] <= p["peak_crank_torque_Nm"]
+            and r["cop_margin_m"] >= p["cop_margin_m"]
+            and (r["peak_crank_torque_Nm"] < p["peak_crank_torque_Nm"] or r["cop_margin_m"] > p["cop_margin_m"])
+            for r in ok
+        )
+    study = optuna.load_study(study_name="pasibot", storage=f"sqlite:///{reference.folder / 'optuna.db'}")
+    finished = [t for t in study.trials if t.state.is_finished()]
+    assert len(finished) == PLAN.trials
+    for t in finished:  # the study saw the same numbers as the table
+        if t.values is not None:
+            assert t.values[0] == rows[t.number]["peak_crank_torque_Nm"]
+            assert t.user_attrs["violations"][0] == pytest.approx(0.45 - rows[t.number]["stride_m"])
+
+
+def test_interrupted_optimisation_keeps_its_trials_and_continues(tmp_path, reference):
+    def stop(done, total):
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_optimize(PLAN, tmp_path, workers=1, progress=False, on_generation=stop)
+    again = run_optimize(PLAN, tmp_path, workers=1, progress=False)
+    assert again.evaluated == PLAN.trials - PLAN.population and again.table.num_rows == PLAN.trials
+    first = list(range(PLAN.population))  # the first generation is the uninterrupted run's
+    assert bits(again.table.take(first)) == bits(reference.table.take(first))
+
+
+def test_a_process_pool_gives_the_same_trials_bit_for_bit(tmp_path, reference):
+    out = run_optimize(PLAN, tmp_path, workers=2, progress=False)
+    assert bits(out.table) == bits(reference.table)
+
+
+def test_more_trials_continue_a_finished_run(tmp_path):
+    small = OptimizePlan(**{**PLAN.__dict__, "trials": 6})
+    run_optimize(small, tmp_path, workers=1, progress=False)
+    more = run_optimize(OptimizePlan(**{**PLAN.__dict__, "trials": 9}), tmp_path, workers=1, progress=False)
+    assert more.evaluated == 3 and more.table.num_rows == 9
+
+
+@pytest.mark.parametrize(
+    ("text", "message"),
+    [
+        ("stride>0", "METRIC>=BOUND"),
+        ("speed>=1", "unknown metric"),
+        ("stride_m>=x", "number"),
+        ("stride_m>=inf", "finite"),
+    ],
+)
+def test_bad_constraints_are_named(text, message):
+    with pytest.raises(ValueError, match=message):
+        parse_constraint(text)
+
+
+def test_objectives_take_the_metric_usual_sense():
+    assert parse_objective("cop_margin_m").sense == "max"
+    assert parse_objective("peak_crank_torque_Nm").sense == "min"
+    with pytest.raises(ValueError, match="unknown metric"):
+        parse_objective("speed")
+    with pytest.raises(ValueError, match="min or max"):
+        parse_objective("stride_m:up")
+
+
+def test_pareto_rows_of_a_table(reference):
+    assert pareto_rows(reference.table, PLAN) == reference.pareto
