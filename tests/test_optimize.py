@@ -50,7 +50,9 @@ def test_every_trial_is_a_row_and_the_front_respects_the_constraint(reference):
             and (r["peak_crank_torque_Nm"] < p["peak_crank_torque_Nm"] or r["cop_margin_m"] > p["cop_margin_m"])
             for r in ok
         )
-    study = optuna.load_study(study_name="pasibot", storage=f"sqlite:///{reference.folder / 'optuna.db'}")
+    from pasibot_pin.explore.optimize import _storage
+
+    study = optuna.load_study(study_name="pasibot", storage=_storage(reference.folder))
     finished = [t for t in study.trials if t.state.is_finished()]
     assert len(finished) == PLAN.trials
     for t in finished:  # the study saw the same numbers as the table

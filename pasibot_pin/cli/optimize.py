@@ -3,7 +3,7 @@
 The varied parameters (``--vary``, default as ``pasibot sweep``) are drawn by NSGA-II; each
 design's metrics give the objectives (``--objective METRIC:min|max``, repeatable; default
 ``peak_crank_torque_Nm:min``) and constraints (``--constraint METRIC>=BOUND``, repeatable, e.g.
-``cop_margin_m>=0``). The table goes to ``OUT/results.parquet``, the study to ``OUT/optuna.db``;
+``cop_margin_m>=0``). The table goes to ``OUT/results.parquet``, the study to ``OUT/optuna.log``;
 the Pareto-optimal designs are exported to ``OUT/best``. Run the same command again to continue
 an interrupted run.
 """

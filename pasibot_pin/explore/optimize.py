@@ -7,7 +7,7 @@ Optuna's constrained NSGA-II prefers feasible trials; a design that cannot be bu
 trial. A generation's trials are asked together and evaluated on the executor of the sweep
 (:mod:`~pasibot_pin.explore.executors`), so a pool and a Dask cluster give the same trials.
 
-The study lives in ``OUT/optuna.db`` (SQLite) and the rows in the run's table
+The study lives in ``OUT/optuna.log`` (Optuna's journal file) and the rows in the run's table
 (:mod:`~pasibot_pin.explore.store`), both written as trials finish: an interrupted run continues
 where it stopped (a trial asked but not finished is evaluated again), and the same command with
 more ``--trials`` continues a finished one. The trials already done are kept as they were; the
@@ -29,9 +29,10 @@ import numpy as np
 from pasibot_pin.explore.plan import DEFAULT_RANGES, Range
 from pasibot_pin.explore.store import ResultStore
 from pasibot_pin.model.design import Design
-from pasibot_pin.studies.design_metrics import METRICS
+from pasibot_pin.studies.design_metrics import METRICS, warm_caches
 
 STUDY_NAME = "pasibot"
+STORAGE = "optuna.log"
 
 
 @dataclass(frozen=True)
@@ -166,6 +167,14 @@ class OptimizeResult:
     results: Path
 
 
+def _storage(folder: Path):
+    """The study's storage: Optuna's journal file ``optuna.log`` (appends only, fast, survives a crash)."""
+    from optuna.storages import JournalStorage
+    from optuna.storages.journal import JournalFileBackend
+
+    return JournalStorage(JournalFileBackend(str(folder / STORAGE)))
+
+
 def _sampler(plan: OptimizePlan):
     import warnings
 
@@ -218,7 +227,7 @@ def run_optimize(
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     study = optuna.create_study(
         study_name=STUDY_NAME,
-        storage=f"sqlite:///{folder / 'optuna.db'}",
+        storage=_storage(folder),
         sampler=_sampler(plan),
         directions=["minimize" if o.sense == "min" else "maximize" for o in plan.objectives],
         load_if_exists=True,
@@ -235,6 +244,7 @@ def run_optimize(
         store.add(rows)
         bar.update(len(rows))
 
+    warm_caches(plan.base)  # forked workers inherit it
     try:
         # trials asked but never finished (an interrupted run): told from the table, or evaluated again
         running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))

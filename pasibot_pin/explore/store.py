@@ -31,7 +31,7 @@ PLAN_FILE = "plan.json"
 PARTS = "parts"
 RESULTS = "results.parquet"
 RESULTS_CSV = "results.csv"
-OWNED = (PLAN_FILE, PARTS, RESULTS, RESULTS_CSV, "pareto.png", "sensitivity.png", "best", "optuna.db")
+OWNED = (PLAN_FILE, PARTS, RESULTS, RESULTS_CSV, "pareto.png", "sensitivity.png", "best", "optuna.log")
 """The names a run writes in its folder (``--force`` removes these, nothing else)."""
 
 FLUSH_SECONDS: float = 2.0

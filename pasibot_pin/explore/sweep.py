@@ -18,7 +18,10 @@ import numpy as np
 
 from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column
-from pasibot_pin.studies.design_metrics import pareto_mask  # noqa: F401 (re-exported)
+from pasibot_pin.studies.design_metrics import (
+    pareto_mask,  # noqa: F401 (re-exported)
+    warm_caches,
+)
 
 CHUNK: int = 4
 """Designs per task (a task's result comes back as one piece)."""
@@ -120,6 +123,7 @@ def run_sweep(
         if on_progress is not None:
             on_progress(len(store.done), len(points))
 
+    warm_caches(plan.base)  # forked workers inherit it
     try:
         run_tasks(evaluate_designs, tasks, on_result, workers=workers, dask=dask)
     finally:
