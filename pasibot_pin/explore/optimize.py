@@ -1,6 +1,7 @@
 """Multi-objective design optimisation: Optuna's NSGA-II over the design record, with constraints.
 
-Each trial is a design: the base design with the varied parameters drawn by the sampler. Its
+Each trial is a design: the base design with the varied parameters drawn by the sampler (trial 0
+is the base design itself, when it lies inside the ranges). Its
 metrics (:func:`~pasibot_pin.studies.design_metrics.design_metrics`) give the objectives (e.g.
 ``peak_crank_torque_Nm:min``) and the constraints (e.g. ``cop_margin_m>=0``, ``stride_m>=0.45``).
 Optuna's constrained NSGA-II prefers feasible trials; a design that cannot be built is a failed
@@ -233,6 +234,9 @@ def run_optimize(
         load_if_exists=True,
     )
     done_before = len(store.done)
+    base_values = {r.name: plan.base.values()[r.name] for r in plan.ranges}
+    if not study.trials and all(r.low <= base_values[r.name] <= r.high for r in plan.ranges):
+        study.enqueue_trial(base_values)  # trial 0 is the base design: the front is never worse than it
     bar = _progress(plan.trials, done_before, progress)
     base = plan.base.to_dict()
 
@@ -297,6 +301,8 @@ def pareto_rows(table, plan: OptimizePlan) -> list[int]:
     """
     rows = table.to_pylist()
     ok = [i for i, r in enumerate(rows) if r["feasible"] and all(v <= 0 for v in plan.violations(r))]
+    if not ok:
+        return []
     signs = np.array([1.0 if o.sense == "min" else -1.0 for o in plan.objectives])
     values = np.array([[float(rows[i][o.metric]) for o in plan.objectives] for i in ok]).reshape(len(ok), -1) * signs
     front, seen = [], set()

@@ -1,0 +1,86 @@
+"""The designer's questions the README answers, as reproducible optimisation plans.
+
+1. *Which designs (geometry, spring, sole, body COM) minimise the peak crank torque while keeping
+   the seed design's stride?* :func:`seed_stride_plan`: NSGA-II over the frame ratio K, the
+   pantograph links L4, L5, L6, the sole and the body COM; objectives: peak crank torque (min) and
+   CoP margin (max); constraint: the stride within :data:`STRIDE_TOLERANCE` of the seed's. With
+   ``straight=True`` the stance path must also stay as straight as :data:`STRAIGHTNESS_FACTOR`
+   times the seed's (a hip that does not bob).
+2. *Does any spring design keep the CoP inside the sole?* The same runs record ``cop_margin_m``
+   for every design.
+
+The answers quoted in the README are the designs in ``docs/results/`` (written by
+:func:`write_answer`); ``tests/test_questions.py`` evaluates them again and checks every quoted
+number and every constraint.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+from pasibot_pin.explore.optimize import Constraint, Objective, OptimizePlan
+from pasibot_pin.explore.plan import Range
+from pasibot_pin.model.design import Design
+
+STRIDE_TOLERANCE: float = 0.01
+"""Largest relative change of the stride from the seed design's [-]."""
+
+STRAIGHTNESS_FACTOR: float = 2.0
+"""With ``straight=True``: the stance ankle's straightness stays below this multiple of the seed's [-]."""
+
+QUESTION_RANGES: tuple[Range, ...] = (
+    Range("K", 1.7, 2.6),
+    Range("r4", 8.0, 10.0),
+    Range("r5", 16.0, 20.0),
+    Range("r6", 5.0, 7.0),
+    Range("foot_toe", 1.0, 3.0),
+    Range("foot_heel", 0.3, 1.5),
+    Range("body_com_dx", -0.05, 0.05),
+)
+"""The varied parameters: geometry (K, L4, L5, L6 over L), the sole (over L) and the body COM [m]."""
+
+RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
+"""Where the answers of a source checkout are kept."""
+
+
+def seed_stride_plan(straight: bool = False, trials: int = 600, population: int = 40, seed: int = 0) -> OptimizePlan:
+    """Question 1 as an :class:`~pasibot_pin.explore.optimize.OptimizePlan` (see the module's notes)."""
+    from pasibot_pin.studies.design_metrics import path_metrics
+
+    base = Design()
+    reference = path_metrics(base)
+    stride = reference["stride_m"]
+    constraints = [
+        Constraint("stride_m", ">=", stride * (1 - STRIDE_TOLERANCE)),
+        Constraint("stride_m", "<=", stride * (1 + STRIDE_TOLERANCE)),
+    ]
+    if straight:
+        constraints.append(Constraint("straightness_m", "<=", STRAIGHTNESS_FACTOR * reference["straightness_m"]))
+    return OptimizePlan(
+        ranges=QUESTION_RANGES,
+        objectives=(Objective("peak_crank_torque_Nm", "min"), Objective("cop_margin_m", "max")),
+        constraints=tuple(constraints),
+        trials=trials,
+        population=population,
+        seed=seed,
+        base=base,
+    )
+
+
+def answer_path(straight: bool) -> Path:
+    """The design file of question 1's answer (``straight``: with the straightness constraint)."""
+    return RESULTS_DIR / ("least_torque_seed_stride_straight.toml" if straight else "least_torque_seed_stride.toml")
+
+
+def write_answer(straight: bool, folder: Path, workers: int | None = None, force: bool = False) -> Design:
+    """Run question 1 into ``folder`` and save its least-torque design as :func:`answer_path`."""
+    from pasibot_pin.explore.optimize import run_optimize
+    from pasibot_pin.explore.sweep import design_of_row
+
+    result = run_optimize(seed_stride_plan(straight), folder, workers=workers, force=force, progress=False)
+    if not result.pareto:
+        raise ValueError("no design satisfies the constraints")
+    design = design_of_row(result.table, result.pareto[0])  # the front sorted by peak torque
+    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
+    design.save(answer_path(straight), force=True)
+    return design
