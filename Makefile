@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps test demo urdf bench lint clean
+.PHONY: install browser-deps test demo urdf bench lint clean answers
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -30,6 +30,10 @@ demo: install
 
 urdf: install
 	$(VENV)/bin/pasibot build-urdf --defaults --force
+
+# the design-exploration answers quoted in the README (docs/results/): two NSGA-II runs, about 2 minutes
+answers: install
+	$(PY) -m pasibot_pin.explore.questions
 
 bench: install
 	@for script in benchmarks/*.py; do echo "== $$script"; $(PY) $$script; done

@@ -22,6 +22,7 @@ STEPS: list[tuple[str, str]] = [
     ("animation", "animation"),
     ("dynamics", "torques"),
     ("contact_energy", "contact_energy"),
+    ("design_exploration", "design_exploration"),
     ("simulation", "simulation"),
 ]
 """(step name, report module) in report order."""
@@ -32,6 +33,7 @@ ESTIMATES: dict[str, float] = {
     "dynamics": 5.0,
     "animation": 3.0,
     "model": 0.7,
+    "design_exploration": 0.6,
 }
 """CPU time [s] of the steps besides the simulation (measured; they only order the work)."""
 

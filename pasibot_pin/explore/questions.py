@@ -67,13 +67,19 @@ def seed_stride_plan(straight: bool = False, trials: int = 600, population: int 
     )
 
 
-def answer_path(straight: bool) -> Path:
-    """The design file of question 1's answer (``straight``: with the straightness constraint)."""
-    return RESULTS_DIR / ("least_torque_seed_stride_straight.toml" if straight else "least_torque_seed_stride.toml")
+def answer_path(straight: bool, suffix: str = ".toml") -> Path:
+    """Question 1's answer: its design (``.toml``) or the run's table (``.parquet``).
+
+    ``straight``: the run with the straightness constraint.
+    """
+    stem = "least_torque_seed_stride_straight" if straight else "least_torque_seed_stride"
+    return RESULTS_DIR / f"{stem}{suffix}"
 
 
 def write_answer(straight: bool, folder: Path, workers: int | None = None, force: bool = False) -> Design:
-    """Run question 1 into ``folder`` and save its least-torque design as :func:`answer_path`."""
+    """Run question 1 into ``folder``; save its least-torque design and its table as :func:`answer_path`."""
+    import shutil
+
     from pasibot_pin.explore.optimize import run_optimize
     from pasibot_pin.explore.sweep import design_of_row
 
@@ -83,4 +89,26 @@ def write_answer(straight: bool, folder: Path, workers: int | None = None, force
     design = design_of_row(result.table, result.pareto[0])  # the front sorted by peak torque
     RESULTS_DIR.mkdir(parents=True, exist_ok=True)
     design.save(answer_path(straight), force=True)
+    shutil.copyfile(result.results, answer_path(straight, ".parquet"))
     return design
+
+
+def main() -> None:
+    """Run both runs of question 1 again (``make answers``): docs/results/*.toml, *.parquet, pareto.png."""
+    import tempfile
+
+    from pasibot_pin.explore.sweep import write_figures
+
+    with tempfile.TemporaryDirectory() as tmp:
+        for straight in (False, True):
+            design = write_answer(straight, Path(tmp) / str(straight))
+            print(f"{answer_path(straight)}: K = {design.K:.4g}")
+    import pyarrow.parquet as pq
+
+    table = pq.read_table(answer_path(False, ".parquet"))
+    for path in write_figures(table, RESULTS_DIR, [r.name for r in QUESTION_RANGES]):
+        print(path)
+
+
+if __name__ == "__main__":
+    main()

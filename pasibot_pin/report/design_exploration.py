@@ -1,0 +1,129 @@
+"""The design-exploration section: the designer's questions and their answers (docs/results/).
+
+The answers are the designs :mod:`pasibot_pin.explore.questions` found (NSGA-II, 600 trials each,
+``make answers`` runs them again); here they are evaluated afresh and set beside the seed design.
+The same text is quoted in ``docs/design_exploration.md`` and the README; a test compares them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from pathlib import Path
+
+from pasibot_pin.model.design import Design
+
+COLUMNS: tuple[tuple[str, str, float, str], ...] = (
+    ("peak_crank_torque_Nm", "peak crank torque [N.m]", 1.0, "{:.2f}"),
+    ("rms_crank_torque_Nm", "RMS crank torque [N.m]", 1.0, "{:.2f}"),
+    ("energy_per_step_J", "motor work per step [J]", 1.0, "{:.1f}"),
+    ("stride_m", "stride [m]", 1.0, "{:.4f}"),
+    ("straightness_m", "stance path straightness [mm]", 1e3, "{:.1f}"),
+    ("step_height_m", "step height [m]", 1.0, "{:.3f}"),
+    ("cop_margin_m", "CoP margin [m]", 1.0, "{:.3f}"),
+)
+"""(metric, column title with unit, scale, format) of the answer table."""
+
+PARAMETERS: tuple[tuple[str, str], ...] = (
+    ("K", "K [-]"),
+    ("r4", "L4 [L]"),
+    ("r5", "L5 [L]"),
+    ("r6", "L6 [L]"),
+    ("foot_toe", "toe [L]"),
+    ("foot_heel", "heel [L]"),
+    ("body_com_dx", "body COM [m]"),
+)
+
+
+@dataclass(frozen=True)
+class Answer:
+    """One row of the answer table: a label, its design and its metrics."""
+
+    label: str
+    design: Design
+    metrics: dict[str, float]
+
+
+def answers() -> list[Answer]:
+    """The seed design and the two answers of question 1, evaluated now (xacro-built robots)."""
+    from pasibot_pin.explore.questions import answer_path
+    from pasibot_pin.model.design import design_robot, load_design
+    from pasibot_pin.studies.design_metrics import dynamic_metrics, path_metrics
+
+    rows = []
+    for label, design in (
+        ("seed design", Design()),
+        ("least torque, same stride", load_design(answer_path(False))),
+        ("least torque, same stride, straight path", load_design(answer_path(True))),
+    ):
+        metrics = path_metrics(design)
+        metrics.update(dynamic_metrics(design, design_robot(design, 2)))
+        rows.append(Answer(label, design, metrics))
+    return rows
+
+
+def explored() -> tuple[int, float]:
+    """(designs evaluated in the two runs, the best CoP margin of any feasible one [m]), from docs/results."""
+    import numpy as np
+    import pyarrow.parquet as pq
+
+    from pasibot_pin.explore.questions import answer_path
+
+    tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
+    margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
+    return sum(t.num_rows for t in tables), float(np.max(margins))
+
+
+def _cell(value: float, scale: float, fmt: str) -> str:
+    return fmt.format(value * scale)
+
+
+def markdown(rows: list[Answer] | None = None) -> str:
+    """The section's Markdown: the question, a table with units, and the verdicts."""
+    from pasibot_pin.explore.questions import STRAIGHTNESS_FACTOR, STRIDE_TOLERANCE
+
+    rows = rows or answers()
+    seed, free, straight = rows
+    head = "| design | " + " | ".join(t for _, t, _, _ in COLUMNS) + " |"
+    lines = [head, "|" + "---|" * (len(COLUMNS) + 1)]
+    for r in rows:
+        lines.append(f"| {r.label} | " + " | ".join(_cell(r.metrics[m], s, f) for m, _, s, f in COLUMNS) + " |")
+    params = ["| design | " + " | ".join(t for _, t in PARAMETERS) + " |", "|" + "---|" * (len(PARAMETERS) + 1)]
+    for r in rows:
+        values = r.design.values()
+        params.append(f"| {r.label} | " + " | ".join(f"{values[p]:.3g}" for p, _ in PARAMETERS) + " |")
+
+    def drop(r: Answer) -> float:
+        return 100 * (1 - r.metrics["peak_crank_torque_Nm"] / seed.metrics["peak_crank_torque_Nm"])
+
+    ratio = free.metrics["straightness_m"] / seed.metrics["straightness_m"]
+    trials, best_margin = explored()
+    verdicts = [
+        f"* Keeping the stride within {100 * STRIDE_TOLERANCE:.0f} %, the peak crank torque falls by "
+        f"{drop(free):.0f} % ({seed.metrics['peak_crank_torque_Nm']:.2f} -> "
+        f"{free.metrics['peak_crank_torque_Nm']:.2f} N.m), but the stance path is {ratio:.0f} times less "
+        f"straight: the hip bobs.",
+        f"* Keeping the path as straight as {STRAIGHTNESS_FACTOR:g} times the seed's as well, it falls by "
+        f"{drop(straight):.0f} % ({straight.metrics['peak_crank_torque_Nm']:.2f} N.m).",
+        f"* The spring does not change these numbers (the hip's motion is prescribed). None of the {trials} "
+        f"designs explored keeps the centre of pressure inside the sole through the stance: the best margin "
+        f"is {best_margin:.3f} m (negative: outside), against {seed.metrics['cop_margin_m']:.3f} m for the seed.",
+    ]
+    return "\n".join(lines + [""] + params + [""] + verdicts)
+
+
+def question() -> str:
+    """The question and how it was answered (one paragraph)."""
+    from pasibot_pin.explore.questions import QUESTION_RANGES, seed_stride_plan
+
+    plan = seed_stride_plan()
+    names = ", ".join(r.name for r in QUESTION_RANGES)
+    return (
+        "Which designs (geometry, spring, sole, body COM) minimise the peak crank torque while keeping the seed "
+        f"design's stride? NSGA-II over {names} (`pasibot optimize`, {plan.trials} trials per run, population "
+        f"{plan.population}; `make answers` runs both again); each design below is evaluated afresh."
+    )
+
+
+def section(out_dir: Path) -> str:
+    """The report section (no files of its own)."""
+    return "\n".join(["## Design exploration: less torque at the same stride", "", question(), "", markdown(), ""])

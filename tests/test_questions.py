@@ -1,0 +1,67 @@
+"""The design-exploration answers: constraints hold, the tables still evaluate the same, the docs quote the code."""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+import pyarrow.parquet as pq
+import pytest
+
+from pasibot_pin.explore.optimize import pareto_rows
+from pasibot_pin.explore.questions import STRAIGHTNESS_FACTOR, STRIDE_TOLERANCE, answer_path, seed_stride_plan
+from pasibot_pin.explore.sweep import design_of_row
+from pasibot_pin.model.design import Design, load_design
+from pasibot_pin.report import design_exploration
+from pasibot_pin.studies.design_metrics import METRICS, design_metrics
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+@pytest.fixture(scope="module")
+def rows():
+    return design_exploration.answers()
+
+
+@pytest.mark.parametrize("straight", [False, True])
+def test_answer_keeps_the_stride_and_lowers_the_peak_torque(straight):
+    seed = design_metrics(Design())
+    answer = design_metrics(load_design(answer_path(straight)))
+    assert abs(answer["stride_m"] / seed["stride_m"] - 1) <= STRIDE_TOLERANCE
+    assert answer["peak_crank_torque_Nm"] < seed["peak_crank_torque_Nm"]
+    if straight:
+        assert answer["straightness_m"] <= STRAIGHTNESS_FACTOR * seed["straightness_m"]
+
+
+@pytest.mark.parametrize("straight", [False, True])
+def test_answer_is_the_least_torque_row_of_its_run(straight):
+    table = pq.read_table(answer_path(straight, ".parquet"))
+    plan = seed_stride_plan(straight)
+    assert table.num_rows == plan.trials
+    front = pareto_rows(table, plan)
+    assert design_of_row(table, front[0]) == load_design(answer_path(straight))
+
+
+@pytest.mark.parametrize("straight", [False, True])
+def test_saved_runs_still_evaluate_to_the_same_numbers(straight):
+    """If the model changes, these tables are stale: run ``make answers``."""
+    table = pq.read_table(answer_path(straight, ".parquet"))
+    feasible = np.flatnonzero(table.column("feasible").to_numpy(zero_copy_only=False))
+    for row in np.random.default_rng(int(straight)).choice(feasible, 3, replace=False):
+        now = design_metrics(design_of_row(table, int(row)))
+        for name in METRICS:
+            assert now[name] == pytest.approx(table.column(name)[int(row)].as_py(), rel=1e-9, abs=1e-12), name
+
+
+def test_docs_quote_the_answer_as_the_code_computes_it(rows):
+    text = (ROOT / "docs" / "design_exploration.md").read_text()
+    assert design_exploration.markdown(rows) in text
+    assert design_exploration.question() in text
+    for name in METRICS:
+        assert f"`{name}`" in text
+
+
+def test_report_section_has_units_in_every_column(rows):
+    table = design_exploration.markdown(rows).splitlines()[0]
+    for title in table.strip("|").split("|")[1:]:
+        assert "[" in title and "]" in title
