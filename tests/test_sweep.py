@@ -164,6 +164,7 @@ def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path):
         ["--n", "0"],
         ["--workers", "0"],
         ["--by", "speed"],
+        ["--dask", "tcp://127.0.0.1:1"],
     ],
 )
 def test_cli_bad_input_is_one_line_before_any_work(tmp_path, args):

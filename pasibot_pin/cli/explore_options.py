@@ -9,12 +9,14 @@ from pathlib import Path
 def add_explore_options(p: argparse.ArgumentParser) -> None:
     """``--out``, ``--vary``, ``--design``, executors, outputs and the best designs."""
     p.add_argument("--out", type=Path, required=True, help="folder of the run (created; resumed if it holds one)")
+    from pasibot_pin.explore.plan import DEFAULT_RANGES
+
     p.add_argument(
         "--vary",
         action="append",
         default=None,
         metavar="NAME=LO:HI",
-        help="a parameter and its range (repeatable; default: K, r4, r5, foot_toe, foot_heel, body_com_dx, body_mass)",
+        help=f"a parameter and its range (repeatable; default: {' '.join(r.text() for r in DEFAULT_RANGES)})",
     )
     p.add_argument("--design", type=Path, default=None, help="base design file (.toml/.json; default the seed's)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
@@ -47,7 +49,7 @@ def parse_by(text: str) -> tuple[str, str]:
 def start_run(args: argparse.Namespace):
     """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
     from pasibot_pin.cli.common import check_output_folder
-    from pasibot_pin.explore.executors import check_workers
+    from pasibot_pin.explore.executors import check_scheduler, check_workers
     from pasibot_pin.explore.plan import ranges_or_default
     from pasibot_pin.model.design import Design, load_design
 
@@ -57,7 +59,9 @@ def start_run(args: argparse.Namespace):
     check_workers(args.workers)
     if isinstance(args.best, bool) or not 0 <= args.best <= 100:
         raise ValueError(f"--best must be in [0, 100], got {args.best!r}")
-    return base, ranges, parse_by(args.by)
+    by = parse_by(args.by)
+    check_scheduler(args.dask)  # last: it may wait a few seconds for the scheduler
+    return base, ranges, by
 
 
 def finish_run(

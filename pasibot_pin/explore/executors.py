@@ -24,7 +24,7 @@ from collections.abc import Callable, Sequence
 IN_FLIGHT: int = 4
 """Tasks per Dask worker submitted ahead of the results."""
 
-CONNECT_TIMEOUT: str = "10s"
+CONNECT_TIMEOUT: str = "5s"
 """How long to wait for a Dask scheduler before giving up."""
 
 
@@ -43,6 +43,20 @@ def check_workers(workers: int | None) -> int:
     if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 4096:
         raise ValueError(f"parameter 'workers' must be an integer in [1, 4096], got {workers!r}")
     return workers
+
+
+def check_scheduler(address: str | None) -> None:
+    """Before any work: ``address`` is ``None``, ``local``, or a Dask scheduler that answers (ValueError if not)."""
+    if address is None or address == "local":
+        return
+    try:
+        from distributed import Client
+    except ImportError:
+        raise ValueError("--dask needs the sweep extra: pip install 'pasibot-pin[sweep]'") from None
+    try:
+        Client(address, timeout=CONNECT_TIMEOUT).close()
+    except (OSError, TimeoutError, ValueError) as err:
+        raise ValueError(f"--dask {address}: cannot reach a Dask scheduler there ({err})") from None
 
 
 def run_tasks(
