@@ -24,7 +24,7 @@ from collections.abc import Callable, Sequence
 IN_FLIGHT: int = 4
 """Tasks per Dask worker submitted ahead of the results."""
 
-CONNECT_TIMEOUT: str = "5s"
+CONNECT_TIMEOUT: str = "3s"
 """How long to wait for a Dask scheduler before giving up."""
 
 

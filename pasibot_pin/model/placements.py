@@ -20,7 +20,10 @@ Inertias are not part of the map: :func:`pasibot_pin.model.robot.apply_masses` s
 from __future__ import annotations
 
 import functools
+import hashlib
+import os
 from dataclasses import dataclass
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -103,30 +106,89 @@ class PlacementMap:
         return self.t0 + self.A @ (np.asarray(x, dtype=float) - self.x0)
 
 
-@functools.cache
-def placement_map(variant: str, legs: int) -> PlacementMap:
-    """The :class:`PlacementMap` of a variant and leg count, measured on the xacro (cached).
+def _cache_file(variant: str, legs: int) -> Path | None:
+    """Where the map of ``variant``/``legs`` is kept between processes, or ``None`` (no cache folder).
 
-    Raises:
-        RuntimeError: the translations are not linear in the lengths (the xacro changed in a
-            way this module does not support): the map disagrees with a direct rendering.
-
+    The name carries a hash of everything the map depends on: the xacro sources, this module,
+    the seed geometry and the Pinocchio version. ``PASIBOT_CACHE`` (or ``XDG_CACHE_HOME``) moves
+    the folder; ``PASIBOT_CACHE=off`` turns the cache off.
     """
-    base = Geometry()
-    x0 = length_vector(base, variant)
-    model = _tree(variant, legs, base)
+    from pasibot_pin.model.paths import XACRO_PATH
+
+    root = os.environ.get("PASIBOT_CACHE") or os.path.join(
+        os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "pasibot_pin"
+    )
+    if root == "off":
+        return None
+    digest = hashlib.sha256()
+    for source in sorted(XACRO_PATH.parent.glob("*.xacro")) + [Path(__file__)]:
+        digest.update(source.read_bytes())
+    digest.update(f"{Geometry()!r}{pin.__version__}{STEP}".encode())
+    return Path(root) / f"placements_{variant}_{legs}_{digest.hexdigest()[:16]}.npz"
+
+
+def _measure(variant: str, legs: int, model: pin.Model) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """(x0, t0, A) measured on the xacro: one rendering per length, plus a check at another geometry."""
+    x0 = length_vector(Geometry(), variant)
     t0 = _translations(model)
     columns = []
     for k in range(len(x0)):
         x = x0.copy()
         x[k] *= 1.0 + STEP
         columns.append((_translations(_tree(variant, legs, _geometry_of(x, variant))) - t0) / (x[k] - x0[k]))
-    out = PlacementMap(model, x0, t0, np.stack(columns, axis=-1))
+    return x0, t0, np.stack(columns, axis=-1)
+
+
+@functools.cache
+def placement_map(variant: str, legs: int) -> PlacementMap:
+    """The :class:`PlacementMap` of a variant and leg count, measured on the xacro.
+
+    Kept in memory, and on disk between processes (:func:`_cache_file`, about 20 renderings of
+    the xacro saved). The seed's tree is the committed default URDF (a test keeps it equal to
+    its rendering). Every map, fresh or read back, is checked against a direct rendering at an
+    unrelated geometry.
+
+    Raises:
+        RuntimeError: the translations are not linear in the lengths (the xacro changed in a
+            way this module does not support): the map disagrees with a direct rendering.
+
+    """
+    from pasibot_pin.model.paths import urdf_path
+    from pasibot_pin.model.robot import ROOT_JOINT_NAME, planar_root_joint
+
+    text = urdf_path(variant, legs).read_text()
+    model = (
+        pin.buildModelFromXML(text, planar_root_joint(), ROOT_JOINT_NAME) if legs == 2 else pin.buildModelFromXML(text)
+    )
+    cache = _cache_file(variant, legs)
+    arrays = None
+    if cache is not None and cache.is_file():
+        try:
+            with np.load(cache) as saved:
+                arrays = saved["x0"], saved["t0"], saved["A"]
+        except (OSError, ValueError, KeyError):
+            arrays = None
+    fresh = arrays is None or arrays[1].shape != _translations(model).shape
+    if fresh:
+        arrays = _measure(variant, legs, model)
+    out = PlacementMap(model, *arrays)
     # check at an unrelated geometry (every length changed at once)
-    x = x0 * (1.0 + 0.03 * np.cos(np.arange(len(x0))))
+    x = out.x0 * (1.0 + 0.03 * np.cos(np.arange(len(out.x0))))
     err = np.max(np.abs(_translations(_tree(variant, legs, _geometry_of(x, variant))) - out.translations(x)))
-    if err > CHECK_TOL * x[0]:
+    if err > CHECK_TOL * x[0] or not np.array_equal(out.t0, _translations(model)):
+        if not fresh:  # a stale or damaged cache: measure again
+            cache.unlink(missing_ok=True)
+            placement_map.cache_clear()
+            return placement_map(variant, legs)
         raise RuntimeError(f"the xacro's translations are not linear in the lengths (error {err:.3g} m)")
+    if fresh and cache is not None:
+        try:
+            cache.parent.mkdir(parents=True, exist_ok=True)
+            tmp = cache.with_name(f".{cache.name}.{os.getpid()}.tmp.npz")
+            np.savez(tmp, x0=out.x0, t0=out.t0, A=out.A)
+            os.replace(tmp, cache)
+        except OSError:
+            pass  # a read-only home: measure again next time
     return out
 
 
