@@ -62,6 +62,43 @@ def test_a_dropped_robot_lands_when_free_fall_says_and_stops_inelastically(robot
     assert impulse == pytest.approx(mass * (0.0 - res.v[k - 1][1]) + mass * G * 2 * h, rel=1e-3)
 
 
+@pytest.mark.parametrize("factor", [0.0, 1.0])
+def test_a_consistent_start_stays_at_rest(factor):
+    """Cranks held, the start of :meth:`start_state` is an equilibrium: nothing moves for 0.5 s.
+
+    No spring: the flat double support holds as it is. The fitted spring (preload ~69 N.m at the
+    front ankle, which the flat start cannot hold: one step from it moves at ~1 m/s) settles onto
+    the front heel and the rear toe. Either way the loops are closed, every force is in its cone,
+    the normal forces carry the weight (the masses, summed here), and the modes never change.
+    """
+    inputs = spring_study.scenario_inputs("run1")
+    spring = inputs.fit.scaled(factor) if factor > 0 else None
+    sim = FloorSimulator(inputs.robot, FloorSettings(omega=0.0, spring=spring))
+    start = sim.start_state()
+    q_flat, _ = sim.initial_state()
+    flat_speed = sim.rest_forces(q_flat)[2]
+    if spring is None:
+        assert start.kind == "flat" and flat_speed < 1e-7
+    else:
+        assert start.kind == "settled" and flat_speed > 0.1  # the flat start is no equilibrium: it would hop
+        assert start.modes == {"right": "heel", "left": "toe"}
+    weight = total_mass(inputs.robot) * G
+    assert start.loop_residual < 1e-8
+    assert np.all(start.normal >= -1e-9) and np.sum(start.normal) == pytest.approx(weight, rel=1e-5)
+    assert start.friction_use <= sim.settings.mu  # inside the cones
+    assert np.all(start.gaps > -1e-9)  # nothing below the floor
+    res = sim.run(0.5, start.q, start.v)
+    assert not res.failed
+    # at rest it stays at rest: the settled foot rocks on its heel by < 1e-5 rad/s (its spring's light damping)
+    assert np.max(np.abs(res.v)) < 1e-4
+    assert np.max(np.abs(res.q - start.q)) < 1e-5
+    for side in ("right", "left"):
+        assert set(res.modes[side]) == {start.modes[side]}  # no mode change
+    np.testing.assert_allclose(np.sum(res.normal, axis=1), weight, rtol=1e-5)
+    loops = sim.bilateral.evaluate(res.q[-1]).phi[: sim.bilateral.n_constraint_rows]
+    assert np.max(np.abs(loops)) < 1e-8
+
+
 def test_bad_settings_are_named():
     with pytest.raises(ValueError, match="'mu'"):
         FloorSettings(mu=-0.1)
@@ -76,9 +113,10 @@ def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
     (our time-stepping and MuJoCo's soft contacts agree on when, and on the feet's heights)."""
     inputs = spring_study.scenario_inputs("run1")
     robot, spring = inputs.robot, inputs.fit
-    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=1e-3))
-    q0, v0 = sim.initial_state()
-    ours = sim.run(0.1)
+    # 0.5 ms: the implicit springs' first-order error moves the feet's heights by ~1.5 mm at 1 ms
+    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=5e-4))
+    q0, v0 = sim.initial_state()  # the flat double support, springs preloaded: not a start it can hold
+    ours = sim.run(0.1, q0, v0)
     airborne = [t for t, r, left in zip(ours.t, ours.modes["right"], ours.modes["left"]) if r == left == "air"]
     assert airborne and 0.02 < airborne[0] < 0.07
     options = MjcfOptions(spring.stiffness, spring.rest_angle, spring.damping, mu=sim.settings.mu)
