@@ -157,3 +157,36 @@ def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsy
     assert (out / "floor_run4.png").stat().st_size > 10_000
     assert main(["simulate", "--scenario", "4", "--duration", "0.3", "--out", str(out)]) == 2
     assert "exists" in capsys.readouterr().err
+
+
+def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
+    """The README's floor paragraph and docs/floor.md's rows for the fitted spring of runs 1 and 2,
+    recomputed by the study (a drift of any printed figure fails here)."""
+    import re
+    from pathlib import Path
+
+    from pasibot_pin.report.floor import floor_spring_table
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+
+    root = Path(__file__).resolve().parents[1]
+    readme = root.joinpath("README.md").read_text(encoding="utf-8")
+    doc = root.joinpath("docs", "floor.md").read_text(encoding="utf-8")
+    found = re.search(
+        r"run 1 stands on its front heel and rear toe at (\S+)° hip\s+pitch and stays within ([0-9.]+)° over "
+        r"([0-9.]+) s \(welded: ([0-9.]+)°\), but runs 2–4 cannot stand with the fitted\s+spring: run 2 falls at "
+        r"([0-9.]+) s, where the weld holds ([0-9.]+)°",
+        readme,
+    )
+    assert found, "the README's floor sentence changed shape"
+    start, floor_max, duration, weld_max, fall, weld2 = (float(x.replace("−", "-")) for x in found.groups())
+    settings = FloorSpringSettings(scenarios=("run1", "run2"), duration=duration)
+    study = floor_spring_study(settings, cases=[("fitted", 1.0)])
+    run1, run2 = study.row("run1", "fitted"), study.row("run2", "fitted")
+    assert run1.floor_start == "settled" and run1.floor_start_modes == "heel/toe"
+    assert start == round(math.degrees(run1.floor_start_pitch), 2)
+    assert floor_max == round(math.degrees(run1.floor_max_pitch), 1) and not run1.floor_failed
+    assert weld_max == round(math.degrees(run1.weld_max_pitch), 1)
+    assert run2.floor_start == "none" and run2.floor_failed and "fell" in run2.floor_outcome
+    assert fall == round(run2.floor_end, 2) and weld2 == round(math.degrees(run2.weld_max_pitch), 1)
+    for row in floor_spring_table(study):  # docs/floor.md prints the same rows
+        assert "| " + " | ".join(row.values()) + " |" in doc
