@@ -106,6 +106,20 @@ def test_bad_settings_are_named():
         FloorSettings(dt=0.0)
     with pytest.raises(ValueError, match="'omega'"):
         FloorSettings(omega=float("nan"))
+    with pytest.raises(ValueError, match="'foot_toe'"):  # a sole of zero length
+        from pasibot_pin.model.params import Geometry
+
+        Geometry(foot_toe=0.0)
+    sim = FloorSimulator(pp.load("spring", 2), FloorSettings())
+    q0, v0 = sim.initial_state()
+    bad = q0.copy()
+    bad[3] = float("nan")
+    with pytest.raises(ValueError, match="'q0'"):
+        sim.run(0.1, bad, v0)
+    with pytest.raises(ValueError, match="'start'"):
+        sim.run(0.1, start="standing")
+    with pytest.raises(ValueError, match="'duration'"):
+        sim.run(float("nan"))
 
 
 def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
