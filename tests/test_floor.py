@@ -62,6 +62,43 @@ def test_a_dropped_robot_lands_when_free_fall_says_and_stops_inelastically(robot
     assert impulse == pytest.approx(mass * (0.0 - res.v[k - 1][1]) + mass * G * 2 * h, rel=1e-3)
 
 
+@pytest.mark.parametrize("factor", [0.0, 1.0])
+def test_a_consistent_start_stays_at_rest(factor):
+    """Cranks held, the start of :meth:`start_state` is an equilibrium: nothing moves for 0.5 s.
+
+    No spring: the flat double support holds as it is. The fitted spring (preload ~69 N.m at the
+    front ankle, which the flat start cannot hold: one step from it moves at ~1 m/s) settles onto
+    the front heel and the rear toe. Either way the loops are closed, every force is in its cone,
+    the normal forces carry the weight (the masses, summed here), and the modes never change.
+    """
+    inputs = spring_study.scenario_inputs("run1")
+    spring = inputs.fit.scaled(factor) if factor > 0 else None
+    sim = FloorSimulator(inputs.robot, FloorSettings(omega=0.0, spring=spring))
+    start = sim.start_state()
+    q_flat, _ = sim.initial_state()
+    flat_speed = sim.rest_forces(q_flat)[2]
+    if spring is None:
+        assert start.kind == "flat" and flat_speed < 1e-7
+    else:
+        assert start.kind == "settled" and flat_speed > 0.1  # the flat start is no equilibrium: it would hop
+        assert start.modes == {"right": "heel", "left": "toe"}
+    weight = total_mass(inputs.robot) * G
+    assert start.loop_residual < 1e-8
+    assert np.all(start.normal >= -1e-9) and np.sum(start.normal) == pytest.approx(weight, rel=1e-5)
+    assert start.friction_use <= sim.settings.mu  # inside the cones
+    assert np.all(start.gaps > -1e-9)  # nothing below the floor
+    res = sim.run(0.5, start.q, start.v)
+    assert not res.failed
+    # at rest it stays at rest: the settled foot rocks on its heel by < 1e-5 rad/s (its spring's light damping)
+    assert np.max(np.abs(res.v)) < 1e-4
+    assert np.max(np.abs(res.q - start.q)) < 1e-5
+    for side in ("right", "left"):
+        assert set(res.modes[side]) == {start.modes[side]}  # no mode change
+    np.testing.assert_allclose(np.sum(res.normal, axis=1), weight, rtol=1e-5)
+    loops = sim.bilateral.evaluate(res.q[-1]).phi[: sim.bilateral.n_constraint_rows]
+    assert np.max(np.abs(loops)) < 1e-8
+
+
 def test_bad_settings_are_named():
     with pytest.raises(ValueError, match="'mu'"):
         FloorSettings(mu=-0.1)
@@ -69,6 +106,20 @@ def test_bad_settings_are_named():
         FloorSettings(dt=0.0)
     with pytest.raises(ValueError, match="'omega'"):
         FloorSettings(omega=float("nan"))
+    with pytest.raises(ValueError, match="'foot_toe'"):  # a sole of zero length
+        from pasibot_pin.model.params import Geometry
+
+        Geometry(foot_toe=0.0)
+    sim = FloorSimulator(pp.load("spring", 2), FloorSettings())
+    q0, v0 = sim.initial_state()
+    bad = q0.copy()
+    bad[3] = float("nan")
+    with pytest.raises(ValueError, match="'q0'"):
+        sim.run(0.1, bad, v0)
+    with pytest.raises(ValueError, match="'start'"):
+        sim.run(0.1, start="standing")
+    with pytest.raises(ValueError, match="'duration'"):
+        sim.run(float("nan"))
 
 
 def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
@@ -76,9 +127,10 @@ def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
     (our time-stepping and MuJoCo's soft contacts agree on when, and on the feet's heights)."""
     inputs = spring_study.scenario_inputs("run1")
     robot, spring = inputs.robot, inputs.fit
-    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=1e-3))
-    q0, v0 = sim.initial_state()
-    ours = sim.run(0.1)
+    # 0.5 ms: the implicit springs' first-order error moves the feet's heights by ~1.5 mm at 1 ms
+    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring, dt=5e-4))
+    q0, v0 = sim.initial_state()  # the flat double support, springs preloaded: not a start it can hold
+    ours = sim.run(0.1, q0, v0)
     airborne = [t for t, r, left in zip(ours.t, ours.modes["right"], ours.modes["left"]) if r == left == "air"]
     assert airborne and 0.02 < airborne[0] < 0.07
     options = MjcfOptions(spring.stiffness, spring.rest_angle, spring.damping, mu=sim.settings.mu)
@@ -119,3 +171,36 @@ def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsy
     assert (out / "floor_run4.png").stat().st_size > 10_000
     assert main(["simulate", "--scenario", "4", "--duration", "0.3", "--out", str(out)]) == 2
     assert "exists" in capsys.readouterr().err
+
+
+def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
+    """The README's floor paragraph and docs/floor.md's rows for the fitted spring of runs 1 and 2,
+    recomputed by the study (a drift of any printed figure fails here)."""
+    import re
+    from pathlib import Path
+
+    from pasibot_pin.report.floor import floor_spring_table
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+
+    root = Path(__file__).resolve().parents[1]
+    readme = root.joinpath("README.md").read_text(encoding="utf-8")
+    doc = root.joinpath("docs", "floor.md").read_text(encoding="utf-8")
+    found = re.search(
+        r"run 1 stands on its front heel and rear toe at (\S+)° hip\s+pitch and stays within ([0-9.]+)° over "
+        r"([0-9.]+) s \(welded: ([0-9.]+)°\), but runs 2–4 cannot stand with the fitted\s+spring: run 2 falls at "
+        r"([0-9.]+) s, where the weld holds ([0-9.]+)°",
+        readme,
+    )
+    assert found, "the README's floor sentence changed shape"
+    start, floor_max, duration, weld_max, fall, weld2 = (float(x.replace("−", "-")) for x in found.groups())
+    settings = FloorSpringSettings(scenarios=("run1", "run2"), duration=duration)
+    study = floor_spring_study(settings, cases=[("fitted", 1.0)])
+    run1, run2 = study.row("run1", "fitted"), study.row("run2", "fitted")
+    assert run1.floor_start == "settled" and run1.floor_start_modes == "heel/toe"
+    assert start == round(math.degrees(run1.floor_start_pitch), 2)
+    assert floor_max == round(math.degrees(run1.floor_max_pitch), 1) and not run1.floor_failed
+    assert weld_max == round(math.degrees(run1.weld_max_pitch), 1)
+    assert run2.floor_start == "none" and run2.floor_failed and "fell" in run2.floor_outcome
+    assert fall == round(run2.floor_end, 2) and weld2 == round(math.degrees(run2.weld_max_pitch), 1)
+    for row in floor_spring_table(study):  # docs/floor.md prints the same rows
+        assert "| " + " | ".join(row.values()) + " |" in doc

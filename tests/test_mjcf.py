@@ -137,3 +137,69 @@ def test_export_mjcf_command_uses_the_design_and_refuses_to_overwrite(tmp_path, 
     assert "exists" in capsys.readouterr().err
     assert main(["export-mjcf", "--out", str(out), "--force", "--variant", "rigid", "--legs", "1"]) == 0
     assert mujoco.MjModel.from_xml_path(str(out)).nq == 7
+
+
+def _mujoco_floor_run(robot, spring, omega, mu, q0, duration):
+    """MuJoCo on the floor from ``q0`` at rest: loaded points (n, 4) and hip pitch (n,) every ms, rear toe x (n,)."""
+    options = MjcfOptions(
+        spring.stiffness if spring else 0.0,
+        spring.rest_angle if spring else math.pi / 2,
+        spring.damping if spring else 0.0,
+        mu=mu,
+    )
+    model, data = _model(robot, options, q_weld=q0)
+    data.qpos[:] = q0
+    data.qpos[1] += options.sole_radius  # the capsules' bottoms on the floor, where our points are
+    start = np.array([q0[robot.idx_q(m)] for m in robot.actuated_joints])
+    lag = options.kv * omega / options.kp
+    loaded, pitch, toe_x = [], [], []
+    soles = [model.geom(f"{side}_sole").id for side in ("right", "left")]
+    every = round(1e-3 / options.timestep)
+    for k in range(round(duration / options.timestep)):
+        data.ctrl[:] = start + omega * data.time + lag
+        mujoco.mj_step(model, data)
+        if (k + 1) % every:
+            continue
+        row = np.zeros(4, dtype=bool)
+        for i in range(data.ncon):
+            c = data.contact[i]
+            for s, (side, gid) in enumerate(zip(("right", "left"), soles)):
+                if gid in (c.geom1, c.geom2):
+                    heel, toe = data.site(f"{side}_heel").xpos, data.site(f"{side}_toe").xpos
+                    along = np.dot(c.pos - heel, toe - heel) / np.dot(toe - heel, toe - heel)
+                    row[2 * s + (1 if along >= 0.5 else 0)] = True
+        loaded.append(row)
+        pitch.append(data.qpos[2])
+        toe_x.append(data.site("left_toe").xpos[0])
+    return np.array(loaded), np.array(pitch), np.array(toe_x)
+
+
+def test_mujoco_on_the_floor_run1_spring_cases():
+    """Run 1's four spring cases on the floor, ours against MuJoCo from the same consistent start.
+
+    What agrees: which points carry load (fitted, half, twice: the front heel and the rear toe;
+    no spring: all four) in >= 95 % (ours) and 99 % (MuJoCo) of the samples, the outcome (neither falls, no landing) and
+    the hip pitch (within 0.3 deg). What differs: our modes call the rear foot ``sliding`` most of
+    the time (its toe slides ~1.3 mm in 0.5 s with the fitted spring) where MuJoCo's rear toe
+    moves < 0.1 mm (its soft contact takes the cranks' motion up as elastic creep, or our
+    Anitescu cone lets the point slide: not resolved yet), so the mode strings, which contain
+    ``sliding``, are compared through the loaded points only.
+    """
+    from pasibot_pin.dynamics.floor import LOAD_TOL, FloorSettings, FloorSimulator
+
+    inputs = spring_study.scenario_inputs("run1")
+    robot, duration = inputs.robot, 0.5
+    for label, factor in spring_study.SPRING_CASES:
+        spring = inputs.fit.scaled(factor) if factor > 0 else None
+        sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=spring))
+        ours = sim.run(duration)
+        assert ours.start is not None and not ours.failed and not ours.landings, label
+        loaded, pitch, toe_x = _mujoco_floor_run(robot, spring, inputs.omega, sim.settings.mu, ours.start.q, duration)
+        n = min(len(loaded), len(ours.t))
+        ours_loaded = ours.normal[:n] > LOAD_TOL
+        expected = [True, True, True, True] if spring is None else [True, False, False, True]
+        assert np.mean(np.all(ours_loaded == expected, axis=1)) >= 0.95, label  # the cranks' start: ~15 ms
+        assert np.mean(np.all(loaded[:n] == expected, axis=1)) >= 0.99, label
+        assert np.degrees(np.max(np.abs(pitch))) < 60 and np.degrees(np.max(np.abs(ours.hip_pitch))) < 60
+        assert np.degrees(np.max(np.abs(np.abs(pitch[:n]) - np.abs(ours.hip_pitch[:n])))) < 0.3, label
+        # not asserted (they differ): our rear toe slides ~1.3 mm in 0.5 s (fitted), MuJoCo's < 0.1 mm

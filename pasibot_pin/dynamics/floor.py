@@ -27,7 +27,7 @@ Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pinocchio as pin
@@ -41,6 +41,7 @@ from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_fo
 SIDES = ("right", "left")
 POINTS = ("heel", "toe")
 MODES = ("flat", "heel", "toe", "sliding", "air")
+STARTS = ("consistent", "flat")
 LOAD_TOL = 1e-3
 """A contact point carries load when its normal force exceeds this [N] (the QP's impulses are
 accurate to about 1e-8 N.s)."""
@@ -53,6 +54,21 @@ SLIP_LIMIT = 0.02
 STEP_ADVANCE = 2.0
 """A landing is a step when the foot lands at least this many crank lengths L ahead of where it
 last stood (a foot that lands where it stood has hopped, not stepped) [-]."""
+SETTLE_RAMP = 1.0
+"""The settled start engages the ankle springs over this long (a smooth ramp from zero) [s]."""
+SETTLE_DT = 2e-3
+"""Time step of the settling [s] (the springs are implicit: any step is stable)."""
+SETTLE_DAMPING = 15.0
+"""Artificial velocity damping of the settling only, v <- v (1 - SETTLE_DAMPING h) [1/s]."""
+SETTLE_MARGIN = 0.9
+"""The settling uses this share of mu, so the settled state holds its points strictly inside the cones [-]."""
+SETTLE_MAX = 6.0
+"""The settling gives up (no consistent start) after this long [s]."""
+REST_SPEED = 1e-7
+"""A state is at rest when no velocity component exceeds this [m/s, rad/s] (the QP and the
+projection leave about 5e-9)."""
+SPEED_LIMIT = 1e3
+"""A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
 BEARING_SHARE = 0.25
 """A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
 swing toe does not count as a slip) [-]."""
@@ -120,6 +136,11 @@ class FloorResult:
             the hip pitch beyond its limit, a foot rolled over its heel or toe, a foot slipped, a
             loop that cannot close, a contact problem the solver could not solve.
         failed: True when the run stopped on a failure.
+        start: the consistent start it began from (``None`` for a given or ``flat`` start).
+        start_kind: ``flat`` (geometric double support), ``settled`` (:meth:`FloorSimulator.start_state`)
+            or ``given``.
+        start_note: why a ``consistent`` start fell back to ``flat`` (the robot cannot stand at
+            theta0: no static state holds it), else ``""``.
 
     """
 
@@ -136,6 +157,9 @@ class FloorResult:
     landings: list[tuple[float, str, float]] = field(default_factory=list)
     outcome: str = ""
     failed: bool = False
+    start: StartState | None = None
+    start_kind: str = ""
+    start_note: str = ""
 
     def step_lengths(self) -> np.ndarray:
         """The landing foot's distance ahead of the other foot at each step [m]."""
@@ -150,6 +174,40 @@ class FloorResult:
         with np.errstate(invalid="ignore", divide="ignore"):
             use = np.abs(self.tangential) / self.normal
         return np.where(self.normal > 0, use, 0.0)
+
+
+@dataclass
+class StartState:
+    """A consistent start (:meth:`FloorSimulator.start_state`).
+
+    Attributes:
+        q, v: configuration and velocity (v = 0: at rest).
+        kind: ``flat`` (the geometric double support holds) or ``settled`` (the springs engaged).
+        settle_time: how long the settling took [s] (0 for ``flat``).
+        normal, tangential: contact forces holding it (4,) [N]: right heel, right toe, left heel, left toe.
+        modes: each foot's contact mode.
+        loop_residual: largest loop-closure residual [m].
+        gaps: heights of the four points above the floor [m].
+        along: their x [m].
+
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    kind: str
+    settle_time: float
+    normal: np.ndarray
+    tangential: np.ndarray
+    modes: dict[str, str]
+    loop_residual: float
+    gaps: np.ndarray
+    along: np.ndarray
+
+    @property
+    def friction_use(self) -> float:
+        """The largest |F_t| / F_n of a loaded point [-]."""
+        loaded = self.normal > LOAD_TOL
+        return float(np.max(np.abs(self.tangential[loaded]) / self.normal[loaded])) if loaded.any() else 0.0
 
 
 class FloorSimulator:
@@ -193,19 +251,40 @@ class FloorSimulator:
         rows, jac, _, _ = self.points.evaluate(q)
         return rows.imag, rows.real, jac.imag, jac.real
 
-    def step(self, t: float, q: np.ndarray, v: np.ndarray, h: float):
-        """One step: (q+, v+, normal and tangential impulses (4,) [N.s], bilateral impulses)."""
+    def step(
+        self, t: float, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None
+    ):
+        """One step: (q+, v+, normal and tangential impulses (4,) [N.s], bilateral impulses).
+
+        The ankle springs and dampers are linearly implicit: their torque at the end of the step,
+        tau(q + h v+, v+) = tau(q, 0) - (K h + c) v+, so the stiff foot-on-spring mode is stable at
+        any step. ``spring_scale`` scales the springs (the settling ramps it), ``mu`` overrides the
+        friction coefficient.
+
+        Raises:
+            ValueError: the QP failed, a loop cannot close, or the state diverged (non-finite or
+                faster than :data:`SPEED_LIMIT`).
+
+        """
         model, data, s = self.robot.model, self.robot.data, self.settings
+        mu = s.mu if mu is None else mu
         rows = self.bilateral.evaluate(q, None, t + h)
         gap, _, jn, jt = self.contact_rows(q)
         mass = symmetric_mass_matrix(model, data, q)
         bias = pin.nonLinearEffects(model, data, q, v)
-        tau = spring_forces(self.robot, s.spring, q, v, self.ankles) if s.spring is not None else np.zeros(model.nv)
+        hessian = mass
+        tau = np.zeros(model.nv)
+        if s.spring is not None and spring_scale > 0:
+            spring = s.spring.scaled(spring_scale)
+            tau = spring_forces(self.robot, spring, q, np.zeros(model.nv), self.ankles)
+            hessian = mass.copy()
+            for i in self.ankles.values():
+                hessian[i, i] += h * (h * spring.stiffness + spring.damping)
         g = -(mass @ v + h * (tau - bias))
-        cone = np.vstack((jn + s.mu * jt, jn - s.mu * jt))
+        cone = np.vstack((jn + mu * jt, jn - mu * jt))
         lower = np.concatenate((-gap / h, -gap / h))
         result = proxsuite.proxqp.dense.solve(
-            H=mass,
+            H=hessian,
             g=g,
             A=rows.jac,
             b=-rows.phi_t - rows.phi / h,
@@ -217,9 +296,12 @@ class FloorSimulator:
         if result.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
             raise ValueError(f"the contact QP did not solve ({result.info.status})")
         v_new = np.array(result.x)
+        fastest = float(np.max(np.abs(v_new)))
+        if not fastest <= SPEED_LIMIT:  # also catches NaN
+            raise ValueError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
         z = -np.array(result.z)  # impulses of the cone rows (>= 0)
         k = len(gap)
-        normal, tangential = z[:k] + z[k:], s.mu * (z[:k] - z[k:])
+        normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
         q_new = self.bilateral.project(q + h * v_new, t + h, metric="mass", max_iter=20)
         return q_new, v_new, normal, tangential, -np.array(result.y)
 
@@ -239,13 +321,14 @@ class FloorSimulator:
                 out[side] = POINTS[int(np.argmax(loaded))]
         return out
 
-    # ---- a run
+    # ---- the start
     def initial_state(self, swing_pitch: float | None = 0.0) -> tuple[np.ndarray, np.ndarray]:
-        """Both feet flat on the floor at theta0, the hip level; the velocity that keeps them there.
+        """The geometric double support: both feet flat on the floor at theta0, the hip level.
 
         At the touchdown angle (theta0 = pi/2) both ankles lie on the stance line, so both soles
         rest on the floor; the velocity keeps both feet still, the hip level and the cranks at
-        omega (a least-squares solve of the consistent, redundant rows).
+        omega (a least-squares solve of the consistent, redundant rows). With preloaded ankle
+        springs this state is *not* one the robot can hold (see :meth:`start_state`).
         """
         from pasibot_pin.model.closure import analytic_configurations
 
@@ -259,11 +342,118 @@ class FloorSimulator:
         v = np.linalg.lstsq(jac, rhs, rcond=None)[0]
         return q, v
 
-    def run(self, duration: float, q0: np.ndarray | None = None, v0: np.ndarray | None = None) -> FloorResult:
-        """Integrate for ``duration`` [s] (or until the hip passes the fall limit or a step fails)."""
+    def _held(self) -> FloorSimulator:
+        """A copy of the simulator with the cranks held at theta0 (omega = 0)."""
+        return FloorSimulator(self.robot, replace(self.settings, omega=0.0))
+
+    def rest_forces(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
+        """Contact forces holding ``q`` at rest, the cranks held.
+
+        Returns:
+            (normal, tangential, speed): the forces (4,) [N] of one step from rest, and the largest
+            velocity that step reaches [m/s, rad/s] (0 when ``q`` is an equilibrium).
+
+        """
+        held = self._held()
+        h = self.settings.dt
+        _, v, normal, tangential, _ = held.step(0.0, q, np.zeros(self.robot.model.nv), h)
+        return normal / h, tangential / h, float(np.max(np.abs(v)))
+
+    def start_state(self) -> StartState:
+        """A consistent start at theta0: both feet on the floor, at rest, every contact force in its cone.
+
+        The geometric double support (:meth:`initial_state`, both soles flat, hip level) is used
+        when the floor can hold it at rest: one step from rest stays at rest (no velocity above
+        :data:`REST_SPEED`). That is so without ankle springs. A preloaded spring (the fitted
+        one: about 69 N.m at the front ankle) needs a centre of pressure far outside the sole, so
+        the robot is *settled*: the cranks held at theta0, the springs engaged over
+        :data:`SETTLE_RAMP` from zero, velocities damped (:data:`SETTLE_DAMPING`, settling only)
+        and friction :data:`SETTLE_MARGIN` x mu, until it is at rest (:data:`REST_SPEED`). The
+        robot then stands where the springs and gravity balance, each foot on its sole, heel or
+        toe, its points strictly inside the cones of the real mu, the loops closed by Newton.
+
+        Raises:
+            ValueError: the robot finds no rest within :data:`SETTLE_MAX` (it falls or keeps sliding).
+
+        """
+        s = self.settings
+        q, _ = self.initial_state()
+        normal, tangential, speed = self.rest_forces(q)
+        if speed <= REST_SPEED:
+            return self._start(q, "flat", 0.0, normal, tangential)
+        held = self._held()
+        v = np.zeros(self.robot.model.nv)
+        h, t = SETTLE_DT, 0.0
+        while t < SETTLE_MAX:
+            ramp = min(1.0, t / SETTLE_RAMP)
+            scale = ramp * ramp * (3 - 2 * ramp)
+            q, v, *_ = held.step(0.0, q, v * (1.0 - SETTLE_DAMPING * h), h, scale, s.mu * SETTLE_MARGIN)
+            t += h
+            if abs(q[2]) > s.fall_limit:
+                raise ValueError(
+                    f"no consistent start: settling at theta0 the robot falls (hip pitch past the limit at {t:.2f} s)"
+                )
+            if t >= SETTLE_RAMP and np.max(np.abs(v)) < REST_SPEED:
+                if h == s.dt:  # at rest with the run's own step: an equilibrium of the run's map
+                    normal, tangential, _ = self.rest_forces(q)
+                    return self._start(q, "settled", t, normal, tangential)
+                h = s.dt
+        raise ValueError(f"no consistent start: the robot does not come to rest within {SETTLE_MAX:g} s of settling")
+
+    def _start(self, q, kind, settle_time, normal, tangential) -> StartState:
+        loops = self.bilateral.evaluate(q).phi[: self.bilateral.n_constraint_rows]
+        gap, along, *_ = self.contact_rows(q)
+        return StartState(
+            q=q,
+            v=np.zeros(self.robot.model.nv),
+            kind=kind,
+            settle_time=settle_time,
+            normal=normal,
+            tangential=tangential,
+            modes=self.modes(normal, np.zeros(len(normal))),
+            loop_residual=float(np.max(np.abs(loops))),
+            gaps=gap,
+            along=along,
+        )
+
+    def run(
+        self, duration: float, q0: np.ndarray | None = None, v0: np.ndarray | None = None, start: str = "consistent"
+    ) -> FloorResult:
+        """Integrate for ``duration`` [s] (or until the hip passes the fall limit or a step fails).
+
+        Args:
+            duration: simulated time [s].
+            q0: start configuration (with ``v0``); default by ``start``.
+            v0: start velocity.
+            start: ``consistent`` (:meth:`start_state`: at rest, the contact forces in their cones;
+                the cranks start turning at t = 0; where the robot cannot stand at theta0 at all,
+                the flat start, with the reason in ``start_note``) or ``flat`` (:meth:`initial_state`,
+                the geometric double support, whatever the springs' preload).
+
+        """
         s = self.settings
         _check("duration", duration, 0.0, 1e4, low_open=True)
-        q, v = self.initial_state() if q0 is None else (np.array(q0, float), np.array(v0, float))
+        if start not in STARTS:
+            raise ValueError(f"parameter 'start' must be one of {', '.join(STARTS)}, got {start!r}")
+        if (q0 is None) != (v0 is None):
+            raise ValueError("give both 'q0' and 'v0' or neither")
+        begin, start_kind, note = None, "given" if q0 is not None else start, ""
+        if q0 is not None:
+            q, v = np.array(q0, dtype=float), np.array(v0, dtype=float)
+            nq = self.robot.model.nq
+            for name, x in (("q0", q), ("v0", v)):
+                if x.shape != (nq,) or not np.all(np.isfinite(x)):
+                    raise ValueError(f"parameter {name!r} must be {nq} finite numbers")
+        elif start == "flat":
+            q, v = self.initial_state()
+        else:
+            try:
+                begin = self.start_state()
+                q, v = begin.q, begin.v
+                start_kind = begin.kind
+            except ValueError as err:  # the robot cannot stand at theta0: start from the flat double support
+                q, v = self.initial_state()
+                start_kind, note = "flat", str(err)
         n = max(1, math.ceil(duration / s.dt - 1e-9))
         h = duration / n
         rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
@@ -282,7 +472,12 @@ class FloorSimulator:
             try:
                 q_new, v_new, normal, tangential, bilateral = self.step(t, q, v, h)
             except ValueError as err:
-                cause = "a loop cannot close" if "loop closure" in str(err) else "the contact problem failed"
+                if "loop closure" in str(err):
+                    cause = "a loop cannot close"
+                elif "diverged" in str(err):
+                    cause = "the simulation diverged"
+                else:
+                    cause = "the contact problem failed"
                 failure = f"{cause} at t = {t:.3f} s ({err})"
                 break
             t += h
@@ -336,4 +531,7 @@ class FloorSimulator:
             landings=landings,
             outcome=failure or f"walks {len(steps)} steps in {t:.3f} s",
             failed=bool(failure),
+            start=begin,
+            start_kind=start_kind,
+            start_note=note,
         )

@@ -1,4 +1,4 @@
-"""Files of the floor study: the fitted case's CSV and the figure (hip pitch of every case, contact modes).
+"""Files of the floor studies: a scenario's fitted case (CSV, figure) and the weld-against-floor spring study.
 
 ``floor_<scenario>.csv`` holds :func:`~pasibot_pin.studies.floor_study.floor_columns` of the fitted
 case (strings for the contact modes, full precision for numbers); ``floor_<scenario>.png`` is
@@ -9,14 +9,16 @@ and renamed together.
 from __future__ import annotations
 
 import csv
+import math
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 
 from pasibot_pin.files import atomic_paths
 from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.studies.floor_spring_study import FloorSpringStudy
 from pasibot_pin.studies.floor_study import FloorStudy, floor_columns
-from pasibot_pin.viz.plots_floor import plot_floor_study
+from pasibot_pin.viz.plots_floor import plot_floor_study, plot_weld_vs_floor
 
 CSV_NAME = "floor_{scenario}.csv"
 PLOT_NAME = "floor_{scenario}.png"
@@ -46,3 +48,88 @@ def write_floor(study: FloorStudy, csv_path: Path, png_path: Path) -> list[Path]
         finally:
             plt.close(fig)
     return [csv_path, png_path]
+
+
+SPRINGS_NAME = "floor_springs"
+"""Stem of the weld-against-floor table (``.md``, ``.csv``) and figure (``.png``)."""
+
+
+def _deg(angle: float) -> str:
+    return "no stable eq." if math.isinf(angle) else f"{math.degrees(angle):.1f}"
+
+
+def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
+    """The table's rows, one per scenario and spring case, columns with their units."""
+    out = []
+    for r in study.rows:
+        fell = "" if math.isnan(r.weld_fell_at) else f"{r.weld_fell_at:.2f}"
+        start = r.floor_start if r.floor_start == "none" else f"{r.floor_start} {r.floor_start_modes}"
+        out.append(
+            {
+                "run": r.scenario,
+                "spring": r.case,
+                "K_e [N.m/rad]": f"{r.stiffness:.1f}",
+                "weld: quasi-static max pitch [deg]": _deg(r.weld_static),
+                "weld: max pitch [deg]": f"{math.degrees(r.weld_max_pitch):.1f}",
+                "weld: fell at [s]": fell,
+                "floor: start": "cannot stand" if r.floor_start == "none" else start,
+                "floor: start pitch [deg]": ""
+                if r.floor_start == "none"
+                else f"{math.degrees(r.floor_start_pitch):.2f}",
+                "floor: max pitch [deg]": f"{math.degrees(r.floor_max_pitch):.1f}",
+                "floor: landings [-]": str(r.floor_landings),
+                "floor: outcome": r.floor_outcome,
+            }
+        )
+    return out
+
+
+def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + ".png") -> str:
+    """The report section: what the floor changes, the table and the figure (linked, with a caption)."""
+    rows = floor_spring_table(study)
+    head = list(rows[0]) if rows else []
+    lines = [
+        "## The spring study on the floor: weld against floor",
+        "",
+        f"Each case runs {study.settings.duration:g} s, welded (stance foot welded flat, swing foot at the",
+        f"spring's rest angle) and on a floor (heel and toe unilateral, mu = {study.settings.mu:g}).",
+        "The floor starts from a consistent state: the flat double support where the floor holds it at rest,",
+        "else the springs engaged",
+        "with the cranks held until the robot rests (`settled`); `cannot stand`: it finds no rest at theta0",
+        "and the run starts from the flat double support. The weld's quasi-static column is the largest",
+        "equilibrium hip pitch along the stance (cranks held).",
+        "",
+        "| " + " | ".join(head) + " |",
+        "|" + "---|" * len(head),
+    ]
+    lines += ["| " + " | ".join(row.values()) + " |" for row in rows]
+    lines += [
+        "",
+        f"![Largest hip pitch of every run and spring case, weld beside floor]({figure})",
+        "",
+        f"*Largest |hip pitch| over {study.settings.duration:g} s, weld (blue) beside floor (orange); hatched: the run "
+        "fell or failed.*",
+        "",
+    ]
+    return "\n".join(lines)
+
+
+def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False) -> list[Path]:
+    """Write ``floor_springs.md``, ``.csv`` and ``.png`` in ``out`` (FileExistsError without ``force``)."""
+    paths = [Path(out) / f"{SPRINGS_NAME}{ext}" for ext in (".md", ".csv", ".png")]
+    existing = [str(p) for p in paths if p.exists()]
+    if existing and not force:
+        raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    rows = floor_spring_table(study)
+    with atomic_paths(*paths) as (md_tmp, csv_tmp, png_tmp):
+        md_tmp.write_text(floor_spring_markdown(study), encoding="utf-8")
+        with csv_tmp.open("w", newline="") as handle:
+            writer = csv.DictWriter(handle, fieldnames=list(rows[0]) if rows else [])
+            writer.writeheader()
+            writer.writerows(rows)
+        fig = plot_weld_vs_floor(study)
+        try:
+            save_figure_file(fig, png_tmp, 100)
+        finally:
+            plt.close(fig)
+    return paths

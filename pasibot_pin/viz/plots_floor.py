@@ -62,3 +62,23 @@ def plot_floor_study(study, axes=None):
     fitted = study.cases[0]
     plot_contact_modes(fitted.result, ax=axes[1], title=f"contact modes, {fitted.label} spring")
     return fig
+
+
+def plot_weld_vs_floor(study, ax=None):
+    """Largest |hip pitch| [deg] of every scenario and spring case, weld beside floor (``FloorSpringStudy``).
+
+    Hatched bars: the run fell or failed (the bar is where it stopped).
+    """
+    fig, ax = figure_axes(ax, (9, 3.8))
+    rows = study.rows
+    x = np.arange(len(rows))
+    weld = [np.degrees(r.weld_max_pitch) for r in rows]
+    floor = [np.degrees(r.floor_max_pitch) for r in rows]
+    for k, r in enumerate(rows):
+        ax.bar(x[k] - 0.2, weld[k], 0.4, color="#457b9d", hatch="//" if not np.isnan(r.weld_fell_at) else None)
+        ax.bar(x[k] + 0.2, floor[k], 0.4, color="#e76f51", hatch="//" if r.floor_failed else None)
+    ax.set_xticks(x, [f"{r.scenario}\n{r.case}" for r in rows], fontsize=6, rotation=90)
+    ax.set_ylabel("largest |hip pitch| [deg]")
+    ax.set_title(f"weld (blue) against floor (orange) over {study.settings.duration:g} s; hatched: fell or failed")
+    ax.grid(alpha=0.3, axis="y")
+    return fig
