@@ -154,3 +154,25 @@ def test_design_record_round_trips_through_a_sweep_row(tmp_path):
     design = SEED.with_(K=2.1, foot_heel=0.7, spring_damping=3.0)
     path = design.save(tmp_path / "d.toml")
     assert design_module.load_design(path) == design
+
+
+def test_floor_metrics_agree_with_the_outcome():
+    """The optional floor simulation: the metrics and the outcome line tell the same story."""
+    import re
+
+    design = SEED.with_(omega=5.0, body_mass=20.0)
+    out = dm.design_metrics(design, floor=0.3)
+    assert out.feasible and out.floor_outcome
+    row = out.row()
+    assert list(row)[len(dm.METRICS) : len(dm.METRICS) + len(dm.FLOOR_METRICS) + 1] == [
+        *dm.FLOOR_METRICS,
+        "floor_outcome",
+    ]
+    if out.floor_outcome.startswith("walks"):
+        assert out["floor_time_s"] == pytest.approx(0.3)
+        assert out.floor_outcome.startswith(f"walks {int(out['floor_steps'])} steps")
+    else:  # the failure's time is the time the run lasted
+        stated = float(re.search(r"t = ([0-9.]+) s", out.floor_outcome).group(1))
+        assert out["floor_time_s"] == pytest.approx(stated, abs=1e-3) and stated < 0.3
+    with pytest.raises(ValueError, match="floor"):
+        dm.design_metrics(design, floor=-1.0)

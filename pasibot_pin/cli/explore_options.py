@@ -29,13 +29,20 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
         metavar="METRIC[:min|max]",
         help="how the best designs are ranked (default peak_crank_torque_Nm:min)",
     )
+    p.add_argument(
+        "--floor",
+        type=float,
+        default=None,
+        metavar="SECONDS",
+        help="also simulate every design walking on the floor this long (slower; adds floor_* columns)",
+    )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     p.add_argument("--force", action="store_true", help="replace another run (or other files) in --out")
 
 
 def parse_by(text: str) -> tuple[str, str]:
     """``METRIC[:min|max]`` -> (metric, sense); ValueError naming --by."""
-    from pasibot_pin.studies.design_metrics import METRICS
+    from pasibot_pin.explore.optimize import ALL_METRICS as METRICS
 
     name, _, sense = str(text).partition(":")
     sense = sense or METRICS.get(name, None) and METRICS[name].sense or "min"
@@ -50,13 +57,14 @@ def start_run(args: argparse.Namespace):
     """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
     from pasibot_pin.cli.common import check_output_folder
     from pasibot_pin.explore.executors import check_scheduler, check_workers
-    from pasibot_pin.explore.plan import ranges_or_default
+    from pasibot_pin.explore.plan import check_floor, ranges_or_default
     from pasibot_pin.model.design import Design, load_design
 
     check_output_folder(args.out, "--out")
     base = load_design(args.design) if args.design is not None else Design()
     ranges = ranges_or_default(args.vary)
     check_workers(args.workers)
+    check_floor(args.floor)
     if isinstance(args.best, bool) or not 0 <= args.best <= 100:
         raise ValueError(f"--best must be in [0, 100], got {args.best!r}")
     by = parse_by(args.by)

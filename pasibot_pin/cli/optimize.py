@@ -41,6 +41,7 @@ def run(args: argparse.Namespace) -> int:
         population=args.population,
         seed=args.seed,
         base=base,
+        floor=args.floor,
     )
     out = Path(args.out)
     try:

@@ -31,7 +31,7 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.explore.sweep import run_sweep
 
     base, ranges, by = start_run(args)
-    plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base)
+    plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base, floor=args.floor)
     out = Path(args.out)
     try:
         result = run_sweep(

@@ -27,10 +27,13 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.explore.plan import DEFAULT_RANGES, Range
+from pasibot_pin.explore.plan import DEFAULT_RANGES, Range, check_floor
 from pasibot_pin.explore.store import ResultStore
 from pasibot_pin.model.design import Design
-from pasibot_pin.studies.design_metrics import METRICS, warm_caches
+from pasibot_pin.studies.design_metrics import FLOOR_METRICS, METRICS, warm_caches
+
+ALL_METRICS = {**METRICS, **FLOOR_METRICS}
+"""Every metric an objective or a constraint may name."""
 
 STUDY_NAME = "pasibot"
 STORAGE = "optuna.log"
@@ -44,8 +47,8 @@ class Objective:
     sense: str = "min"
 
     def __post_init__(self) -> None:
-        if self.metric not in METRICS:
-            raise ValueError(f"--objective {self.metric!r}: unknown metric; valid: {', '.join(METRICS)}")
+        if self.metric not in ALL_METRICS:
+            raise ValueError(f"--objective {self.metric!r}: unknown metric; valid: {', '.join(ALL_METRICS)}")
         if self.sense not in ("min", "max"):
             raise ValueError(f"--objective {self.metric}:{self.sense}: the sense must be min or max")
 
@@ -57,7 +60,7 @@ class Objective:
 def parse_objective(text: str) -> Objective:
     """An :class:`Objective` from ``METRIC[:min|max]`` (default: the metric's usual sense)."""
     name, _, sense = str(text).partition(":")
-    default = METRICS[name].sense if name in METRICS else "min"
+    default = ALL_METRICS[name].sense if name in ALL_METRICS else "min"
     return Objective(name, sense or default or "min")
 
 
@@ -70,8 +73,8 @@ class Constraint:
     bound: float
 
     def __post_init__(self) -> None:
-        if self.metric not in METRICS:
-            raise ValueError(f"--constraint {self.metric!r}: unknown metric; valid: {', '.join(METRICS)}")
+        if self.metric not in ALL_METRICS:
+            raise ValueError(f"--constraint {self.metric!r}: unknown metric; valid: {', '.join(ALL_METRICS)}")
         if self.op not in (">=", "<="):
             raise ValueError(f"--constraint {self.text()}: use >= or <=")
         if not math.isfinite(self.bound):
@@ -112,6 +115,7 @@ class OptimizePlan:
         population: NSGA-II's population (designs per generation).
         seed: the sampler's seed.
         base: the design every other parameter is taken from.
+        floor: also simulate every design on the floor for this long [s] (``None``: no; slower).
 
     """
 
@@ -122,8 +126,10 @@ class OptimizePlan:
     population: int = 20
     seed: int = 0
     base: Design = field(default_factory=Design)
+    floor: float | None = None
 
     def __post_init__(self) -> None:
+        check_floor(self.floor)
         for name, value, low in (("trials", self.trials, 1), ("population", self.population, 2)):
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= 1_000_000:
                 raise ValueError(f"parameter {name!r} must be an integer in [{low}, 1e6], got {value!r}")
@@ -149,6 +155,7 @@ class OptimizePlan:
             "population": self.population,
             "seed": self.seed,
             "base": self.base.to_dict(),
+            "floor": self.floor,
         }
 
     def violations(self, row: dict) -> list[float]:
@@ -219,12 +226,14 @@ def run_optimize(
     import optuna
 
     from pasibot_pin.explore.executors import check_workers, run_tasks
-    from pasibot_pin.explore.sweep import _progress, evaluate_designs
+    from pasibot_pin.explore.sweep import _progress, evaluate_designs, floor_columns
 
     workers = check_workers(workers)
     folder = Path(folder)
     record = {k: v for k, v in plan.to_dict().items() if k != "trials"}  # more trials continue the same run
-    store = ResultStore(folder, {"kind": "optimize", **record}, plan.trials, force=force)
+    store = ResultStore(
+        folder, {"kind": "optimize", **record}, plan.trials, force=force, extra=floor_columns(plan.floor)
+    )
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     study = optuna.create_study(
         study_name=STUDY_NAME,
@@ -262,7 +271,11 @@ def run_optimize(
                 again.append((t.number, [t.params[n] for n in plan.names]))
         if again:
             run_tasks(
-                evaluate_designs, [(base, plan.names, [item]) for item in again], tell, workers=workers, dask=dask
+                evaluate_designs,
+                [(base, plan.names, [item], plan.floor) for item in again],
+                tell,
+                workers=workers,
+                dask=dask,
             )
         while len(store.done) < plan.trials:
             size = min(plan.population, plan.trials - len(store.done))
@@ -270,7 +283,11 @@ def run_optimize(
             ids.update({t.number: t._trial_id for t in asked})
             items = [(t.number, [t.suggest_float(r.name, r.low, r.high) for r in plan.ranges]) for t in asked]
             run_tasks(
-                evaluate_designs, [(base, plan.names, [item]) for item in items], tell, workers=workers, dask=dask
+                evaluate_designs,
+                [(base, plan.names, [item], plan.floor) for item in items],
+                tell,
+                workers=workers,
+                dask=dask,
             )
             if on_generation is not None:
                 on_generation(len(store.done), plan.trials)

@@ -84,6 +84,7 @@ class SweepPlan:
         method: ``lhs`` or ``grid``.
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
+        floor: also simulate every design on the floor for this long [s] (``None``: no; slower).
 
     """
 
@@ -92,8 +93,10 @@ class SweepPlan:
     method: str = "lhs"
     seed: int = 0
     base: Design = field(default_factory=Design)
+    floor: float | None = None
 
     def __post_init__(self) -> None:
+        check_floor(self.floor)
         if isinstance(self.n, bool) or not isinstance(self.n, (int, np.integer)) or not 1 <= self.n <= 10_000_000:
             raise ValueError(f"parameter 'n' must be an integer in [1, 1e7], got {self.n!r}")
         if self.method not in METHODS:
@@ -137,6 +140,7 @@ class SweepPlan:
             "method": self.method,
             "seed": int(self.seed),
             "base": self.base.to_dict(),
+            "floor": self.floor,
         }
 
     @classmethod
@@ -148,7 +152,21 @@ class SweepPlan:
             method=str(data["method"]),
             seed=int(data["seed"]),
             base=Design.from_dict(data["base"]),
+            floor=data.get("floor"),
         )
+
+
+def check_floor(floor: float | None) -> float | None:
+    """``floor`` if it is ``None`` or a duration in (0, 600] s, else a one-line ValueError naming ``--floor``."""
+    if floor is None:
+        return None
+    if (
+        isinstance(floor, bool)
+        or not isinstance(floor, (int, float))
+        or not (math.isfinite(floor) and 0 < floor <= 600)
+    ):
+        raise ValueError(f"--floor must be a duration in (0, 600] s, got {floor!r}")
+    return float(floor)
 
 
 def ranges_or_default(texts: Iterable[str] | None) -> tuple[Range, ...]:

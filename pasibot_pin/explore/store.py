@@ -12,7 +12,7 @@ A run's folder holds:
 Rows: ``index``, every parameter of the design record by its flat name (``variant``, ``L``, ``K``,
 ``r1`` .. ``r13``, ...; null for an unset optional one), every metric of
 :data:`~pasibot_pin.studies.design_metrics.METRICS`, then ``feasible``, ``failure`` and
-``reason``; a study may add columns of its own (``trial``).
+``reason``; a run may add columns of its own (the floor simulation's) after the metrics.
 """
 
 from __future__ import annotations
@@ -50,8 +50,8 @@ def schema(extra: Mapping[str, str] | None = None):
     types = {"float": pa.float64(), "int": pa.int64(), "str": pa.string(), "bool": pa.bool_()}
     fields = [pa.field("index", pa.int64())]
     fields += [pa.field(name, pa.string() if name in CHOICES else pa.float64()) for name in parameter_names()]
-    fields += [pa.field(name, types[kind]) for name, kind in (extra or {}).items()]
     fields += [pa.field(name, pa.float64()) for name in METRICS]
+    fields += [pa.field(name, types[kind]) for name, kind in (extra or {}).items()]
     fields += [pa.field("feasible", pa.bool_()), pa.field("failure", pa.string()), pa.field("reason", pa.string())]
     return pa.schema(fields)
 

@@ -27,14 +27,17 @@ CHUNK: int = 4
 """Designs per task (a task's result comes back as one piece)."""
 
 
-def evaluate_designs(base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float]]]) -> list[dict]:
+def evaluate_designs(
+    base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float]]], floor: float | None = None
+) -> list[dict]:
     """Rows of ``items`` (index, values of ``names``) on the ``base`` design; runs in a worker.
 
     A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
+    ``floor``: also simulate each design on the floor for this long [s].
     """
     from pasibot_pin.explore.store import design_row
     from pasibot_pin.model.design import Design
-    from pasibot_pin.studies.design_metrics import design_metrics, infeasible
+    from pasibot_pin.studies.design_metrics import DesignMetrics, design_metrics, infeasible
 
     base_design = Design.from_dict(base)
     rows = []
@@ -43,10 +46,20 @@ def evaluate_designs(base: dict, names: Sequence[str], items: Sequence[tuple[int
         try:
             design = base_design.with_(**changes)
         except ValueError as err:
-            rows.append(design_row(index, {**base_design.values(), **changes}, infeasible("invalid", str(err)).row()))
+            bad = infeasible("invalid", str(err))
+            if floor is not None:
+                bad = DesignMetrics(bad.values, False, bad.failure, bad.reason, "")
+            rows.append(design_row(index, {**base_design.values(), **changes}, bad.row()))
             continue
-        rows.append(design_row(index, design.values(), design_metrics(design).row()))
+        rows.append(design_row(index, design.values(), design_metrics(design, floor).row()))
     return rows
+
+
+def floor_columns(floor: float | None) -> dict[str, str]:
+    """The table's extra columns with a floor simulation (name -> kind), none without."""
+    from pasibot_pin.studies.design_metrics import FLOOR_METRICS
+
+    return {} if floor is None else {**dict.fromkeys(FLOOR_METRICS, "float"), "floor_outcome": "str"}
 
 
 @dataclass
@@ -112,9 +125,11 @@ def run_sweep(
         raise ValueError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
     workers = check_workers(workers)
     points = plan.points()
-    store = ResultStore(Path(folder), {"kind": "sweep", **plan.to_dict()}, len(points), force=force)
+    store = ResultStore(
+        Path(folder), {"kind": "sweep", **plan.to_dict()}, len(points), force=force, extra=floor_columns(plan.floor)
+    )
     todo = [(i, [float(x) for x in row]) for i, row in enumerate(points) if i not in store.done]
-    tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk]) for k in range(0, len(todo), chunk)]
+    tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor) for k in range(0, len(todo), chunk)]
     bar = _progress(len(points), len(points) - len(todo), progress)
 
     def on_result(rows: list[dict]) -> None:
@@ -166,7 +181,7 @@ def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[
 
 def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callable | None = None) -> list[int]:
     """Row numbers of the ``count`` best feasible designs by metric ``by`` (``sense`` min or max)."""
-    from pasibot_pin.studies.design_metrics import METRICS
+    from pasibot_pin.explore.optimize import ALL_METRICS as METRICS
 
     if by not in METRICS:
         raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(METRICS)}")

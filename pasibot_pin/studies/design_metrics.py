@@ -94,6 +94,20 @@ METRICS: Mapping[str, MetricSpec] = {
 }
 """Every metric of :class:`DesignMetrics`, by column name."""
 
+FLOOR_METRICS: Mapping[str, MetricSpec] = {
+    m.name: m
+    for m in (
+        MetricSpec("floor_steps", "-", "steps walked on the floor (landings at least 2 L ahead)", "max"),
+        MetricSpec("floor_time_s", "s", "time on the floor before a failure (the whole run if none)", "max"),
+        MetricSpec("floor_max_hip_pitch_deg", "deg", "largest |hip pitch| on the floor", "min"),
+    )
+}
+"""The optional floor-simulation metrics (``design_metrics(design, floor=DURATION)``), plus the
+outcome string ``floor_outcome``."""
+
+FLOOR_MU: float = 0.8
+"""Sole-floor friction of the floor metrics [-]."""
+
 FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "non-finite")
 """The kinds of infeasibility (``""``: feasible)."""
 
@@ -114,15 +128,15 @@ class DesignMetrics:
     feasible: bool = True
     failure: str = ""
     reason: str = ""
+    floor_outcome: str | None = None
 
     def row(self) -> dict[str, float | str | bool]:
-        """The metrics, then ``feasible``, ``failure`` and ``reason`` (a sweep table's right half)."""
-        return {
-            **{k: float(self.values.get(k, math.nan)) for k in METRICS},
-            "feasible": self.feasible,
-            "failure": self.failure,
-            "reason": self.reason,
-        }
+        """The metrics (and the floor's, when simulated), then ``feasible``, ``failure`` and ``reason``."""
+        out: dict[str, float | str | bool] = {k: float(self.values.get(k, math.nan)) for k in METRICS}
+        if self.floor_outcome is not None:
+            out.update({k: float(self.values.get(k, math.nan)) for k in FLOOR_METRICS})
+            out["floor_outcome"] = self.floor_outcome
+        return {**out, "feasible": self.feasible, "failure": self.failure, "reason": self.reason}
 
     def __getitem__(self, name: str) -> float:
         return self.values[name]
@@ -289,11 +303,33 @@ def warm_caches(design: Design) -> None:
     placement_map(get_variant(design.variant).name, 2)
 
 
-def design_metrics(design: Design) -> DesignMetrics:
+def floor_metrics(design: Design, duration: float, robot=None) -> tuple[dict[str, float], str]:
+    """The design walking on the floor for ``duration`` [s]: :data:`FLOOR_METRICS` and the outcome.
+
+    Both feet on the floor (heel and toe contacts, friction :data:`FLOOR_MU`), from the consistent
+    start; the cranks at the design's speed; the ankle springs the design's (fitted where unset).
+    """
+    from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.studies.spring_fit import design_spring
+
+    robot = design_robot(design, 2, visuals=False) if robot is None else robot
+    spring = design_spring(design, robot)
+    result = FloorSimulator(robot, FloorSettings(omega=design.omega, spring=spring, mu=FLOOR_MU)).run(duration)
+    values = {
+        "floor_steps": float(len(result.steps)),
+        "floor_time_s": float(result.t[-1]) if len(result.t) else 0.0,
+        "floor_max_hip_pitch_deg": math.degrees(float(np.max(np.abs(result.hip_pitch)))) if len(result.t) else 0.0,
+    }
+    return values, result.outcome
+
+
+def design_metrics(design: Design, floor: float | None = None) -> DesignMetrics:
     """Every metric of :data:`METRICS` for one design; an infeasible design is recorded, not raised.
 
     Args:
         design: the design (:class:`~pasibot_pin.model.design.Design`).
+        floor: also simulate it on the floor for this long [s] (:func:`floor_metrics`; slower).
 
     Returns:
         :class:`DesignMetrics`: the values, or the failure kind and reason.
@@ -301,18 +337,25 @@ def design_metrics(design: Design) -> DesignMetrics:
     """
     if not isinstance(design, Design):
         raise TypeError(f"parameter 'design' must be a Design, got {type(design).__name__}")
+    if floor is not None and not (math.isfinite(floor) and 0 < floor <= 600):
+        raise ValueError(f"parameter 'floor' must be a duration in (0, 600] s, got {floor!r}")
+    outcome = None
     try:
         with warnings.catch_warnings():
             warnings.simplefilter("ignore")
             values = path_metrics(design)
             values.update(dynamic_metrics(design))
+            if floor is not None:
+                floor_values, outcome = floor_metrics(design, floor)
+                values.update(floor_values)
     except Infeasible as err:
-        return infeasible(err.kind, str(err))
+        out = infeasible(err.kind, str(err))
+        return out if floor is None else DesignMetrics(out.values, False, out.failure, out.reason, "")
     springless = not get_variant(design.variant).free_ankle  # K_e is NaN by definition
     bad = [k for k, v in values.items() if not math.isfinite(v) and not (springless and k.startswith("K_e"))]
     if bad:
         return infeasible("non-finite", f"non-finite {', '.join(bad)}")
-    return DesignMetrics({k: values[k] for k in METRICS})
+    return DesignMetrics({k: values[k] for k in (*METRICS, *(FLOOR_METRICS if floor else ()))}, floor_outcome=outcome)
 
 
 def pareto_mask(x: np.ndarray, y: np.ndarray, senses: tuple[str, str] = ("min", "max")) -> np.ndarray:

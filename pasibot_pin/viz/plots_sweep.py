@@ -91,7 +91,7 @@ def plot_sensitivity(table, varied: Sequence[str], metrics: Sequence[str] | None
     metrics = list(metrics or [m for m in METRICS if np.isfinite(_values(table, m)).any()])
     rho = rank_correlations(table, varied, metrics)
     if ax is None:
-        fig, ax = plt.subplots(figsize=(1.0 + 0.55 * len(metrics), 1.6 + 0.4 * len(varied)), layout="constrained")
+        fig, ax = plt.subplots(figsize=(1.0 + 0.55 * len(metrics), 3.0 + 0.4 * len(varied)), layout="constrained")
     fig = ax.figure
     image = ax.imshow(rho, cmap="RdBu_r", vmin=-1, vmax=1, aspect="auto")
     ax.set_xticks(range(len(metrics)), [_label(m) for m in metrics], rotation=60, ha="right", fontsize=8)
