@@ -244,7 +244,8 @@ def run_optimize(
     )
     done_before = len(store.done)
     base_values = {r.name: plan.base.values()[r.name] for r in plan.ranges}
-    if not study.trials and all(r.low <= base_values[r.name] <= r.high for r in plan.ranges):
+    inside = all(v is not None and r.low <= v <= r.high for r, v in zip(plan.ranges, base_values.values()))
+    if not study.trials and inside:
         study.enqueue_trial(base_values)  # trial 0 is the base design: the front is never worse than it
     bar = _progress(plan.trials, done_before, progress)
     base = plan.base.to_dict()
