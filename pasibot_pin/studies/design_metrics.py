@@ -35,8 +35,9 @@ Infeasible designs (``feasible`` false, every metric NaN, ``reason`` says why, `
 the kind): ``invalid`` (a combination the geometry rejects, e.g. L4 not longer than L7),
 ``assembly`` (a loop cannot close somewhere on the turn), ``singular`` (a loop within
 :data:`SINGULAR_DEG` of a dead point, or a constraint Jacobian that loses rank), ``branch`` (the
-solved configuration left the assembly branch: knee forward, coupler below the line 1-3) and
-``non-finite``.
+solved configuration left the assembly branch: knee forward, coupler below the line 1-3),
+``lift-off`` (the stance foot would have to be pulled down: the ground's normal force is not
+positive somewhere in the stance, typically at high crank speed) and ``non-finite``.
 """
 
 from __future__ import annotations
@@ -108,7 +109,7 @@ outcome string ``floor_outcome``."""
 FLOOR_MU: float = 0.8
 """Sole-floor friction of the floor metrics [-]."""
 
-FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "non-finite")
+FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "lift-off", "non-finite")
 """The kinds of infeasibility (``""``: feasible)."""
 
 
@@ -260,6 +261,14 @@ def dynamic_metrics(design: Design, robot=None) -> dict[str, float]:
         )
         _x, _z, pitch, s_heel, s_toe = sole_geometry(robot, uniform.q[0], "right")  # welded: one sole pose
         _s_cop, margin, mu_needed = cop_metrics(uniform.ground, s_heel, s_toe, pitch)
+        pulled = ~np.isfinite(mu_needed)
+        if pulled.any():
+            k = int(np.argmax(pulled))
+            raise Infeasible(
+                "lift-off",
+                f"the ground would pull the stance foot down at crank angle "
+                f"{math.degrees(float(uniform.theta_right[k])):.1f} deg (normal force {uniform.ground[k, 1]:.3g} N)",
+            )
         topple = toppling_stiffness(robot) if robot.spec.free_ankle else math.nan
     except Infeasible:
         raise
