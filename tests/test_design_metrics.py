@@ -139,9 +139,9 @@ def test_infeasible_designs_are_recorded_not_raised(monkeypatch):
     monkeypatch.setattr(dm, "SINGULAR_DEG", 30.0)
     out = dm.design_metrics(SEED)
     assert out.failure == "singular" and "dead point" in out.reason
+    monkeypatch.setattr(dm, "SINGULAR_DEG", 1.0)
     out = dm.design_metrics(SEED.with_(omega=15.5, body_com_dx=-0.1466))  # fast: the ground would pull the foot
     assert out.failure == "lift-off" and "pull" in out.reason
-    monkeypatch.setattr(dm, "SINGULAR_DEG", 1.0)
     monkeypatch.setattr(dm, "BRANCH_TOL", -1.0)  # any knee gap at all counts: the check runs
     assert dm.design_metrics(SEED).failure == "branch"
 
