@@ -390,14 +390,15 @@ class BipedSimulator:
             v_new = v + h * a1
             q_new = q + h * v_new
         else:
-            a2, _, _ = self.acceleration(cset, t + h / 2, q + h / 2 * v, v + h / 2 * a1)
-            v2 = v + h / 2 * a1
-            a3, _, _ = self.acceleration(cset, t + h / 2, q + h / 2 * v2, v + h / 2 * a2)
-            v3 = v + h / 2 * a2
-            a4, _, _ = self.acceleration(cset, t + h, q + h * v3, v + h * a3)
+            half = h / 2
+            v2 = v + half * a1
+            a2 = self.acceleration(cset, t + half, q + half * v, v2)[0]
+            v3 = v + half * a2
+            a3 = self.acceleration(cset, t + half, q + half * v2, v3)[0]
             v4 = v + h * a3
-            q_new = q + h / 6 * (v + 2 * v2 + 2 * v3 + v4)
-            v_new = v + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+            a4 = self.acceleration(cset, t + h, q + h * v3, v4)[0]
+            q_new = q + h / 6 * ((v + v4) + 2 * (v2 + v3))
+            v_new = v + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
         q_new = cset.project(q_new, t + h, metric="mass", max_iter=20)
         v_new, _ = cset.impulse(q_new, v_new, t + h, cset.last_rows)
         return q_new, v_new, lam, cset.last_initial_residual
