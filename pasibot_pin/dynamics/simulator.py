@@ -165,14 +165,15 @@ def foot_pose(robot, q: np.ndarray, side: str) -> tuple[float, float, float]:
     return float(pose.translation[0]), float(pose.translation[2]), math.atan2(pose.rotation[2, 0], pose.rotation[0, 0])
 
 
-def sole_height(robot, q: np.ndarray, side: str) -> float:
-    """Lowest z of ``side``'s toe and heel [m] (negative: below the ground)."""
+def sole_height(robot, q: np.ndarray, side: str, frames: tuple[int, int] | None = None) -> float:
+    """Lowest z of ``side``'s toe and heel [m] (negative: below the ground).
+
+    ``frames``: the toe and heel frame indices of ``side`` if already known.
+    """
     model, data = robot.model, robot.data
     pin.forwardKinematics(model, data, q)
-    heights = [
-        pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_{p}")).translation[2] for p in ("toe", "heel")
-    ]
-    return float(min(heights))
+    frames = frames or tuple(robot.frame_id(f"{side}_{p}") for p in ("toe", "heel"))
+    return float(min(pin.updateFramePlacement(model, data, f).translation[2] for f in frames))
 
 
 # --------------------------------------------------------------------------- settings and result
@@ -335,6 +336,7 @@ class BipedSimulator:
         self.settings = settings
         self.cranks = {side: robot.idx_v(f"{side}_j0_crank") for side in ("right", "left")}
         self.ankles = ankle_indices(robot)
+        self._soles = {side: (robot.frame_id(f"{side}_toe"), robot.frame_id(f"{side}_heel")) for side in self.ankles}
 
     # ---- constraint sets
     def coordinate_rows(self, stance: str) -> list[CoordinateRow]:
@@ -488,7 +490,8 @@ class BipedSimulator:
             rec["lam"].append(tau_m)
             rec["stance"].append(stance)
             rec["drift"].append(drift)
-            rec["swing"].append(sole_height(self.robot, q, _other(stance)))
+            swing = _other(stance)
+            rec["swing"].append(sole_height(self.robot, q, swing, self._soles[swing]))
 
         t = 0.0
         impacts: list[Impact] = []
