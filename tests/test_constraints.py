@@ -95,6 +95,25 @@ def test_planar_kinematics_equal_pinocchios_kinematics(robots, key):
 
 
 @pytest.mark.parametrize("key", MODELS, ids=[f"{v}-{n}" for v, n in MODELS])
+def test_one_sample_evaluation_equals_the_batched_one(robots, key):
+    """One sample (the simulator's fast path, terms merged per pitch) against a batch of one, with and
+    without v, at the rows' own targets and at given ones."""
+    robot = robots[key]
+    cs = _system(robot)
+    q, v = _moving_state(robot, 40)
+    targets = cs.targets(0.7) + 0.01
+    for vel, tgt in ((v, None), (None, None), (v, targets), (None, targets)):
+        one = cs.evaluate(q, vel, 0.7, tgt)
+        batch = cs.evaluate(q[None], None if vel is None else vel[None], 0.7, None if tgt is None else tgt[None])
+        assert one.phi.shape == (cs.nrows,) and one.jac.shape == (cs.nrows, robot.model.nv)
+        np.testing.assert_allclose(one.phi, batch.phi[0], atol=1e-14)
+        np.testing.assert_allclose(one.jac, batch.jac[0], atol=1e-14)
+        np.testing.assert_allclose(one.drift, batch.drift[0], atol=1e-13 * max(1.0, np.max(np.abs(batch.drift))))
+        np.testing.assert_allclose(one.phi_t, batch.phi_t[0], atol=0)
+    assert np.max(np.abs(one.phi)) > 1e-3, "an off-manifold state has a residual"
+
+
+@pytest.mark.parametrize("key", MODELS, ids=[f"{v}-{n}" for v, n in MODELS])
 def test_constraint_rows_match_pinocchios_constraint_jacobian(robots, key):
     robot = robots[key]
     cs = _system(robot)

@@ -303,6 +303,7 @@ class ConstraintSystem:
                 tol[row + k] = ANGLE_TOL
         self.tolerance = tol
         self.labels = self._constraint_labels + [s.name for s in self.scalars]
+        self._coef = None
         if self._planar_ends is not None:
             pairs = [(2 * c, 2 * c + 1) for c in range(len(self.cmodels))]
             pitch_pairs = [(int(a), int(b)) for a, b in zip(self._weld_a, self._weld_b)]
@@ -333,6 +334,40 @@ class ConstraintSystem:
             self._phi_t[row:] = -self._rate
             wrapped = np.concatenate((self._weld_rows, np.nonzero(self._is_pitch)[0] + row)).astype(int)
             self._wrapped = [int(r) for r in wrapped]
+            # one sample (the simulator's case): the terms' values, Jacobian and drift as the rows of one
+            # complex array (nv rows i A^T, one of ones, one for -w^2), turned into rows by one product
+            if not blocks._slides:
+                self._one_sample_tables(blocks)
+
+    def _one_sample_tables(self, blocks: PlanarRowBlocks) -> None:
+        """Tables of :meth:`_evaluate_one`: the terms' constants folded into one real picking matrix.
+
+        A moving term is C exp(i A q) with C = c exp(i a0). Its (real, imaginary) parts are a 2 x 2
+        real map of those of exp(i A q), so the picking matrix absorbs C:
+        W[2k] = Re C P_x + Im C P_z and W[2k + 1] = -Im C P_x + Re C P_z (P: ``_pick_T`` rows).
+        Terms with the same pitch row A (the points of one body) share exp(i A q): their rows of W
+        are summed, so the biped's 28 terms need 16 phases.
+        """
+        nv, n0 = self.model.nv, self.n_constraint_rows
+        big_c = blocks._c * np.exp(1j * blocks._a0)
+        px, pz = self._pick_T[0::2], self._pick_T[1::2]
+        weights = np.empty_like(self._pick_T)
+        weights[0::2] = big_c.real[:, None] * px + big_c.imag[:, None] * pz
+        weights[1::2] = -big_c.imag[:, None] * px + big_c.real[:, None] * pz
+        # terms turned by the same pitch share one phase: their picked constants add up
+        pitches, group = np.unique(blocks._AT.T, axis=0, return_inverse=True)
+        merged = np.zeros((2 * len(pitches), self.nrows))
+        np.add.at(merged, 2 * group.reshape(-1), weights[0::2])
+        np.add.at(merged, 2 * group.reshape(-1) + 1, weights[1::2])
+        self._weights_T = merged
+        self._phase_T = pitches.T.copy()  # (nv, number of distinct pitches)
+        # rows: i A^T (the Jacobian), 1 (the value), then w^2 (the drift, filled per call: a buffer)
+        self._coef = np.vstack((1j * self._phase_T, np.ones(len(pitches)), np.zeros(len(pitches))))
+        constant = np.vstack((self._linear_T, self._linear_0, np.zeros(self.nrows)))
+        constant[nv, n0:] -= self._offset  # the scalar rows' targets at t = 0
+        self._constant = constant
+        self._rate_all = np.zeros(self.nrows)
+        self._rate_all[n0:] = self._rate
 
     def _angular(self, row: CoordinateRow) -> bool:
         """True when every coordinate of the row is a rotation (revolute joints and the hip pitch)."""
@@ -452,6 +487,8 @@ class ConstraintSystem:
         The point rows come out in our order from one product with the picking matrix; the pitch
         and coordinate rows are linear in q.
         """
+        if q.ndim == 1 and self._coef is not None:
+            return self._evaluate_one(q, v, t, targets)
         value, jac_t, term_drift = self._blocks.terms(q, v)
         phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
         # J transposed in memory (a column-major view): what Pinocchio's Eigen takes without a copy
@@ -467,6 +504,37 @@ class ConstraintSystem:
         if len(self._wrapped):
             phi[..., self._wrapped] = _wrap(phi[..., self._wrapped])
         return Rows(phi, jac, drift, np.broadcast_to(self._phi_t, phi.shape).copy())
+
+    def _evaluate_one(self, q, v, t, targets) -> Rows:
+        """:meth:`_evaluate_planar` for one sample in a dozen numpy calls (the simulator's inner loop).
+
+        The terms' phases e = exp(i A q), times the rows of one coefficient array (i A^T for the
+        Jacobian, 1 for the value, w^2 for minus the drift, w = A v), give J^T, the point rows and
+        the drift in one product with the picking matrix (which holds the terms' constants,
+        :meth:`_one_sample_tables`).
+        """
+        # ndarray.dot rather than @: the same product with less call overhead on these small arrays
+        nv = self.model.nv
+        phase = np.exp(q.dot(self._coef[:nv]))  # exp(i A q); the real part of the exponent is exactly 0
+        if v is None:
+            out = (self._coef[: nv + 1] * phase).view(float).dot(self._weights_T) + self._constant[: nv + 1]
+            drift = np.zeros(self.nrows)
+        else:
+            w = v.dot(self._phase_T)
+            coef = self._coef
+            np.multiply(w, w, out=coef[nv + 1])  # the drift of a term is -w^2 times its value
+            out = (coef * phase).view(float).dot(self._weights_T) + self._constant
+            drift = -out[nv + 1]
+        phi = out[nv] + q.dot(self._linear_T)
+        if targets is None:
+            if t:
+                phi -= t * self._rate_all
+        else:
+            phi[self.n_constraint_rows :] += self._offset - np.asarray(targets, dtype=float)
+        for r in self._wrapped:  # one or two angle rows: scalar arithmetic is cheaper here
+            phi[r] = math.remainder(phi[r], 2 * math.pi)
+        # J transposed in memory (column-major): what Pinocchio's Eigen takes without a copy
+        return Rows(phi, out[:nv].T, drift, self._phi_t.copy())
 
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""
@@ -514,13 +582,14 @@ class ConstraintSystem:
         rows = None
         for k in range(max_iter):
             rows = self.evaluate(q, None, t, targets)
+            error = np.abs(rows.phi)
             if k == 0:
-                self.last_initial_residual = float(np.max(np.abs(rows.phi))) if self.nrows else 0.0
-            if np.all(np.abs(rows.phi) < self.tolerance):
+                self.last_initial_residual = float(error.max()) if self.nrows else 0.0
+            if (error < self.tolerance).all():
                 self.last_rows = rows
                 return q
             step = self._newton_step(q, rows, metric)
-            largest = np.max(np.abs(step))
+            largest = np.abs(step).max()
             if largest > STEP_LIMIT:
                 step *= STEP_LIMIT / largest
             q = pin.integrate(self.model, q, step)
@@ -599,9 +668,9 @@ class ConstraintSystem:
         jac = rows.jac
         # a square system has one Newton step whatever the metric: no mass matrix needed
         if metric == "mass" and jac.shape[0] != jac.shape[1]:
-            # M delta = J^T lambda, J delta = -phi: the KKT with zero velocity and tau = g(q)
-            gravity = pin.computeGeneralizedGravity(self.model, self.data, q)
-            return self._kkt(q, self._zero_v, gravity, jac, rows.phi)[0]
+            # M delta = J^T lambda, J delta = -phi: the KKT with M(q), no bias force and tau = 0
+            self._mass_only(q)
+            return self._kkt_solve(self._zero_v, jac, rows.phi)[0]
         if jac.shape[0] == jac.shape[1]:
             try:
                 return np.linalg.solve(jac, -rows.phi)
@@ -655,19 +724,36 @@ class ConstraintSystem:
     def _kkt(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):
         """Solve M a + h(q, v) = tau + J^T lambda, J a = -gamma in Pinocchio's C++; returns (a, lambda).
 
-        ``pin.forwardDynamics`` with our rows as its constraint Jacobian: a Cholesky factorisation
-        of M and of J M^-1 J^T (J must have full row rank).
+        M(q) from ``pin.crba`` and h(q, v) from ``pin.nonLinearEffects`` (cheaper than the
+        ``computeAllTerms`` of ``forwardDynamics(q, v, ...)``), then :meth:`_kkt_solve`.
 
         Raises:
             ValueError: a singular system (the constraint Jacobian lost rank) or a non-finite answer.
 
         """
+        pin.crba(self.model, self.data, q)  # the full symmetric M
+        pin.nonLinearEffects(self.model, self.data, q, v)
+        return self._kkt_solve(tau, jac, gamma)
+
+    def _mass_only(self, q: np.ndarray) -> np.ndarray:
+        """M(q) in ``data`` with a zero bias force h, for the KKT solves without dynamics; returns M."""
+        mass = pin.crba(self.model, self.data, q)
+        self.data.nle[:] = 0.0
+        return mass
+
+    def _kkt_solve(self, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):
+        """Solve M a + h = tau + J^T lambda, J a = -gamma with M and h already in ``data``; returns (a, lambda).
+
+        ``pin.forwardDynamics`` with our rows as its constraint Jacobian: a Cholesky factorisation
+        of M and of J M^-1 J^T (J must have full row rank).
+        """
+        data = self.data
         try:
-            a = pin.forwardDynamics(self.model, self.data, q, v, tau, jac, gamma, 0.0).copy()
+            a = pin.forwardDynamics(self.model, data, tau, jac, gamma, 0.0)  # a new array
         except RuntimeError as err:
             raise ValueError(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
-        lam = self.data.lambda_c.copy()
-        if not math.isfinite(a.sum() + lam.sum()):  # a NaN or an infinity anywhere shows in the sum
+        lam = data.lambda_c.copy()
+        if not math.isfinite(a.dot(a) + lam.dot(lam)):  # a NaN or an infinity anywhere shows in the sum
             raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
         return a, lam
 
@@ -683,16 +769,16 @@ class ConstraintSystem:
     def impulse(self, q: np.ndarray, v_minus: np.ndarray, t: float = 0.0, rows: Rows | None = None):
         """Inelastic impact / M-orthogonal velocity projection onto J v + Phi_t = 0.
 
-        M (v+ - v-) = J^T Lambda, J v+ = -Phi_t: the KKT with zero velocity and
-        tau = rnea(q, 0, v-) = M v- + g(q), so that its "acceleration" is v+.
+        M (v+ - v-) = J^T Lambda, J v+ = -Phi_t: the KKT with M(q), no bias force and
+        tau = M v-, so that its "acceleration" is v+.
 
         Returns:
             (v_plus, Lambda): the velocity after and the impulse per row [N.s, N.m.s].
 
         """
         rows = self.evaluate(q, None, t) if rows is None else rows
-        tau = pin.rnea(self.model, self.data, q, self._zero_v, v_minus).copy()
-        return self._kkt(q, self._zero_v, tau, rows.jac, rows.phi_t)
+        mass = self._mass_only(q)
+        return self._kkt_solve(mass.dot(v_minus), rows.jac, rows.phi_t)
 
 
 def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -165,14 +165,15 @@ def foot_pose(robot, q: np.ndarray, side: str) -> tuple[float, float, float]:
     return float(pose.translation[0]), float(pose.translation[2]), math.atan2(pose.rotation[2, 0], pose.rotation[0, 0])
 
 
-def sole_height(robot, q: np.ndarray, side: str) -> float:
-    """Lowest z of ``side``'s toe and heel [m] (negative: below the ground)."""
+def sole_height(robot, q: np.ndarray, side: str, frames: tuple[int, int] | None = None) -> float:
+    """Lowest z of ``side``'s toe and heel [m] (negative: below the ground).
+
+    ``frames``: the toe and heel frame indices of ``side`` if already known.
+    """
     model, data = robot.model, robot.data
     pin.forwardKinematics(model, data, q)
-    heights = [
-        pin.updateFramePlacement(model, data, robot.frame_id(f"{side}_{p}")).translation[2] for p in ("toe", "heel")
-    ]
-    return float(min(heights))
+    frames = frames or tuple(robot.frame_id(f"{side}_{p}") for p in ("toe", "heel"))
+    return float(min(pin.updateFramePlacement(model, data, f).translation[2] for f in frames))
 
 
 # --------------------------------------------------------------------------- settings and result
@@ -335,6 +336,7 @@ class BipedSimulator:
         self.settings = settings
         self.cranks = {side: robot.idx_v(f"{side}_j0_crank") for side in ("right", "left")}
         self.ankles = ankle_indices(robot)
+        self._soles = {side: (robot.frame_id(f"{side}_toe"), robot.frame_id(f"{side}_heel")) for side in self.ankles}
 
     # ---- constraint sets
     def coordinate_rows(self, stance: str) -> list[CoordinateRow]:
@@ -390,14 +392,15 @@ class BipedSimulator:
             v_new = v + h * a1
             q_new = q + h * v_new
         else:
-            a2, _, _ = self.acceleration(cset, t + h / 2, q + h / 2 * v, v + h / 2 * a1)
-            v2 = v + h / 2 * a1
-            a3, _, _ = self.acceleration(cset, t + h / 2, q + h / 2 * v2, v + h / 2 * a2)
-            v3 = v + h / 2 * a2
-            a4, _, _ = self.acceleration(cset, t + h, q + h * v3, v + h * a3)
+            half = h / 2
+            v2 = v + half * a1
+            a2 = self.acceleration(cset, t + half, q + half * v, v2)[0]
+            v3 = v + half * a2
+            a3 = self.acceleration(cset, t + half, q + half * v2, v3)[0]
             v4 = v + h * a3
-            q_new = q + h / 6 * (v + 2 * v2 + 2 * v3 + v4)
-            v_new = v + h / 6 * (a1 + 2 * a2 + 2 * a3 + a4)
+            a4 = self.acceleration(cset, t + h, q + h * v3, v4)[0]
+            q_new = q + h / 6 * ((v + v4) + 2 * (v2 + v3))
+            v_new = v + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
         q_new = cset.project(q_new, t + h, metric="mass", max_iter=20)
         v_new, _ = cset.impulse(q_new, v_new, t + h, cset.last_rows)
         return q_new, v_new, lam, cset.last_initial_residual
@@ -487,7 +490,8 @@ class BipedSimulator:
             rec["lam"].append(tau_m)
             rec["stance"].append(stance)
             rec["drift"].append(drift)
-            rec["swing"].append(sole_height(self.robot, q, _other(stance)))
+            swing = _other(stance)
+            rec["swing"].append(sole_height(self.robot, q, swing, self._soles[swing]))
 
         t = 0.0
         impacts: list[Impact] = []

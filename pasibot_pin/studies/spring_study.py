@@ -197,9 +197,12 @@ def default_dt(swing_ankle: str) -> float:
     return 0.01 if swing_ankle == "rest" else 0.002
 
 
-def standing_pitch(robot, spring: AnkleSpring | None, theta0: float) -> float:
-    """The hip pitch where the robot stands still at crank angle ``theta0`` [rad] (0 if none is stable)."""
-    eq = static_equilibrium(robot, spring, [theta0])
+def standing_pitch(robot, spring: AnkleSpring | None, theta0: float, cache: dict | None = None) -> float:
+    """The hip pitch where the robot stands still at crank angle ``theta0`` [rad] (0 if none is stable).
+
+    ``cache``: the static solves' assembly cache (see :func:`static_equilibrium`; the same answer).
+    """
+    eq = static_equilibrium(robot, spring, [theta0], cache=cache)
     if eq.found[0] and eq.stiffness[0] > 0:
         return float(eq.hip_pitch[0])
     return 0.0
@@ -314,7 +317,7 @@ def sweep_cell(
     thetas = _static_thetas(static_samples)
     if method == "static":
         return static_equilibrium(robot, spring, thetas, cache=cache).max_excursion
-    settings = _walk_settings(omega, spring, swing_ankle, dt, standing_pitch(robot, spring, math.pi / 2))
+    settings = _walk_settings(omega, spring, swing_ankle, dt, standing_pitch(robot, spring, math.pi / 2, cache))
     return _run_excursion(simulate(robot, settings, steps=steps))
 
 
