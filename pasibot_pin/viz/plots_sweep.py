@@ -7,9 +7,16 @@ from collections.abc import Sequence
 import numpy as np
 
 
+def _metrics() -> dict:
+    from pasibot_pin.studies.design_metrics import FLOOR_METRICS, METRICS
+
+    return {**METRICS, **FLOOR_METRICS}
+
+
 def _label(name: str) -> str:
     from pasibot_pin.model.design import SPECS
-    from pasibot_pin.studies.design_metrics import METRICS
+
+    METRICS = _metrics()
 
     if name in METRICS:
         unit = METRICS[name].unit
@@ -40,7 +47,9 @@ def plot_pareto(table, x: str = "peak_crank_torque_Nm", y: str = "stride_m", ax=
     """
     import matplotlib.pyplot as plt
 
-    from pasibot_pin.studies.design_metrics import METRICS, pareto_mask
+    from pasibot_pin.studies.design_metrics import pareto_mask
+
+    METRICS = _metrics()
 
     if ax is None:
         fig, ax = plt.subplots(figsize=(6.4, 4.6), layout="constrained")
@@ -86,9 +95,8 @@ def plot_sensitivity(table, varied: Sequence[str], metrics: Sequence[str] | None
     """
     import matplotlib.pyplot as plt
 
-    from pasibot_pin.studies.design_metrics import METRICS
-
-    metrics = list(metrics or [m for m in METRICS if np.isfinite(_values(table, m)).any()])
+    names = [m for m in _metrics() if m in table.column_names]
+    metrics = list(metrics or [m for m in names if np.isfinite(_values(table, m)).any()])
     rho = rank_correlations(table, varied, metrics)
     if ax is None:
         fig, ax = plt.subplots(figsize=(1.0 + 0.55 * len(metrics), 3.0 + 0.4 * len(varied)), layout="constrained")
