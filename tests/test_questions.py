@@ -65,3 +65,19 @@ def test_report_section_has_units_in_every_column(rows):
     table = design_exploration.markdown(rows).splitlines()[0]
     for title in table.strip("|").split("|")[1:]:
         assert "[" in title and "]" in title
+
+
+def test_floor_answer_is_quoted_and_still_evaluates_the_same():
+    """Question 2: the docs quote the code; the longest floor run re-simulates to the same time and outcome."""
+    from pasibot_pin.explore.questions import FLOOR_SECONDS, FLOOR_TABLE, RESULTS_DIR, floor_plan
+
+    answer = design_exploration.floor_answer()
+    text = (ROOT / "docs" / "design_exploration.md").read_text()
+    assert design_exploration.floor_markdown(answer) in text
+    table = pq.read_table(RESULTS_DIR / FLOOR_TABLE)
+    assert table.num_rows == floor_plan().trials == answer.trials
+    assert answer.fell + answer.slipped + answer.rolled + answer.other == answer.trials
+    row = [r["index"] for r in table.to_pylist()].index(answer.best_index)
+    now = design_metrics(design_of_row(table, row), floor=FLOOR_SECONDS)
+    assert now["floor_time_s"] == pytest.approx(answer.best_time, abs=2e-3)  # stale: run `make answers`
+    assert now.floor_outcome == table.column("floor_outcome")[row].as_py()

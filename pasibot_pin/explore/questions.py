@@ -6,8 +6,12 @@
    CoP margin (max); constraint: the stride within :data:`STRIDE_TOLERANCE` of the seed's. With
    ``straight=True`` the stance path must also stay as straight as :data:`STRAIGHTNESS_FACTOR`
    times the seed's (a hip that does not bob).
-2. *Does any spring design keep the CoP inside the sole?* The same runs record ``cop_margin_m``
-   for every design.
+2. *Does any spring design walk on the floor, with the hip pitch bounded and the CoP inside the
+   sole?* The runs of question 1 record ``cop_margin_m`` for every design (the hip held level);
+   :func:`floor_plan` simulates spring designs on the floor (:data:`FLOOR_RANGES`: the spring's
+   stiffness, rest angle and damping, the sole, K and the body COM) at the fast seed run's crank
+   speed and body (run 4: 5 rad/s, 20 kg) for :data:`FLOOR_SECONDS`, and maximises the time on
+   the floor and the steps walked.
 
 The answers quoted in the README are the designs in ``docs/results/`` (written by
 :func:`write_answer`); ``tests/test_questions.py`` evaluates them again and checks every quoted
@@ -39,6 +43,20 @@ QUESTION_RANGES: tuple[Range, ...] = (
 )
 """The varied parameters: geometry (K, L4, L5, L6 over L), the sole (over L) and the body COM [m]."""
 
+FLOOR_RANGES: tuple[Range, ...] = (
+    Range("spring_stiffness", 0.0, 1500.0),
+    Range("spring_rest_angle", 0.8, 2.2),
+    Range("spring_damping", 0.0, 30.0),
+    Range("foot_toe", 1.0, 4.0),
+    Range("foot_heel", 0.3, 2.0),
+    Range("K", 1.8, 2.4),
+    Range("body_com_dx", -0.1, 0.3),
+)
+"""Question 2's varied parameters: the ankle spring [N.m/rad, rad, N.m.s/rad], the sole [L], K, the body COM [m]."""
+
+FLOOR_SECONDS: float = 4.0
+"""How long each design of question 2 walks on the floor [s] (about six steps at 5 rad/s)."""
+
 RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
 """Where the answers of a source checkout are kept."""
 
@@ -65,6 +83,26 @@ def seed_stride_plan(straight: bool = False, trials: int = 600, population: int 
         seed=seed,
         base=base,
     )
+
+
+def floor_plan(trials: int = 120, population: int = 24, seed: int = 0) -> OptimizePlan:
+    """Question 2 as an :class:`~pasibot_pin.explore.optimize.OptimizePlan` (see the module's notes)."""
+    from pasibot_pin.model.scenarios import get_scenario
+
+    run4 = get_scenario("run4")
+    return OptimizePlan(
+        ranges=FLOOR_RANGES,
+        objectives=(Objective("floor_time_s", "max"), Objective("floor_steps", "max")),
+        trials=trials,
+        population=population,
+        seed=seed,
+        base=Design(omega=run4.omega, body_mass=run4.body_mass),
+        floor=FLOOR_SECONDS,
+    )
+
+
+FLOOR_TABLE = "floor_springs.parquet"
+"""Question 2's table in :data:`RESULTS_DIR`."""
 
 
 def answer_path(straight: bool, suffix: str = ".toml") -> Path:
@@ -94,7 +132,7 @@ def write_answer(straight: bool, folder: Path, workers: int | None = None, force
 
 
 def main() -> None:
-    """Run both runs of question 1 again (``make answers``): docs/results/*.toml, *.parquet, pareto.png."""
+    """Run the questions again (``make answers``): docs/results/*.toml, *.parquet, pareto.png."""
     import tempfile
 
     from pasibot_pin.explore.sweep import write_figures
@@ -108,6 +146,14 @@ def main() -> None:
     table = pq.read_table(answer_path(False, ".parquet"))
     for path in write_figures(table, RESULTS_DIR, [r.name for r in QUESTION_RANGES]):
         print(path)
+    import shutil
+
+    from pasibot_pin.explore.optimize import run_optimize
+
+    with tempfile.TemporaryDirectory() as tmp:
+        result = run_optimize(floor_plan(), Path(tmp) / "floor", progress=False)
+        shutil.copyfile(result.results, RESULTS_DIR / FLOOR_TABLE)
+        print(RESULTS_DIR / FLOOR_TABLE)
 
 
 if __name__ == "__main__":

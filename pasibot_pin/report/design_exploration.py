@@ -111,6 +111,65 @@ def markdown(rows: list[Answer] | None = None) -> str:
     return "\n".join(lines + [""] + params + [""] + verdicts)
 
 
+@dataclass(frozen=True)
+class FloorAnswer:
+    """Question 2 on the floor: how the spring designs fared (from docs/results/floor_springs.parquet)."""
+
+    trials: int
+    best_time: float
+    best_steps: int
+    most_steps: int
+    fell: int
+    slipped: int
+    rolled: int
+    other: int
+    best_index: int
+
+
+def floor_answer() -> FloorAnswer:
+    """The summary of question 2's run."""
+    import pyarrow.parquet as pq
+
+    from pasibot_pin.explore.questions import FLOOR_TABLE, RESULTS_DIR
+
+    rows = pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist()
+    best = max(rows, key=lambda r: (r["floor_time_s"], r["floor_steps"]))
+    outcomes = [r["floor_outcome"] for r in rows]
+    fell = sum(o.startswith("fell") for o in outcomes)
+    slipped = sum("slipped" in o for o in outcomes)
+    rolled = sum("rolled" in o for o in outcomes)
+    return FloorAnswer(
+        trials=len(rows),
+        best_time=float(best["floor_time_s"]),
+        best_steps=int(best["floor_steps"]),
+        most_steps=int(max(r["floor_steps"] for r in rows)),
+        fell=fell,
+        slipped=slipped,
+        rolled=rolled,
+        other=len(rows) - fell - slipped - rolled,
+        best_index=int(best["index"]),
+    )
+
+
+def floor_markdown(answer: FloorAnswer | None = None) -> str:
+    """Question 2's verdict, one paragraph."""
+    from pasibot_pin.explore.questions import FLOOR_SECONDS, floor_plan
+    from pasibot_pin.studies.design_metrics import FLOOR_MU
+
+    a = answer or floor_answer()
+    plan = floor_plan()
+    names = ", ".join(r.name for r in plan.ranges)
+    return (
+        f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, {plan.base.omega:g} rad/s, "
+        f"body {plan.base.body_mass:g} kg, "
+        f"{FLOOR_SECONDS:g} s per design), NSGA-II over {names} ({a.trials} designs) found no spring that walks: "
+        f"the longest run lasted {a.best_time:.2f} s ({a.best_steps} steps) and no design took more than "
+        f"{a.most_steps} steps. {a.fell} designs fell (hip pitch past 60 deg), {a.slipped} slipped, {a.rolled} "
+        f"rolled over a heel or toe, {a.other} other. With the crank speed imposed and no controller, a passive "
+        "ankle spring does not make PASIBOT walk in this range."
+    )
+
+
 def question() -> str:
     """The question and how it was answered (one paragraph)."""
     from pasibot_pin.explore.questions import QUESTION_RANGES, seed_stride_plan
@@ -126,4 +185,17 @@ def question() -> str:
 
 def section(out_dir: Path) -> str:
     """The report section (no files of its own)."""
-    return "\n".join(["## Design exploration: less torque at the same stride", "", question(), "", markdown(), ""])
+    return "\n".join(
+        [
+            "## Design exploration: less torque at the same stride",
+            "",
+            question(),
+            "",
+            markdown(),
+            "",
+            "### Does any spring design walk on the floor?",
+            "",
+            floor_markdown(),
+            "",
+        ]
+    )
