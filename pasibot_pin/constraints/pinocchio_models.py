@@ -100,6 +100,20 @@ def is_weld(cmodel: pin.RigidConstraintModel) -> bool:
     return cmodel.type == pin.ContactType.CONTACT_6D
 
 
+def planar_rows(cmodels: list[pin.RigidConstraintModel]) -> list[slice]:
+    """Where each constraint model's in-plane rows sit in our stacked rows (one definition for all).
+
+    A point constraint has two rows (x, z of p1 - p2), a weld three (x, z, then the pitch): the
+    order of :func:`inplane_rows`, of ``ConstraintSystem`` and of every multiplier vector.
+    """
+    out, row = [], 0
+    for cm in cmodels:
+        size = len(WELD_ROWS) if is_weld(cm) else len(POINT_ROWS)
+        out.append(slice(row, row + size))
+        row += size
+    return out
+
+
 def constraint_size(cmodel: pin.RigidConstraintModel) -> int:
     """Number of rows of a constraint model (3 for CONTACT_3D, 6 for CONTACT_6D)."""
     return int(cmodel.residualSize())

@@ -39,7 +39,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld
+from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarKinematics, PlanarRowBlocks
 
 _PLANAR_CACHE: dict[int, tuple[pin.Model, PlanarKinematics | None]] = {}
@@ -229,21 +229,15 @@ class ConstraintSystem:
             for joint, placement in anchor_points(cm):
                 ends.append((joint, np.array(placement.translation), np.array(placement.rotation)))
         self._model_ends = ends
-        weld = [is_weld(cm) for cm in self.cmodels]
-        rx, weld_rows, row = [], [], 0
-        for c, w in enumerate(weld):
-            rx.append(row)
-            row += 2
-            if w:
-                weld_rows.append((c, row))
-                row += 1
-        self.n_constraint_rows = row
-        self._rx = np.array(rx, dtype=int)
+        slices = planar_rows(self.cmodels)
+        self.n_constraint_rows = slices[-1].stop if slices else 0
+        self._rx = np.array([sl.start for sl in slices], dtype=int)
         self._rz = self._rx + 1
         self._a = 2 * np.arange(len(self.cmodels))
         self._b = self._a + 1
-        self._weld_rows = np.array([r for _, r in weld_rows], dtype=int)
-        self._weld_a = np.array([2 * c for c, _ in weld_rows], dtype=int)
+        weld = [is_weld(cm) for cm in self.cmodels]
+        self._weld_rows = np.array([sl.start + 2 for sl, w in zip(slices, weld) if w], dtype=int)
+        self._weld_a = np.array([2 * c for c, w in enumerate(weld) if w], dtype=int)
         self._weld_b = self._weld_a + 1
         self._constraint_labels = []
         for cm, w in zip(self.cmodels, weld):

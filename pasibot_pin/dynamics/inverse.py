@@ -37,7 +37,7 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import coupling, is_weld
+from pasibot_pin.constraints import coupling, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
 from pasibot_pin.dynamics.newton_euler import batch_rnea, tree_layout
@@ -494,13 +494,11 @@ def inverse_dynamics(
         if spec.free_ankle:
             out["Te"][seg], out["Te_swing"][seg] = -u[:, n_motor], -u[:, n_motor + 1]
         qs[seg], vs[seg], accs[seg], taus[seg] = q, v, a, tau
-        r = 0
-        for cm in rs.constraint_models:
+        for cm, rows_of in zip(rs.constraint_models, planar_rows(rs.constraint_models)):
             if is_weld(cm):
-                ground[seg] = lam[:, r : r + 3]
+                ground[seg] = lam[:, rows_of]
             else:
-                cuts.setdefault(_generic(cm.name, side), np.zeros((n, 2)))[seg] = lam[:, r : r + 2]
-            r += 3 if is_weld(cm) else 2
+                cuts.setdefault(_generic(cm.name, side), np.zeros((n, 2)))[seg] = lam[:, rows_of]
         if reactions:
             reac = tree.reactions(q, com_pos, com_acc, alpha, lam)
             for j in range(2, model.njoints):

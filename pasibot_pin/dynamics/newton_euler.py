@@ -28,7 +28,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import anchor_points, is_weld, model_key
+from pasibot_pin.constraints import anchor_points, is_weld, model_key, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
 
@@ -162,19 +162,16 @@ def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
     supports = [set(int(s) for s in model.supports[j]) for j in range(model.njoints)]
     below = np.array([[1.0 if j in supports[k] else 0.0 for k in joints] for j in joints])
     end_joint, end_trans, sign, rx, rz, rm = [], [], [], [], [], []
-    r = 0
-    for cm in cmodels:
-        weld = is_weld(cm)
+    for cm, rows in zip(cmodels, planar_rows(cmodels)):
         for (joint, placement), sgn in zip(anchor_points(cm), (1.0, -1.0)):
             if joint == 0:
                 continue
             end_joint.append(joint)
             end_trans.append(np.array(placement.translation))
             sign.append(sgn)
-            rx.append(r)
-            rz.append(r + 1)
-            rm.append(r + 2 if weld else -1)
-        r += 3 if weld else 2
+            rx.append(rows.start)
+            rz.append(rows.start + 1)
+            rm.append(rows.start + 2 if is_weld(cm) else -1)
     ends = None
     ends_below = np.zeros((len(joints), 0))
     if end_joint:
