@@ -67,7 +67,7 @@ def test_a_consistent_start_stays_at_rest(factor):
     """Cranks held, the start of :meth:`start_state` is an equilibrium: nothing moves for 0.5 s.
 
     No spring: the flat double support holds as it is. The fitted spring (preload ~69 N.m at the
-    front ankle, which the flat start cannot hold: one step from it moves at ~1 m/s) settles onto
+    front ankle, which the flat start cannot hold: one step from it moves at ~3 m/s) settles onto
     the front heel and the rear toe. Either way the loops are closed, every force is in its cone,
     the normal forces carry the weight (the masses, summed here), and the modes never change.
     """
