@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps test demo urdf bench lint clean answers
+.PHONY: install browser-deps test demo urdf bench lint clean answers floor-springs
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -34,6 +34,10 @@ urdf: install
 # the design-exploration answers quoted in the README (docs/results/): two NSGA-II runs, about 2 minutes
 answers: install
 	$(PY) -m pasibot_pin.explore.questions
+
+# docs/floor_springs.{md,csv,png}: weld against floor for runs 1-4 and the four springs (about a minute)
+floor-springs: install
+	$(VENV)/bin/pasibot simulate --ground floor --study --scenario all --out docs --force
 
 bench: install
 	@for script in benchmarks/*.py; do echo "== $$script"; $(PY) $$script; done

@@ -67,7 +67,7 @@ def test_a_consistent_start_stays_at_rest(factor):
     """Cranks held, the start of :meth:`start_state` is an equilibrium: nothing moves for 0.5 s.
 
     No spring: the flat double support holds as it is. The fitted spring (preload ~69 N.m at the
-    front ankle, which the flat start cannot hold: one step from it moves at ~1 m/s) settles onto
+    front ankle, which the flat start cannot hold: one step from it moves at ~3 m/s) settles onto
     the front heel and the rear toe. Either way the loops are closed, every force is in its cone,
     the normal forces carry the weight (the masses, summed here), and the modes never change.
     """
@@ -204,3 +204,102 @@ def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
     assert fall == round(run2.floor_end, 2) and weld2 == round(math.degrees(run2.weld_max_pitch), 1)
     for row in floor_spring_table(study):  # docs/floor.md prints the same rows
         assert "| " + " | ".join(row.values()) + " |" in doc
+
+
+def test_a_sticking_point_does_not_creep_and_the_cranks_turn_at_omega():
+    """Run 1, fitted spring, 0.3 s from the consistent start: the front heel sticks (its friction
+    use stays inside the cone), so it must not move along the floor, and the cranks follow
+    theta0 + omega t. (The first version counted the crank rate twice in the QP's bilateral rows
+    and projected the excess back each step, dragging the stuck heel 1.3 mm in 0.5 s.) The start's
+    contact forces are checked against the rigid statics solved independently (least squares of
+    gravity minus spring torque on the loop, crank and loaded-point rows)."""
+    import pinocchio as pin
+
+    from pasibot_pin.dynamics.simulator import spring_forces
+
+    inputs = spring_study.scenario_inputs("run1")
+    robot = inputs.robot
+    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=inputs.fit))
+    res = sim.run(0.3)
+    start = res.start
+    heel = 0  # right heel: the front foot stands on it
+    assert start.modes["right"] == "heel" and np.all(res.normal[:, heel] > 1.0)
+    assert np.max(res.friction_use()[:, heel]) < 0.9 * sim.settings.mu  # strictly sticking
+    along = np.array([sim.contact_rows(q)[1][heel] for q in res.q])
+    assert np.max(np.abs(along - start.along[heel])) < 1e-6  # [m]
+    for k, side in enumerate(("right", "left")):
+        crank = res.q[:, robot.idx_q(f"{side}_j0_crank")]
+        np.testing.assert_allclose(crank, sim.settings.theta0 + k * math.pi + inputs.omega * res.t, atol=1e-9)
+        np.testing.assert_allclose(res.v[:, robot.idx_v(f"{side}_j0_crank")], inputs.omega, atol=1e-9)
+    # rigid statics at the start, cranks held: gravity - spring = J_b^T lambda + J_n^T N + J_t^T T
+    held = FloorSimulator(robot, FloorSettings(omega=0.0, spring=inputs.fit))
+    rows = held.bilateral.evaluate(start.q, None, 0.0)
+    _, _, jn, jt = held.contact_rows(start.q)
+    loaded = [0, 3]  # front heel, rear toe
+    stack = np.vstack((rows.jac, jn[loaded], jt[loaded]))
+    gravity = pin.computeGeneralizedGravity(robot.model, robot.model.createData(), start.q)
+    spring = spring_forces(robot, inputs.fit, start.q, np.zeros(robot.model.nv), held.ankles)
+    assert np.linalg.matrix_rank(stack) == stack.shape[0]  # determinate: one set of forces
+    lam = np.linalg.lstsq(stack.T, gravity - spring, rcond=None)[0]
+    m = rows.jac.shape[0]
+    np.testing.assert_allclose(lam[m : m + 2], start.normal[loaded], atol=0.05)
+    np.testing.assert_allclose(lam[m + 2 :], start.tangential[loaded], atol=0.05)
+
+
+def test_a_diverging_run_stops_with_its_cause_and_time():
+    """Two forced failures stop the run with the cause and the time, never NaN:
+    a robot thrown down at 999 m/s passes the speed limit (1000 m/s) when free fall says,
+    (1000 - 999) / g = 0.102 s; an absurd spring (1e9 N.m/rad, 1.3 rad from its rest angle, at
+    the largest step) throws the feet about: the run stops within its first steps, saying why and when."""
+    from pasibot_pin.dynamics.floor import SPEED_LIMIT
+    from pasibot_pin.dynamics.simulator import AnkleSpring
+
+    robot = pp.load("spring", 2)
+    sim = FloorSimulator(robot, FloorSettings(omega=0.0, dt=1e-3))
+    q0, v0 = sim.initial_state()
+    q0, v0 = q0.copy(), np.zeros_like(v0)
+    q0[1] += 200.0  # 200 m up: it never reaches the floor
+    v0[1] = -(SPEED_LIMIT - 1.0)
+    res = sim.run(1.0, q0, v0)
+    assert res.failed and res.outcome.startswith("the simulation diverged at t = ")
+    t_fail = float(res.outcome.split("t = ")[1].split(" s")[0])
+    assert t_fail == pytest.approx(1.0 / G, abs=2e-3)
+    assert len(res.t) and res.t[-1] <= t_fail + 1e-12
+    for array in (res.t, res.q, res.v, res.normal, res.tangential, res.motor_torque, res.hip_pitch):
+        assert np.all(np.isfinite(array))
+    crazy = FloorSimulator(robot, FloorSettings(spring=AnkleSpring(1e9, 0.0), dt=0.01))
+    res = crazy.run(0.5, start="flat")
+    import re
+
+    found = re.search(r"(slipped|diverged|failed|fell|rolled).* t = (\d+\.\d{3}) s", res.outcome)
+    assert res.failed and found and float(found.group(2)) <= 0.05, res.outcome
+    assert all(np.all(np.isfinite(a)) for a in (res.t, res.q, res.v, res.normal))
+
+
+def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, capsys):
+    """``pasibot simulate --ground floor --study``: one printed line per case, the table, CSV and
+    figure in --out (the rows those of the library's study); bad input is one line, before any work."""
+    import csv
+
+    from pasibot_pin.__main__ import main
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+
+    out = tmp_path / "study"
+    assert main(["simulate", "--study", "--scenario", "2", "--duration", "0.05", "--no-cases", "--out", str(out)]) == 0
+    text = capsys.readouterr().out
+    assert text.count("run2 fitted") == 1 and text.count("wrote") == 3
+    with (out / "floor_springs.csv").open() as handle:
+        rows = list(csv.DictReader(handle))
+    study = floor_spring_study(FloorSpringSettings(("run2",), 0.05), [("fitted", 1.0)])
+    assert len(rows) == 1 and rows[0]["floor: outcome"] == study.rows[0].floor_outcome
+    assert (out / "floor_springs.png").stat().st_size > 10_000
+    for argv, word in (
+        (["--study", "--ground", "weld"], "--study"),
+        (["--study", "--scenario", "quasi-static"], "scenarios"),
+        (["--study", "--scenario", "9"], "scenario"),
+        (["--study", "--duration", "-1"], "duration"),
+        (["--study", "--scenario", "1", "--duration", "0.05"], "exists"),
+    ):
+        assert main(["simulate", *argv, "--out", str(out)]) == 2
+        err = capsys.readouterr().err.strip()
+        assert word in err and "\n" not in err and "Traceback" not in err, err

@@ -23,7 +23,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser("simulate", help="forward-simulate the walking spring biped with the hip pitch free")
     p.add_argument("--scenario", default="1", help="seed scenario: quasi-static, 1, 2, 3 or 4 (default 1)")
     p.add_argument("--ground", choices=("floor", "weld"), default="floor", help="feet on a floor (default) or welded")
-    p.add_argument("--duration", type=float, default=10.0, help="floor: simulated time per case [s] (default 10)")
+    p.add_argument("--duration", type=float, help="floor: simulated time per case [s] (default 10; --study: 2)")
     p.add_argument("--mu", type=float, default=0.8, help="floor: sole-floor friction coefficient (default 0.8)")
     p.add_argument("--steps", type=int, default=None, help="weld: stance phases to walk (default 2)")
     p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
@@ -37,6 +37,11 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="swing foot held at the spring's rest angle (massless-foot limit, default) or integrated on its spring",
     )
     p.add_argument("--dt", type=float, help="integration step [s] (default 0.01 rest / 0.002 spring)")
+    p.add_argument(
+        "--study",
+        action="store_true",
+        help="floor: the weld-against-floor spring study (--scenario N or all) to OUT/floor_springs.md, .csv, .png",
+    )
     p.add_argument("--no-cases", action="store_true", help="simulate the fitted spring only (skip none/half/twice)")
     p.add_argument("--gif", action="store_true", help="also write the fitted run as a stick GIF")
     p.add_argument("--html", action="store_true", help="also write the fitted run as a meshcat HTML animation")
@@ -54,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
         from pasibot_pin.cli.simulate_floor import run_floor
 
         return run_floor(args)
+    if args.study or args.duration is not None:
+        raise ValueError(f"{'--study' if args.study else '--duration'} applies to --ground floor only")
     args.steps = 2 if args.steps is None else args.steps
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")

@@ -1,7 +1,9 @@
 """``pasibot simulate --ground floor``: the spring cases with both feet on a floor (the default ground).
 
 Maps the flags to :func:`pasibot_pin.studies.floor_study.floor_study` and
-:mod:`pasibot_pin.report.floor`; the welded-only flags are refused.
+:mod:`pasibot_pin.report.floor`; with ``--study``, to
+:func:`pasibot_pin.studies.floor_spring_study.floor_spring_study` (weld against floor, the
+scenario or ``all`` of runs 1-4). The welded-only flags are refused.
 """
 
 from __future__ import annotations
@@ -12,7 +14,7 @@ from pasibot_pin.cli.common import check_output_folder
 
 
 def run_floor(args: argparse.Namespace) -> int:
-    """The spring cases on the floor: print each outcome, write the CSV and the figure."""
+    """The spring cases on the floor: print each outcome, write the CSV and the figure (or the study's files)."""
     from pasibot_pin.report.floor import floor_files, write_floor
     from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
     from pasibot_pin.studies.spring_study import scenario_key
@@ -30,10 +32,31 @@ def run_floor(args: argparse.Namespace) -> int:
                 f"{flag} applies to --ground weld only (the floor runs the fitted, no, half and twice springs)"
             )
     dt = 1e-3 if args.dt is None else args.dt
-    settings = FloorStudySettings(scenario_key(args.scenario), args.duration, args.mu, dt, cases=not args.no_cases)
+    if args.study:
+        return _run_study(args, dt)
+    duration = 10.0 if args.duration is None else args.duration
+    settings = FloorStudySettings(scenario_key(args.scenario), duration, args.mu, dt, cases=not args.no_cases)
     check_output_folder(args.out, "--out")
     csv_path, png_path = floor_files(args.out, settings.scenario, args.force)
     study = floor_study(settings, on_case=lambda case: print(case_summary(case), flush=True))
     for path in write_floor(study, csv_path, png_path):
+        print(f"wrote {path}")
+    return 0
+
+
+def _run_study(args: argparse.Namespace, dt: float) -> int:
+    """``--study``: weld against floor for the scenario (or all four runs); the table, CSV and figure."""
+    from pasibot_pin.report.floor import floor_spring_files, floor_spring_line, write_floor_spring
+    from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
+    from pasibot_pin.studies.spring_study import SPRING_CASES
+
+    scenarios = WALKING_SCENARIOS if args.scenario == "all" else (args.scenario,)
+    duration = 2.0 if args.duration is None else args.duration
+    settings = FloorSpringSettings(scenarios=scenarios, duration=duration, mu=args.mu, dt=dt)
+    check_output_folder(args.out, "--out")
+    floor_spring_files(args.out, args.force)  # FileExistsError before any work
+    cases = SPRING_CASES[:1] if args.no_cases else SPRING_CASES
+    study = floor_spring_study(settings, cases, on_row=lambda row: print(floor_spring_line(row), flush=True))
+    for path in write_floor_spring(study, args.out, force=args.force):
         print(f"wrote {path}")
     return 0

@@ -69,6 +69,8 @@ REST_SPEED = 1e-7
 projection leave about 5e-9)."""
 SPEED_LIMIT = 1e3
 """A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
+QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 10_000), (1e-9, 100_000), (1e-8, 1_000_000))
+"""(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does)."""
 BEARING_SHARE = 0.25
 """A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
 swing toe does not count as a slip) [-]."""
@@ -283,17 +285,21 @@ class FloorSimulator:
         g = -(mass @ v + h * (tau - bias))
         cone = np.vstack((jn + mu * jt, jn - mu * jt))
         lower = np.concatenate((-gap / h, -gap / h))
-        result = proxsuite.proxqp.dense.solve(
-            H=hessian,
-            g=g,
-            A=rows.jac,
-            b=-rows.phi_t - rows.phi / h,
-            C=cone,
-            l=lower,
-            u=np.full(len(lower), 1e20),
-            eps_abs=1e-10,
-        )
-        if result.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+        for eps, max_iter in QP_ATTEMPTS:  # a hard step (a near-singular double support) gets more iterations
+            result = proxsuite.proxqp.dense.solve(
+                H=hessian,
+                g=g,
+                A=rows.jac,
+                b=-rows.phi / h,  # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
+                C=cone,
+                l=lower,
+                u=np.full(len(lower), 1e20),
+                eps_abs=eps,
+                max_iter=max_iter,
+            )
+            if result.info.status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+                break
+        else:
             raise ValueError(f"the contact QP did not solve ({result.info.status})")
         v_new = np.array(result.x)
         fastest = float(np.max(np.abs(v_new)))

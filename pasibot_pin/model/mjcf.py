@@ -52,6 +52,10 @@ class MjcfOptions:
         mu: sole-floor Coulomb friction [-].
         sole_radius: radius of the sole capsules [m].
         timestep: MuJoCo's step [s].
+        noslip_iterations: MuJoCo's no-slip post-solve (0: off). MuJoCo's friction is soft: a
+            contact inside its cone creeps (about 2 mm/s here, where our Coulomb contacts stick
+            exactly); a few no-slip iterations make the friction hard, so that a stuck point stays
+            put and only a point at its cone slides (what ``tests/test_mjcf.py`` compares modes with).
         solref: (time constant [s], damping ratio) of the equality constraints.
         solimp: MuJoCo's impedance (d0, dwidth, width) of the equality constraints: near 1 is
             near a hard constraint (MuJoCo's default 0.9 lets the loops give way enough to change
@@ -70,6 +74,7 @@ class MjcfOptions:
     mu: float = 0.8
     sole_radius: float = 0.002
     timestep: float = 1e-4
+    noslip_iterations: int = 0
     solref: tuple[float, float] = (1e-3, 1.0)
     solimp: tuple[float, float, float] = (0.9999, 0.9999, 0.001)
 
@@ -78,6 +83,10 @@ class MjcfOptions:
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"parameter {name!r} must be a finite number >= 0, got {value!r}")
+        if not (isinstance(self.noslip_iterations, int) and 0 <= self.noslip_iterations <= 1000):
+            raise ValueError(
+                f"parameter 'noslip_iterations' must be an integer in [0, 1000], got {self.noslip_iterations!r}"
+            )
         if self.timestep <= 0 or self.sole_radius <= 0:
             raise ValueError("parameters 'timestep' and 'sole_radius' must be positive")
         if not math.isfinite(self.spring_rest_angle):
@@ -163,9 +172,11 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
 
     root = ET.Element("mujoco", model=f"pasibot_{robot.variant}_{robot.legs}leg")
     ET.SubElement(root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false", boundinertia="1e-8")
-    ET.SubElement(
+    option = ET.SubElement(
         root, "option", timestep=repr(options.timestep), gravity=_vec(model.gravity.linear), integrator="implicitfast"
     )
+    if options.noslip_iterations:
+        option.set("noslip_iterations", str(options.noslip_iterations))
     default = ET.SubElement(root, "default")
     ET.SubElement(default, "geom", contype="0", conaffinity="0", rgba="0.6 0.6 0.7 1")
     ET.SubElement(default, "equality", solref=_vec(options.solref), solimp=_vec(options.solimp))

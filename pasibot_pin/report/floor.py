@@ -16,7 +16,7 @@ import matplotlib.pyplot as plt
 
 from pasibot_pin.files import atomic_paths
 from pasibot_pin.report.files import save_figure_file
-from pasibot_pin.studies.floor_spring_study import FloorSpringStudy
+from pasibot_pin.studies.floor_spring_study import CaseComparison, FloorSpringStudy
 from pasibot_pin.studies.floor_study import FloorStudy, floor_columns
 from pasibot_pin.viz.plots_floor import plot_floor_study, plot_weld_vs_floor
 
@@ -114,12 +114,27 @@ def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + 
     return "\n".join(lines)
 
 
-def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False) -> list[Path]:
-    """Write ``floor_springs.md``, ``.csv`` and ``.png`` in ``out`` (FileExistsError without ``force``)."""
+def floor_spring_files(out: Path, force: bool = False) -> list[Path]:
+    """``floor_springs.md``, ``.csv`` and ``.png`` in ``out``; FileExistsError if one exists and ``force`` is false."""
     paths = [Path(out) / f"{SPRINGS_NAME}{ext}" for ext in (".md", ".csv", ".png")]
     existing = [str(p) for p in paths if p.exists()]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    return paths
+
+
+def floor_spring_line(row: CaseComparison) -> str:
+    """One printed line of a study row: weld and floor side by side."""
+    fell = "" if math.isnan(row.weld_fell_at) else f", fell at {row.weld_fell_at:.2f} s"
+    return (
+        f"  {row.scenario} {row.case:10s}: weld max |pitch| {math.degrees(row.weld_max_pitch):.1f} deg{fell}; "
+        f"floor ({row.floor_start}) max |pitch| {math.degrees(row.floor_max_pitch):.1f} deg, {row.floor_outcome}"
+    )
+
+
+def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False) -> list[Path]:
+    """Write ``floor_springs.md``, ``.csv`` and ``.png`` in ``out`` (FileExistsError without ``force``)."""
+    paths = floor_spring_files(out, force)
     rows = floor_spring_table(study)
     with atomic_paths(*paths) as (md_tmp, csv_tmp, png_tmp):
         md_tmp.write_text(floor_spring_markdown(study), encoding="utf-8")

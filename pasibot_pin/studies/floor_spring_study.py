@@ -118,17 +118,18 @@ class FloorSpringStudy:
 def compare_case(inputs, label: str, factor: float, settings: FloorSpringSettings) -> CaseComparison:
     """Weld and floor for one spring case of a scenario (``inputs``: :func:`scenario_inputs`)."""
     robot, omega = inputs.robot, inputs.omega
-    weld_spring = inputs.fit.scaled(factor)  # K = 0 keeps the rest angle the swing foot is held at
+    # one spring per case, weld and floor alike: K_e scaled, the rest angle (the welded swing foot is
+    # held at it) and the ankle damper kept, so "no spring" is the damper alone in both
+    spring = inputs.fit.scaled(factor)
     thetas = np.linspace(math.pi / 2, 1.5 * math.pi, settings.static_samples, endpoint=False)
-    static = static_equilibrium(robot, weld_spring, thetas)
+    static = static_equilibrium(robot, spring, thetas)
     pitch0 = float(static.hip_pitch[0]) if static.found[0] and static.stiffness[0] > 0 else 0.0
     weld = simulate(
         robot,
-        SimulationSettings(omega=omega, spring=weld_spring, swing_ankle="rest", dt=0.01, initial_pitch=pitch0),
+        SimulationSettings(omega=omega, spring=spring, swing_ankle="rest", dt=0.01, initial_pitch=pitch0),
         duration=settings.duration,
     )
-    floor_spring = inputs.fit.scaled(factor) if factor > 0 else None
-    sim = FloorSimulator(robot, FloorSettings(omega=omega, spring=floor_spring, mu=settings.mu, dt=settings.dt))
+    sim = FloorSimulator(robot, FloorSettings(omega=omega, spring=spring, mu=settings.mu, dt=settings.dt))
     res = sim.run(settings.duration)
     if res.start is not None:
         start, start_pitch = res.start.kind, float(res.start.q[2])
@@ -138,7 +139,7 @@ def compare_case(inputs, label: str, factor: float, settings: FloorSpringSetting
     return CaseComparison(
         scenario=inputs.name,
         case=label,
-        stiffness=weld_spring.stiffness,
+        stiffness=spring.stiffness,
         weld_max_pitch=weld.max_hip_excursion,
         weld_fell_at=float(weld.t[-1]) if weld.fell else math.nan,
         weld_static=static.max_excursion,

@@ -95,7 +95,7 @@ def floor_study(settings: FloorStudySettings, on_case: Callable[[FloorCase], Non
     study = FloorStudy(inputs.name, inputs.omega, inputs.fit, settings=settings)
     cases = SPRING_CASES if settings.cases else SPRING_CASES[:1]
     for label, factor in cases:
-        spring = inputs.fit.scaled(factor) if factor > 0 else None
+        spring = inputs.fit.scaled(factor)  # one definition, weld and floor: K_e scaled, damper kept
         floor = FloorSettings(omega=inputs.omega, spring=spring, mu=settings.mu, dt=settings.dt)
         case = FloorCase(label, spring, FloorSimulator(inputs.robot, floor).run(settings.duration))
         study.cases.append(case)
