@@ -16,6 +16,8 @@ import importlib
 import time
 from pathlib import Path
 
+from pasibot_pin.cli.common import add_force_option, add_out_folder_option
+
 STEPS: list[tuple[str, str]] = [
     ("model", "model"),
     ("kinematics", "kinematics"),
@@ -46,8 +48,8 @@ def run_step(name: str, out_dir: Path) -> tuple[str, float]:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("analyze", help="run the full analysis into an output folder (the main job)")
-    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
-    p.add_argument("--force", action="store_true", help="write into an output folder that already holds files")
+    add_out_folder_option(p, Path("out"), "report.md, its figures, CSVs and animations")
+    add_force_option(p, "write into an output folder that already holds files")
     p.set_defaults(func=run)
 
 

@@ -5,10 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from pasibot_pin.cli.common import add_force_option
+
 
 def add_explore_options(p: argparse.ArgumentParser) -> None:
-    """``--out``, ``--vary``, ``--design``, executors, outputs and the best designs."""
-    p.add_argument("--out", type=Path, required=True, help="folder of the run (created; resumed if it holds one)")
+    """``--out DIR``, ``--vary``, ``--design``, executors, outputs and the best designs."""
+    p.add_argument(
+        "--out", type=Path, required=True, metavar="DIR", help="folder of the run (created; resumed if it holds one)"
+    )
     p.add_argument(
         "--vary",
         action="append",
@@ -28,7 +32,7 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
         help="how the best designs are ranked (default peak_crank_torque_Nm:min)",
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--force", action="store_true", help="replace another run (or other files) in --out")
+    add_force_option(p, "replace another run (or other files) in --out")
 
 
 def parse_by(text: str) -> tuple[str, str]:
