@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import umsgpack
+from report_checks import assert_reads_like_a_report
 
 from pasibot_pin.__main__ import main
 from pasibot_pin.model import closure
@@ -390,6 +391,7 @@ def test_analyze_step_writes_gait_html_and_gif(tmp_path):
         assert gif.n_frames == 2 * 30 // 2 + 1  # 2 steps of 30 samples, every other one
         assert gif.info["duration"] == pytest.approx(1000 / 15, abs=10)  # 15 fps: the HTML's 30 fps speed
     assert "(gait.html)" in section and "(gait.gif)" in section
+    assert_reads_like_a_report(tmp_path, section, 1)
     forces = {
         entry["path"]
         for c in decode_commands((tmp_path / "gait.html").read_text())

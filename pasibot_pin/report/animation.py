@@ -74,6 +74,7 @@ def section(out_dir: Path) -> str:
 
     from pasibot_pin.model.closure import constraint_residual
     from pasibot_pin.model.robot import load
+    from pasibot_pin.report.markdown import figure
     from pasibot_pin.viz.animation import save_gif
     from pasibot_pin.viz.viewer import export_html
 
@@ -103,6 +104,10 @@ def section(out_dir: Path) -> str:
             " magenta, the ground reaction through the centre of pressure (0.5 mm/N); yellow, the force"
             " on the first link of each cut joint (the largest drawn 0.15 m long).",
             "",
-            f"![2-D stick animation, {len(gif_qs)} frames](gait.gif)",
+            figure(
+                "gait.gif",
+                f"The walk as a 2-D stick animation ({len(gif_qs)} frames at {FPS / GIF_STRIDE:g} fps): the ground, "
+                "the stance foot's contact points and the ground reaction.",
+            ),
         ]
     )
