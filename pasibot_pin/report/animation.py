@@ -44,17 +44,18 @@ def export_animation(robot, result, html: Path | None = None, gif: Path | None =
     from pasibot_pin.studies.simulation_study import animation_frames
 
     frames = animation_frames(result, fps)
+    title = "simulated walk, hip pitch free, stance foot welded"
     written = []
     if gif is not None:
         from pasibot_pin.viz.animation import save_gif
 
-        written.append(save_gif(robot, frames, gif, fps=fps, force=True, title="simulated walk, hip pitch free"))
+        written.append(save_gif(robot, frames, gif, fps=fps, force=True, title=title))
     if html is not None:
         from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene
 
         viewer = WalkViewer(robot)
         try:
-            build_walk_scene(viewer, frames, fps)
+            build_walk_scene(viewer, frames, fps, title=title)
             text = viewer.static_html()
         finally:
             viewer.close()
@@ -90,7 +91,12 @@ def section(out_dir: Path) -> str:
         reactions=omega,
     )
     gif_qs = export.q[::GIF_STRIDE]
-    save_gif(robot, gif_qs, out_dir / "gait.gif", fps=FPS / GIF_STRIDE, force=True)
+    ground = export.forces["ground"]
+    ground = type(ground)(ground.points[::GIF_STRIDE], ground.forces[::GIF_STRIDE], ground.scale, ground.colour)
+    times = np.arange(len(export.q))[::GIF_STRIDE] / FPS
+    save_gif(
+        robot, gif_qs, out_dir / "gait.gif", fps=FPS / GIF_STRIDE, force=True, forces={"ground": ground}, times=times
+    )
     worst = max(float(np.abs(constraint_residual(robot, q, robot.loop_constraints)).max()) for q in export.q)
     return "\n".join(
         [
