@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps test demo urdf bench lint clean
+.PHONY: install browser-deps test demo urdf bench timings lint clean
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -33,6 +33,10 @@ urdf: install
 
 bench: install
 	@for script in benchmarks/*.py; do echo "== $$script"; $(PY) $$script; done
+
+# docs/timings.md: the demo's wall and CPU time, measured here, with the machine named
+timings: install
+	$(PY) benchmarks/bench_demo.py --write docs/timings.md
 
 lint: install
 	$(VENV)/bin/ruff check pasibot_pin tests benchmarks
