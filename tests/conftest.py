@@ -32,7 +32,9 @@ def L():
 # The unit of work is one module, so module-scoped fixtures (the browser screenshots, the walks,
 # the meshcat server) are built once, on one worker. The modules below have no costly module
 # fixture and hold long tests of their own: their tests are scheduled one by one.
-SPLIT_MODULES = frozenset({"test_notebooks.py", "test_simulate.py", "test_energy.py", "test_regression.py"})
+SPLIT_MODULES = frozenset(
+    {"test_notebooks.py", "test_simulate.py", "test_energy.py", "test_regression.py", "test_report.py"}
+)
 # Longest units first (a longest-processing-time-first schedule: no long test starts last and
 # keeps one worker busy alone). A nodeid prefix each; the other units follow in collection order.
 LONGEST_FIRST = (
@@ -44,6 +46,8 @@ LONGEST_FIRST = (
     "tests/test_notebooks.py::test_notebook_runs[05_simulation",
     "tests/test_simulate.py::test_energy_is_conserved_without_motor_damping_or_impact[cranks-free",
     "tests/test_viewer.py",
+    "tests/test_report.py::test_model_and_simulation",
+    "tests/test_report.py::test_kinematics_section",
     "tests/test_notebooks.py::test_notebook_runs[04_viewer",
     "tests/test_simulate.py::test_simulate_command",
     "tests/test_notebooks.py",

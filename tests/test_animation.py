@@ -48,7 +48,7 @@ def test_gif_draws_the_links_in_group_colours(gif):
     rgb = frames[len(frames) // 2].reshape(-1, 3)
     hoeken = np.abs(rgb - [0xF2, 0x8C, 0x1A]).max(axis=1) < 30
     pantograph = np.abs(rgb - [0x26, 0x73, 0xD9]).max(axis=1) < 30
-    assert hoeken.sum() > 30 and pantograph.sum() > 200
+    assert hoeken.sum() > 20 and pantograph.sum() > 200  # (the caption row above the axes leaves a little less room)
 
 
 def test_ankle_paths_match_the_walk(walk):

@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
+from report_checks import assert_reads_like_a_report
 
 from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
 from pasibot_pin.model.scenarios import PRESETS, Scenario
@@ -149,3 +150,4 @@ def test_analyze_step_contact_energy(tmp_path):
         )
     for name in ("single_motor_run4.png", "cost_of_transport.png", "power_spring_5.png", "single_motor_run4.csv"):
         assert (tmp_path / "contact_energy" / name).exists()
+    assert_reads_like_a_report(tmp_path, text, 13)  # every figure linked with a caption, units on every column

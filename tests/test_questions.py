@@ -81,3 +81,10 @@ def test_floor_answer_is_quoted_and_still_evaluates_the_same():
     now = design_metrics(design_of_row(table, row), floor=FLOOR_SECONDS)
     assert now["floor_time_s"] == pytest.approx(answer.best_time, abs=2e-3)  # stale: run `make answers`
     assert now.floor_outcome == table.column("floor_outcome")[row].as_py()
+
+
+def test_readme_quotes_the_verdicts(rows):
+    readme = (ROOT / "README.md").read_text()
+    for line in design_exploration.markdown(rows).splitlines():
+        if line.startswith("* "):
+            assert line in readme

@@ -1,7 +1,9 @@
-"""The README's figures are what the code computes: a number that drifts fails here.
+"""The README's and docs' figures are what the code computes: a number that drifts fails here.
 
-Each figure is read from the README text by a pattern and computed again through the library,
-then compared at the precision the README prints it.
+Each figure is read from the README or a docs/*.md page by a pattern (found exactly once across
+them, so it cannot be quoted twice and drift in one place) and computed again through the library,
+then compared at the precision the text prints it. Timings: only docs/timings.md quotes one, and
+it names the machine it was measured on.
 """
 
 from __future__ import annotations
@@ -18,7 +20,19 @@ from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
 from pasibot_pin.studies.contact import scenario_contact
 from pasibot_pin.studies.spring_fit import fit_result
 
-README = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+ROOT = Path(__file__).resolve().parents[1]
+PAGES = {
+    path.relative_to(ROOT).as_posix(): path.read_text(encoding="utf-8")
+    for path in [ROOT / "README.md", *sorted((ROOT / "docs").glob("*.md"))]
+}
+README = "\n".join(PAGES.values())  # the README and every docs page, searched together
+
+
+def _once(pattern: str, flags: int = 0) -> re.Match:
+    """The one match of ``pattern`` in the README and docs (a second quote could drift on its own)."""
+    found = [(name, m) for name, text in PAGES.items() for m in re.finditer(pattern, text, flags)]
+    assert len(found) == 1, f"{pattern!r} found {len(found)} times: {[name for name, _ in found]}"
+    return found[0][1]
 
 
 def _fit(name: str, preset: str):
@@ -32,7 +46,7 @@ def _number(text: str) -> float:
 
 @pytest.mark.parametrize("run", ["run1", "run2", "run3", "run4"])
 def test_stiffness_table_row(run):
-    row = re.search(rf"^\| run {run[-1]} \|(.*)$", README, re.M)
+    row = _once(rf"^\| run {run[-1]} \|(.*)$", re.M)
     assert row, f"no README table row for {run}"
     cells = [c.strip() for c in row.group(1).split("|")]
     default, seed, stored, clean = cells[2], cells[3], cells[4], cells[5]
@@ -50,10 +64,9 @@ def test_stiffness_table_row(run):
 
 
 def test_contact_findings():
-    sentence = re.search(
+    sentence = _once(
         r"from ([0-9.]+)° to ([0-9.]+)° of the stance crank,\s+(\d+) of (\d+) samples\): the motion demands a CoP "
         r"from (\S+) mm to (\S+) mm \(run4: (\S+) to (\S+) mm\)",
-        README,
     )
     assert sentence, "the README's contact sentence changed shape"
     enter, leave, ok, total, lo, hi, lo4, hi4 = sentence.groups()
@@ -64,9 +77,33 @@ def test_contact_findings():
     assert (int(ok), int(total)) == (int(np.sum(run1.feasible)), len(run1))
     for text, value in zip((lo, hi, lo4, hi4), (*run1.sole_needed(), *run4.sole_needed())):
         assert _number(text) == round(1e3 * value)
-    parallel = re.search(r"\(run1: (\d+) of (\d+)\s+samples, from ([0-9.]+)° to ([0-9.]+)°\)", README)
+    parallel = _once(r"\(run1: (\d+) of (\d+)\s+samples, from ([0-9.]+)° to ([0-9.]+)°\)")
     assert parallel, "the README's parallel-variant sentence changed shape"
     _, par = scenario_contact("run1", variant="parallel")
     events = {e["edge"]: math.degrees(e["theta"]) for e in par.tip_events()}
     assert (int(parallel.group(1)), int(parallel.group(2))) == (int(np.sum(par.feasible)), len(par))
     assert (float(parallel.group(3)), float(parallel.group(4))) == (round(events["heel"], 1), round(events["toe"], 1))
+
+
+def test_readme_stiffness_sentence():
+    """The README's short K_e sentence: the default model's fits, rounded as printed."""
+    match = _once(r"whole stance as fit window it\s+gives (\d+), (\d+), (\d+) and (\d+) N\.m/rad")
+    expected = [round(_fit(run, "default").K_e) for run in ("run1", "run2", "run3", "run4")]
+    assert [int(x) for x in match.groups()] == expected
+
+
+TIMING = re.compile(r"\b\d+(?:\.\d+)?\s?(?:s|seconds|min)\b(?:\s+(?:wall|of CPU|CPU))", re.I)
+
+
+def test_timings_come_from_one_measured_page():
+    """No page but docs/timings.md quotes a wall or CPU time; that page names its machine and its source."""
+    for name, text in PAGES.items():
+        if name != "docs/timings.md":
+            assert not TIMING.search(text), f"{name} quotes a timing: {TIMING.search(text).group(0)!r}"
+            assert "takes about" not in text, name
+    page = PAGES["docs/timings.md"]
+    assert "benchmarks/bench_demo.py" in page
+    machine = re.search(r"Measured on a (\d+)-core (\S+) .*Python (\d+\.\d+)", page, re.S)
+    assert machine, "docs/timings.md does not name the machine"
+    row = re.search(r"\| `make demo`.*?\| (\d+) \| (\d+) \|", page)
+    assert row and int(row.group(1)) > 0 and int(row.group(2)) > 0

@@ -449,9 +449,9 @@ def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
     assert main(argv) == 0
     text = capsys.readouterr().out
     assert "scenario run4" in text and "max |hip pitch|" in text
-    for name in ("simulation_4.png", "simulation_4.csv", "simulation_4.gif"):
+    for name in ("simulation_run4.png", "simulation_run4.csv", "simulation_run4.gif"):
         assert (out / name).stat().st_size > 1000, name
-    table = np.genfromtxt(out / "simulation_4.csv", delimiter=",", names=True)
+    table = np.genfromtxt(out / "simulation_run4.csv", delimiter=",", names=True)
     assert "hip_pitch" in table.dtype.names and "Ta_right" in table.dtype.names
     assert table["t"][-1] == pytest.approx(math.pi / 5.0)
     assert np.all(np.abs(table["theta_right"] - (math.pi / 2 + 5.0 * table["t"])) < 1e-9)

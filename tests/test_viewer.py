@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import umsgpack
+from report_checks import assert_reads_like_a_report
 
 from pasibot_pin.__main__ import main
 from pasibot_pin.model import closure
@@ -390,6 +391,7 @@ def test_analyze_step_writes_gait_html_and_gif(tmp_path):
         assert gif.n_frames == 2 * 30 // 2 + 1  # 2 steps of 30 samples, every other one
         assert gif.info["duration"] == pytest.approx(1000 / 15, abs=10)  # 15 fps: the HTML's 30 fps speed
     assert "(gait.html)" in section and "(gait.gif)" in section
+    assert_reads_like_a_report(tmp_path, section, 1)
     forces = {
         entry["path"]
         for c in decode_commands((tmp_path / "gait.html").read_text())
@@ -402,3 +404,109 @@ def test_analyze_step_writes_gait_html_and_gif(tmp_path):
 def test_view_rejects_bad_options(capsys):
     assert main(["view", "--repeat", "0"]) == 2
     assert "--repeat" in capsys.readouterr().err
+
+
+# --------------------------------------------------------------------------- hip, joints, contacts, title bar
+def _clip_tracks(html: str) -> dict[str, dict]:
+    anims = [c for c in decode_commands(html) if c["type"] == "set_animation"]
+    return {e["path"]: {t["name"]: t["keys"] for t in e["clip"]["tracks"]} for e in anims[0]["animations"]}
+
+
+def _hud_info(html: str) -> dict:
+    import json
+
+    match = re.search(r"var info = (\{.*?\});\n", html)
+    assert match, "no title bar in the page"
+    return json.loads(match.group(1))
+
+
+def test_hip_is_see_through_and_the_rest_opaque(robot, exported):
+    _, html = exported
+    objects = {c["path"]: c["object"] for c in decode_commands(html) if c["type"] == "set_object"}
+    for obj in robot.visual_model.geometryObjects:
+        material = objects[f"/meshcat/{viewer.ROOT}/visuals/{obj.name}"]["materials"][0]
+        if link_group(robot.model.frames[obj.parentFrame].name) == "hip":
+            assert material["transparent"] and material["opacity"] == pytest.approx(viewer.HIP_OPACITY)
+            assert viewer.HIP_OPACITY < 0.5
+        else:
+            assert not material.get("transparent", False), obj.name
+
+
+def test_joint_markers_sit_on_the_joints_and_close_the_loops(robot, exported):
+    """Each marker is at its joint in every frame; the two markers of a cut joint's sides coincide."""
+    export, html = exported
+    tracks = _clip_tracks(html)
+    marks = {p.rsplit("/", 1)[-1]: t for p, t in tracks.items() if "/joints/" in p}
+    assert set(marks) >= {robot.model.names[j] for j in range(1, robot.model.njoints)}
+    assert sum(name.endswith("_a") and "_loop_" in name for name in marks) == len(robot.loops)
+    data = robot.model.createData()
+    for k in (0, len(export.q) // 2):
+        pin.framesForwardKinematics(robot.model, data, export.q[k])
+        for j in range(1, robot.model.njoints):
+            np.testing.assert_allclose(marks[robot.model.names[j]][".position"][k]["value"], data.oMi[j].translation)
+        for loop in robot.loops:  # the marker at side a is where side b's frame is: the loop is closed
+            b = data.oMf[robot.model.getFrameId(loop.frame_b)].translation
+            np.testing.assert_allclose(marks[loop.frame_a][".position"][k]["value"], b, atol=1e-9)
+
+
+def test_contact_points_show_the_stance_sole_on_the_ground(robot, exported):
+    export, html = exported
+    tracks = _clip_tracks(html)
+    walk, n = export.walk, len(export.q)
+    for side in ("right", "left"):
+        for point in ("heel", "toe"):
+            keys = tracks[f"/meshcat/{viewer.ROOT}/contacts/{side}_{point}"]
+            shown = [keys[".scale"][k]["value"][0] == 1.0 for k in range(n)]
+            z = [keys[".position"][k]["value"][2] for k in range(n)]
+            for k in range(n):
+                if walk.stance[k] == side:  # the welded sole: both points on the ground, shown
+                    assert shown[k] and abs(z[k]) < 1e-9, (side, point, k)
+                if shown[k]:
+                    assert abs(z[k]) <= 1e-3
+            assert not all(shown), f"the {side} foot swings: its {point} leaves the ground"
+
+
+def test_title_bar_shows_the_time_crank_angle_and_modes(robot, exported):
+    export, html = exported
+    info = _hud_info(html)
+    walk, n = export.walk, len(export.q)
+    assert info["title"].startswith("PASIBOT spring biped") and f"<title>{info['title']}</title>" in html
+    assert info["fps"] == pytest.approx(export.fps) and len(info["t"]) == len(info["theta"]) == n
+    np.testing.assert_allclose(info["t"], np.arange(n) / export.fps, atol=1e-6)
+    np.testing.assert_allclose(info["theta"], np.degrees(walk.theta), atol=1e-3)  # the gait's own crank angles
+    for k in range(n):
+        assert info["modes"][walk.stance[k]][k] == "flat"
+    assert {"air"} <= set(info["modes"]["right"]) | set(info["modes"]["left"])
+    assert 'id="pasibot-hud"' in html
+
+
+def test_foot_modes_from_the_sole_heights():
+    from pasibot_pin.viz.contacts import mode_of
+
+    assert mode_of(0.0, 0.0) == "flat"
+    assert mode_of(0.0, 0.05) == "heel" and mode_of(0.05, 0.0005) == "toe"
+    assert mode_of(0.02, 0.03) == "air" and mode_of(-0.01, 0.0) == "below ground"
+
+
+def test_gif_frames_draw_the_contacts_and_the_ground_reaction(robot):
+    from pasibot_pin.viz import animation as stick
+    from pasibot_pin.viz.contacts import foot_contacts
+
+    walk = viewer.walk_trajectory(robot, steps=1, samples_per_step=4)
+    track = viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance)
+
+    def colour_pixels(image, colour: str) -> int:
+        rgb = np.asarray(image.convert("RGB")).astype(int)
+        target = np.array([int(colour[i : i + 2], 16) for i in (1, 3, 5)])
+        return int(np.sum(np.abs(rgb - target).sum(axis=2) < 60))
+
+    plain = stick.stick_frames(robot, walk.q[:1].repeat(2, axis=0), fps=10.0)
+    marked = stick.stick_frames(
+        robot,
+        walk.q[:1].repeat(2, axis=0),
+        fps=10.0,
+        forces={"ground": type(track)(track.points[:2], track.forces[:2], track.scale)},
+    )
+    assert sum(foot_contacts(robot, walk.q[:1]).touching["right"][0]) == 2
+    assert colour_pixels(plain[0], stick.CONTACT_COLOUR) > 20  # the two sole points
+    assert colour_pixels(marked[0], viewer.FORCE_COLOUR) > colour_pixels(plain[0], viewer.FORCE_COLOUR) + 10

@@ -1,7 +1,10 @@
 """``pasibot analyze``: the main job. Runs every report section into an output folder.
 
-Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str``: it runs its studies,
-writes its files into ``out_dir`` and returns its Markdown for ``report.md``. The simulation
+Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str`` (or ``build(out_dir)``, which
+also hands back the numbers the summary quotes): it runs its studies, writes its files into
+``out_dir`` and returns its Markdown for ``report.md``. The report opens with a summary of
+verdicts (:func:`pasibot_pin.report.markdown.summary`) and holds no wall-clock time, so two runs
+write the same text. The simulation
 section, by far the longest, runs in pieces (:class:`pasibot_pin.report.simulation.SimulationPlan`:
 each spring case, each sweep row, the swing-foot check, each scenario's figures, the animation).
 Those pieces and the other sections share one pool of :data:`pasibot_pin.report.jobs.WORKERS`
@@ -15,6 +18,8 @@ import argparse
 import importlib
 import time
 from pathlib import Path
+
+from pasibot_pin.cli.common import add_force_option, add_out_folder_option
 
 STEPS: list[tuple[str, str]] = [
     ("model", "model"),
@@ -38,18 +43,21 @@ ESTIMATES: dict[str, float] = {
 """CPU time [s] of the steps besides the simulation (measured; they only order the work)."""
 
 
-def run_step(name: str, out_dir: Path) -> tuple[str, float]:
-    """Run one step: (its Markdown section, its wall time [s])."""
+def run_step(name: str, out_dir: Path):
+    """Run one step: (its :class:`~pasibot_pin.report.markdown.Section`, its wall time [s] for the console)."""
+    from pasibot_pin.report.markdown import Section
+
     start = time.perf_counter()
     module = importlib.import_module(f"pasibot_pin.report.{dict(STEPS)[name]}")
-    return module.section(Path(out_dir)), time.perf_counter() - start
+    built = module.build(Path(out_dir)) if hasattr(module, "build") else Section(module.section(Path(out_dir)))
+    return built, time.perf_counter() - start
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("analyze", help="run the full analysis into an output folder (the main job)")
-    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
-    p.add_argument("--force", action="store_true", help="write into an output folder that already holds files")
+    add_out_folder_option(p, Path("out"), "report.md, its figures, CSVs and animations")
+    add_force_option(p, "write into an output folder that already holds files")
     p.set_defaults(func=run)
 
 
@@ -58,6 +66,7 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.cli.common import check_output_folder
     from pasibot_pin.report.files import write_text_atomic
     from pasibot_pin.report.jobs import WORKERS, Job, run_jobs
+    from pasibot_pin.report.markdown import report_text
     from pasibot_pin.report.simulation import SimulationPlan
 
     out_dir: Path = check_output_folder(args.out, "--out")
@@ -65,23 +74,23 @@ def run(args: argparse.Namespace) -> int:
         raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
     out_dir.mkdir(parents=True, exist_ok=True)
     sections: dict[str, str] = {}
+    facts: dict[str, dict] = {}
     plan = SimulationPlan(out_dir)
     start = time.perf_counter()
 
     def on_done(key, result):
         if key[0] == "step":
-            sections[key[1]], seconds = result
+            built, seconds = result
+            sections[key[1]], facts[key[1]] = built.markdown, built.facts
             print(f"[{key[1]}] done in {seconds:.1f} s", flush=True)
             return None
         return plan.done(key, result)
 
     jobs = [Job(ESTIMATES[name], ("step", name), run_step, (name, out_dir)) for name in ESTIMATES]
     run_jobs(jobs + plan.jobs(), on_done, WORKERS)
-    sections["simulation"] = plan.markdown()
+    sections["simulation"], facts["simulation"] = plan.markdown(), plan.facts()
     print(f"[simulation] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
-    parts = ["# PASIBOT analysis", ""]
-    for name, _ in STEPS:
-        parts += [sections[name], ""]
-    report = write_text_atomic(out_dir / "report.md", "\n".join(parts))
+    text = report_text([sections[name] for name, _ in STEPS], facts)
+    report = write_text_atomic(out_dir / "report.md", text)
     print(f"wrote {report}")
     return 0

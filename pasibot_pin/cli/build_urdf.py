@@ -5,20 +5,22 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_robot_options, check_output_file, check_output_folder
+from pasibot_pin.cli.common import add_force_option, add_robot_options, check_output_file, check_output_folder
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("build-urdf", help="render urdf/pasibot.urdf.xacro to URDF")
     add_robot_options(p)
-    p.add_argument("--out", type=Path, help="output file (default: print to stdout); with --defaults, a folder")
+    p.add_argument(
+        "--out", type=Path, metavar="FILE|DIR", help="output file (default: print to stdout); with --defaults, a folder"
+    )
     p.add_argument(
         "--defaults",
         action="store_true",
         help="re-render every default URDF: into urdf/ of a source checkout, or into the --out folder",
     )
-    p.add_argument("--force", action="store_true", help="overwrite an existing, different file")
+    add_force_option(p, "overwrite an existing, different file")
     p.add_argument("--L", type=float, help="crank length [m]")
     p.add_argument("--K", type=float, help="L0 / L")
     p.add_argument("--ratio", action="append", default=[], metavar="rN=VALUE", help="a link ratio, e.g. r4=9.5")

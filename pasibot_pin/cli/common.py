@@ -1,5 +1,11 @@
 """Options and checks shared by several subcommands.
 
+One grammar: the options several commands share (``--variant``, ``--legs``, ``--scenario``,
+``--steps``, ``--fps``, ``--mu``, ``--out DIR``, ``--force``) are defined once here, with one
+default each (:data:`DEFAULTS`); ``tests/test_cli_grammar.py`` checks every subcommand's parser
+against it. A command that must know whether a shared option was given (``gait --steps`` with
+one leg is refused) asks :func:`given`, so the default itself stays the same everywhere.
+
 Every output path is checked before any work starts (:func:`check_output_file`,
 :func:`check_output_folder`, :func:`check_plot_file`): not a folder, not an existing file
 without ``--force``, a folder that exists and is writable or can be created, and for figures
@@ -13,12 +19,19 @@ import argparse
 import os
 from pathlib import Path
 
-from pasibot_pin.model.params import VARIANTS
+from pasibot_pin.model.params import SOLE_FLOOR_MU, VARIANTS
 from pasibot_pin.report.files import atomic_path, atomic_paths, write_columns_csv
 
 __all__ = [
+    "DEFAULTS",
+    "add_fps_option",
+    "add_mu_option",
+    "add_out_folder_option",
     "add_output_options",
     "add_robot_options",
+    "add_scenario_option",
+    "add_steps_option",
+    "given",
     "atomic_path",
     "atomic_paths",
     "check_output_file",
@@ -29,19 +42,102 @@ __all__ = [
 ]
 
 
-def add_robot_options(parser: argparse.ArgumentParser, legs_default: int = 2) -> None:
-    """``--variant`` and ``--legs``."""
-    parser.add_argument("--variant", default="spring", help=f"leg variant: {', '.join(VARIANTS)} (default spring)")
-    parser.add_argument("--legs", type=int, default=legs_default, help=f"1 or 2 legs (default {legs_default})")
+DEFAULTS: dict[str, object] = {
+    "--variant": "spring",
+    "--legs": 2,
+    "--scenario": "run1",
+    "--steps": 2,
+    "--fps": 30.0,
+    "--mu": SOLE_FLOOR_MU,
+    "--force": False,
+}
+"""The one default of each option several commands share (``--out DIR`` has none: each command names its folder)."""
+
+
+class _Given(argparse.Action):
+    """``store`` that also records the option in ``namespace._given`` (see :func:`given`)."""
+
+    def __call__(self, parser, namespace, values, option_string=None):
+        setattr(namespace, self.dest, values)
+        recorded = set(getattr(namespace, "_given", ()))
+        recorded.add(self.dest)
+        namespace._given = recorded
+
+
+def given(args: argparse.Namespace, dest: str) -> bool:
+    """Whether the shared option ``dest`` (e.g. ``"steps"``) was on the command line."""
+    return dest in getattr(args, "_given", ())
+
+
+def add_robot_options(parser: argparse.ArgumentParser, legs: bool = True) -> None:
+    """``--variant`` and (unless ``legs`` is false) ``--legs``."""
+    parser.add_argument(
+        "--variant",
+        default=DEFAULTS["--variant"],
+        action=_Given,
+        help=f"leg variant: {', '.join(VARIANTS)} (default spring)",
+    )
+    if legs:
+        parser.add_argument(
+            "--legs", type=int, default=DEFAULTS["--legs"], action=_Given, help="1 or 2 legs (default 2, the biped)"
+        )
+
+
+def add_scenario_option(parser: argparse.ArgumentParser) -> None:
+    """``--scenario`` (a seed scenario: quasi-static, run1..run4 or 1..4)."""
+    from pasibot_pin.model.scenarios import SCENARIOS
+
+    parser.add_argument(
+        "--scenario",
+        default=DEFAULTS["--scenario"],
+        help=f"seed scenario: {', '.join(SCENARIOS)} (1..4 work too; default run1)",
+    )
+
+
+def add_steps_option(parser: argparse.ArgumentParser, what: str = "steps to walk, one per half crank turn") -> None:
+    """``--steps`` (default 2); :func:`given` tells whether it was on the command line."""
+    parser.add_argument("--steps", type=int, default=DEFAULTS["--steps"], action=_Given, help=f"{what} (default 2)")
+
+
+def add_fps_option(parser: argparse.ArgumentParser) -> None:
+    """``--fps``: animation frames per second (default 30)."""
+    parser.add_argument("--fps", type=float, default=DEFAULTS["--fps"], help="animation frames per second (default 30)")
+
+
+def add_mu_option(parser: argparse.ArgumentParser) -> None:
+    """``--mu``: the sole-floor Coulomb friction coefficient (default :data:`SOLE_FLOOR_MU`)."""
+    parser.add_argument(
+        "--mu",
+        type=float,
+        default=DEFAULTS["--mu"],
+        action=_Given,
+        help=f"sole-floor Coulomb friction coefficient (default {SOLE_FLOOR_MU:g})",
+    )
+
+
+def add_out_folder_option(parser: argparse.ArgumentParser, default: Path | None, what: str) -> None:
+    """``--out DIR``: the folder a command writes its files into."""
+    text = f"output folder: {what}" + (f" (default {default}/)" if default is not None else "")
+    parser.add_argument("--out", type=Path, default=default, metavar="DIR", help=text)
+
+
+def add_force_option(parser: argparse.ArgumentParser, what: str = "overwrite existing output files") -> None:
+    """``--force``."""
+    parser.add_argument("--force", action="store_true", default=DEFAULTS["--force"], help=what)
 
 
 def add_output_options(parser: argparse.ArgumentParser, csv_help: str, plot_help: str) -> None:
-    """``--csv``, ``--plot`` and ``--force`` (refuse to overwrite without it)."""
-    parser.add_argument("--csv", type=Path, default=None, help=csv_help)
+    """``--csv FILE``, ``--plot FILE``, ``--out DIR`` (both under their default names) and ``--force``."""
+    parser.add_argument("--csv", type=Path, default=None, metavar="FILE", help=csv_help)
     parser.add_argument(
-        "--plot", type=Path, default=None, help=f"{plot_help} (.png, .pdf, .svg, ...; no extension: .png)"
+        "--plot",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help=f"{plot_help} (.png, .pdf, .svg, ...; no extension: .png)",
     )
-    parser.add_argument("--force", action="store_true", help="overwrite existing output files")
+    add_out_folder_option(parser, None, "write the CSV and the figure into DIR under their default names")
+    add_force_option(parser)
 
 
 def _check_writable_folder(folder: Path, option: str, path: Path) -> None:
@@ -132,11 +228,18 @@ def check_plot_file(path: Path | None, option: str = "--plot", force: bool = Fal
     return check_output_file(path, option, force)
 
 
-def check_outputs(args: argparse.Namespace) -> None:
+def check_outputs(args: argparse.Namespace, stem: str | None = None) -> None:
     """Check ``--csv`` and ``--plot`` before any work (see :func:`check_output_file`, :func:`check_plot_file`).
 
-    ``args.plot`` is replaced by the name that will be written (``.png`` added when it has no extension).
+    With ``--out DIR`` (and a ``stem``), a CSV or figure not named by ``--csv``/``--plot`` is
+    ``DIR/<stem>.csv`` and ``DIR/<stem>.png``. ``args.plot`` is replaced by the name that will be
+    written (``.png`` added when it has no extension).
     """
+    out = getattr(args, "out", None)
+    if out is not None and stem is not None:
+        check_output_folder(out, "--out")
+        args.csv = Path(out) / f"{stem}.csv" if args.csv is None else args.csv
+        args.plot = Path(out) / f"{stem}.png" if args.plot is None else args.plot
     csv_path = check_output_file(args.csv, "--csv", args.force)
     plot_path = check_plot_file(args.plot, "--plot", args.force)
     if csv_path is not None and plot_path is not None and csv_path.resolve() == plot_path.resolve():

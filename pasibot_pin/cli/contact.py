@@ -10,25 +10,23 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, atomic_path, check_outputs
+from pasibot_pin.cli.common import add_mu_option, add_output_options, add_scenario_option, atomic_path, check_outputs
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
-    from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
-    from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES
+    from pasibot_pin.model.scenarios import PRESETS
+    from pasibot_pin.studies.contact import CONTACT_SAMPLES
 
     p = sub.add_parser(
         "contact",
         help="heel/toe contact forces, centre of pressure and friction needed along a seed scenario",
         description=__doc__,
     )
-    p.add_argument("--scenario", default="run1", help=f"one of {', '.join(SCENARIOS)} (default run1)")
+    add_scenario_option(p)
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
     p.add_argument("--variant", default="spring", help="spring or parallel (default spring)")
-    p.add_argument(
-        "--mu", type=float, default=CONTACT_MU, help=f"Coulomb friction coefficient (default {CONTACT_MU:g})"
-    )
+    add_mu_option(p)
     p.add_argument(
         "--samples", type=int, default=CONTACT_SAMPLES, help=f"samples over one stance (default {CONTACT_SAMPLES})"
     )
@@ -46,25 +44,24 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the contact summary; write the optional CSV and figure."""
+    from pasibot_pin.model.scenarios import get_scenario
     from pasibot_pin.report.contact_energy import write_contact_figure
     from pasibot_pin.report.files import write_columns_csv
     from pasibot_pin.studies.contact import scenario_contact
 
-    check_outputs(args)
+    check_outputs(args, f"contact_{args.variant}_{get_scenario(args.scenario).name}")
     if args.samples < 2:
         raise ValueError(f"parameter '--samples' must be >= 2, got {args.samples!r}")
     sole = tuple(args.sole) if args.sole is not None else None
-    from pasibot_pin.model.scenarios import get_scenario
-
     _torques, res = scenario_contact(args.scenario, args.preset, args.mu, args.samples, sole, args.variant)
     name = get_scenario(args.scenario).name
     print(f"scenario {name}, {args.variant} variant, preset {args.preset}, {len(res)} samples over one stance")
     print(res.summary())
     if args.csv is not None:
-        write_columns_csv(args.csv, res.columns())
+        write_columns_csv(args.csv, res.columns())  # written under a temporary name, then renamed
         print(f"wrote {args.csv}")
     if args.plot is not None:
         with atomic_path(args.plot) as tmp:
-            write_contact_figure(tmp, res, f"{args.scenario}: heel/toe contact, mu = {args.mu:g}", dpi=120)
+            write_contact_figure(tmp, res, f"{name}: heel/toe contact, mu = {args.mu:g}")
         print(f"wrote {args.plot}")
     return 0

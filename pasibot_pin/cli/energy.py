@@ -57,7 +57,7 @@ def run(args: argparse.Namespace) -> int:
         flywheel_cases,
     )
 
-    check_outputs(args)
+    check_outputs(args, "energy")
     if args.flywheel is not None:
         check_flywheel_inertia(args.flywheel)
     variants = tuple(v.strip() for v in args.variants.split(",") if v.strip())
@@ -90,6 +90,6 @@ def run(args: argparse.Namespace) -> int:
         print(f"wrote {args.csv}")
     if args.plot is not None:
         with atomic_path(args.plot) as tmp:
-            write_cost_of_transport(tmp, sweep.rows, dpi=120)
+            write_cost_of_transport(tmp, sweep.rows)
         print(f"wrote {args.plot}")
     return 0 if sweep.all_finite else 1

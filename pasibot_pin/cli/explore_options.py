@@ -5,10 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
+from pasibot_pin.cli.common import add_force_option
+
 
 def add_explore_options(p: argparse.ArgumentParser) -> None:
-    """``--out``, ``--vary``, ``--design``, executors, outputs and the best designs."""
-    p.add_argument("--out", type=Path, required=True, help="folder of the run (created; resumed if it holds one)")
+    """``--out DIR``, ``--vary``, ``--design``, executors, outputs and the best designs."""
+    p.add_argument(
+        "--out", type=Path, required=True, metavar="DIR", help="folder of the run (created; resumed if it holds one)"
+    )
     from pasibot_pin.explore.plan import DEFAULT_RANGES
 
     p.add_argument(
@@ -37,7 +41,7 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
         help="also simulate every design walking on the floor this long (slower; adds floor_* columns)",
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
-    p.add_argument("--force", action="store_true", help="replace another run (or other files) in --out")
+    add_force_option(p, "replace another run (or other files) in --out")
 
 
 def parse_by(text: str) -> tuple[str, str]:

@@ -11,16 +11,16 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import check_output_file
+from pasibot_pin.cli.common import add_force_option, add_fps_option, add_steps_option, check_output_file
 from pasibot_pin.model.params import VARIANTS
 
 
 def add_walk_view_options(parser: argparse.ArgumentParser) -> None:
     """``--variant``, ``--steps``, ``--samples-per-step``, ``--fps``, ``--reactions`` (shared with ``pasibot view``)."""
     parser.add_argument("--variant", default="spring", choices=VARIANTS, help="leg variant (default spring)")
-    parser.add_argument("--steps", type=int, default=2, help="steps to walk, one per half crank turn (default 2)")
+    add_steps_option(parser)
     parser.add_argument("--samples-per-step", type=int, default=30, help="animation frames per step (default 30)")
-    parser.add_argument("--fps", type=float, default=30.0, help="animation frames per second (default 30)")
+    add_fps_option(parser)
     parser.add_argument(
         "--reactions",
         type=float,
@@ -33,12 +33,14 @@ def add_walk_view_options(parser: argparse.ArgumentParser) -> None:
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("export-html", help="write the walk as one self-contained HTML file (meshcat animation)")
-    p.add_argument("--out", type=Path, default=Path("gait.html"), help="HTML file to write (default gait.html)")
+    p.add_argument(
+        "--out", type=Path, default=Path("gait.html"), metavar="FILE", help="HTML file to write (default gait.html)"
+    )
     add_walk_view_options(p)
     p.add_argument(
         "--ground-reaction", action="store_true", help="draw the quasi-static ground reaction (0.5 mm per N)"
     )
-    p.add_argument("--force", action="store_true", help="overwrite an existing file")
+    add_force_option(p, "overwrite an existing file")
     p.set_defaults(func=run)
 
 

@@ -12,22 +12,20 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import check_output_file
-from pasibot_pin.model.params import VARIANTS
+from pasibot_pin.cli.common import add_force_option, add_mu_option, add_robot_options, check_output_file, given
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("export-mjcf", help="write the robot as an MJCF file for MuJoCo", description=__doc__)
-    p.add_argument("--out", type=Path, required=True, help="MJCF file to write (.xml)")
+    p.add_argument("--out", type=Path, required=True, metavar="FILE", help="MJCF file to write (.xml)")
     p.add_argument("--design", type=Path, default=None, help="design file (.toml or .json) instead of the seed design")
-    p.add_argument("--variant", default=None, choices=VARIANTS, help="leg variant (default: the design's, spring)")
-    p.add_argument("--legs", type=int, default=2, choices=(1, 2), help="1 or 2 legs (default 2)")
+    add_robot_options(p)  # --variant given overrides the design's variant
     p.add_argument("--actuator", default="position", choices=("position", "velocity", "none"), help="crank servos")
     p.add_argument("--weld", default="none", choices=("none", "right", "left"), help="weld this foot where it stands")
     p.add_argument("--no-floor", action="store_true", help="no floor contact (e.g. with --weld)")
-    p.add_argument("--mu", type=float, default=0.8, help="sole-floor Coulomb friction (default 0.8)")
-    p.add_argument("--force", action="store_true", help="overwrite an existing file")
+    add_mu_option(p)
+    add_force_option(p, "overwrite an existing file")
     p.set_defaults(func=run)
 
 
@@ -40,7 +38,7 @@ def run(args: argparse.Namespace) -> int:
 
     check_output_file(args.out, "--out", args.force)
     design = load_design(args.design) if args.design is not None else Design()
-    if args.variant is not None:
+    if given(args, "variant"):
         design = design.with_(variant=args.variant)
     robot = design_robot(design, args.legs)
     spring = design_spring(design)

@@ -15,18 +15,18 @@ import math
 import time
 from pathlib import Path
 
-from pasibot_pin.cli.common import atomic_paths, check_output_folder
+from pasibot_pin.cli import common
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("simulate", help="forward-simulate the walking spring biped with the hip pitch free")
-    p.add_argument("--scenario", default="1", help="seed scenario: quasi-static, 1, 2, 3 or 4 (default 1)")
+    common.add_scenario_option(p)
     p.add_argument("--ground", choices=("floor", "weld"), default="floor", help="feet on a floor (default) or welded")
     p.add_argument("--duration", type=float, help="floor: simulated time per case [s] (default 10; --study: 2)")
-    p.add_argument("--mu", type=float, default=0.8, help="floor: sole-floor friction coefficient (default 0.8)")
-    p.add_argument("--steps", type=int, default=None, help="weld: stance phases to walk (default 2)")
-    p.add_argument("--out", type=Path, default=Path("out"), help="output folder (default out/)")
+    common.add_mu_option(p)
+    common.add_steps_option(p, "weld: stance phases to walk")
+    common.add_out_folder_option(p, Path("out"), "the CSV, the figure and the animations")
     p.add_argument("--stiffness", type=float, help="K_e [N.m/rad] (default: the inverse-dynamics fit)")
     p.add_argument("--rest-angle", type=float, help="beta0 [deg] (default: the inverse-dynamics fit)")
     p.add_argument("--damping", type=float, help="ankle damping c [N.m.s/rad] (default: critical for the foot)")
@@ -45,8 +45,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--no-cases", action="store_true", help="simulate the fitted spring only (skip none/half/twice)")
     p.add_argument("--gif", action="store_true", help="also write the fitted run as a stick GIF")
     p.add_argument("--html", action="store_true", help="also write the fitted run as a meshcat HTML animation")
-    p.add_argument("--fps", type=float, default=20.0, help="animation frames per simulated second (default 20)")
-    p.add_argument("--force", action="store_true", help="overwrite existing output files")
+    common.add_fps_option(p)
+    common.add_force_option(p)
     p.set_defaults(func=run)
 
 
@@ -54,6 +54,7 @@ def run(args: argparse.Namespace) -> int:
     """Simulate the scenario, write plots and CSV, print the excursions."""
     from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation
     from pasibot_pin.studies.simulation_study import SimulateSettings, check_fps, run_simulation, simulation_setup
+    from pasibot_pin.studies.spring_study import scenario_key
 
     if args.ground == "floor":
         from pasibot_pin.cli.simulate_floor import run_floor
@@ -61,12 +62,13 @@ def run(args: argparse.Namespace) -> int:
         return run_floor(args)
     if args.study or args.duration is not None:
         raise ValueError(f"{'--study' if args.study else '--duration'} applies to --ground floor only")
-    args.steps = 2 if args.steps is None else args.steps
+    if common.given(args, "mu"):
+        raise ValueError("--mu applies to --ground floor only (the welded foot does not slide)")
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")
     if args.gif or args.html:
         check_fps(args.fps)
-    check_output_folder(args.out, "--out")
+    common.check_output_folder(args.out, "--out")
     start = time.perf_counter()
     settings = SimulateSettings(
         scenario=args.scenario,
@@ -78,7 +80,7 @@ def run(args: argparse.Namespace) -> int:
         dt=args.dt,
         cases=not args.no_cases,
     )
-    files = prepare_outputs(args.out, args.scenario, gif=args.gif, html=args.html, force=args.force)
+    files = prepare_outputs(args.out, scenario_key(args.scenario), gif=args.gif, html=args.html, force=args.force)
     setup = simulation_setup(settings)
     scen, spring = setup.scenario, setup.spring
     print(
@@ -88,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
     run = run_simulation(setup, on_case=lambda label, outcome: print(case_line(label, outcome)))
     # every file under a temporary name, all renamed together at the end (none on failure or Ctrl-C)
     targets = (files.plot, None, None, None) if setup.quasi_static else (files.plot, files.csv, files.gif, files.html)
-    with atomic_paths(*targets) as temps:
+    with common.atomic_paths(*targets) as temps:
         plot, csv, gif, html = temps
         written = write_simulation(dataclasses.replace(files, plot=plot, csv=csv, gif=gif, html=html), run, args.fps)
     if setup.quasi_static:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import check_output_folder
+from pasibot_pin.cli.common import check_output_folder, given
 
 
 def run_floor(args: argparse.Namespace) -> int:
@@ -23,7 +23,7 @@ def run_floor(args: argparse.Namespace) -> int:
         ("--stiffness", args.stiffness),
         ("--rest-angle", args.rest_angle),
         ("--damping", args.damping),
-        ("--steps", args.steps),
+        ("--steps", args.steps if given(args, "steps") else None),
         ("--gif", args.gif or None),
         ("--html", args.html or None),
     ):

@@ -9,15 +9,15 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, atomic_path, check_outputs
+from pasibot_pin.cli.common import add_output_options, add_scenario_option, atomic_path, check_outputs
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
-    from pasibot_pin.model.scenarios import ACCELERATION_MODES, PRESETS, SCENARIOS, SWING_FOOT_MODES
+    from pasibot_pin.model.scenarios import ACCELERATION_MODES, PRESETS, SWING_FOOT_MODES
 
     p = sub.add_parser("torques", help="crank/ankle torques of a seed scenario and the fitted ankle spring K_e")
-    p.add_argument("--scenario", default="run1", help=f"one of {', '.join(SCENARIOS)} (default run1)")
+    add_scenario_option(p)
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
     p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s] (0 = quasi-static)")
     p.add_argument(
@@ -34,10 +34,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print K_e and write the optional CSV and plot."""
+    from pasibot_pin.model.scenarios import get_scenario
     from pasibot_pin.report.torques import write_beta_plot, write_result_csv
     from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
 
-    check_outputs(args)
+    check_outputs(args, f"torques_{get_scenario(args.scenario).name}")
     settings = TorqueSettings(
         scenario=args.scenario,
         preset=args.preset,

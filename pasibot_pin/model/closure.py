@@ -309,8 +309,13 @@ def assemble(
             raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
     stance = stance or robot.stance or "right"
     q, weld = analytic_configurations(
-        robot, [float(theta)], None if theta_left is None else [float(theta_left)], hip_pitch_value,
-        swing_foot_pitch, stance, ankle_x,
+        robot,
+        [float(theta)],
+        None if theta_left is None else [float(theta_left)],
+        hip_pitch_value,
+        swing_foot_pitch,
+        stance,
+        ankle_x,
     )
     cmodels = list(robot.loop_constraints) + ([weld] if weld is not None else [])
     prescribed = default_prescriptions(robot, stance)

@@ -290,7 +290,11 @@ def design_robot(design: Design, legs: int = 2, visuals: bool = True):
     from pasibot_pin.model.robot import load
 
     return load(
-        design.variant, legs, geometry=design.geometry(), masses=design.masses(), inertia=design.inertia,
+        design.variant,
+        legs,
+        geometry=design.geometry(),
+        masses=design.masses(),
+        inertia=design.inertia,
         visuals=visuals,
     )
 

@@ -23,6 +23,10 @@ LEG_COUNTS: tuple[int, ...] = (1, 2)
 GRAVITY: float = 9.81
 """Gravitational acceleration [m/s^2] (the seed's value)."""
 
+SOLE_FLOOR_MU: float = 0.8
+"""The sole-floor Coulomb friction coefficient every study and command takes by default [-]
+(the contact study, the floor simulation, the MJCF export; issue 12: 0.8)."""
+
 # Seed tables 3.1.1, 3.2.1, 3.5.1, 3.6.1: link length / crank length L.
 SEED_LINK_RATIOS: Mapping[str, float] = {
     "r1": 1.0,  # L1 crank

@@ -44,17 +44,18 @@ def export_animation(robot, result, html: Path | None = None, gif: Path | None =
     from pasibot_pin.studies.simulation_study import animation_frames
 
     frames = animation_frames(result, fps)
+    title = "simulated walk, hip pitch free, stance foot welded"
     written = []
     if gif is not None:
         from pasibot_pin.viz.animation import save_gif
 
-        written.append(save_gif(robot, frames, gif, fps=fps, force=True, title="simulated walk, hip pitch free"))
+        written.append(save_gif(robot, frames, gif, fps=fps, force=True, title=title))
     if html is not None:
         from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene
 
         viewer = WalkViewer(robot)
         try:
-            build_walk_scene(viewer, frames, fps)
+            build_walk_scene(viewer, frames, fps, title=title)
             text = viewer.static_html()
         finally:
             viewer.close()
@@ -74,6 +75,7 @@ def section(out_dir: Path) -> str:
 
     from pasibot_pin.model.closure import constraint_residual
     from pasibot_pin.model.robot import load
+    from pasibot_pin.report.markdown import figure
     from pasibot_pin.viz.animation import save_gif
     from pasibot_pin.viz.viewer import export_html
 
@@ -89,7 +91,12 @@ def section(out_dir: Path) -> str:
         reactions=omega,
     )
     gif_qs = export.q[::GIF_STRIDE]
-    save_gif(robot, gif_qs, out_dir / "gait.gif", fps=FPS / GIF_STRIDE, force=True)
+    ground = export.forces["ground"]
+    ground = type(ground)(ground.points[::GIF_STRIDE], ground.forces[::GIF_STRIDE], ground.scale, ground.colour)
+    times = np.arange(len(export.q))[::GIF_STRIDE] / FPS
+    save_gif(
+        robot, gif_qs, out_dir / "gait.gif", fps=FPS / GIF_STRIDE, force=True, forces={"ground": ground}, times=times
+    )
     worst = max(float(np.abs(constraint_residual(robot, q, robot.loop_constraints)).max()) for q in export.q)
     return "\n".join(
         [
@@ -103,6 +110,10 @@ def section(out_dir: Path) -> str:
             " magenta, the ground reaction through the centre of pressure (0.5 mm/N); yellow, the force"
             " on the first link of each cut joint (the largest drawn 0.15 m long).",
             "",
-            f"![2-D stick animation, {len(gif_qs)} frames](gait.gif)",
+            figure(
+                "gait.gif",
+                f"The walk as a 2-D stick animation ({len(gif_qs)} frames at {FPS / GIF_STRIDE:g} fps): the ground, "
+                "the stance foot's contact points and the ground reaction.",
+            ),
         ]
     )

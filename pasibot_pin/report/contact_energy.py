@@ -15,7 +15,8 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import save_figure_file, write_columns_csv
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, write_columns_csv
+from pasibot_pin.report.markdown import Section, figure, figure_links
 from pasibot_pin.studies.contact import ContactResult
 from pasibot_pin.studies.contact_energy_study import (
     ContactEnergyResult,
@@ -29,8 +30,8 @@ from pasibot_pin.studies.energy import StepEnergy
 SUBDIR: str = "contact_energy"
 """Folder of the section's files, inside the analyze output folder."""
 
-DPI: int = 110
-"""Resolution of the section's figures [dots per inch]."""
+DPI: int = FIGURE_DPI
+"""Resolution of the section's figures [dots per inch] (the report's one)."""
 
 
 def _plots():
@@ -105,8 +106,8 @@ def _contact_lines(sweep: ContactSweep, sub: Path) -> list[str]:
         "Coulomb cone, proxsuite QP). A sample is infeasible when the centre of pressure (CoP) the motion "
         "demands leaves the sole (the foot would tip over that edge) or |Fx| > mu Fz (slip).",
         "",
-        "| scenario (variant) | feasible samples | first failure | CoP demanded [mm] | "
-        "max friction needed | CoP crossings of the sole edges |",
+        "| scenario (variant) | feasible samples [of all] | first failure [s, deg] | CoP demanded [mm] | "
+        "max friction needed [-] | CoP crossings of the sole edges [deg] |",
         "|---|---|---|---|---|---|",
     ]
     for case in sweep.cases:
@@ -133,8 +134,19 @@ def _contact_lines(sweep: ContactSweep, sub: Path) -> list[str]:
         f"{worst:.2f} ({where}); at 0.1 rad/s it is below 0.001. As an infeasible-friction "
         f"check, run4 on a what-if 2 m sole with mu = 0.01: first failure {format_first_failure(sweep.slip)}.",
         "",
-        f"![contact run1]({SUBDIR}/contact_spring_run1.png)",
-        "",
+        figure(
+            f"{SUBDIR}/contact_spring_run1.png",
+            f"run1, spring variant: heel and toe forces [N], centre of pressure [mm] and friction used |Fx|/Fz [-] "
+            f"over the stance crank angle [deg], mu = {sweep.mu:g}; shaded: infeasible.",
+        ),
+        figure_links(
+            [
+                (f"{SUBDIR}/contact_{c.variant}_{c.scenario}.png", f"the same for {c.label}")
+                for c in sweep.cases
+                if (c.variant, c.scenario) != ("spring", "run1")
+            ],
+            "The same figure for every scenario and variant of the table:",
+        ),
     ]
 
 
@@ -146,8 +158,8 @@ def _motor_lines(motor: SingleMotorStudy, sub: Path) -> list[str]:
             rows.append(f"| {case.inertia:g} | - | too small: {case.error} |")
         else:
             rows.append(
-                f"| {case.inertia:g} | {fw.mean_torque:.2f} | {fw.speed_fluctuation * 100:.2f} % "
-                f"({fw.speed_fluctuation_linear * 100:.2f} % first order) |"
+                f"| {case.inertia:g} | {fw.mean_torque:.2f} | {fw.speed_fluctuation * 100:.2f} "
+                f"({fw.speed_fluctuation_linear * 100:.2f} first order) |"
             )
     write_columns_csv(sub / f"single_motor_{motor.scenario}.csv", motor.columns())
     save_figure(_plots().plot_single_motor(motor.torques, motor.single), sub / f"single_motor_{motor.scenario}.png")
@@ -165,12 +177,15 @@ def _motor_lines(motor: SingleMotorStudy, sub: Path) -> list[str]:
         f"- flywheel for a {motor.fluctuation * 100:g} % speed fluctuation: {motor.inertia_for_target:.2f} kg.m^2 "
         "on the crank shaft",
         "",
-        "| flywheel [kg.m^2] | motor torque with it [N.m] | crank speed fluctuation |",
+        "| flywheel [kg.m^2] | motor torque with it [N.m] | crank speed fluctuation [%] |",
         "|---|---|---|",
         *rows,
         "",
-        f"![single motor]({SUBDIR}/single_motor_{motor.scenario}.png)",
-        "",
+        figure(
+            f"{SUBDIR}/single_motor_{motor.scenario}.png",
+            f"{motor.scenario} at {motor.omega:g} rad/s: the single motor's torque [N.m] against the two motors' "
+            "over the crank angle [deg].",
+        ),
     ]
 
 
@@ -191,12 +206,23 @@ def _energy_lines(result: ContactEnergyResult, sub: Path) -> list[str]:
         "",
         sweep.markdown(),
         "",
-        f"![cost of transport]({SUBDIR}/cost_of_transport.png)",
-        f"![power]({SUBDIR}/{power_png})",
+        figure(
+            f"{SUBDIR}/cost_of_transport.png",
+            "Cost of transport [-] against the crank speed [rad/s]: two motors, with the ankle actuators, one motor.",
+        ),
+        figure(
+            f"{SUBDIR}/{power_png}",
+            f"Power of each actuator [W] over one step, {power.variant} variant at {power.omega:g} rad/s.",
+        ),
     ]
 
 
 def section(out_dir: Path) -> str:
+    """The section's Markdown (:func:`build` without the facts)."""
+    return build(out_dir).markdown
+
+
+def build(out_dir: Path) -> Section:
     """Contact along every scenario, one motor for both cranks, energy and cost of transport over omega.
 
     Runs the study with its default settings and writes, into ``out_dir / "contact_energy"``:
@@ -217,4 +243,14 @@ def section(out_dir: Path) -> str:
     lines += _contact_lines(result.contact, sub)
     lines += _motor_lines(result.motor, sub)
     lines += _energy_lines(result, sub)
-    return "\n".join(lines)
+    run1 = next(c.contact for c in result.contact.cases if (c.variant, c.scenario) == ("spring", "run1"))
+    facts = {
+        "run1_ok": int(run1.feasible.sum()),
+        "run1_n": len(run1),
+        "run1_cop": tuple(float(x) for x in run1.sole_needed()),
+        "sole": (float(np.min(run1.s_heel)), float(np.max(run1.s_toe))),
+        "fluctuation": float(result.motor.fluctuation),
+        "motor_peak": float(result.motor.single.peak()),
+        "flywheel": float(result.motor.inertia_for_target),
+    }
+    return Section("\n".join(lines), facts)

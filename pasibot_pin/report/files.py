@@ -14,6 +14,7 @@ import numpy as np
 from pasibot_pin.files import PART_MARKER, atomic_path, atomic_paths, temporary_name, write_text_atomic
 
 __all__ = [
+    "FIGURE_DPI",
     "PART_MARKER",
     "atomic_path",
     "atomic_paths",
@@ -43,7 +44,11 @@ PNG_COMPRESS_LEVEL = 3
 """zlib level of the report's PNGs: a third faster to write than Pillow's default 6, files ~4 % larger."""
 
 
-def save_figure_file(fig, path: Path, dpi: float) -> None:
+FIGURE_DPI = 100
+"""Resolution of every figure the report and the commands write [dots per inch]."""
+
+
+def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
     """``fig.savefig(path, dpi=dpi)``; a PNG at :data:`PNG_COMPRESS_LEVEL` (the same pixels)."""
     options = {"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}} if Path(path).suffix.lower() == ".png" else {}
     fig.savefig(path, dpi=dpi, **options)

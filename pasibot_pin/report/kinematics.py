@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
     KinematicsSurvey,
@@ -55,7 +55,7 @@ def write_walk_csv(path: Path, run: WalkRun) -> None:
     write_rows_csv(path, walk_columns(), walk_rows(run.walk))
 
 
-def _save(fig, path: Path, dpi: int) -> None:
+def _save(fig, path: Path, dpi: int = FIGURE_DPI) -> None:
     import matplotlib.pyplot as plt
 
     path = Path(path)
@@ -73,7 +73,7 @@ def _pyplot():
     return plt
 
 
-def write_leg_plot(path: Path, run: LegRun, dpi: int = 120) -> None:
+def write_leg_plot(path: Path, run: LegRun, dpi: int = FIGURE_DPI) -> None:
     """Write the leg summary figure (paths, foot pitch, ankle velocity and acceleration).
 
     Args:
@@ -88,7 +88,7 @@ def write_leg_plot(path: Path, run: LegRun, dpi: int = 120) -> None:
     _save(plot_leg_summary(run.cycle), path, dpi)
 
 
-def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11, 10), dpi: int = 120) -> None:
+def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11, 10), dpi: int = FIGURE_DPI) -> None:
     """Write the walk figure: the feet and hip paths above the hip height and pitch.
 
     Args:
@@ -101,10 +101,9 @@ def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11
     plt = _pyplot()
     from pasibot_pin.viz.plots_gait import plot_walk, plot_walk_hip
 
-    fig, axes = plt.subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]})
+    fig, axes = plt.subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]}, layout="constrained")
     plot_walk(run.walk, ax=axes[0])
     plot_walk_hip(run.walk, ax=axes[1])
-    fig.tight_layout()
     _save(fig, path, dpi)
 
 
@@ -139,7 +138,10 @@ def walk_name(run: WalkRun) -> str:
 
 
 def _markdown(result: KinematicsSurvey) -> str:
+    from pasibot_pin.report.markdown import figure, figure_links
+
     s = result.settings
+    ks = ", ".join(f"{k:g}" for k in result.sweep.K)
     lines = [
         "## Kinematics (seed §4, §5)",
         "",
@@ -147,8 +149,8 @@ def _markdown(result: KinematicsSurvey) -> str:
         f"{s.leg_step_deg:g} deg, ω = {s.omega:g} rad/s. Extremes refined on the closure manifold. "
         "Ground-span tolerance 0.02 L.",
         "",
-        "| variant | stroke/L | ankle band/L | lift/L | ground span [deg] | stance foot pitch max [deg] "
-        "| foot pitch at θ=0 [deg] | v_x/(Lω) at 90/180/270 deg |",
+        "| variant | stroke [L] | ankle band [L] | lift [L] | ground span [deg] | stance foot pitch max [deg] "
+        "| foot pitch at θ=0 [deg] | v_x at 90/180/270 deg [Lω] |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for variant, run in result.legs.items():
@@ -158,7 +160,7 @@ def _markdown(result: KinematicsSurvey) -> str:
             f"| {m['ground_span_deg']:.3f} | {m['stance_pitch_max_deg']:.4f} | {m['pitch_at_zero_deg']:.3f} "
             f"| {' / '.join(f'{v:.6f}' for v in run.speed_ratios)} |"
         )
-    lines += ["", f"K sweep ({s.k_variant}; seed Fig 4.2.4):", "", "| K | stroke/L | ankle band/L | lift/L |"]
+    lines += ["", f"K sweep ({s.k_variant}; seed Fig 4.2.4):", "", "| K [-] | stroke [L] | ankle band [L] | lift [L] |"]
     lines.append("|---|---|---|---|")
     for K, met in zip(result.sweep.K, result.sweep.metrics):
         d = met.in_L()
@@ -172,12 +174,27 @@ def _markdown(result: KinematicsSurvey) -> str:
         np.array2string(result.jacobian, precision=5, suppress_small=True),
         "```",
         "",
-        "![leg summaries](kinematics_leg_parallel.png) ![foot pitch](foot_pitch.png) ![K sweep](k_sweep.png)",
-        "",
+        figure(
+            "kinematics_leg_parallel.png",
+            "One parallel leg over a crank turn (leg frame): ankle, toe and heel paths [m], foot pitch [deg], ankle "
+            "velocity [m/s] and acceleration [m/s^2].",
+        ),
+        figure_links(
+            [
+                (f"kinematics_leg_{v}.png", f"the same four panels for the {v} leg")
+                for v in result.legs
+                if v != "parallel"
+            ]
+            + [
+                ("foot_pitch.png", "foot pitch [deg] of every variant over a crank turn"),
+                ("k_sweep.png", f"ankle paths [m] for K = {ks} (seed Fig 4.2.4)"),
+            ],
+            "More figures of the leg:",
+        ),
         f"Biped walks (world frame, {s.walk_steps} steps, {s.walk_step_deg:g} deg per sample; hip = the crank axis):",
         "",
-        "| variant | foot | hip advance per step / L | hip height p-p / L | hip pitch [deg] | max closure residual "
-        "| pose jump at exchange |",
+        "| variant | foot | hip advance per step [L] | hip height p-p [L] | hip pitch [deg] | max closure residual "
+        "[m] | pose jump at exchange [m or rad] |",
         "|---|---|---|---|---|---|---|",
     ]
     for run in result.walks:
@@ -194,7 +211,19 @@ def _markdown(result: KinematicsSurvey) -> str:
         "The `point` (ankle pinned) and `toe` (toe pinned) rows are the seed's Figs 4.2.7 and 4.2.8, "
         "hip level.",
         "",
-        "![spring walk](walk_spring.png)",
+        figure(
+            "walk_spring.png",
+            f"The spring biped walking {s.walk_steps} steps (world frame): feet and hip paths [m] above the hip "
+            "height and pitch.",
+        ),
+        figure_links(
+            [
+                (f"{walk_name(run)}.png", f"the {run.variant} biped, foot {run.foot}")
+                for run in result.walks
+                if walk_name(run) != "walk_spring"
+            ],
+            "The other walks of the table, as the same figure:",
+        ),
     ]
     return "\n".join(lines)
 
@@ -213,6 +242,10 @@ def section(out_dir: Path) -> str:
         The ``## Kinematics`` section of ``report.md`` (image links relative to ``out_dir``).
 
     """
+    return _write(out_dir)[0]
+
+
+def _write(out_dir: Path):
     _pyplot()
     from pasibot_pin.viz.plots_gait import plot_foot_pitch, plot_k_sweep
 
@@ -221,10 +254,25 @@ def section(out_dir: Path) -> str:
     result = kinematics_survey()
     for variant, run in result.legs.items():
         write_leg_csv(out_dir / f"kinematics_leg_{variant}.csv", run)
-        write_leg_plot(out_dir / f"kinematics_leg_{variant}.png", run, dpi=110)
-    _save(plot_foot_pitch({v: run.cycle for v, run in result.legs.items()}), out_dir / "foot_pitch.png", 110)
-    _save(plot_k_sweep(result.sweep), out_dir / "k_sweep.png", 110)
+        write_leg_plot(out_dir / f"kinematics_leg_{variant}.png", run)
+    _save(plot_foot_pitch({v: run.cycle for v, run in result.legs.items()}), out_dir / "foot_pitch.png")
+    _save(plot_k_sweep(result.sweep), out_dir / "k_sweep.png")
     for run in result.walks:
         write_walk_csv(out_dir / f"{walk_name(run)}.csv", run)
-        write_walk_plot(out_dir / f"{walk_name(run)}.png", run, figsize=(12, 10), dpi=100)
-    return _markdown(result)
+        write_walk_plot(out_dir / f"{walk_name(run)}.png", run, figsize=(12, 10))
+    return _markdown(result), result
+
+
+def build(out_dir: Path):
+    """:func:`section` with the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
+    from pasibot_pin.report.markdown import Section
+
+    markdown, result = _write(out_dir)
+    spring = result.legs["spring"].metrics.in_L()
+    facts = {
+        "stroke_L": spring["stroke/L"],
+        "band_L": spring["ankle_band/L"],
+        "parallel_pitch_deg": result.legs["parallel"].metrics.in_L()["stance_pitch_max_deg"],
+        "rigid_pitch_deg": result.legs["rigid"].metrics.in_L()["stance_pitch_max_deg"],
+    }
+    return Section(markdown, facts)

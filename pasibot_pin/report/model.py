@@ -6,7 +6,7 @@ from pathlib import Path
 
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
-from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.report.files import save_figure_file, write_text_atomic
 
 
 def section(out_dir: Path) -> str:
@@ -14,15 +14,19 @@ def section(out_dir: Path) -> str:
     import matplotlib
 
     matplotlib.use("Agg")
+    from pasibot_pin.report.markdown import figure
     from pasibot_pin.viz.plots import plot_robot
 
     sections = ["## Model", ""]
     for variant in VARIANTS:
         for legs in (1, 2):
             sections += ["```", load(variant, legs).summary(), "```", ""]
-    (out_dir / "info.txt").write_text("\n\n".join(load(v, 2).summary() for v in VARIANTS) + "\n")
+    write_text_atomic(Path(out_dir) / "info.txt", "\n\n".join(load(v, 2).summary() for v in VARIANTS) + "\n")
     for variant in VARIANTS:
         fig = plot_robot(load(variant, 2))
-        save_figure_file(fig, out_dir / f"robot_{variant}.png", 120)
-    sections += [f"![{v} biped at q0](robot_{v}.png)" for v in VARIANTS]
+        save_figure_file(fig, out_dir / f"robot_{variant}.png")
+    sections += [
+        figure(f"robot_{v}.png", f"The {v} biped at its assembled pose q0 (side view [m]; links coloured by group).")
+        for v in VARIANTS
+    ]
     return "\n".join(sections)

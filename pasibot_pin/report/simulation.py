@@ -24,6 +24,8 @@ PLOT_NAME = "simulation_{scenario}.png"
 CSV_NAME = "simulation_{scenario}.csv"
 GIF_NAME = "simulation_{scenario}.gif"
 HTML_NAME = "simulation_{scenario}.html"
+ANIMATION_FPS = 20.0
+"""Frames per simulated second of the check scenario's animation in ``pasibot analyze``."""
 POOL_WORKERS = 2
 """Processes running the scenario studies of :func:`section`."""
 
@@ -92,12 +94,12 @@ def write_simulation(files: SimulateFiles, run, fps: float = 20.0) -> list[Path]
 
     if run.setup.quasi_static:
         fig = plot_static_equilibrium(run.statics)
-        save_figure_file(fig, files.plot, 110)
+        save_figure_file(fig, files.plot)
         plt.close(fig)
         return []
     robot = run.setup.scenario.robot
     fig = plot_simulation(run.runs, main="fitted", rest_angle=run.setup.spring.rest_angle)
-    save_figure_file(fig, files.plot, 110)
+    save_figure_file(fig, files.plot)
     plt.close(fig)
     write_columns_csv(files.csv, simulation_columns(robot, run.fitted))
     return export_animation(robot, run.fitted, files.html, files.gif, fps)
@@ -143,9 +145,9 @@ def study_table(studies: Sequence) -> list[str]:
 
     from pasibot_pin.studies.spring_study import SPRING_CASES
 
-    head = "| scenario | omega [rad/s] | fit K_e [N.m/rad] | fit beta0 [deg] | R^2 | k_g [N.m/rad] | K_e - k_g | "
-    head += " | ".join(f"{label} [deg]" for label, _ in SPRING_CASES)
-    head += " | most level (K_e, beta0) | its max abs pitch [deg] |"
+    head = "| scenario | omega [rad/s] | fit K_e [N.m/rad] | fit beta0 [deg] | R^2 [-] | k_g [N.m/rad] | "
+    head += "K_e - k_g [N.m/rad] | " + " | ".join(f"{label} [deg]" for label, _ in SPRING_CASES)
+    head += " | most level (K_e [N.m/rad], beta0 [deg]) | its max abs pitch [deg] |"
     lines = [head, "|" + "---|" * (head.count("|") - 1)]
     for entry in studies:
         st, k_g, fit = entry.study, entry.toppling, entry.spring_fit
@@ -176,7 +178,7 @@ def run_table(studies: Sequence) -> list[str]:
     """Markdown table of every walk: excursion, duration, landing mismatch, swing sole, drift."""
     lines = [
         "| scenario | spring | max abs hip pitch [deg] | simulated [s] | largest landing height mismatch [mm] | "
-        "lowest swing sole [mm] | largest drift per step before projection |",
+        "lowest swing sole [mm] | largest drift per step before projection [m] |",
         "|---|---|---|---|---|---|---|",
     ]
     for entry in studies:
@@ -190,8 +192,8 @@ def run_table(studies: Sequence) -> list[str]:
     return lines
 
 
-def write_scenario_figures(out_dir: Path, study) -> list[str]:
-    """One scenario's figures: hip pitch of the walks, static equilibria, the sweep. Returns the names to show.
+def write_scenario_figures(out_dir: Path, study) -> list[tuple[str, str]]:
+    """One scenario's figures: hip pitch of the walks, static equilibria, the sweep. Returns (file, caption) pairs.
 
     Args:
         out_dir: the analysis folder.
@@ -210,27 +212,45 @@ def write_scenario_figures(out_dir: Path, study) -> list[str]:
     if study.runs:
         fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
         fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
-        save_figure_file(fig, out_dir / f"simulation_{name}.png", 100)
+        save_figure_file(fig, out_dir / f"simulation_{name}.png")
         plt.close(fig)
-        figures.append(f"simulation_{name}.png")
+        figures.append(
+            (
+                f"simulation_{name}.png",
+                f"{name}: hip pitch [deg] over time [s] with the fitted, no, half and twice the stiffness; ankle "
+                "angles [deg] and crank torques [N.m] of the fitted run.",
+            )
+        )
     fig = plot_static_equilibrium(study.statics)
     fig.axes[0].set_title(f"{name}: static equilibrium (omega -> 0); missing: none stable")
-    save_figure_file(fig, out_dir / f"simulation_static_{name}.png", 100)
+    save_figure_file(fig, out_dir / f"simulation_static_{name}.png")
     plt.close(fig)
+    figures.append(
+        (
+            f"simulation_static_{name}.png",
+            f"{name}: static equilibrium hip pitch [deg] along the stance crank angle [deg] (the omega -> 0 limit).",
+        )
+    )
     if study.sweep_excursion is not None:
         fitted = (study.fitted.stiffness, study.fitted.rest_angle)
         fig = plot_spring_sweep(
             study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best
         )
         fig.axes[0].set_title(f"{name}: {study.sweep_method} sweep of (K_e, beta0)")
-        save_figure_file(fig, out_dir / f"simulation_sweep_{name}.png", 100)
+        save_figure_file(fig, out_dir / f"simulation_sweep_{name}.png")
         plt.close(fig)
-        figures.append(f"simulation_sweep_{name}.png")
+        figures.append(
+            (
+                f"simulation_sweep_{name}.png",
+                f"{name}: largest |hip pitch| [deg] over the {study.sweep_method} sweep of K_e [N.m/rad] and beta0 "
+                "[deg]; star: the inverse-dynamics fit, circle: the most level pair.",
+            )
+        )
     return figures
 
 
-def write_figures(out_dir: Path, studies: Sequence) -> list[str]:
-    """Per scenario: hip pitch of the walks, static equilibria, the sweep. Returns the names to show."""
+def write_figures(out_dir: Path, studies: Sequence) -> list[tuple[str, str]]:
+    """Per scenario: hip pitch of the walks, static equilibria, the sweep. Returns (file, caption) pairs."""
     return [name for entry in studies for name in write_scenario_figures(out_dir, entry.study)]
 
 
@@ -240,10 +260,15 @@ def write_check_animation(out_dir: Path, name: str, base) -> str:
 
     gif, html = out_dir / GIF_NAME.format(scenario=name), out_dir / HTML_NAME.format(scenario=name)
     try:
-        anim = export_animation(cached_inputs(name).robot, base, html=html, gif=gif, fps=20.0)
+        anim = export_animation(cached_inputs(name).robot, base, html=html, gif=gif, fps=ANIMATION_FPS)
     except Exception as err:  # noqa: BLE001 - the viewer is optional here; report why it is missing
         return f"animation not written: {err}"
-    return f"animation of the fitted {name} walk: " + ", ".join(f"[{p.name}]({p.name})" for p in anim)
+    captions = {
+        ".gif": f"the fitted {name} walk, hip free, as a stick animation ({ANIMATION_FPS:g} frames per simulated "
+        "second): ground, contact points, ground reaction",
+        ".html": "the same walk in 3-D (meshcat, one self-contained page)",
+    }
+    return "\n".join(f"- [{p.name}]({p.name}): {captions[p.suffix]}" for p in anim)
 
 
 # CPU estimates [s] of the pieces (measured on the default analysis; they only order the work:
@@ -362,9 +387,35 @@ class SimulationPlan:
             check = SwingFootCheck(None, base, self.full, hip_pitch_gap(base, self.full))
         return section_markdown(self.settings, studies, check, self.anim_note, figures)
 
+    def facts(self) -> dict:
+        """The numbers the report's summary quotes (once every job is done).
 
-def section_markdown(settings, studies: Sequence, check, anim_note: str, figures: list[str]) -> str:
-    """The ``simulation`` section's Markdown."""
+        ``margin_run1``: fitted K_e − k_g of run1 [N.m/rad]; ``run1_fitted``, ``run23_fitted``: largest
+        |hip pitch| with the fitted spring [rad] (inf: fell); ``fall_min``/``fall_max``: the range of fall
+        times without a spring over the walking scenarios [s].
+        """
+        out: dict = {}
+        walks = {name: entry for name, entry in self.studies.items() if entry.study.runs}
+        if "run1" in self.studies:
+            entry = self.studies["run1"]
+            out["margin_run1"] = entry.study.fitted.stiffness - entry.toppling
+            out["run1_fitted"] = entry.study.excursion["fitted"]
+        out["run23_fitted"] = [self.studies[n].study.excursion["fitted"] for n in ("run2", "run3") if n in walks]
+        falls = [e.study.runs["no spring"].t[-1] for e in walks.values() if e.study.runs["no spring"].fell]
+        if falls:
+            out["fall_min"], out["fall_max"] = min(falls), max(falls)
+        return out if {"margin_run1", "fall_min"} <= set(out) else {}
+
+
+def section_markdown(settings, studies: Sequence, check, anim_note: str, figures: list[tuple[str, str]]) -> str:
+    """The ``simulation`` section's Markdown; ``figures`` are (file, caption) pairs, the first one embedded."""
+    from pasibot_pin.report.markdown import figure, figure_links
+
+    main = next((f for f in figures if f[0].startswith("simulation_run")), figures[0] if figures else None)
+    shown = [] if main is None else [figure(*main)]
+    rest = [f for f in figures if f is not main]
+    if rest:
+        shown.append(figure_links(rest, "Every scenario's figures:"))
     name, base, full = settings.check_scenario, check.base, check.full
     lines = [
         "## Does the spring work? Forward simulation with the hip pitch free",
@@ -396,9 +447,11 @@ def section_markdown(settings, studies: Sequence, check, anim_note: str, figures
         f"{math.degrees(check.gap):.2f} deg; final pitch {math.degrees(base.hip_pitch[-1]):.2f} vs "
         f"{math.degrees(full.hip_pitch[-1]):.2f} deg.",
         "",
+        "Animations:",
+        "",
         anim_note,
         "",
-        *[f"![{f}]({f})" for f in figures],
+        *shown,
     ]
     return "\n".join(lines)
 

@@ -28,7 +28,7 @@ def write_result_csv(path: Path, result) -> None:
 
 
 def write_beta_plot(path: Path, run) -> None:
-    """Write the torques against beta with the fitted spring of one scenario as an image (120 dpi).
+    """Write the torques against beta with the fitted spring of one scenario as an image (at the report's resolution).
 
     Args:
         path: output image; its folder is created.
@@ -45,7 +45,7 @@ def write_beta_plot(path: Path, run) -> None:
     fig = plot_torques_vs_beta(run.result, run.fit, title=f"{run.scenario.description} [{run.preset}]")
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    save_figure_file(fig, path, 120)
+    save_figure_file(fig, path)
     plt.close(fig)
 
 
@@ -58,7 +58,7 @@ def _attribution_lines(attribution: dict) -> list[str]:
         "Each row switches one more of the seed's choices on (cumulative, top to bottom); the last row is the "
         "`seed` preset. Delta = the change that choice makes [N.m/rad].",
         "",
-        "| choice | " + " | ".join(f"{n} K_e | {n} delta" for n in names) + " |",
+        "| choice | " + " | ".join(f"{n} K_e [N.m/rad] | {n} delta [N.m/rad]" for n in names) + " |",
         "|---|" + "---|---|" * len(names),
     ]
     for k, row in enumerate(attribution[names[0]]):
@@ -77,12 +77,19 @@ def section(out_dir: Path) -> str:
         The ``## Torques and the ankle spring`` section of ``report.md`` (image links relative to ``out_dir``).
 
     """
+    return build(out_dir).markdown
+
+
+def build(out_dir: Path):
+    """:func:`section` with the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
     import matplotlib
+
+    from pasibot_pin.report.markdown import Section, figure
 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from pasibot_pin.model.scenarios import SCENARIOS
+    from pasibot_pin.model.scenarios import SCENARIOS, SEED_CHOICE_NAMES
     from pasibot_pin.studies.torques_study import SURVEY_PRESETS, torque_survey
     from pasibot_pin.viz.plots_dynamics import plot_stiffness_table, plot_torques_vs_beta, plot_torques_vs_time
 
@@ -97,13 +104,13 @@ def section(out_dir: Path) -> str:
         "`default`: exact masses, swing foot level, exact accelerations, fit over the whole stance "
         "theta in [90, 270] deg. `seed`: every choice of the seed's MATLAB code (DESIGN §5).",
         "",
-        "| scenario | omega [rad/s] | body [kg] | K_e default [N.m/rad] | R^2 | beta0 [deg] | K_e seed preset | "
-        "seed stored | seed without swap/lag |",
+        "| scenario | omega [rad/s] | body [kg] | K_e default [N.m/rad] | R^2 [-] | beta0 [deg] | "
+        "K_e seed preset [N.m/rad] | seed stored [N.m/rad] | seed without swap/lag [N.m/rad] |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
     table: dict[str, list] = {"default": [], "seed preset": [], "seed stored": []}
     warnings_text = []
-    grid, axes = plt.subplots(len(SCENARIOS), 2, figsize=(13, 4 * len(SCENARIOS)))
+    grid, axes = plt.subplots(len(SCENARIOS), 2, figsize=(13, 4 * len(SCENARIOS)), layout="constrained")
     for row, (name, scenario) in enumerate(SCENARIOS.items()):
         for col, preset in enumerate(SURVEY_PRESETS):
             run = survey.runs[(name, preset)]
@@ -121,11 +128,10 @@ def section(out_dir: Path) -> str:
         table["default"].append(d.K_e)
         table["seed preset"].append(s.K_e)
         table["seed stored"].append(scenario.seed_K_e)
-    grid.tight_layout()
-    save_figure_file(grid, sub / "torques_vs_beta.png", 100)
+    save_figure_file(grid, sub / "torques_vs_beta.png")
     plt.close(grid)
     fig = plot_stiffness_table(list(SCENARIOS), table, title="ankle stiffness per scenario")
-    save_figure_file(fig, sub / "stiffness.png", 100)
+    save_figure_file(fig, sub / "stiffness.png")
     plt.close(fig)
     lines += [
         "",
@@ -133,8 +139,10 @@ def section(out_dir: Path) -> str:
         f"`seed-clean` preset here, K_e = {survey.quasi_static_clean.K_e:.2f} N.m/rad at omega = 0 "
         "(the seed's text: about 330).",
         "",
-        "![K_e per scenario](dynamics/stiffness.png)",
-        "",
+        figure(
+            "dynamics/stiffness.png",
+            "Fitted ankle stiffness K_e [N.m/rad] per scenario: default model, seed preset, the seed's stored values.",
+        ),
     ]
     if warnings_text:
         lines += ["Fit warnings:", *warnings_text, ""]
@@ -142,18 +150,35 @@ def section(out_dir: Path) -> str:
 
     walk, slow = survey.walk, survey.slow
     write_result_csv(sub / "torques_run4_two_turns.csv", walk)
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(10, 8))
+    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(10, 8), layout="constrained")
     plot_torques_vs_time(walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
     plot_torques_vs_time(slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
-    fig.tight_layout()
-    save_figure_file(fig, sub / "torques_vs_time.png", 100)
+    save_figure_file(fig, sub / "torques_vs_time.png")
     plt.close(fig)
     lines += [
-        "![torques vs beta, default model (left) and seed preset (right)](dynamics/torques_vs_beta.png)",
-        "![torques vs time over four steps](dynamics/torques_vs_time.png)",
-        "",
+        figure(
+            "dynamics/torques_vs_beta.png",
+            "Crank and ankle torques [N.m] against the stance ankle angle beta [deg], one row per scenario, with the "
+            "least-squares spring line: default model (left), seed preset (right).",
+        ),
+        figure(
+            "dynamics/torques_vs_time.png",
+            "Crank and ankle torques [N.m] over two crank turns (four steps): run4 at 5 rad/s (top), run2 at "
+            "0.1 rad/s (bottom).",
+        ),
         f"Two crank turns of run4 (four steps, {len(walk)} samples): peak |T_a| = {float(np.max(np.abs(walk.Ta))):.2f} "
         f"N.m, peak |T_e| = {float(np.max(np.abs(walk.Te))):.1f} N.m. CSVs: `dynamics/torques_<scenario>_<preset>.csv` "
         "(columns t, theta, beta, Ta, Te, Ta_swing, Te_swing, then reactions).",
     ]
-    return "\n".join(lines)
+    dynamic = [n for n in SCENARIOS if n in dict(survey.attribution)]
+    window = {
+        n: row.delta for n in dynamic for row in survey.attribution[n] if row.label == SEED_CHOICE_NAMES["fit_thetas"]
+    }
+    facts = {
+        "default": [survey.runs[(n, "default")].fit.K_e for n in dynamic],
+        "seed_preset": [survey.runs[(n, "seed")].fit.K_e for n in dynamic],
+        "seed_stored": [SCENARIOS[n].seed_K_e for n in dynamic],
+        "run4_r2": survey.runs[("run4", "default")].fit.r2,
+        "window_delta": window,
+    }
+    return Section("\n".join(lines), facts)

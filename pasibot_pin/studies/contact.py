@@ -33,6 +33,8 @@ import numpy as np
 import pinocchio as pin
 import proxsuite
 
+from pasibot_pin.model.params import SOLE_FLOOR_MU
+
 QP_EPS: float = 1e-12
 """Absolute accuracy asked of proxsuite [N, N.m]."""
 
@@ -439,8 +441,8 @@ def contact_along(robot, result, mu: float, sole: tuple[float, float] | None = N
     )
 
 
-CONTACT_MU: float = 0.6
-"""The default sole-ground Coulomb friction of the contact study [-]."""
+CONTACT_MU: float = SOLE_FLOOR_MU
+"""The default sole-ground Coulomb friction of the contact study [-] (the one of the floor and the MJCF)."""
 
 CONTACT_SAMPLES: int = 60
 """The default crank samples of one right stance, theta in [pi/2, 3 pi/2) (one definition for the

@@ -321,8 +321,10 @@ def power_profile(settings: ContactEnergySettings | None = None) -> PowerProfile
 
 def check_flywheel_inertia(inertia: float) -> float:
     """Return ``inertia`` if it is a positive finite flywheel inertia [kg.m^2], else raise ``ValueError``."""
-    if isinstance(inertia, bool) or not isinstance(inertia, (int, float)) or not (
-        math.isfinite(inertia) and inertia > 0
+    if (
+        isinstance(inertia, bool)
+        or not isinstance(inertia, (int, float))
+        or not (math.isfinite(inertia) and inertia > 0)
     ):
         raise ValueError(f"parameter 'flywheel' must be a positive flywheel inertia [kg.m^2], got {inertia!r}")
     return float(inertia)

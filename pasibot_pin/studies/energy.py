@@ -345,8 +345,8 @@ def format_table(rows: Sequence[StepEnergy]) -> str:
     """A Markdown table of :func:`omega_table` rows."""
     head = (
         "| variant | omega [rad/s] | mass [kg] | step [m] | W+ motors [J] | W- motors [J] | W+ one motor [J] "
-        "| W+ ankles [J] | spring stored/released [J] | peak / RMS one motor [N.m] | CoT motors | CoT one motor "
-        "| CoT actuators |"
+        "| W+ ankles [J] | spring stored/released [J] | peak / RMS one motor [N.m] | CoT motors [-] "
+        "| CoT one motor [-] | CoT actuators [-] |"
     )
     lines = [head, "|" + "---|" * 13]
     for r in rows:

@@ -300,9 +300,7 @@ class GaitSettings:
             raise ValueError(f"parameter '--steps' must be an integer >= 1, got {steps!r}")
         total = steps * samples(180.0, self.step_deg) + 1
         if total > MAX_WALK_SAMPLES:
-            raise ValueError(
-                f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_WALK_SAMPLES}"
-            )
+            raise ValueError(f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_WALK_SAMPLES}")
 
     @property
     def walk_steps(self) -> int:

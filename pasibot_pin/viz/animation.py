@@ -2,7 +2,10 @@
 
 Every bar of both legs is drawn in its group colour (:data:`pasibot_pin.viz.plots.GROUP_COLOURS`),
 seen from the robot's right side (x forward, z up). The full ankle paths of both feet are
-drawn faintly, and the part already walked is drawn boldly. One GIF frame per configuration.
+drawn faintly, and the part already walked is drawn boldly. The ground is a brown line, the sole
+points touching it are green dots (:mod:`pasibot_pin.viz.contacts`), optional force arrows (e.g.
+the ground reaction) are drawn at their points, and a caption gives the time, the crank angle and
+each foot's contact mode. One GIF frame per configuration.
 
 Lengths [m], time [s].
 """
@@ -19,6 +22,9 @@ from pasibot_pin.viz.plots import GROUP_COLOURS, robot_segments
 
 PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad"}
 """Colours of the ankle paths (the same as the 3-D viewer's)."""
+
+CONTACT_COLOUR = "#1a9e3a"
+"""Colour of the sole points on the ground (the same as the 3-D viewer's)."""
 
 
 def _check(robot, qs) -> np.ndarray:
@@ -43,7 +49,9 @@ def ankle_paths_xz(robot, qs: np.ndarray) -> dict[str, np.ndarray]:
     return out
 
 
-def _stick_scene(robot, qs: np.ndarray, fps: float, ax=None, title: str | None = None):
+def _stick_scene(
+    robot, qs: np.ndarray, fps: float, ax=None, title: str | None = None, forces=None, modes=None, times=None
+):
     """Draw the still part of the stick animation; return (figure, frame updater, moving artists).
 
     The moving artists (the bars, the ground line, the ankle paths: faint full path and bold
@@ -89,21 +97,56 @@ def _stick_scene(robot, qs: np.ndarray, fps: float, ax=None, title: str | None =
         lines.append(trails[side])
     bars = LineCollection(segments[0], colors=colours, linewidths=widths, capstyle="round")
     ax.add_collection(bars)
-    clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace")
+    clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
+    marks, arrows, contacts = [], {}, None
+    if robot.floating:
+        from pasibot_pin.viz.contacts import foot_contacts
+
+        contacts = foot_contacts(robot, qs)
+        modes = contacts.modes if modes is None else modes
+        (dots,) = ax.plot([], [], "o", color=CONTACT_COLOUR, ms=5, zorder=3, label="sole on the ground")
+        marks.append(dots)
+    for name, track in (forces or {}).items():
+        arrows[name] = (
+            track,
+            ax.quiver(
+                [0.0],
+                [0.0],
+                [0.0],
+                [0.0],
+                color=track.colour,
+                angles="xy",
+                scale_units="xy",
+                scale=1.0,
+                width=0.012,
+                zorder=4,
+            ),
+        )
+    times = np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float)
     if paths:
         ax.legend(loc="upper right", fontsize=8)
     # everything but the axes frame, ticks and grid moves; drawn in the axes' own order
     children = ax.get_children()
     moving = sorted(
-        [bars, *lines, clock, *([ax.get_legend()] if paths else [])], key=lambda a: (a.get_zorder(), children.index(a))
+        [bars, *lines, *marks, *(q for _, q in arrows.values()), clock, *([ax.get_legend()] if paths else [])],
+        key=lambda a: (a.get_zorder(), children.index(a)),
     )
 
     def update(k: int):
         bars.set_segments(segments[k])
         for side, line in trails.items():
             line.set_data(paths[side][: k + 1, 0], paths[side][: k + 1, 1])
-        clock.set_text(f"frame {k + 1}/{len(qs)}  t = {k / fps:5.2f} s")
-        return [bars, clock, *trails.values()]
+        text = f"t = {times[k]:5.2f} s"
+        if contacts is not None:
+            down = np.concatenate([contacts.points[s][k][contacts.touching[s][k]] for s in contacts.points])
+            marks[0].set_data(down[:, 0], down[:, 2])
+            text += f"  crank {math.degrees(contacts.crank[k]):6.1f} deg\n"
+            text += "  ".join(f"{side}: {modes[side][k]}" for side in modes)
+        for track, quiver in arrows.values():
+            quiver.set_offsets([track.points[k][[0, 2]]])
+            quiver.set_UVC([track.forces[k][0] * track.scale], [track.forces[k][2] * track.scale])
+        clock.set_text(text)
+        return [bars, clock, *trails.values(), *marks, *(q for _, q in arrows.values())]
 
     return fig, update, moving
 
@@ -128,7 +171,7 @@ def stick_animation(robot, qs: np.ndarray, fps: float = 20.0, ax=None, title: st
     return FuncAnimation(fig, update, frames=len(qs), interval=1000.0 / fps, blit=False)
 
 
-def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None) -> list:
+def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None, **marks) -> list:
     """The frames of :func:`stick_animation` as Pillow images (RGB when opaque), ``dpi`` dots per inch.
 
     The still part (axes, ticks, labels, grid) is drawn once; each frame restores it and draws
@@ -140,7 +183,7 @@ def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title:
     from matplotlib.backends.backend_agg import FigureCanvasAgg
     from PIL import Image
 
-    fig, update, moving = _stick_scene(robot, qs, fps, title=title)
+    fig, update, moving = _stick_scene(robot, qs, fps, title=title, **marks)
     try:
         fig.set_dpi(dpi)
         canvas = FigureCanvasAgg(fig)
@@ -178,6 +221,9 @@ def save_gif(
     dpi: int = 80,
     force: bool = False,
     title: str | None = None,
+    forces=None,
+    modes=None,
+    times=None,
 ) -> Path:
     """Write the stick animation of ``qs`` as a GIF, one frame per row (Pillow).
 
@@ -189,6 +235,10 @@ def save_gif(
         dpi: resolution [dots per inch] of the 6.4 x 5.0 in figure.
         force: overwrite an existing file.
         title: figure title.
+        forces: arrows to draw, name -> a track with ``points``, ``forces`` (N, 3), ``scale`` [m/N] and
+            ``colour`` (:class:`pasibot_pin.viz.viewer.ForceTrack`), e.g. the ground reaction.
+        modes: each foot's contact mode per frame (default: from the geometry).
+        times: each frame's time [s] for the caption (default: k / fps).
 
     Returns:
         The path written.
@@ -208,7 +258,7 @@ def save_gif(
         raise ValueError(f"parameter 'out' must end in .gif, got {out}")
     if not (isinstance(dpi, int) and dpi > 0):
         raise ValueError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
-    images = stick_frames(robot, qs, fps=fps, dpi=dpi, title=title)
+    images = stick_frames(robot, qs, fps=fps, dpi=dpi, title=title, forces=forces, modes=modes, times=times)
     if all(im.mode == "RGB" for im in images):
         images = _shared_palette(images)
     out.parent.mkdir(parents=True, exist_ok=True)

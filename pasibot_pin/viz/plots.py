@@ -29,11 +29,14 @@ def link_group(link: str) -> str:
 
 
 def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
-    """(figure, axes): ``ax`` and its figure, or a new figure of ``figsize`` [in] when ``ax`` is None."""
+    """(figure, axes): ``ax`` and its figure, or a new figure of ``figsize`` [in] when ``ax`` is None.
+
+    A new figure uses matplotlib's constrained layout: labels, titles and legends stay inside it.
+    """
     import matplotlib.pyplot as plt
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=figsize)
+        fig, ax = plt.subplots(figsize=figsize, layout="constrained")
         return fig, ax
     return ax.figure, ax
 

@@ -89,7 +89,7 @@ def plot_friction(res, ax=None):
 
 def contact_figure(res, title: str = ""):
     """Three stacked panels: forces, CoP, friction. Returns the figure."""
-    fig, axes = plt.subplots(3, 1, figsize=(7.5, 10.0), sharex=True)
+    fig, axes = plt.subplots(3, 1, figsize=(7.5, 10.0), sharex=True, layout="constrained")
     plot_contact_forces(res, axes[0])
     plot_cop(res, axes[1])
     plot_friction(res, axes[2])
@@ -97,7 +97,6 @@ def contact_figure(res, title: str = ""):
         ax.set_xlabel("")
     if title:
         fig.suptitle(title)
-    fig.tight_layout()
     return fig
 
 

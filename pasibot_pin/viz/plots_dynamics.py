@@ -63,8 +63,6 @@ def plot_torques_vs_beta(result, fit=None, ax=None, title: str | None = None):
     ax.legend(fontsize=8, loc="best")
     if title:
         ax.set_title(title)
-    if created:
-        fig.tight_layout()
     return fig
 
 
@@ -86,8 +84,6 @@ def plot_torques_vs_time(result, ax=None, title: str | None = None):
     ax.legend(fontsize=8, loc="best")
     if title:
         ax.set_title(title + (" (grey: stance swaps)" if swaps else ""))
-    if created:
-        fig.tight_layout()
     return fig
 
 
@@ -107,6 +103,4 @@ def plot_stiffness_table(
     ax.legend(fontsize=8)
     if title:
         ax.set_title(title)
-    if created:
-        fig.tight_layout()
     return fig

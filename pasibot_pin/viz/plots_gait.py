@@ -159,7 +159,7 @@ def plot_leg_summary(cycle: LegCycle):
     """Four panels: foot paths, foot pitch, ankle velocity and acceleration (needs ``omega``)."""
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9))
+    fig, axes = plt.subplots(2, 2, figsize=(12, 9), layout="constrained")
     plot_leg_paths(cycle, ax=axes[0, 0])
     plot_foot_pitch({cycle.robot.variant: cycle}, ax=axes[0, 1])
     if cycle.ankle_velocity is not None:
@@ -168,7 +168,6 @@ def plot_leg_summary(cycle: LegCycle):
     else:
         axes[1, 0].axis("off")
         axes[1, 1].axis("off")
-    fig.tight_layout()
     return fig
 
 

@@ -85,7 +85,7 @@ def plot_simulation(results: Mapping[str, object], main: str | None = None, rest
     import matplotlib.pyplot as plt
 
     if axes is None:
-        fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True)
+        fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True, layout="constrained")
     else:
         fig = axes[0].figure
     main = main or next(iter(results))
@@ -95,7 +95,6 @@ def plot_simulation(results: Mapping[str, object], main: str | None = None, rest
     for ax in axes[:-1]:
         ax.set_xlabel("")
     axes[1].set_title(f"run: {main}")
-    fig.tight_layout()
     return fig
 
 
@@ -141,13 +140,21 @@ def plot_spring_sweep(
 def plot_static_equilibrium(equilibria: Mapping[str, object], ax=None):
     """Static-equilibrium hip pitch against the crank angle (label -> StaticEquilibrium)."""
     fig, ax = _axes(ax)
+    missing = []
     for label, eq in equilibria.items():
         stable = eq.found & (eq.stiffness > 0)
+        if not np.any(stable):  # nothing to draw: named in the title, not in the legend
+            missing.append(label)
+            continue
         ax.plot(np.degrees(eq.theta[stable]), np.degrees(eq.hip_pitch[stable]), ".-", lw=1.2, label=label)
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xlabel("stance crank angle theta [deg]")
     ax.set_ylabel("equilibrium hip pitch [deg]")
-    ax.set_title("quasi-static limit (omega -> 0); missing: no stable equilibrium")
-    ax.legend(fontsize=8)
+    title = "quasi-static limit (omega -> 0); gaps: no stable equilibrium"
+    if missing:
+        title += f"\nnone stable at any crank angle: {', '.join(missing)}"
+    ax.set_title(title, fontsize=10)
+    if ax.get_legend_handles_labels()[0]:
+        ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
     return fig

@@ -3,8 +3,10 @@
 :class:`WalkViewer` wraps Pinocchio's ``MeshcatVisualizer``. It draws the robot's visuals
 coloured by group (the colours of :data:`pasibot_pin.viz.plots.GROUP_COLOURS`), a ground slab
 whose top is the plane z = 0, the foot paths of a walk as lines, and optional force arrows.
-It plays a walk live (:meth:`WalkViewer.play`) or stores it as a meshcat ``Animation``
-(:meth:`WalkViewer.set_walk_animation`), which :meth:`WalkViewer.static_html` embeds into one
+The hip body is drawn transparent (:data:`HIP_OPACITY`) so the far leg's linkage shows through it;
+every joint is marked by a small sphere, and the sole points touching the ground by green ones
+(:mod:`pasibot_pin.viz.contacts`). It plays a walk live (:meth:`WalkViewer.play`) or stores it as
+a meshcat ``Animation`` (:meth:`WalkViewer.set_walk_animation`), which :meth:`WalkViewer.static_html` embeds into one
 HTML file that plays offline (:func:`export_html`).
 
 The server listens on 127.0.0.1 only. meshcat's own ``meshcat-server`` binds its web port
@@ -12,7 +14,9 @@ on every interface (0.0.0.0); :func:`start_server` runs the same bridge with the
 server bound to the loopback address. Pass ``zmq_url=`` to reuse a ``meshcat-server`` you
 started yourself (its binding is then yours).
 
-The exported page understands ``#t=SECONDS`` in its address: it pauses the animation at that
+The exported page carries a title bar (a HUD: meshcat has no text overlay of its own) with the
+scene's title, the time, the crank angle and each foot's contact mode, following the animation.
+It understands ``#t=SECONDS`` in its address: it pauses the animation at that
 time (a still for screenshots and bookmarks). Without it the walk plays in a loop.
 
 Lengths [m], forces [N], time [s].
@@ -50,6 +54,41 @@ PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad", "hip": "#
 GROUND_COLOUR = "#cfc8b8"
 FORCE_COLOUR = "#e6007e"
 CUT_FORCE_COLOUR = "#ffd400"
+
+JOINT_COLOUR = "#222222"
+CONTACT_COLOUR = "#1a9e3a"
+HIP_OPACITY = 0.25
+"""Opacity of the hip body: it would hide the far leg's linkage."""
+JOINT_RADIUS = 0.012
+"""Radius of the joint markers [m]."""
+CONTACT_RADIUS = 0.02
+"""Radius of the contact-point markers [m]."""
+
+HUD_SCRIPT = """
+<div id="pasibot-hud" style="position:fixed;top:8px;left:8px;z-index:10;padding:4px 8px;font:14px sans-serif;
+background:rgba(255,255,255,0.85);border-radius:4px;pointer-events:none;white-space:pre"></div>
+<script>
+// pasibot_pin: the title, time, crank angle and foot modes of the frame the animation shows.
+(function () {
+  var info = HUD_INFO;
+  var hud = document.getElementById("pasibot-hud");
+  function text(k) {
+    var modes = Object.keys(info.modes).map(function (s) { return s + ": " + info.modes[s][k]; }).join("   ");
+    return info.title + "\\nt = " + info.t[k].toFixed(2) + " s   crank angle = " + info.theta[k].toFixed(1) +
+      " deg   " + modes;
+  }
+  function tick() {
+    var a = viewer.animator, time = 0;
+    if (a && a.actions && a.actions.length) { time = a.actions[0].time; }
+    var k = Math.max(0, Math.min(info.t.length - 1, Math.round(time * info.fps)));
+    hud.textContent = text(k);
+    window.requestAnimationFrame(tick);
+  }
+  hud.textContent = text(0);
+  window.requestAnimationFrame(tick);
+})();
+</script>
+"""
 
 GROUND_THICKNESS = 0.01
 """Thickness of the ground slab [m]."""
@@ -282,8 +321,90 @@ def coloured_visual_model(robot) -> pin.GeometryModel:
     """
     visual = robot.visual_model.copy()
     for obj in visual.geometryObjects:
-        obj.meshColor = _rgba(GROUP_COLOURS[link_group(robot.model.frames[obj.parentFrame].name)])
+        group = link_group(robot.model.frames[obj.parentFrame].name)
+        obj.meshColor = _rgba(GROUP_COLOURS[group])
+        if group == "hip":  # see-through: the far leg's linkage shows behind it
+            obj.meshColor[3] = HIP_OPACITY
     return visual
+
+
+def marker_tracks(robot, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> dict:
+    """Positions of the joint and contact markers along a trajectory.
+
+    Args:
+        robot: the robot.
+        qs: configurations (N, nq).
+        modes: each foot's contact mode per frame (default: from the geometry,
+            :func:`pasibot_pin.viz.contacts.foot_contacts`).
+
+    Returns:
+        ``{node: (positions (N, 3) [m], shown (N,) bool)}``: ``joints/<joint>`` for every joint and
+        cut joint, ``contacts/<side>_<heel|toe>`` shown where that point touches the ground.
+
+    """
+    from pasibot_pin.viz.contacts import foot_contacts
+
+    qs = _check_trajectory(robot, qs)
+    model, data = robot.model, robot.model.createData()
+    joints = {model.names[j]: j for j in range(1, model.njoints)}
+    cuts = {f.name: robot.frame_id(f.name) for f in model.frames if "_loop_" in f.name and f.name.endswith("_a")}
+    out = {f"joints/{name}": np.zeros((len(qs), 3)) for name in [*joints, *cuts]}
+    for k, q in enumerate(qs):
+        pin.framesForwardKinematics(model, data, q)
+        for name, j in joints.items():
+            out[f"joints/{name}"][k] = data.oMi[j].translation
+        for name, fid in cuts.items():
+            out[f"joints/{name}"][k] = data.oMf[fid].translation
+    tracks = {node: (pos, np.ones(len(qs), bool)) for node, pos in out.items()}
+    contacts = foot_contacts(robot, qs)
+    for side, points in contacts.points.items():
+        for i, point in enumerate(("heel", "toe")):
+            shown = contacts.touching[side][:, i]
+            if modes is not None:
+                shown = np.array([m not in ("air",) for m in modes[side]]) & shown
+            tracks[f"contacts/{side}_{point}"] = (points[:, i].copy(), shown)
+    return tracks
+
+
+def _mark_transform(position: np.ndarray, shown: bool) -> np.ndarray:
+    T = np.eye(4)
+    T[:3, 3] = position
+    if not shown:  # hidden: shrunk to nothing (meshcat animates transforms, not visibility)
+        T[:3, :3] *= 1e-6
+    return T
+
+
+@dataclass
+class Hud:
+    """The exported page's title bar: one entry per animation frame.
+
+    Attributes:
+        title: what is shown (scenario, variant).
+        fps: animation frames per second [1/s].
+        t: time of each frame [s] (the walk's or the simulation's).
+        theta: right crank angle of each frame [rad].
+        modes: side -> contact mode of each frame.
+
+    """
+
+    title: str
+    fps: float
+    t: np.ndarray
+    theta: np.ndarray
+    modes: dict[str, list[str]]
+
+    def script(self) -> str:
+        """The HUD's HTML and script, its data embedded as JSON (angles in degrees)."""
+        import json
+
+        info = {
+            "title": self.title,
+            "fps": self.fps,
+            "t": [round(float(x), 6) for x in self.t],
+            "theta": [round(math.degrees(float(x)), 4) for x in self.theta],
+            "modes": {side: list(m) for side, m in self.modes.items()},
+        }
+        return HUD_SCRIPT.replace("HUD_INFO", json.dumps(info))
 
 
 def sole_depth(robot) -> float:
@@ -505,6 +626,8 @@ class WalkViewer:
         self.meshcat["/Grid"].set_property("visible", False)
         self.meshcat["/Axes"].set_property("visible", False)
         self.forces: dict[str, ForceTrack] = {}
+        self.marks: dict[str, tuple[np.ndarray, np.ndarray]] = {}
+        self.hud: Hud | None = None
         self.display(self.robot.q0)
         if self.open:
             self.meshcat.open()
@@ -525,8 +648,9 @@ class WalkViewer:
         self.viz.display(_check_trajectory(self.robot, q)[0])
 
     def show_robot(self, visible: bool = True) -> None:
-        """Show or hide the robot's visuals (the ground, paths and arrows stay)."""
-        self.meshcat[f"{ROOT}/visuals"].set_property("visible", bool(visible))
+        """Show or hide the robot's visuals, joint and contact markers (the ground, paths and arrows stay)."""
+        for node in ("visuals", "joints", "contacts"):
+            self.meshcat[f"{ROOT}/{node}"].set_property("visible", bool(visible))
 
     def visual_nodes(self) -> list[str]:
         """Scene path of every visual object of the robot (under the viewer's root)."""
@@ -591,6 +715,19 @@ class WalkViewer:
         for name, pts in paths.items():
             self.add_path(name, pts, PATH_COLOURS[name])
         return paths
+
+    def add_markers(self, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> None:
+        """Joint markers (dark spheres) and contact points (green spheres) along ``qs`` (see :func:`marker_tracks`)."""
+        import meshcat.geometry as mg
+
+        self.marks = marker_tracks(self.robot, qs, modes)
+        joint = mg.MeshLambertMaterial(color=_hex_int(JOINT_COLOUR))
+        contact = mg.MeshLambertMaterial(color=_hex_int(CONTACT_COLOUR))
+        for node, (positions, shown) in self.marks.items():
+            is_joint = node.startswith("joints/")
+            sphere = mg.Sphere(JOINT_RADIUS if is_joint else CONTACT_RADIUS)
+            self.meshcat[f"{ROOT}/{node}"].set_object(sphere, joint if is_joint else contact)
+            self.meshcat[f"{ROOT}/{node}"].set_transform(_mark_transform(positions[0], shown[0]))
 
     def add_force(self, name: str, track: ForceTrack) -> None:
         """An arrow (unit length along its local x, stretched per frame) for a force track."""
@@ -666,6 +803,8 @@ class WalkViewer:
                 self.viz.display(q)
                 for name, track in self.forces.items():
                     self._place_force(self.meshcat[f"{ROOT}/forces/{name}"], track, k)
+                for node, (positions, shown) in self.marks.items():
+                    self.meshcat[f"{ROOT}/{node}"].set_transform(_mark_transform(positions[k], shown[k]))
                 wait = start + (rep * len(qs) + k + 1) / fps - time.monotonic()
                 if wait > 0:
                     time.sleep(wait)
@@ -688,6 +827,11 @@ class WalkViewer:
                     T, length = _arrow_transform(track.points[k], track.forces[k], track.scale)
                     frame[f"{ROOT}/forces/{name}"].set_transform(T)
                     frame[f"{ROOT}/forces/{name}"].set_property("scale", "vector3", [max(length, 1e-6), 1.0, 1.0])
+                for node, (positions, shown) in self.marks.items():
+                    if len(positions) == len(qs):  # an animation frame carries position and scale apart
+                        frame[f"{ROOT}/{node}"].set_transform(_mark_transform(positions[k], True))
+                        size = 1.0 if shown[k] else 1e-6
+                        frame[f"{ROOT}/{node}"].set_property("scale", "vector3", [size, size, size])
         return anim
 
     def set_walk_animation(self, qs: np.ndarray, fps: float = 30.0, repetitions: int = 1, play: bool = True):
@@ -710,7 +854,10 @@ class WalkViewer:
         at = html.rfind(marker)
         if at < 0:
             raise RuntimeError("meshcat's static_html() has no </body>")
-        return html[:at] + SEEK_SCRIPT + html[at:]
+        if self.hud is not None:
+            html = html.replace("<title>MeshCat</title>", f"<title>{self.hud.title}</title>")
+        hud = self.hud.script() if self.hud is not None else ""
+        return html[:at] + hud + SEEK_SCRIPT + html[at:]
 
     def close(self) -> None:
         """Stop our server (a reused ``meshcat-server`` keeps running)."""
@@ -738,6 +885,7 @@ class Export:
         fps: frames per second of the animation [1/s].
         walk: the walk the frames come from.
         paths: the drawn traces ``{name: (N, 3)}`` [m].
+        forces: the drawn force arrows ``{name: ForceTrack}``.
 
     """
 
@@ -746,6 +894,7 @@ class Export:
     fps: float
     walk: object
     paths: dict[str, np.ndarray]
+    forces: dict = field(default_factory=dict)
 
     @property
     def duration(self) -> float:
@@ -760,8 +909,11 @@ def build_walk_scene(
     forces: Mapping[str, ForceTrack] | None = None,
     play: bool = True,
     repetitions: int = LOOP_REPETITIONS,
+    title: str | None = None,
+    times: np.ndarray | None = None,
+    modes: Mapping[str, Sequence[str]] | None = None,
 ) -> dict[str, np.ndarray]:
-    """Ground, foot paths, forces, side camera and the walk animation in ``viewer``.
+    """Ground, foot paths, joint and contact markers, forces, side camera, title bar and the walk animation.
 
     Args:
         viewer: the viewer to fill.
@@ -770,6 +922,9 @@ def build_walk_scene(
         forces: optional force arrows (one row per frame).
         play: start the animation as soon as the page has it.
         repetitions: plays of the animation (default: loops practically forever).
+        title: the title bar's text (default: the variant); the bar also shows time, crank angle, modes.
+        times: each frame's time for the title bar [s] (default: the animation's, k / fps).
+        modes: each foot's contact mode per frame (default: from the geometry).
 
     Returns:
         The drawn traces ``{name: (N, 3)}`` [m].
@@ -781,9 +936,21 @@ def build_walk_scene(
     viewer.add_ground((float(xs.min()) - margin, float(xs.max()) + margin))
     for name, track in (forces or {}).items():
         viewer.add_force(name, track)
+    viewer.add_markers(qs, modes)
     viewer.set_side_camera(qs)
     viewer.display(qs[0])
     viewer.set_walk_animation(qs, fps=fps, repetitions=repetitions, play=play)
+    if viewer.robot.floating:
+        from pasibot_pin.viz.contacts import foot_contacts
+
+        contacts = foot_contacts(viewer.robot, qs)
+        viewer.hud = Hud(
+            title=title or f"PASIBOT {viewer.robot.variant} biped",
+            fps=fps,
+            t=np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float),
+            theta=contacts.crank,
+            modes={s: list(m) for s, m in (modes or contacts.modes).items()},
+        )
     return paths
 
 
@@ -845,12 +1012,15 @@ def export_html(
         forces = {**(forces or {}), **reaction_forces(robot, walk, omega=reactions)}
     viewer = WalkViewer(robot, zmq_url=zmq_url)
     try:
-        paths = build_walk_scene(viewer, walk.q, fps, forces)
+        title = f"PASIBOT {robot.variant} biped, {steps} steps (kinematic walk, stance sole welded flat)"
+        paths = build_walk_scene(viewer, walk.q, fps, forces, title=title)
         viewer.show_robot(show_robot)
+        if not show_robot:  # a reference picture: no title bar either
+            viewer.hud = None
         html = viewer.static_html()
     finally:
         viewer.close()
     from pasibot_pin.files import write_text_atomic
 
     write_text_atomic(out, html)
-    return Export(path=out, q=walk.q.copy(), fps=fps, walk=walk, paths=paths)
+    return Export(path=out, q=walk.q.copy(), fps=fps, walk=walk, paths=paths, forces=dict(forces or {}))

@@ -1,0 +1,153 @@
+"""Markdown pieces of ``report.md``: figures with captions, and the summary of verdicts that opens it.
+
+- :func:`figure`: an embedded figure and its caption line; :func:`figure_links`: a captioned list of
+  links (for the many per-scenario figures).
+- :class:`Section`: a section's Markdown and the few numbers (its *facts*) the summary quotes.
+- :func:`summary`: what the seed claims, what the model finds, where they differ, one row per
+  claim, built from the sections' facts (every number comes from the run that wrote the report).
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Iterable, Mapping
+from dataclasses import dataclass, field
+
+
+def figure(path: str, caption: str) -> str:
+    """An embedded figure followed by its caption (an italic line), as Markdown.
+
+    The image's alternative text is the caption without square brackets (units), which Markdown would
+    read as a nested link.
+    """
+    alt = caption.replace("[", "").replace("]", "")
+    return f"![{alt}]({path})\n\n*{caption}*\n"
+
+
+def figure_links(items: Iterable[tuple[str, str]], intro: str) -> str:
+    """A bullet list of figure links, each with its caption: ``- [name](path): caption``."""
+    lines = [intro, ""]
+    lines += [f"- [{path.rsplit('/', 1)[-1]}]({path}): {caption}" for path, caption in items]
+    return "\n".join(lines) + "\n"
+
+
+@dataclass
+class Section:
+    """One section of ``report.md``.
+
+    Attributes:
+        markdown: the section's text.
+        facts: the numbers the summary quotes (name -> value, SI units unless the name says).
+
+    """
+
+    markdown: str
+    facts: dict = field(default_factory=dict)
+
+
+def _deg(rad: float) -> str:
+    return f"{math.degrees(rad):.1f}°" if math.isfinite(rad) else "fell"
+
+
+def summary(facts: Mapping[str, Mapping]) -> str:
+    """The report's opening section: the seed's claims against the model's findings.
+
+    Args:
+        facts: section name -> that section's :attr:`Section.facts` (a missing section leaves its rows out).
+
+    Returns:
+        The ``## Summary`` section.
+
+    """
+    kin, tor, con, sim = (facts.get(k, {}) for k in ("kinematics", "dynamics", "contact_energy", "simulation"))
+    rows = []
+    if kin:
+        rows += [
+            (
+                "Hoeken + pantograph: a straight stance line",
+                "the ankle moves on a nearly straight line in stance (§4)",
+                f"stroke {kin['stroke_L']:.3f} L, off the line by at most {kin['band_L']:.4f} L",
+                "agree",
+            ),
+            (
+                "the parallel extension keeps the foot level",
+                "the standing foot stays parallel to the ground (§4.3)",
+                f"within {kin['parallel_pitch_deg']:.3f}° in stance; the rigid foot tilts up to "
+                f"{kin['rigid_pitch_deg']:.1f}°",
+                "agree",
+            ),
+        ]
+    if tor:
+        seed = ", ".join(f"{v:.0f}" for v in tor["seed_stored"])
+        preset = ", ".join(f"{v:.2f}" for v in tor["seed_preset"])
+        model = ", ".join(f"{v:.1f}" for v in tor["default"])
+        slow = [d for n, d in tor["window_delta"].items() if n != "run4"]
+        fast = tor["window_delta"]["run4"]
+        window = f"{min(slow):+.0f} to {max(slow):+.0f} N.m/rad in runs 1–3, {fast:+.0f} in run 4"
+        rows.append(
+            (
+                "the ankle spring K_e of runs 1–4 [N.m/rad]",
+                f"{seed} (§7)",
+                f"{preset} with the seed's modelling choices (reproduced); {model} with exact masses and the whole "
+                "stance as fit window",
+                f"differ: the seed's fit window adds {window}; its rounded masses add a little",
+            )
+        )
+        rows.append(
+            (
+                "run 4 (5 rad/s): one K_e",
+                "T_e is non-linear, K_e may be incorrect (§7.4)",
+                f"R² = {tor['run4_r2']:.2f}: a linear spring does not fit",
+                "agree",
+            )
+        )
+    if sim:
+        rows.append(
+            (
+                "the fitted spring keeps the walking robot upright",
+                "the spring avoids instability of the biped (§8)",
+                f"K_e exceeds gravity's toppling stiffness k_g by only {sim['margin_run1']:.1f} N.m/rad (run 1); "
+                f"with the hip free, the largest hip pitch is {_deg(sim['run1_fitted'])} in run 1 and "
+                f"{' and '.join(_deg(v) for v in sim['run23_fitted'])} in runs 2 and 3; without a spring the "
+                f"robot falls within {sim['fall_min']:.1f}–{sim['fall_max']:.1f} s",
+                "differ: neutral stability at best (welded stance foot)",
+            )
+        )
+    if con:
+        rows.append(
+            (
+                "the stance foot stays flat on the ground",
+                "assumed (the foot is welded to the ground in the dynamics)",
+                f"the centre of pressure is inside the sole ({1e3 * con['sole'][0]:+.0f} to "
+                f"{1e3 * con['sole'][1]:+.0f} mm from the ankle) for {con['run1_ok']} of {con['run1_n']} samples "
+                f"of run 1's stance; the motion asks for {1e3 * con['run1_cop'][0]:+.0f} to "
+                f"{1e3 * con['run1_cop'][1]:+.0f} mm",
+                "differ: the sole would roll over its heel or toe",
+            )
+        )
+        rows.append(
+            (
+                "one motor for both legs",
+                "future work (§8)",
+                f"feasible: peak {con['motor_peak']:.1f} N.m at 5 rad/s; a {con['flywheel']:.0f} kg.m² flywheel "
+                f"keeps the speed within {100 * con['fluctuation']:g} %",
+                "new",
+            )
+        )
+    lines = [
+        "## Summary",
+        "",
+        '"The seed" is the source report this project models (D\'Alessandro & Venezia, *Two-legged walking '
+        "robot*, Polytechnic of Bari). Each row: what it claims, what this model finds (numbers from this run), "
+        "and the verdict. The sections below give the detail and every figure.",
+        "",
+        "| question | the seed claims | the model finds | verdict |",
+        "|---|---|---|---|",
+    ]
+    lines += [f"| {q} | {s} | {m} | {v} |" for q, s, m, v in rows]
+    return "\n".join(lines) + "\n"
+
+
+def report_text(sections: Iterable[str], facts: Mapping[str, Mapping]) -> str:
+    """``report.md``: the title, the :func:`summary` of verdicts, then the sections in order."""
+    return "\n".join(["# PASIBOT analysis", "", summary(facts), *(f"{text}\n" for text in sections)])

@@ -1,0 +1,185 @@
+"""``report.md`` reads like a report: a summary of verdicts first, every figure linked with a caption,
+every table column with its unit, the same text on every run, figures not clipped, legends true.
+
+Each section runs with its default settings, except the simulation, which runs two scenarios for
+one step (its Markdown is the same code). The contact/energy section is checked the same way in
+``tests/test_energy.py``, the animation section in ``tests/test_viewer.py``.
+"""
+
+from __future__ import annotations
+
+import itertools
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+import pytest
+from report_checks import assert_reads_like_a_report, columns_without_units
+
+from pasibot_pin.report import kinematics, markdown, model, torques
+from pasibot_pin.report.jobs import run_jobs
+from pasibot_pin.report.simulation import SimulationPlan
+from pasibot_pin.studies.simulation_study import SimulationStudySettings
+
+SMALL_SIMULATION = SimulationStudySettings(
+    scenarios=("quasi-static", "run4"), fast_steps=1, check_steps=1, static_samples=4
+)
+
+
+def _simulation(out: Path):
+    plan = SimulationPlan(out, SMALL_SIMULATION)
+    run_jobs(plan.jobs(), plan.done, 1)
+    return plan
+
+
+def test_the_checks_catch_what_they_look_for(tmp_path):
+    assert columns_without_units("| x | K_e |\n|---|---|\n| a | 306.4 |\n| b | 13/60 |") == ["K_e"]
+    assert columns_without_units("| x | K_e [N.m/rad] |\n|---|---|\n| a | 306.4 (R² 0.88) |") == []
+    (tmp_path / "a.png").write_bytes(b"")
+    with pytest.raises(AssertionError, match="not linked"):
+        assert_reads_like_a_report(tmp_path, "![b](b.png)\n\n*a caption long enough to count*\n", 1)
+    with pytest.raises(AssertionError, match="no caption"):
+        assert_reads_like_a_report(tmp_path, "![a](a.png)\n\ntext\n", 1)
+
+
+def test_kinematics_section(tmp_path):
+    built = kinematics.build(tmp_path)
+    assert_reads_like_a_report(tmp_path, built.markdown, 9)
+    summary = markdown.summary({"kinematics": built.facts})
+    assert f"stroke {built.facts['stroke_L']:.3f} L" in summary
+    assert f"within {built.facts['parallel_pitch_deg']:.3f}° in stance" in summary
+
+
+def test_torques_section_and_its_summary_rows(tmp_path):
+    built = torques.build(tmp_path)
+    assert_reads_like_a_report(tmp_path, built.markdown, 3)
+    facts = built.facts
+    summary = markdown.summary({"dynamics": facts})
+    assert ", ".join(f"{v:.2f}" for v in facts["seed_preset"]) in summary
+    assert ", ".join(f"{v:.0f}" for v in facts["seed_stored"]) in summary
+    assert f"R² = {facts['run4_r2']:.2f}" in summary
+    # the seed preset reproduces the stored values (the verdict 'reproduced' is earned)
+    assert facts["seed_preset"] == pytest.approx(facts["seed_stored"], abs=0.006)
+
+
+def test_report_order_summary_first():
+    text = markdown.report_text(["## Model\n", "## Kinematics\n"], {})
+    assert text.index("## Summary") < text.index("## Model") < text.index("## Kinematics")
+    assert "| question | the seed claims | the model finds | verdict |" in text
+
+
+def test_the_summary_with_every_section():
+    facts = {
+        "simulation": {
+            "margin_run1": 4.8,
+            "run1_fitted": math.radians(41.3),
+            "run23_fitted": [math.inf, math.inf],
+            "fall_min": 0.8,
+            "fall_max": 3.2,
+        },
+        "contact_energy": {
+            "run1_ok": 13,
+            "run1_n": 60,
+            "run1_cop": (-0.166, 0.229),
+            "sole": (-0.025, 0.075),
+            "motor_peak": 39.1,
+            "flywheel": 11.95,
+            "fluctuation": 0.05,
+        },
+    }
+    text = markdown.summary(facts)
+    assert "by only 4.8 N.m/rad" in text and "41.3° in run 1 and fell and fell" in text
+    assert "13 of 60 samples" in text and "-25 to +75 mm" in text and "-166 to +229 mm" in text
+    assert "within 5 %" in text and "12 kg.m²" in text
+    assert text.count("\n| ") == 1 + 3  # header and three rows
+
+
+def test_model_and_simulation_sections_read_like_a_report_and_ignore_the_clock(tmp_path, monkeypatch):
+    """Same text on a second run whose clock jumps by an hour at every reading: no wall-clock time in it."""
+
+    def sections(out: Path) -> str:
+        out.mkdir()
+        plan = _simulation(out)
+        return "\n".join([model.section(out), plan.markdown()]), plan
+
+    first, plan = sections(tmp_path / "a")
+    assert_reads_like_a_report(tmp_path / "a", first, 9)
+    assert plan.facts() == {}, "run1 is not in the small study: no simulation row in the summary"
+
+    import pasibot_pin.report.simulation as simulation_report
+
+    anim_note = plan.anim_note  # the animation's meshcat server waits on the clock: keep its note
+    monkeypatch.setattr(simulation_report, "write_check_animation", lambda out, name, base: anim_note)
+    ticks = itertools.count()
+    fake = lambda: 3600.0 * next(ticks)  # noqa: E731
+    for name in ("perf_counter", "time", "monotonic", "process_time"):
+        monkeypatch.setattr(time, name, fake)
+    second, _ = sections(tmp_path / "b")
+    assert first == second
+
+
+# --------------------------------------------------------------------------- the figures
+def _sticks_out(fig) -> bool:
+    """Whether anything drawn (labels, titles, legends, tick labels) reaches beyond the figure's edges."""
+    fig.canvas.draw()
+    tight = fig.get_tightbbox(fig.canvas.get_renderer())  # [in], drawn artists only
+    width, height = fig.get_size_inches()
+    tol = 1.0 / fig.dpi
+    return tight.x0 < -tol or tight.y0 < -tol or tight.x1 > width + tol or tight.y1 > height + tol
+
+
+def _legend_without_drawing(fig) -> list[str]:
+    """Legend entries whose line has no point drawn."""
+    out = []
+    for ax in fig.axes:
+        legend = ax.get_legend()
+        if legend is None:
+            continue
+        handles, labels = ax.get_legend_handles_labels()
+        for handle, label in zip(handles, labels):
+            data = handle.get_xydata() if hasattr(handle, "get_xydata") else np.ones((1, 2))
+            if len(data) == 0 or not np.any(np.isfinite(data)):
+                out.append(label)
+    return out
+
+
+def test_static_equilibrium_figure_is_not_clipped_and_lists_only_drawn_lines():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.studies.spring_study import StaticEquilibrium
+    from pasibot_pin.viz.plots_simulation import plot_static_equilibrium
+
+    theta = np.linspace(math.pi / 2, 3 * math.pi / 2, 5)
+
+    def eq(stable: bool) -> StaticEquilibrium:
+        n = len(theta)
+        return StaticEquilibrium(
+            theta=theta,
+            hip_pitch=np.linspace(-0.1, 0.1, n),
+            stiffness=np.full(n, 1.0 if stable else -1.0),
+            found=np.ones(n, bool),
+        )
+
+    fig = plot_static_equilibrium({"fitted": eq(False), "twice K_e": eq(True)})
+    try:
+        assert not _sticks_out(fig)
+        assert _legend_without_drawing(fig) == []
+        assert fig.axes[0].get_legend_handles_labels()[1] == ["twice K_e"]
+        assert "fitted" in fig.axes[0].get_title()
+    finally:
+        plt.close(fig)
+
+
+def test_cost_of_transport_figure_is_not_clipped():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.studies.energy import omega_table
+    from pasibot_pin.viz.plots_contact import plot_cost_of_transport
+
+    fig = plot_cost_of_transport(omega_table((0.1, 1.0), 16.0, 0.0, 8, ("spring",)))
+    try:
+        assert not _sticks_out(fig)
+        assert _legend_without_drawing(fig) == []
+    finally:
+        plt.close(fig)
