@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_force_option, add_robot_options, check_output_file, check_output_folder
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_force_option,
+    add_robot_options,
+    check_output_file,
+    check_output_folder,
+    design_of,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -21,6 +28,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="re-render every default URDF: into urdf/ of a source checkout, or into the --out folder",
     )
     add_force_option(p, "overwrite an existing, different file")
+    add_design_option(p)
     p.add_argument("--L", type=float, help="crank length [m]")
     p.add_argument("--K", type=float, help="L0 / L")
     p.add_argument("--ratio", action="append", default=[], metavar="rN=VALUE", help="a link ratio, e.g. r4=9.5")
@@ -51,8 +59,8 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.model.params import Geometry, check_legs, check_variant, percentage_mass_model
 
     if args.defaults:
-        if args.L is not None or args.K is not None or args.ratio:
-            raise ValueError("--defaults renders the default parameters; it takes no --L, --K or --ratio")
+        if args.L is not None or args.K is not None or args.ratio or args.design is not None:
+            raise ValueError("--defaults renders the default parameters; it takes no --L, --K, --ratio or --design")
         out_dir = None if args.out is None else check_output_folder(args.out, "--out")
         for path in render_default_urdfs(out_dir, force=args.force):
             print(f"wrote {path}")
@@ -65,9 +73,15 @@ def run(args: argparse.Namespace) -> int:
         changes["L"] = args.L
     if args.K is not None:
         changes["K"] = args.K
-    geometry = Geometry().with_(**changes)
-    check_full_turn(geometry, args.variant)
-    text = render_urdf(args.variant, args.legs, geometry, percentage_mass_model(geometry, args.variant))
+    design = design_of(args)
+    if design is None:
+        variant, geometry = args.variant, Geometry().with_(**changes)
+        masses = percentage_mass_model(geometry, variant)
+    else:  # the design's geometry and masses; --L, --K, --ratio change it
+        design = design.with_(**changes)
+        variant, geometry, masses = design.variant, design.geometry(), design.masses()
+    check_full_turn(geometry, variant)
+    text = render_urdf(variant, args.legs, geometry, masses)
     if args.out is None:
         print(text, end="")
     else:

@@ -27,7 +27,9 @@ __all__ = [
     "add_fps_option",
     "add_mu_option",
     "add_out_folder_option",
+    "add_design_option",
     "add_output_options",
+    "design_of",
     "add_robot_options",
     "add_scenario_option",
     "add_steps_option",
@@ -119,6 +121,32 @@ def add_out_folder_option(parser: argparse.ArgumentParser, default: Path | None,
     """``--out DIR``: the folder a command writes its files into."""
     text = f"output folder: {what}" + (f" (default {default}/)" if default is not None else "")
     parser.add_argument("--out", type=Path, default=default, metavar="DIR", help=text)
+
+
+def add_design_option(parser: argparse.ArgumentParser) -> None:
+    """``--design FILE``: a design file (.toml or .json) instead of the seed design."""
+    parser.add_argument(
+        "--design",
+        type=Path,
+        default=None,
+        metavar="FILE",
+        help="design file (.toml/.json: geometry, masses, spring, crank speed; default the seed design)",
+    )
+
+
+def design_of(args: argparse.Namespace):
+    """The ``--design`` file's design, or ``None`` without ``--design``.
+
+    ``--variant``, when given, replaces the design's variant. A bad file is a one-line ValueError.
+    """
+    from pasibot_pin.model.design import load_design
+
+    if getattr(args, "design", None) is None:
+        return None
+    design = load_design(args.design)
+    if given(args, "variant"):
+        design = design.with_(variant=args.variant)
+    return design
 
 
 def add_force_option(parser: argparse.ArgumentParser, what: str = "overwrite existing output files") -> None:

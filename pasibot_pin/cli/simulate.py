@@ -25,6 +25,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--ground", choices=("floor", "weld"), default="floor", help="feet on a floor (default) or welded")
     p.add_argument("--duration", type=float, help="floor: simulated time per case [s] (default 10; --study: 2)")
     common.add_mu_option(p)
+    common.add_design_option(p)
     common.add_steps_option(p, "weld: stance phases to walk")
     common.add_out_folder_option(p, Path("out"), "the CSV, the figure and the animations")
     p.add_argument("--stiffness", type=float, help="K_e [N.m/rad] (default: the inverse-dynamics fit)")
@@ -64,6 +65,8 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"{'--study' if args.study else '--duration'} applies to --ground floor only")
     if common.given(args, "mu"):
         raise ValueError("--mu applies to --ground floor only (the welded foot does not slide)")
+    if args.design is not None:
+        raise ValueError("--design applies to --ground floor (the welded study runs the seed scenarios)")
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")
     if args.gif or args.html:

@@ -10,7 +10,7 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import check_output_folder, given
+from pasibot_pin.cli.common import check_output_folder, design_of, given
 
 
 def run_floor(args: argparse.Namespace) -> int:
@@ -32,12 +32,18 @@ def run_floor(args: argparse.Namespace) -> int:
                 f"{flag} applies to --ground weld only (the floor runs the fitted, no, half and twice springs)"
             )
     dt = 1e-3 if args.dt is None else args.dt
+    if args.study and args.design is not None:
+        raise ValueError("--study runs the seed scenarios; it takes no --design")
     if args.study:
         return _run_study(args, dt)
     duration = 10.0 if args.duration is None else args.duration
-    settings = FloorStudySettings(scenario_key(args.scenario), duration, args.mu, dt, cases=not args.no_cases)
+    design = design_of(args)
+    scenario = "design" if design is not None else scenario_key(args.scenario)
+    settings = FloorStudySettings(
+        "run1" if design else scenario, duration, args.mu, dt, cases=not args.no_cases, design=design
+    )
     check_output_folder(args.out, "--out")
-    csv_path, png_path = floor_files(args.out, settings.scenario, args.force)
+    csv_path, png_path = floor_files(args.out, scenario, args.force)
     study = floor_study(settings, on_case=lambda case: print(case_summary(case), flush=True))
     for path in write_floor(study, csv_path, png_path):
         print(f"wrote {path}")

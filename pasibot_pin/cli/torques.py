@@ -9,7 +9,14 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, add_scenario_option, atomic_path, check_outputs
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_output_options,
+    add_scenario_option,
+    atomic_path,
+    check_outputs,
+    design_of,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -29,6 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--inertia", choices=("point", "uniform"), default=None, help="override: point masses or rods")
     p.add_argument("--no-swap", action="store_true", help="undo the seed's L5/L6 mass swap")
     add_output_options(p, "write the samples to this CSV file", "write torques vs beta with the fit to this image")
+    add_design_option(p)
     p.set_defaults(func=run)
 
 
@@ -38,7 +46,8 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.report.torques import write_beta_plot, write_result_csv
     from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
 
-    check_outputs(args, f"torques_{get_scenario(args.scenario).name}")
+    design = design_of(args)
+    check_outputs(args, "torques_design" if design is not None else f"torques_{get_scenario(args.scenario).name}")
     settings = TorqueSettings(
         scenario=args.scenario,
         preset=args.preset,
@@ -49,6 +58,7 @@ def run(args: argparse.Namespace) -> int:
         accelerations=args.accelerations,
         inertia=args.inertia,
         swap_l5_l6=False if args.no_swap else None,
+        design=design,
     )
     res = scenario_torques(settings)
     scenario, fit = res.scenario, res.fit

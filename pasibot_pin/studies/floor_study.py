@@ -20,7 +20,7 @@ import numpy as np
 
 from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import AnkleSpring
-from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs
+from pasibot_pin.studies.spring_study import SPRING_CASES, design_inputs, scenario_inputs
 
 MAX_DURATION: float = 600.0
 """The longest floor run a study accepts [s] (10 minutes of simulated walking)."""
@@ -36,6 +36,9 @@ class FloorStudySettings:
         mu: sole-floor Coulomb friction [-].
         dt: time step [s].
         cases: all four spring cases, or the fitted spring only.
+        design: a :class:`~pasibot_pin.model.design.Design` walked instead of the scenario's robot
+            (its geometry, masses, body, crank speed and spring:
+            :func:`~pasibot_pin.studies.spring_study.design_inputs`).
 
     """
 
@@ -44,13 +47,18 @@ class FloorStudySettings:
     mu: float = 0.8
     dt: float = 1e-3
     cases: bool = True
+    design: object | None = None
 
     def __post_init__(self) -> None:
         from pasibot_pin.model.scenarios import get_scenario
 
-        scenario = get_scenario(self.scenario)  # names an unknown scenario
-        if scenario.omega <= 0:
-            raise ValueError(f"scenario {scenario.name!r} does not walk (omega = 0): pick run1 .. run4")
+        if self.design is not None:
+            if self.design.omega <= 0:
+                raise ValueError("the design does not walk (omega = 0): set its crank speed 'omega' > 0")
+        else:
+            scenario = get_scenario(self.scenario)  # names an unknown scenario
+            if scenario.omega <= 0:
+                raise ValueError(f"scenario {scenario.name!r} does not walk (omega = 0): pick run1 .. run4")
         if not (math.isfinite(self.duration) and 0 < self.duration <= MAX_DURATION):
             raise ValueError(f"parameter 'duration' must be in (0, {MAX_DURATION:g}] s, got {self.duration!r}")
         FloorSettings(mu=self.mu, dt=self.dt)  # names a bad mu or dt before any work
@@ -91,7 +99,7 @@ class FloorStudy:
 
 def floor_study(settings: FloorStudySettings, on_case: Callable[[FloorCase], None] | None = None) -> FloorStudy:
     """Simulate the scenario's spring cases on the floor (see the module docstring)."""
-    inputs = scenario_inputs(settings.scenario)
+    inputs = scenario_inputs(settings.scenario) if settings.design is None else design_inputs(settings.design)
     study = FloorStudy(inputs.name, inputs.omega, inputs.fit, settings=settings)
     cases = SPRING_CASES if settings.cases else SPRING_CASES[:1]
     for label, factor in cases:

@@ -467,6 +467,26 @@ def scenario_inputs(name: str, preset: str = "default", damping: float | None = 
     return ScenarioInputs(key, scenario.omega, robot, AnkleSpring(fit.K_e, fit.beta0, c), fit)
 
 
+def design_inputs(design) -> ScenarioInputs:
+    """What a simulation of a :class:`~pasibot_pin.model.design.Design` needs (named ``design``).
+
+    Its two-legged robot, crank speed, and ankle spring: the design's K_e and beta0 where it sets
+    them, else the stance fit of its inverse dynamics; the damping is the design's
+    (:func:`~pasibot_pin.studies.spring_fit.design_spring`).
+    """
+    from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
+    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.studies.spring_fit import design_spring, fit_result
+
+    robot = design_robot(design, 2)
+    result = inverse_dynamics(robot, crank_grid(*STANCE_RANGE, 61), design.omega, stance="right", reactions=False)
+    fit = fit_result(result, None, warn=False)
+    spring = design_spring(design, robot)
+    if spring is None:
+        raise ValueError(f"the design's variant {design.variant!r} has no ankle spring to simulate")
+    return ScenarioInputs("design", design.omega, robot, spring, fit)
+
+
 def toppling_stiffness(robot, theta: float = math.pi) -> float:
     """Gravity's negative stiffness about the stance ankle, g sum m_i (z_i - z_ankle) [N.m/rad].
 

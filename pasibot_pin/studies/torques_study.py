@@ -67,6 +67,9 @@ class TorqueSettings:
         accelerations: override of the acceleration mode (``exact``, ``central``, ``lagged``).
         inertia: override of the inertia model (``point`` or ``uniform``).
         swap_l5_l6: override of the seed's L5/L6 mass swap; ``None``: keep the preset's.
+        design: a :class:`~pasibot_pin.model.design.Design` run instead of the scenario's robot:
+            its geometry, masses, body, crank speed (unless ``omega``) and motor layout, with the
+            default preset's choices (exact accelerations, swing foot level); ``None``: the scenario.
 
     Raises:
         ValueError: an unknown scenario, preset or choice, ``steps`` < 1, ``samples`` < 2, more
@@ -78,6 +81,7 @@ class TorqueSettings:
     scenario: str = "run1"
     preset: str = "default"
     omega: float | None = None
+    design: object | None = None
     samples: int | None = None
     steps: int = 1
     swing_foot: str | None = None
@@ -206,6 +210,8 @@ def scenario_torques(settings: TorqueSettings | None = None) -> ScenarioTorques:
 
     """
     settings = TorqueSettings() if settings is None else settings
+    if settings.design is not None:
+        return design_torques(settings)
     scenario = get_scenario(settings.scenario)
     choices = settings.choices()
     thetas = None
@@ -217,6 +223,28 @@ def scenario_torques(settings: TorqueSettings | None = None) -> ScenarioTorques:
     window = choices.fit_thetas if thetas is None else None
     fit = fit_result(result, window, warn=False)
     return ScenarioTorques(scenario, settings.preset, choices, result, fit)
+
+
+def design_torques(settings: TorqueSettings) -> ScenarioTorques:
+    """:func:`scenario_torques` of ``settings.design``: its robot, speed and motors; the whole stance fitted.
+
+    The result's ``scenario`` is named ``design`` and carries the design's crank speed, body mass
+    and COM (no seed values).
+    """
+    from pasibot_pin.dynamics.inverse import inverse_dynamics
+    from pasibot_pin.model.design import design_robot
+
+    design = settings.design
+    if settings.preset != "default" or settings.choices() != get_preset("default"):
+        raise ValueError("a --design runs the default modelling choices: no --preset or choice overrides")
+    omega = design.omega if settings.omega is None else settings.omega
+    steps = settings.steps
+    thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + math.pi * steps, (settings.per_step - 1) * steps + 1)
+    result = inverse_dynamics(design_robot(design, 2), thetas, omega, motors=design.motors)
+    scenario = Scenario(
+        "design", omega, design.body_mass, design.body_mass, design.body_com_dx, None, None, "design file"
+    )
+    return ScenarioTorques(scenario, "default", get_preset("default"), result, fit_result(result, None, warn=False))
 
 
 def preset_torques(scenario: Scenario, preset: str, reactions: bool = True) -> ScenarioTorques:

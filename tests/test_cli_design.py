@@ -1,0 +1,71 @@
+"""``--design FILE`` on the commands: the design's numbers reach the output."""
+
+from __future__ import annotations
+
+import re
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+
+from pasibot_pin.model.design import Design
+
+
+def _cli(*args):
+    return subprocess.run([sys.executable, "-m", "pasibot_pin", *args], capture_output=True, text=True)
+
+
+@pytest.fixture()
+def design_file(tmp_path):
+    return Design().with_(K=2.2, r4=9.4, body_mass=25.0).save(tmp_path / "d.toml")
+
+
+def test_info_and_build_urdf_use_the_design(design_file, tmp_path):
+    import yourdfpy
+
+    info = _cli("info", "--design", str(design_file))
+    assert info.returncode == 0 and "K=2.2" in info.stdout
+    out = tmp_path / "d.urdf"
+    res = _cli("build-urdf", "--design", str(design_file), "--out", str(out))
+    assert res.returncode == 0, res.stderr
+    urdf = yourdfpy.URDF.load(str(out), load_meshes=False, build_scene_graph=False)
+    assert urdf.link_map["hip"].inertial.mass == pytest.approx(25.0)
+    j6 = urdf.joint_map["right_j6"]  # L4 carries the shank at its end: r4 L along its axis
+    assert np.linalg.norm(j6.origin[:3, 3]) == pytest.approx(9.4 * 0.05)
+    j3 = urdf.joint_map["right_j3"]  # the rocker pivot at K L
+    assert j3.origin[0, 3] == pytest.approx(2.2 * 0.05)
+
+
+def test_torques_of_a_design_equal_the_scenario_it_copies(tmp_path):
+    """A design with run 1's speed and body gives run 1's K_e: two paths (design record, scenario)."""
+    path = Design().with_(omega=0.1, body_mass=16.0).save(tmp_path / "run1.toml")
+    by_design = _cli("torques", "--design", str(path))
+    by_scenario = _cli("torques", "--scenario", "run1")
+    assert by_design.returncode == 0, by_design.stderr
+
+    def k_e(text):
+        return float(re.search(r"K_e = ([0-9.]+) N.m/rad", text).group(1))
+
+    assert k_e(by_design.stdout) == k_e(by_scenario.stdout)
+    assert "scenario design" in by_design.stdout
+
+
+def test_simulate_walks_the_design_on_the_floor(tmp_path):
+    path = Design().with_(omega=5.0, body_mass=20.0, spring_stiffness=450.0, spring_rest_angle=1.6).save(
+        tmp_path / "d.toml"
+    )
+    res = _cli("simulate", "--design", str(path), "--duration", "0.2", "--no-cases", "--out", str(tmp_path / "o"))
+    assert res.returncode == 0, res.stderr
+    assert (tmp_path / "o" / "floor_design.csv").is_file()
+    weld = _cli("simulate", "--design", str(path), "--ground", "weld")
+    assert weld.returncode == 2 and "--design applies to --ground floor" in weld.stderr
+
+
+@pytest.mark.parametrize("command", ["info", "build-urdf", "torques", "simulate", "export-mjcf", "sweep"])
+def test_a_bad_design_file_is_one_line(tmp_path, command):
+    bad = tmp_path / "bad.toml"
+    bad.write_text("K = 'two'\n")
+    extra = ["--out", str(tmp_path / "o")] if command in ("export-mjcf", "sweep") else []
+    res = _cli(command, "--design", str(bad), *extra)
+    assert res.returncode == 2 and res.stderr.count("\n") == 1 and "'K'" in res.stderr, res.stderr
