@@ -69,3 +69,18 @@ def test_a_bad_design_file_is_one_line(tmp_path, command):
     extra = ["--out", str(tmp_path / "o")] if command in ("export-mjcf", "sweep") else []
     res = _cli(command, "--design", str(bad), *extra)
     assert res.returncode == 2 and res.stderr.count("\n") == 1 and "'K'" in res.stderr, res.stderr
+
+
+def test_gait_walks_the_design(design_file):
+    """The stroke printed for the design's leg equals the analytic assembly's x(90 deg) - x(270 deg)."""
+    import math
+
+    from pasibot_pin.model.assembly import leg_points
+    from pasibot_pin.model.design import load_design
+
+    res = _cli("gait", "--design", str(design_file), "--legs", "1")
+    assert res.returncode == 0, res.stderr
+    stroke = float(re.search(r"stroke/L\s+([0-9.]+)", res.stdout).group(1))
+    design = load_design(design_file)
+    ankle = leg_points(np.array([math.pi / 2, 3 * math.pi / 2]), design.geometry(), design.variant)["p13"]
+    assert stroke == pytest.approx((ankle[0, 0] - ankle[1, 0]) / design.L, rel=1e-5)

@@ -12,11 +12,13 @@ from __future__ import annotations
 import argparse
 
 from pasibot_pin.cli.common import (
+    add_design_option,
     add_output_options,
     add_robot_options,
     add_steps_option,
     atomic_path,
     check_outputs,
+    design_of,
     given,
 )
 
@@ -39,6 +41,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         "toe (toe pinned, hip level) (default flat)",
     )
     add_output_options(p, "write the samples to this CSV file", "write a figure to this file")
+    add_design_option(p)
     p.set_defaults(func=run)
 
 
@@ -48,8 +51,10 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.studies.kinematics_study import GaitSettings, LegRun, gait_run
 
     steps = args.steps if given(args, "steps") else None  # with --legs 1, --steps is refused, not ignored
-    settings = GaitSettings(args.variant, args.legs, steps, args.step_deg, args.omega, args.foot)
-    check_outputs(args, f"gait_{args.variant}_{args.legs}leg")
+    design = design_of(args)
+    variant = args.variant if design is None else design.variant
+    settings = GaitSettings(variant, args.legs, steps, args.step_deg, args.omega, args.foot, design)
+    check_outputs(args, f"gait_{'design' if design is not None else variant}_{args.legs}leg")
     result = gait_run(settings)
     one_leg = isinstance(result, LegRun)
     print(rep.leg_summary(result) if one_leg else rep.walk_summary(result))

@@ -265,6 +265,8 @@ class GaitSettings:
         omega: crank rate [rad/s].
         foot: stance contact with 2 legs: ``flat``, ``point`` or ``toe`` (``None``: ``flat``);
             must be ``None`` with 1 leg.
+        design: a :class:`~pasibot_pin.model.design.Design` whose robot walks (its variant replaces
+            ``variant``); ``None``: the seed design of ``variant``.
 
     Raises:
         ValueError: ``legs`` not 1 or 2, ``omega`` not a positive number, ``steps`` or
@@ -280,6 +282,7 @@ class GaitSettings:
     step_deg: float = 5.0
     omega: float = 0.1
     foot: str | None = None
+    design: object | None = None
 
     def __post_init__(self) -> None:
         if self.legs not in (1, 2):
@@ -316,7 +319,12 @@ def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
             ``steps`` or ``foot``.
 
     """
-    robot = load(settings.variant, settings.legs)
+    if settings.design is None:
+        robot = load(settings.variant, settings.legs)
+    else:
+        from pasibot_pin.model.design import design_robot
+
+        robot = design_robot(settings.design, settings.legs)
     if settings.legs == 1:
         if settings.steps is not None:
             raise ValueError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
