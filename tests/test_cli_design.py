@@ -84,3 +84,9 @@ def test_gait_walks_the_design(design_file):
     design = load_design(design_file)
     ankle = leg_points(np.array([math.pi / 2, 3 * math.pi / 2]), design.geometry(), design.variant)["p13"]
     assert stroke == pytest.approx((ankle[0, 0] - ankle[1, 0]) / design.L, rel=1e-5)
+
+
+def test_export_html_draws_the_design(design_file, tmp_path):
+    res = _cli("export-html", "--design", str(design_file), "--out", str(tmp_path / "d.html"), "--steps", "1")
+    assert res.returncode == 0, res.stderr
+    assert (tmp_path / "d.html").stat().st_size > 10_000

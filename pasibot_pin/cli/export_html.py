@@ -11,13 +11,21 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_force_option, add_fps_option, add_steps_option, check_output_file
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_force_option,
+    add_fps_option,
+    add_steps_option,
+    check_output_file,
+    design_of,
+)
 from pasibot_pin.model.params import VARIANTS
 
 
 def add_walk_view_options(parser: argparse.ArgumentParser) -> None:
-    """``--variant``, ``--steps``, ``--samples-per-step``, ``--fps``, ``--reactions`` (shared with ``pasibot view``)."""
+    """``--variant``, ``--design``, ``--steps``, ``--samples-per-step``, ``--fps``, ``--reactions`` (with ``view``)."""
     parser.add_argument("--variant", default="spring", choices=VARIANTS, help="leg variant (default spring)")
+    add_design_option(parser)
     add_steps_option(parser)
     parser.add_argument("--samples-per-step", type=int, default=30, help="animation frames per step (default 30)")
     add_fps_option(parser)
@@ -46,11 +54,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Export the walk; refuses to overwrite without ``--force`` (FileExistsError, exit code 2)."""
+    from pasibot_pin.model.design import design_robot
     from pasibot_pin.viz.viewer import export_html
 
     check_output_file(args.out, "--out", args.force)
+    design = design_of(args)
     export = export_html(
         args.out,
+        robot=None if design is None else design_robot(design, 2),
         variant=args.variant,
         steps=args.steps,
         samples_per_step=args.samples_per_step,

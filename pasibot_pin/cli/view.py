@@ -30,6 +30,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Start the viewer, play the walk live, hold, exit."""
+    from pasibot_pin.cli.common import design_of
+    from pasibot_pin.model.design import design_robot
     from pasibot_pin.model.robot import load
     from pasibot_pin.viz.viewer import (
         WalkViewer,
@@ -47,7 +49,8 @@ def run(args: argparse.Namespace) -> int:
         raise ValueError(f"--fps must be a positive frame rate [1/s], got {args.fps}")
     if args.zmq_url is not None:
         check_meshcat_server(args.zmq_url)
-    robot = load(args.variant, legs=2)
+    design = design_of(args)
+    robot = load(args.variant, legs=2) if design is None else design_robot(design, 2)
     walk = walk_trajectory(robot, steps=args.steps, samples_per_step=args.samples_per_step)
     forces = None if args.reactions is None else reaction_forces(robot, walk, omega=args.reactions)
     viewer = WalkViewer(robot, zmq_url=args.zmq_url, open=args.open)
