@@ -90,3 +90,11 @@ def test_export_html_draws_the_design(design_file, tmp_path):
     res = _cli("export-html", "--design", str(design_file), "--out", str(tmp_path / "d.html"), "--steps", "1")
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "d.html").stat().st_size > 10_000
+
+
+def test_contact_of_a_design_equals_the_scenario_it_copies(tmp_path):
+    path = Design().with_(omega=0.1, body_mass=16.0).save(tmp_path / "run1.toml")
+    by_design = _cli("contact", "--design", str(path))
+    by_scenario = _cli("contact", "--scenario", "run1")
+    assert by_design.returncode == 0, by_design.stderr
+    assert by_design.stdout.splitlines()[1:] == by_scenario.stdout.splitlines()[1:]

@@ -10,7 +10,15 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_mu_option, add_output_options, add_scenario_option, atomic_path, check_outputs
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_mu_option,
+    add_output_options,
+    add_scenario_option,
+    atomic_path,
+    check_outputs,
+    design_of,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -39,6 +47,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="what-if sole: heel and toe along the sole from the ankle [m] (e.g. -0.2 0.4); default the model's",
     )
     add_output_options(p, "write the samples to this CSV file", "write the forces/CoP/friction figure to this file")
+    add_design_option(p)
     p.set_defaults(func=run)
 
 
@@ -47,15 +56,20 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.model.scenarios import get_scenario
     from pasibot_pin.report.contact_energy import write_contact_figure
     from pasibot_pin.report.files import write_columns_csv
-    from pasibot_pin.studies.contact import scenario_contact
+    from pasibot_pin.studies.contact import design_contact, scenario_contact
 
-    check_outputs(args, f"contact_{args.variant}_{get_scenario(args.scenario).name}")
+    design = design_of(args)
+    name = "design" if design is not None else get_scenario(args.scenario).name
+    check_outputs(args, f"contact_{args.variant if design is None else design.variant}_{name}")
     if args.samples < 2:
         raise ValueError(f"parameter '--samples' must be >= 2, got {args.samples!r}")
     sole = tuple(args.sole) if args.sole is not None else None
-    _torques, res = scenario_contact(args.scenario, args.preset, args.mu, args.samples, sole, args.variant)
-    name = get_scenario(args.scenario).name
-    print(f"scenario {name}, {args.variant} variant, preset {args.preset}, {len(res)} samples over one stance")
+    if design is not None:
+        _torques, res = design_contact(design, args.mu, args.samples, sole)
+        print(f"design {args.design}, {design.variant} variant, {len(res)} samples over one stance")
+    else:
+        _torques, res = scenario_contact(args.scenario, args.preset, args.mu, args.samples, sole, args.variant)
+        print(f"scenario {name}, {args.variant} variant, preset {args.preset}, {len(res)} samples over one stance")
     print(res.summary())
     if args.csv is not None:
         write_columns_csv(args.csv, res.columns())  # written under a temporary name, then renamed

@@ -483,3 +483,21 @@ def scenario_contact(
     robot = scenario_robot(scenario, choices, variant)
     torques = inverse_dynamics(robot, thetas, scenario.omega, swing_foot=choices.swing_foot, stance="right")
     return torques, contact_along(robot, torques, mu, sole=sole)
+
+
+def design_contact(design, mu: float = CONTACT_MU, samples: int = CONTACT_SAMPLES, sole=None):
+    """:func:`scenario_contact` for a :class:`~pasibot_pin.model.design.Design`: its robot, speed and motors.
+
+    Returns:
+        (the inverse-dynamics result, :class:`ContactResult`).
+
+    """
+    from pasibot_pin.dynamics.inverse import inverse_dynamics
+    from pasibot_pin.model.design import design_robot
+
+    if samples < 2:
+        raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
+    robot = design_robot(design, 2)
+    thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
+    torques = inverse_dynamics(robot, thetas, design.omega, stance="right", motors=design.motors)
+    return torques, contact_along(robot, torques, mu, sole=sole)
