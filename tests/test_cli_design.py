@@ -98,3 +98,11 @@ def test_contact_of_a_design_equals_the_scenario_it_copies(tmp_path):
     by_scenario = _cli("contact", "--scenario", "run1")
     assert by_design.returncode == 0, by_design.stderr
     assert by_design.stdout.splitlines()[1:] == by_scenario.stdout.splitlines()[1:]
+
+
+def test_energy_of_a_design_equals_the_variant_table(tmp_path):
+    path = Design().with_(body_mass=16.0).save(tmp_path / "d.toml")
+    by_design = _cli("energy", "--design", str(path), "--omegas", "0.1,5")
+    by_variant = _cli("energy", "--variants", "spring", "--omegas", "0.1,5")
+    assert by_design.returncode == 0, by_design.stderr
+    assert by_design.stdout == by_variant.stdout

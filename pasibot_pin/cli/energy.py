@@ -12,7 +12,7 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_output_options, atomic_path, check_outputs
+from pasibot_pin.cli.common import add_design_option, add_output_options, atomic_path, check_outputs, design_of
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
 
@@ -44,6 +44,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--nodes", type=int, default=48, help="Gauss-Legendre nodes per step (default 48)")
     p.add_argument("--flywheel", type=float, default=None, help="flywheel inertia on the motor shaft [kg.m^2]")
     add_output_options(p, "write the table to this CSV file", "write the cost-of-transport figure to this file")
+    add_design_option(p)
     p.set_defaults(func=run)
 
 
@@ -64,7 +65,11 @@ def run(args: argparse.Namespace) -> int:
     for v in variants:
         if v not in VARIANTS:
             raise ValueError(f"parameter '--variants': unknown variant {v!r}; valid: {', '.join(VARIANTS)}")
+    design = design_of(args)
+    if design is not None and args.flywheel is not None:
+        raise ValueError("--flywheel sizes the variants' motors; it takes no --design")
     settings = ContactEnergySettings(
+        design=design,
         omegas=tuple(args.omegas),
         energy_variants=variants,
         body_mass=args.body_mass,

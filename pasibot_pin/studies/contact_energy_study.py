@@ -47,6 +47,8 @@ class ContactEnergySettings:
         nodes: Gauss-Legendre nodes per step.
         power_variant: variant of the actuator-power profile.
         power_omega: crank speed of the actuator-power profile [rad/s].
+        design: a :class:`~pasibot_pin.model.design.Design` whose energy table is made instead
+            (its robot, body and motors at each of ``omegas``); ``None``: the variants.
 
     """
 
@@ -69,6 +71,7 @@ class ContactEnergySettings:
     nodes: int = energy.NODES
     power_variant: str = "spring"
     power_omega: float = 5.0
+    design: object | None = None
 
 
 # --------------------------------------------------------------------------- contact
@@ -286,6 +289,12 @@ class EnergySweep:
 def energy_sweep(settings: ContactEnergySettings | None = None) -> EnergySweep:
     """Energy per step over ``settings.omegas`` for ``settings.energy_variants`` (:func:`energy.omega_table`)."""
     settings = settings or ContactEnergySettings()
+    if settings.design is not None:
+        from pasibot_pin.model.design import design_robot
+
+        robot, motors = design_robot(settings.design, 2), settings.design.motors
+        rows = [energy.robot_step_energy(robot, w, settings.nodes, motors=motors)[0] for w in settings.omegas]
+        return EnergySweep(rows)
     rows = energy.omega_table(
         settings.omegas, settings.body_mass, settings.body_com_dx, settings.nodes, settings.energy_variants
     )
