@@ -123,3 +123,24 @@ def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):
         viewer.start_server()
     assert len(started) == 1
     assert started[0].poll() is not None  # stopped, not left to the end of the interpreter
+
+
+@pytest.mark.parametrize(("sig", "group"), [(signal.SIGINT, True), (signal.SIGTERM, False)])
+def test_sweep_stops_its_workers_and_keeps_its_rows(tmp_path, sig, group):
+    """Ctrl-C or SIGTERM in a sweep: no orphan worker, no half file, the finished designs kept, a rerun continues."""
+    import pyarrow.parquet as pq
+
+    out = tmp_path / "run"
+    args = ["sweep", "--n", "400", "--vary", "K=1.8:2.4", "--workers", "2", "--out", str(out), "--no-progress"]
+    proc = _start(args, tmp_path)
+    parts = out / "parts"
+    assert _wait_for(lambda: parts.is_dir() and any(parts.glob("part-*.parquet")), 120), "no design finished"
+    children = descendants(proc.pid)
+    _stop_and_check(proc, sig, children, group)
+    assert not list(out.rglob("*.tmp"))
+    kept = sum(pq.read_table(p).num_rows for p in parts.glob("part-*.parquet"))
+    assert 0 < kept < 400
+    again = subprocess.run(
+        [sys.executable, "-m", "pasibot_pin", *args[:2], "12", *args[3:]], capture_output=True, text=True
+    )
+    assert again.returncode == 2 and "different run" in again.stderr  # another --n is another run

@@ -76,6 +76,17 @@ def start_run(args: argparse.Namespace):
     return base, ranges, by
 
 
+def run_resumable(args: argparse.Namespace, runner, plan, what: str):
+    """``runner(plan, OUT, ...)`` with the shared flags; on Ctrl-C, say that the finished work is kept."""
+    out = Path(args.out)
+    try:
+        flags = {"workers": args.workers, "dask": args.dask, "force": args.force, "csv": args.csv}
+        return runner(plan, out, progress=not args.no_progress, **flags)
+    except KeyboardInterrupt:
+        print(f"pasibot {args.command}: stopped; the finished {what} are kept in {out}: run the same command again")
+        raise
+
+
 def finish_run(
     args: argparse.Namespace, table, varied, by: tuple[str, str], what: str, objectives=None, rows=None
 ) -> None:

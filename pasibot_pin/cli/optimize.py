@@ -11,9 +11,8 @@ an interrupted run.
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from pasibot_pin.cli.explore_options import add_explore_options, finish_run, start_run
+from pasibot_pin.cli.explore_options import add_explore_options, finish_run, run_resumable, start_run
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -43,20 +42,7 @@ def run(args: argparse.Namespace) -> int:
         base=base,
         floor=args.floor,
     )
-    out = Path(args.out)
-    try:
-        result = run_optimize(
-            plan,
-            out,
-            workers=args.workers,
-            dask=args.dask,
-            force=args.force,
-            csv=args.csv,
-            progress=not args.no_progress,
-        )
-    except KeyboardInterrupt:
-        print(f"pasibot optimize: stopped; the finished trials are kept in {out}: run the same command to continue")
-        raise
+    result = run_resumable(args, run_optimize, plan, "trials")
     objectives = tuple(o.metric for o in plan.objectives[:2])
     pair = objectives if len(objectives) == 2 else (objectives[0], "stride_m")
     finish_run(args, result.table, plan.names, by, f"{result.evaluated} trials evaluated", pair, result.pareto)

@@ -10,9 +10,8 @@ cluster (``dask scheduler`` on one machine, ``dask worker tcp://HOST:8786`` on e
 from __future__ import annotations
 
 import argparse
-from pathlib import Path
 
-from pasibot_pin.cli.explore_options import add_explore_options, finish_run, start_run
+from pasibot_pin.cli.explore_options import add_explore_options, finish_run, run_resumable, start_run
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,19 +31,6 @@ def run(args: argparse.Namespace) -> int:
 
     base, ranges, by = start_run(args)
     plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base, floor=args.floor)
-    out = Path(args.out)
-    try:
-        result = run_sweep(
-            plan,
-            out,
-            workers=args.workers,
-            dask=args.dask,
-            force=args.force,
-            csv=args.csv,
-            progress=not args.no_progress,
-        )
-    except KeyboardInterrupt:
-        print(f"pasibot sweep: stopped; the finished designs are kept in {out}: run the same command to continue")
-        raise
+    result = run_resumable(args, run_sweep, plan, "designs")
     finish_run(args, result.table, plan.names, by, f"{result.evaluated} designs evaluated")
     return 0

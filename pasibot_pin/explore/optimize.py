@@ -259,6 +259,11 @@ def run_optimize(
         bar.update(len(rows))
 
     warm_caches(plan.base)  # forked workers inherit it
+
+    def evaluate(items: list) -> None:  # one design per task: a generation spreads over the workers
+        tasks = [(base, plan.names, [item], plan.floor) for item in items]
+        run_tasks(evaluate_designs, tasks, tell, workers=workers, dask=dask)
+
     try:
         # trials asked but never finished (an interrupted run): told from the table, or evaluated again
         running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
@@ -271,25 +276,13 @@ def run_optimize(
             else:
                 again.append((t.number, [t.params[n] for n in plan.names]))
         if again:
-            run_tasks(
-                evaluate_designs,
-                [(base, plan.names, [item], plan.floor) for item in again],
-                tell,
-                workers=workers,
-                dask=dask,
-            )
+            evaluate(again)
         while len(store.done) < plan.trials:
             size = min(plan.population, plan.trials - len(store.done))
             asked = [study.ask() for _ in range(size)]
             ids.update({t.number: t._trial_id for t in asked})
             items = [(t.number, [t.suggest_float(r.name, r.low, r.high) for r in plan.ranges]) for t in asked]
-            run_tasks(
-                evaluate_designs,
-                [(base, plan.names, [item], plan.floor) for item in items],
-                tell,
-                workers=workers,
-                dask=dask,
-            )
+            evaluate(items)
             if on_generation is not None:
                 on_generation(len(store.done), plan.trials)
     finally:
