@@ -15,8 +15,12 @@ Run: ``.venv/bin/python benchmarks/bench_floor.py`` (or ``make bench``).
 
 from __future__ import annotations
 
-import math
+import sys
 import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).parent))
+from bench_dynamics import best_time  # noqa: E402  (one timing rule for every benchmark)
 
 from pasibot_pin.dynamics import simulator as simulate
 from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
@@ -28,15 +32,6 @@ DURATION = 10.0
 """Simulated time of the floor run [s]."""
 
 
-def best_time(func, repeat: int, rounds: int = 5) -> float:
-    """Smallest mean time of ``rounds`` batches of ``repeat`` calls [s]."""
-    best = math.inf
-    for _ in range(rounds):
-        start = time.perf_counter()
-        for _ in range(repeat):
-            func()
-        best = min(best, (time.perf_counter() - start) / repeat)
-    return best
 
 
 def main() -> None:
