@@ -107,3 +107,21 @@ def test_timings_come_from_one_measured_page():
     assert machine, "docs/timings.md does not name the machine"
     row = re.search(r"\| `make demo`.*?\| (\d+) \| (\d+) \|", page)
     assert row and int(row.group(1)) > 0 and int(row.group(2)) > 0
+
+
+def test_spring_study_bullets():
+    """The README's spring-study bullets: k_g, the margin K_e - k_g, run 1's and run 4's hip excursion."""
+    from pasibot_pin.studies.simulation_study import SimulateSettings, run_simulation, simulation_setup
+    from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
+
+    readme = (ROOT / "README.md").read_text()
+    inputs = scenario_inputs("run1")
+    k_g = toppling_stiffness(inputs.robot)
+    assert f"toppling stiffness k_g ≈ {round(k_g)} N.m/rad" in readme
+    assert f"only ~{round(inputs.fit.stiffness - k_g)} N.m/rad" in readme
+    pitch = {}
+    for name in ("run1", "run4"):
+        run = run_simulation(simulation_setup(SimulateSettings(scenario=name, steps=2, cases=False)))
+        pitch[name] = math.degrees(float(np.max(np.abs(run.runs["fitted"].hip_pitch))))
+    assert f"Run 1 swings up to {round(pitch['run1'])}° over two steps" in readme
+    assert f"holds the hip\n  within about {round(pitch['run4'])}°" in readme
