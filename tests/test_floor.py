@@ -303,3 +303,17 @@ def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, ca
         assert main(["simulate", *argv, "--out", str(out)]) == 2
         err = capsys.readouterr().err.strip()
         assert word in err and "\n" not in err and "Traceback" not in err, err
+
+
+def test_analyze_floor_section_links_its_figure_and_states_its_facts(tmp_path):
+    """``pasibot analyze``'s floor section: the figure linked, the CSV written, the summary row from its facts."""
+    from pasibot_pin.report import floor as floor_report
+    from pasibot_pin.report.markdown import summary
+
+    section = floor_report.build(tmp_path)
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["floor_springs.csv", "floor_springs.png"]
+    assert "](floor_springs.png)" in section.markdown
+    facts = section.facts
+    assert 0 <= facts["floor_max_pitch"] and 0 <= facts["weld_max_pitch"]
+    row = summary({"floor": facts})
+    assert f"{math.degrees(facts['floor_max_pitch']):.1f}°" in row and facts["floor_outcome"] in row

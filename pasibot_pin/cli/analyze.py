@@ -28,6 +28,7 @@ STEPS: list[tuple[str, str]] = [
     ("dynamics", "torques"),
     ("contact_energy", "contact_energy"),
     ("design_exploration", "design_exploration"),
+    ("floor", "floor"),
     ("simulation", "simulation"),
 ]
 """(step name, report module) in report order."""
@@ -39,6 +40,7 @@ ESTIMATES: dict[str, float] = {
     "animation": 3.0,
     "model": 0.7,
     "design_exploration": 0.6,
+    "floor": 11.0,
 }
 """CPU time [s] of the steps besides the simulation (measured; they only order the work)."""
 

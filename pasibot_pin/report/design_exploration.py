@@ -183,19 +183,39 @@ def question() -> str:
     )
 
 
-def section(out_dir: Path) -> str:
-    """The report section (no files of its own)."""
-    return "\n".join(
+def build(out_dir: Path):
+    """The report section (no files of its own) and the facts the summary quotes."""
+    from pasibot_pin.report.markdown import Section
+
+    rows = answers()
+    seed, free, straight = rows
+    floor = floor_answer()
+    text = "\n".join(
         [
             "## Design exploration: less torque at the same stride",
             "",
             question(),
             "",
-            markdown(),
+            markdown(rows),
             "",
             "### Does any spring design walk on the floor?",
             "",
-            floor_markdown(),
+            floor_markdown(floor),
             "",
         ]
     )
+    facts = {
+        "seed_peak": seed.metrics["peak_crank_torque_Nm"],
+        "free_peak": free.metrics["peak_crank_torque_Nm"],
+        "straight_peak": straight.metrics["peak_crank_torque_Nm"],
+        "straightness_ratio": free.metrics["straightness_m"] / seed.metrics["straightness_m"],
+        "floor_trials": floor.trials,
+        "floor_best_time": floor.best_time,
+        "floor_most_steps": floor.most_steps,
+    }
+    return Section(text, facts)
+
+
+def section(out_dir: Path) -> str:
+    """The report section's Markdown (:func:`build` without the facts)."""
+    return build(out_dir).markdown

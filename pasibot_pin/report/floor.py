@@ -148,3 +148,34 @@ def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False) 
         finally:
             plt.close(fig)
     return paths
+
+
+REPORT_SCENARIOS: tuple[str, ...] = ("run1",)
+"""The runs ``pasibot analyze`` puts on the floor (run 1's four spring cases; ``make floor-springs``
+runs all four runs into ``docs/``, about four times the work)."""
+
+
+def build(out_dir: Path):
+    """``pasibot analyze``'s floor section: weld against floor for :data:`REPORT_SCENARIOS`.
+
+    Writes the CSV and the figure; returns the text and the facts the report's summary quotes
+    (:class:`~pasibot_pin.report.markdown.Section`).
+    """
+    from pasibot_pin.report.markdown import Section
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+
+    study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
+    folder = Path(out_dir)
+    write_floor_spring(study, folder, force=True)
+    (folder / f"{SPRINGS_NAME}.md").unlink()  # report.md holds the text
+    runs = ", ".join(REPORT_SCENARIOS)
+    note = f"This report runs {runs}; `make floor-springs` runs every walking scenario (docs/floor.md)."
+    fitted = study.row(REPORT_SCENARIOS[0], "fitted")
+    facts = {
+        "duration": study.settings.duration,
+        "weld_max_pitch": fitted.weld_max_pitch,
+        "floor_max_pitch": fitted.floor_max_pitch,
+        "floor_start": fitted.floor_start,
+        "floor_outcome": fitted.floor_outcome,
+    }
+    return Section(floor_spring_markdown(study) + note + "\n", facts)

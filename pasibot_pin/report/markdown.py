@@ -134,6 +134,32 @@ def summary(facts: Mapping[str, Mapping]) -> str:
                 "new",
             )
         )
+    floor, design = facts.get("floor", {}), facts.get("design_exploration", {})
+    if floor:
+        rows.append(
+            (
+                "the fitted spring on a real floor (run 1)",
+                "not studied (the stance foot is welded)",
+                f"from a state it can hold ({floor['floor_start']}), the largest hip pitch over "
+                f"{floor['duration']:g} s is {_deg(floor['floor_max_pitch'])} against {_deg(floor['weld_max_pitch'])} "
+                f"welded; {floor['floor_outcome']}",
+                "new: the weld "
+                + ("overstates" if floor["floor_max_pitch"] < floor["weld_max_pitch"] else "understates")
+                + " the hip's swing (runs 2-4: docs/floor.md)",
+            )
+        )
+    if design:
+        rows.append(
+            (
+                "a better design: less crank torque at the same stride",
+                "future work: other geometries (§8)",
+                f"peak {design['seed_peak']:.2f} -> {design['free_peak']:.2f} N.m, but a "
+                f"{design['straightness_ratio']:.0f} times less straight path; {design['straight_peak']:.2f} N.m "
+                f"keeping it straight; on the floor no spring design of {design['floor_trials']} walks "
+                f"(best {design['floor_best_time']:.2f} s, {design['floor_most_steps']} steps)",
+                "new",
+            )
+        )
     lines = [
         "## Summary",
         "",
