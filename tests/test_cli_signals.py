@@ -88,8 +88,8 @@ def test_analyze_stops_its_pool_workers_and_leaves_no_half_file(tmp_path, sig, g
     out = tmp_path / "out"
     proc = _start(["analyze", "--out", str(out)], tmp_path)
     try:
-        # the pool's workers (report.jobs.WORKERS) are running
-        from pasibot_pin.report.jobs import WORKERS
+        # the pool's workers (pasibot_pin.jobs.WORKERS) are running
+        from pasibot_pin.jobs import WORKERS
 
         assert _wait_for(lambda: len(descendants(proc.pid)) >= WORKERS, 180), "the pool never started"
     except BaseException:

@@ -17,8 +17,8 @@ import numpy as np
 import pytest
 from report_checks import assert_reads_like_a_report, columns_without_units
 
+from pasibot_pin.jobs import run_jobs
 from pasibot_pin.report import kinematics, markdown, model, torques
-from pasibot_pin.report.jobs import run_jobs
 from pasibot_pin.report.simulation import SimulationPlan
 from pasibot_pin.studies.simulation_study import SimulationStudySettings
 

@@ -7,8 +7,8 @@ verdicts (:func:`pasibot_pin.report.markdown.summary`) and holds no wall-clock t
 write the same text. The simulation
 section, by far the longest, runs in pieces (:class:`pasibot_pin.report.simulation.SimulationPlan`:
 each spring case, each sweep row, the swing-foot check, each scenario's figures, the animation).
-Those pieces and the other sections share one pool of :data:`pasibot_pin.report.jobs.WORKERS`
-processes, longest first (:func:`pasibot_pin.report.jobs.run_jobs`). ``report.md`` keeps the
+Those pieces and the other sections share one pool of :data:`pasibot_pin.jobs.WORKERS`
+processes, longest first (:func:`pasibot_pin.jobs.run_jobs`). ``report.md`` keeps the
 order of :data:`STEPS`.
 """
 
@@ -66,8 +66,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run every step on one pool, longest pieces first, and write ``report.md``."""
     from pasibot_pin.cli.common import check_output_folder
+    from pasibot_pin.jobs import WORKERS, Job, run_jobs
     from pasibot_pin.report.files import write_text_atomic
-    from pasibot_pin.report.jobs import WORKERS, Job, run_jobs
     from pasibot_pin.report.markdown import report_text
     from pasibot_pin.report.simulation import SimulationPlan
 

@@ -46,7 +46,7 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
 
 def parse_by(text: str) -> tuple[str, str]:
     """``METRIC[:min|max]`` -> (metric, sense); ValueError naming --by."""
-    from pasibot_pin.explore.optimize import ALL_METRICS as METRICS
+    from pasibot_pin.studies.design_metrics import ALL_METRICS as METRICS
 
     name, _, sense = str(text).partition(":")
     sense = sense or METRICS.get(name, None) and METRICS[name].sense or "min"

@@ -6,7 +6,7 @@ arguments, so the results are equal bit for bit; ``tests/test_sweep.py`` compare
 LocalCluster run with the local pool.
 
 * ``workers = 1``: in this process, in order.
-* the default: :func:`pasibot_pin.report.jobs.run_jobs`, one process per core (fork), the workers
+* the default: :func:`pasibot_pin.jobs.run_jobs`, one process per core (fork), the workers
   stopped cleanly on Ctrl-C or SIGTERM.
 * ``dask = "local"``: a :class:`distributed.LocalCluster` of ``workers`` processes (one thread
   each), started and closed here. ``dask = "tcp://HOST:8786"``: an existing cluster's scheduler
@@ -86,7 +86,7 @@ def run_tasks(
         for task in tasks:
             on_result(fn(*task))
     else:
-        from pasibot_pin.report.jobs import Job, run_jobs
+        from pasibot_pin.jobs import Job, run_jobs
 
         jobs = [Job(1.0, k, fn, tuple(task)) for k, task in enumerate(tasks)]
         run_jobs(jobs, lambda _key, result: on_result(result), workers=workers)

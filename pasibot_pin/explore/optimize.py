@@ -30,10 +30,7 @@ import numpy as np
 from pasibot_pin.explore.plan import DEFAULT_RANGES, Range, check_floor
 from pasibot_pin.explore.store import ResultStore
 from pasibot_pin.model.design import Design
-from pasibot_pin.studies.design_metrics import FLOOR_METRICS, METRICS, warm_caches
-
-ALL_METRICS = {**METRICS, **FLOOR_METRICS}
-"""Every metric an objective or a constraint may name."""
+from pasibot_pin.studies.design_metrics import ALL_METRICS, warm_caches
 
 STUDY_NAME = "pasibot"
 STORAGE = "optuna.log"

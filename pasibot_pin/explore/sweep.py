@@ -181,7 +181,7 @@ def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[
 
 def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callable | None = None) -> list[int]:
     """Row numbers of the ``count`` best feasible designs by metric ``by`` (``sense`` min or max)."""
-    from pasibot_pin.explore.optimize import ALL_METRICS as METRICS
+    from pasibot_pin.studies.design_metrics import ALL_METRICS as METRICS
 
     if by not in METRICS:
         raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(METRICS)}")

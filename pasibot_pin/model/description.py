@@ -10,6 +10,9 @@ from __future__ import annotations
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+import pinocchio as pin
+
 from pasibot_pin.model.params import Geometry, MassModel, check_legs, check_variant, percentage_mass_model
 from pasibot_pin.model.paths import URDF_DIR, XACRO_PATH, urdf_path
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
@@ -26,6 +29,30 @@ CUT_BODIES: dict[int, tuple[str, str]] = {
     13: ("l5_shank", "foot_bar"),
 }
 """The two links each cut joint connects (side a, side b), without the leg prefix."""
+
+
+ROOT_JOINT_NAME = "hip_planar"
+"""The biped's root joint: the hip's planar floating joint."""
+
+
+def planar_root_joint() -> pin.JointModelComposite:
+    """Planar floating joint in the x-z plane: PX, PZ, then rotation about -y.
+
+    The pitch is counter-clockwise positive seen from the robot's right side, as every
+    revolute joint of the model. (``JointModelPlanar`` is the x-y plane: the wrong plane.)
+    """
+    joint = pin.JointModelComposite(3)
+    joint.addJoint(pin.JointModelPX())
+    joint.addJoint(pin.JointModelPZ())
+    joint.addJoint(pin.JointModelRevoluteUnaligned(np.array([0.0, -1.0, 0.0])))
+    return joint
+
+
+def build_tree(text: str, legs: int) -> pin.Model:
+    """The Pinocchio tree of URDF ``text``: with :func:`planar_root_joint` for the biped, fixed hip for one leg."""
+    if legs == 2:
+        return pin.buildModelFromXML(text, planar_root_joint(), ROOT_JOINT_NAME)
+    return pin.buildModelFromXML(text)
 
 
 def sides(legs: int) -> tuple[str, ...]:

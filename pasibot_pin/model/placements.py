@@ -69,13 +69,9 @@ def _geometry_of(x: np.ndarray, variant: str) -> Geometry:
 
 
 def _tree(variant: str, legs: int, geometry: Geometry) -> pin.Model:
-    from pasibot_pin.model.description import render_urdf
-    from pasibot_pin.model.robot import ROOT_JOINT_NAME, planar_root_joint
+    from pasibot_pin.model.description import build_tree, render_urdf
 
-    text = render_urdf(variant, legs, geometry, percentage_mass_model(geometry, variant))
-    if legs == 2:
-        return pin.buildModelFromXML(text, planar_root_joint(), ROOT_JOINT_NAME)
-    return pin.buildModelFromXML(text)
+    return build_tree(render_urdf(variant, legs, geometry, percentage_mass_model(geometry, variant)), legs)
 
 
 def _translations(model: pin.Model) -> np.ndarray:
@@ -153,13 +149,10 @@ def placement_map(variant: str, legs: int) -> PlacementMap:
             way this module does not support): the map disagrees with a direct rendering.
 
     """
+    from pasibot_pin.model.description import build_tree
     from pasibot_pin.model.paths import urdf_path
-    from pasibot_pin.model.robot import ROOT_JOINT_NAME, planar_root_joint
 
-    text = urdf_path(variant, legs).read_text()
-    model = (
-        pin.buildModelFromXML(text, planar_root_joint(), ROOT_JOINT_NAME) if legs == 2 else pin.buildModelFromXML(text)
-    )
+    model = build_tree(urdf_path(variant, legs).read_text(), legs)
     cache = _cache_file(variant, legs)
     arrays = None
     if cache is not None and cache.is_file():

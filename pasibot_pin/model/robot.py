@@ -11,7 +11,15 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.model.assembly import check_full_turn
-from pasibot_pin.model.description import Loop, loop_table, render_urdf, sides
+from pasibot_pin.model.description import (  # noqa: F401 (planar_root_joint, ROOT_JOINT_NAME: re-exported)
+    ROOT_JOINT_NAME,
+    Loop,
+    build_tree,
+    loop_table,
+    planar_root_joint,
+    render_urdf,
+    sides,
+)
 from pasibot_pin.model.params import (
     MASS_RULES,
     Geometry,
@@ -21,23 +29,9 @@ from pasibot_pin.model.params import (
 from pasibot_pin.model.paths import urdf_path
 from pasibot_pin.model.variants import Variant, get_variant
 
-ROOT_JOINT_NAME = "hip_planar"
 """The two-legged robot's floating hip: x, z translation and pitch in the sagittal plane."""
 
 INERTIA_MODES = ("point", "uniform")
-
-
-def planar_root_joint() -> pin.JointModelComposite:
-    """Planar floating joint in the x-z plane: PX, PZ, then rotation about -y.
-
-    The pitch is counter-clockwise positive seen from the robot's right side, as every
-    revolute joint of the model. (``JointModelPlanar`` is the x-y plane: the wrong plane.)
-    """
-    joint = pin.JointModelComposite(3)
-    joint.addJoint(pin.JointModelPX())
-    joint.addJoint(pin.JointModelPZ())
-    joint.addJoint(pin.JointModelRevoluteUnaligned(np.array([0.0, -1.0, 0.0])))
-    return joint
 
 
 EXTENSION_BARS: dict[str, tuple[str, int]] = {
@@ -310,10 +304,7 @@ def load(
         default = geometry == Geometry() and masses == MASS_RULES["seed"](Geometry(), variant)
         path = urdf_path(variant, legs)
         text = path.read_text() if default and path.is_file() else render_urdf(variant, legs, geometry, masses)
-        if legs == 2:
-            model = pin.buildModelFromXML(text, planar_root_joint(), ROOT_JOINT_NAME)
-        else:
-            model = pin.buildModelFromXML(text)
+        model = build_tree(text, legs)
     else:
         from pasibot_pin.model.placements import tree
 

@@ -282,7 +282,7 @@ _ANIMATION_ESTIMATE = 3.0
 
 
 class SimulationPlan:
-    """The ``simulation`` section as pool jobs (:mod:`pasibot_pin.report.jobs`).
+    """The ``simulation`` section as pool jobs (:mod:`pasibot_pin.jobs`).
 
     :meth:`jobs` gives the first jobs: per scenario its inputs, each spring case and each sweep
     row, and the swing-foot check's run. :meth:`done` takes each result and releases a
@@ -305,8 +305,8 @@ class SimulationPlan:
 
     def jobs(self) -> list:
         """The first jobs: inputs, spring cases and sweep rows per scenario, the check."""
+        from pasibot_pin.jobs import Job
         from pasibot_pin.model.scenarios import SCENARIOS
-        from pasibot_pin.report.jobs import Job
         from pasibot_pin.studies import simulation_study as sim
         from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG, sweep_method_for
 
@@ -330,7 +330,7 @@ class SimulationPlan:
 
     def done(self, key, result) -> list:
         """Take a job's result; return the jobs it releases (a scenario's figures, the animation)."""
-        from pasibot_pin.report.jobs import Job
+        from pasibot_pin.jobs import Job
         from pasibot_pin.studies import simulation_study as sim
         from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG
 
@@ -467,7 +467,7 @@ def section(out_dir: Path) -> str:
         The Markdown section.
 
     """
-    from pasibot_pin.report.jobs import run_jobs
+    from pasibot_pin.jobs import run_jobs
 
     plan = SimulationPlan(Path(out_dir))
     start = time.perf_counter()

@@ -106,6 +106,9 @@ FLOOR_METRICS: Mapping[str, MetricSpec] = {
 """The optional floor-simulation metrics (``design_metrics(design, floor=DURATION)``), plus the
 outcome string ``floor_outcome``."""
 
+ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS}
+"""Every metric a table may hold, an objective, a constraint or a ranking may name."""
+
 FLOOR_MU: float = 0.8
 """Sole-floor friction of the floor metrics [-]."""
 

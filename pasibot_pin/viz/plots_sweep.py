@@ -8,9 +8,9 @@ import numpy as np
 
 
 def _metrics() -> dict:
-    from pasibot_pin.studies.design_metrics import FLOOR_METRICS, METRICS
+    from pasibot_pin.studies.design_metrics import ALL_METRICS
 
-    return {**METRICS, **FLOOR_METRICS}
+    return dict(ALL_METRICS)
 
 
 def _label(name: str) -> str:
