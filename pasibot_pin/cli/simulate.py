@@ -12,7 +12,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import math
-import time
 from pathlib import Path
 
 from pasibot_pin.cli import common
@@ -32,10 +31,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--rest-angle", type=float, help="beta0 [deg] (default: the inverse-dynamics fit)")
     p.add_argument("--damping", type=float, help="ankle damping c [N.m.s/rad] (default: critical for the foot)")
     p.add_argument(
-        "--swing-ankle",
-        choices=("rest", "spring"),
-        default="rest",
-        help="swing foot held at the spring's rest angle (massless-foot limit, default) or integrated on its spring",
+        "--swing-ankle", choices=("rest", "spring"), default="rest", help="swing foot at rest angle or sprung"
     )
     p.add_argument("--dt", type=float, help="integration step [s] (default 0.01 rest / 0.002 spring)")
     p.add_argument(
@@ -61,18 +57,14 @@ def run(args: argparse.Namespace) -> int:
         from pasibot_pin.cli.simulate_floor import run_floor
 
         return run_floor(args)
-    if args.study or args.duration is not None:
-        raise ValueError(f"{'--study' if args.study else '--duration'} applies to --ground floor only")
-    if common.given(args, "mu"):
-        raise ValueError("--mu applies to --ground floor only (the welded foot does not slide)")
-    if args.design is not None:
-        raise ValueError("--design applies to --ground floor (the welded study runs the seed scenarios)")
+    floor_only = {"--study": args.study, "--duration": args.duration, "--mu": common.given(args, "mu")}
+    for flag in (f for f, value in {**floor_only, "--design": args.design}.items() if value not in (None, False)):
+        raise ValueError(f"{flag} applies to --ground floor only (the welded study: seed scenarios, the foot welded)")
     if args.steps < 1:
         raise ValueError(f"--steps must be a positive integer, got {args.steps}")
     if args.gif or args.html:
         check_fps(args.fps)
     common.check_output_folder(args.out, "--out")
-    start = time.perf_counter()
     settings = SimulateSettings(
         scenario=args.scenario,
         steps=args.steps,
@@ -102,5 +94,4 @@ def run(args: argparse.Namespace) -> int:
     final = dict(zip(temps, targets))
     for path in written:
         print(f"wrote {final.get(Path(path), path)}")
-    print(f"wrote {files.plot}, {files.csv} in {time.perf_counter() - start:.1f} s")
     return 0
