@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps test demo urdf bench timings lint clean answers floor-springs
+.PHONY: install browser-deps test demo urdf bench timings lint clean answers floor-springs docs-figures
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -41,6 +41,10 @@ floor-springs: install
 
 bench: install
 	@for script in benchmarks/*.py; do echo "== $$script"; $(PY) $$script; done
+
+# docs/torques.png drawn by the library (the other docs pictures: make floor-springs, make answers)
+docs-figures: install
+	$(PY) -m pasibot_pin.report.docs_figures
 
 # docs/timings.md: the demo's wall and CPU time, measured here, with the machine named
 timings: install
