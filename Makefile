@@ -35,7 +35,8 @@ urdf: install
 answers: install
 	$(PY) -m pasibot_pin.explore.questions
 
-# docs/floor_springs.{md,csv,png}: weld against floor for runs 1-4 and the four springs (about a minute)
+# docs/floor_springs.{md,csv,png}: weld against floor for runs 1-4 and the four springs (about a minute);
+# docs/floor_quasi_static.{csv,png}: the quasi-static K_e x beta0 sweep, weld beside floor
 floor-springs: install
 	$(VENV)/bin/pasibot simulate --ground floor --study --scenario all --out docs --force
 

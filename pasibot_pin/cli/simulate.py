@@ -37,9 +37,9 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--study",
         action="store_true",
-        help="floor: the weld-against-floor spring study (--scenario N or all) to OUT/floor_springs.md, .csv, .png",
+        help="floor: weld against floor (--scenario N or all), spring cases and quasi-static K_e x beta0 sweep",
     )
-    p.add_argument("--no-cases", action="store_true", help="simulate the fitted spring only (skip none/half/twice)")
+    p.add_argument("--no-cases", action="store_true", help="the fitted spring only (--study: and no sweep)")
     p.add_argument("--gif", action="store_true", help="also write the fitted run as a stick GIF")
     p.add_argument("--html", action="store_true", help="also write the fitted run as a meshcat HTML animation")
     common.add_fps_option(p)

@@ -51,18 +51,30 @@ def run_floor(args: argparse.Namespace) -> int:
 
 
 def _run_study(args: argparse.Namespace, dt: float) -> int:
-    """``--study``: weld against floor for the scenario (or all four runs); the table, CSV and figure."""
+    """``--study``: weld against floor for the scenario (or all four runs); the tables, CSVs and figures.
+
+    The quasi-static K_e x beta0 sweep too, unless ``--no-cases``.
+    """
     from pasibot_pin.report.floor import floor_spring_files, floor_spring_line, write_floor_spring
     from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
+    from pasibot_pin.studies.floor_static import floor_static_study
     from pasibot_pin.studies.spring_study import SPRING_CASES
 
     scenarios = WALKING_SCENARIOS if args.scenario == "all" else (args.scenario,)
     duration = 2.0 if args.duration is None else args.duration
     settings = FloorSpringSettings(scenarios=scenarios, duration=duration, mu=args.mu, dt=dt)
     check_output_folder(args.out, "--out")
-    floor_spring_files(args.out, args.force)  # FileExistsError before any work
+    floor_spring_files(args.out, args.force, sweep=not args.no_cases)  # FileExistsError before any work
     cases = SPRING_CASES[:1] if args.no_cases else SPRING_CASES
     study = floor_spring_study(settings, cases, on_row=lambda row: print(floor_spring_line(row), flush=True))
-    for path in write_floor_spring(study, args.out, force=args.force):
+    statics = None if args.no_cases else floor_static_study(settings.scenarios, settings.mu, settings.static_samples)
+    for sweep in statics or []:
+        holds = [(c.holds, c.weld_excursion < float("inf")) for row in sweep.cells for c in row]
+        print(
+            f"  {sweep.scenario} quasi-static K_e x beta0: the floor holds {sum(h for h, _ in holds)} of "
+            f"{len(holds)} cells, the weld {sum(w for _, w in holds)}",
+            flush=True,
+        )
+    for path in write_floor_spring(study, args.out, force=args.force, statics=statics):
         print(f"wrote {path}")
     return 0

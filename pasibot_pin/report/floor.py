@@ -16,6 +16,7 @@ import matplotlib.pyplot as plt
 
 from pasibot_pin.files import atomic_paths
 from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.report.floor_static import cases_markdown, floor_text, static_files, sweep_markdown, write_static_into
 from pasibot_pin.studies.floor_spring_study import CaseComparison, FloorSpringStudy
 from pasibot_pin.studies.floor_study import FloorStudy, floor_columns
 from pasibot_pin.viz.plots_floor import plot_floor_study, plot_weld_vs_floor
@@ -70,6 +71,7 @@ def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
                 "spring": r.case,
                 "K_e [N.m/rad]": f"{r.stiffness:.1f}",
                 "weld: quasi-static max pitch [deg]": _deg(r.weld_static),
+                "floor: quasi-static max pitch [deg]": floor_text(r.floor_static),
                 "weld: max pitch [deg]": f"{math.degrees(r.weld_max_pitch):.1f}",
                 "weld: fell at [s]": fell,
                 "floor: start": "cannot stand" if r.floor_start == "none" else start,
@@ -84,8 +86,12 @@ def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
     return out
 
 
-def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + ".png") -> str:
-    """The report section: what the floor changes, the table and the figure (linked, with a caption)."""
+def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + ".png", statics=None) -> str:
+    """The report section: what the floor changes, the table and the figure (linked, with a caption).
+
+    ``statics``: :class:`~pasibot_pin.studies.floor_static.FloorStaticSweep` of each run; their
+    K_e x beta0 maps follow (:func:`~pasibot_pin.report.floor_static.sweep_markdown`).
+    """
     rows = floor_spring_table(study)
     head = list(rows[0]) if rows else []
     lines = [
@@ -97,7 +103,9 @@ def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + 
         "else the springs engaged",
         "with the cranks held until the robot rests (`settled`); `cannot stand`: it finds no rest at theta0",
         "and the run starts from the flat double support. The weld's quasi-static column is the largest",
-        "equilibrium hip pitch along the stance (cranks held).",
+        "equilibrium hip pitch along the stance (cranks held); the floor's, the same where the sole holds",
+        "it flat at every crank angle, else the first crank angle where the foot rolls onto its heel or toe,",
+        "no equilibrium is stable, or the swing foot dips into the floor (`pasibot_pin.studies.floor_static`).",
         "",
         "| " + " | ".join(head) + " |",
         "|" + "---|" * len(head),
@@ -111,12 +119,19 @@ def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + 
         "fell or failed.*",
         "",
     ]
+    if statics and any(s.stiffness is not None for s in statics):
+        lines.append(sweep_markdown(statics))
     return "\n".join(lines)
 
 
-def floor_spring_files(out: Path, force: bool = False) -> list[Path]:
-    """``floor_springs.md``, ``.csv`` and ``.png`` in ``out``; FileExistsError if one exists and ``force`` is false."""
+def floor_spring_files(out: Path, force: bool = False, sweep: bool = False) -> list[Path]:
+    """``floor_springs.md``, ``.csv`` and ``.png`` in ``out``; FileExistsError if one exists and ``force`` is false.
+
+    ``sweep``: also ``floor_quasi_static.csv`` and ``.png``.
+    """
     paths = [Path(out) / f"{SPRINGS_NAME}{ext}" for ext in (".md", ".csv", ".png")]
+    if sweep:
+        paths += static_files(out, force=True)
     existing = [str(p) for p in paths if p.exists()]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
@@ -132,12 +147,19 @@ def floor_spring_line(row: CaseComparison) -> str:
     )
 
 
-def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False) -> list[Path]:
-    """Write ``floor_springs.md``, ``.csv`` and ``.png`` in ``out`` (FileExistsError without ``force``)."""
-    paths = floor_spring_files(out, force)
+def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False, statics=None) -> list[Path]:
+    """Write ``floor_springs.md``, ``.csv`` and ``.png`` in ``out`` (FileExistsError without ``force``).
+
+    ``statics``: the quasi-static sweeps (:func:`~pasibot_pin.studies.floor_static.floor_static_study`):
+    their maps go into the markdown, ``floor_quasi_static.csv`` and ``.png``.
+    """
+    sweep = bool(statics) and any(s.stiffness is not None for s in statics)
+    paths = floor_spring_files(out, force, sweep)
     rows = floor_spring_table(study)
-    with atomic_paths(*paths) as (md_tmp, csv_tmp, png_tmp):
-        md_tmp.write_text(floor_spring_markdown(study), encoding="utf-8")
+    with atomic_paths(*paths) as (md_tmp, csv_tmp, png_tmp, *static_tmp):
+        if sweep:
+            write_static_into(statics, *static_tmp)
+        md_tmp.write_text(floor_spring_markdown(study, statics=statics), encoding="utf-8")
         with csv_tmp.open("w", newline="") as handle:
             writer = csv.DictWriter(handle, fieldnames=list(rows[0]) if rows else [])
             writer.writeheader()
@@ -151,8 +173,10 @@ def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False) 
 
 
 REPORT_SCENARIOS: tuple[str, ...] = ("run1",)
-"""The runs ``pasibot analyze`` puts on the floor (run 1's four spring cases; ``make floor-springs``
-runs all four runs into ``docs/``, about four times the work)."""
+"""The runs ``pasibot analyze`` simulates on the floor (run 1's four spring cases; ``make floor-springs``
+runs all four runs into ``docs/``, about four times the work). Its quasi-static answers cover
+:data:`STATIC_SCENARIOS` (exact statics, no simulation: cheap)."""
+STATIC_SCENARIOS: tuple[str, ...] = ("run1", "run2", "run3", "run4")
 
 
 def build(out_dir: Path):
@@ -162,14 +186,21 @@ def build(out_dir: Path):
     (:class:`~pasibot_pin.report.markdown.Section`).
     """
     from pasibot_pin.report.markdown import Section
-    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study, quasi_static_of
+    from pasibot_pin.studies.floor_static import floor_static_study
 
     study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
     folder = Path(out_dir)
     write_floor_spring(study, folder, force=True)
     (folder / f"{SPRINGS_NAME}.md").unlink()  # report.md holds the text
+    others = tuple(s for s in STATIC_SCENARIOS if s not in REPORT_SCENARIOS)
+    statics = quasi_static_of(study) + floor_static_study(others, sweep=False)
     runs = ", ".join(REPORT_SCENARIOS)
-    note = f"This report runs {runs}; `make floor-springs` runs every walking scenario (docs/floor.md)."
+    note = (
+        f"\nThis report simulates {runs} and answers runs 1-4 quasi-statically (below: exact statics, no "
+        "simulation); `make floor-springs` simulates every walking scenario and sweeps K_e x beta0 "
+        "(docs/floor.md, docs/floor_springs.md).\n\n"
+    )
     fitted = study.row(REPORT_SCENARIOS[0], "fitted")
     facts = {
         "duration": study.settings.duration,
@@ -177,5 +208,7 @@ def build(out_dir: Path):
         "floor_max_pitch": fitted.floor_max_pitch,
         "floor_start": fitted.floor_start,
         "floor_outcome": fitted.floor_outcome,
+        "quasi_static_weld_holds": sum(math.isfinite(p.weld_excursion) for s in statics for p in s.cases.values()),
+        "quasi_static_floor_holds": sum(p.holds for s in statics for p in s.cases.values()),
     }
-    return Section(floor_spring_markdown(study) + note + "\n", facts)
+    return Section(floor_spring_markdown(study) + note + cases_markdown(statics), facts)

@@ -5,7 +5,9 @@ For each scenario and each spring case (fitted, no spring, half and twice K_e):
 - **weld** (:mod:`pasibot_pin.dynamics.simulator`): the stance foot welded flat, the swing foot
   at the spring's rest angle, the hip starting at its standing pitch; the largest hip pitch over
   ``duration`` (or the time it fell), and the quasi-static answer: the largest equilibrium hip
-  pitch along the stance (cranks held), ``inf`` where some crank angle has no stable equilibrium.
+  pitch along the stance (cranks held), ``inf`` where some crank angle has no stable equilibrium;
+  beside it the floor's quasi-static answer (:mod:`pasibot_pin.studies.floor_static`: whether the
+  sole holds that equilibrium flat, or the foot rolls onto its heel or toe).
 - **floor** (:mod:`pasibot_pin.dynamics.floor`): both feet on the floor from a consistent start
   (:meth:`~pasibot_pin.dynamics.floor.FloorSimulator.start_state`); how it stands at theta0 with
   the cranks held (the floor's quasi-static answer: the settled hip pitch and contact modes, or
@@ -26,7 +28,8 @@ import numpy as np
 
 from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
-from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, static_equilibrium
+from pasibot_pin.studies.floor_static import FloorStatic, FloorStaticSweep, floor_static_path, stance_thetas
+from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs
 
 WALKING_SCENARIOS: tuple[str, ...] = ("run1", "run2", "run3", "run4")
 """The seed's walking runs."""
@@ -41,7 +44,8 @@ class FloorSpringSettings:
         duration: simulated time of each run, weld and floor [s].
         mu: sole-floor Coulomb friction [-].
         dt: the floor's time step [s] (the weld uses 10 ms with the swing foot at rest angle).
-        static_samples: crank angles over one stance for the welded quasi-static path.
+        static_samples: crank angles over one stance for the quasi-static paths (the weld
+            sweep's 19 by default: the same crank angles, the same numbers).
 
     """
 
@@ -49,7 +53,7 @@ class FloorSpringSettings:
     duration: float = 2.0
     mu: float = 0.8
     dt: float = 1e-3
-    static_samples: int = 7
+    static_samples: int = 19
 
     def __post_init__(self) -> None:
         from pasibot_pin.model.scenarios import get_scenario
@@ -76,6 +80,7 @@ class CaseComparison:
         weld_max_pitch: largest |hip pitch| of the welded run [rad].
         weld_fell_at: when the welded run fell [s] (NaN: it did not).
         weld_static: largest |equilibrium hip pitch| along the stance, cranks held [rad] (inf: none stable).
+        floor_static: the floor's quasi-static answer (:class:`~pasibot_pin.studies.floor_static.FloorStatic`).
         floor_start: ``flat`` (the flat double support holds), ``settled`` or ``none`` (it cannot stand).
         floor_start_pitch: hip pitch of the floor's start [rad].
         floor_start_modes: ``right/left`` contact modes at the start.
@@ -93,6 +98,7 @@ class CaseComparison:
     weld_max_pitch: float
     weld_fell_at: float
     weld_static: float
+    floor_static: FloorStatic
     floor_start: str
     floor_start_pitch: float
     floor_start_modes: str
@@ -115,14 +121,19 @@ class FloorSpringStudy:
         return next(r for r in self.rows if r.scenario == scenario and r.case == case)
 
 
-def compare_case(inputs, label: str, factor: float, settings: FloorSpringSettings) -> CaseComparison:
-    """Weld and floor for one spring case of a scenario (``inputs``: :func:`scenario_inputs`)."""
+def compare_case(
+    inputs, label: str, factor: float, settings: FloorSpringSettings, cache: dict | None = None
+) -> CaseComparison:
+    """Weld and floor for one spring case of a scenario (``inputs``: :func:`scenario_inputs`).
+
+    ``cache``: the quasi-static solves' cache, shared by the cases of one scenario.
+    """
     robot, omega = inputs.robot, inputs.omega
     # one spring per case, weld and floor alike: K_e scaled, the rest angle (the welded swing foot is
     # held at it) and the ankle damper kept, so "no spring" is the damper alone in both
     spring = inputs.fit.scaled(factor)
-    thetas = np.linspace(math.pi / 2, 1.5 * math.pi, settings.static_samples, endpoint=False)
-    static = static_equilibrium(robot, spring, thetas)
+    quasi = floor_static_path(robot, spring, stance_thetas(settings.static_samples), settings.mu, cache)
+    static = quasi.weld
     pitch0 = float(static.hip_pitch[0]) if static.found[0] and static.stiffness[0] > 0 else 0.0
     weld = simulate(
         robot,
@@ -143,6 +154,7 @@ def compare_case(inputs, label: str, factor: float, settings: FloorSpringSetting
         weld_max_pitch=weld.max_hip_excursion,
         weld_fell_at=float(weld.t[-1]) if weld.fell else math.nan,
         weld_static=static.max_excursion,
+        floor_static=quasi,
         floor_start=start,
         floor_start_pitch=start_pitch,
         floor_start_modes=modes,
@@ -164,9 +176,20 @@ def floor_spring_study(
     study = FloorSpringStudy(settings)
     for scenario in settings.scenarios:
         inputs = scenario_inputs(scenario)
+        cache: dict = {}
         for label, factor in cases:
-            row = compare_case(inputs, label, factor, settings)
+            row = compare_case(inputs, label, factor, settings, cache)
             study.rows.append(row)
             if on_row is not None:
                 on_row(row)
     return study
+
+
+def quasi_static_of(study: FloorSpringStudy) -> list[FloorStaticSweep]:
+    """The study's quasi-static answers, one :class:`FloorStaticSweep` per scenario (its cases, no grid)."""
+    out: dict[str, FloorStaticSweep] = {}
+    for row in study.rows:
+        spring = row.floor_static.spring
+        sweep = out.setdefault(row.scenario, FloorStaticSweep(row.scenario, spring))
+        sweep.cases[row.case] = row.floor_static
+    return list(out.values())

@@ -82,3 +82,57 @@ def plot_weld_vs_floor(study, ax=None):
     ax.set_title(f"weld (blue) against floor (orange) over {study.settings.duration:g} s; hatched: fell or failed")
     ax.grid(alpha=0.3, axis="y")
     return fig
+
+
+def plot_floor_static_map(sweep, what: str = "floor", ax=None):
+    """One run's K_e x beta0 map of the quasi-static answer (``FloorStaticSweep``), ``weld`` or ``floor``.
+
+    One cell per grid point (K_e [N.m/rad] across, beta0 [deg] up). Colour: the largest |hip pitch|
+    along the stance [deg]; grey cells have none, their text says why (weld: ``none``; floor: the
+    first failure, its crank angle, and the crank angles held flat). Star: the fitted spring.
+    """
+    import math
+
+    fig, ax = figure_axes(ax, (6, 4.5))
+    grid = np.degrees(sweep.grid(what))
+    k, b = np.asarray(sweep.stiffness), np.degrees(np.asarray(sweep.rest))
+    ax.imshow(np.ones(grid.shape), cmap="Greys", vmin=0, vmax=5, origin="lower", aspect="auto")
+    image = ax.imshow(
+        np.where(np.isfinite(grid), grid, np.nan), cmap="viridis_r", vmin=0, vmax=30, origin="lower", aspect="auto"
+    )
+    for i in range(len(b)):
+        for j in range(len(k)):
+            cell = sweep.cells[i][j]
+            if np.isfinite(grid[i, j]):
+                text = f"{grid[i, j]:.1f}"
+            elif what == "weld" or cell.failure is None:
+                text = "none"
+            else:
+                theta, status = cell.failure
+                flat = sum(s == "flat" for s in cell.status)
+                text = f"{status} {math.degrees(theta):.0f}°\n{flat}/{len(cell.status)} flat"
+            ax.text(j, i, text, ha="center", va="center", fontsize=6)
+    fit_k = int(np.argmin(np.abs(k - sweep.fitted.stiffness)))
+    fit_b = int(np.argmin(np.abs(np.asarray(sweep.rest) - sweep.fitted.rest_angle)))
+    ax.plot(fit_k, fit_b - 0.3, "*", color="#e6007e", ms=10)
+    ax.set_xticks(range(len(k)), [f"{x:.0f}" for x in k], fontsize=7)
+    ax.set_yticks(range(len(b)), [f"{x:.1f}" for x in b], fontsize=7)
+    ax.set_xlabel("K_e [N.m/rad]")
+    ax.set_ylabel("beta0 [deg]")
+    ax.set_title(f"{sweep.scenario}, {what}", fontsize=9)
+    fig.colorbar(image, ax=ax, label="max |hip pitch| [deg]")
+    return fig
+
+
+def plot_floor_static_maps(sweeps, axes=None):
+    """The K_e x beta0 maps of every run (rows), weld (left) beside floor (right); returns the figure."""
+    sweeps = [s for s in sweeps if s.stiffness is not None]
+    if axes is None:
+        fig, axes = plt.subplots(len(sweeps), 2, figsize=(10, 3.2 * len(sweeps)), squeeze=False, layout="constrained")
+    else:
+        axes = np.atleast_2d(axes)
+        fig = axes[0, 0].figure
+    for row, sweep in enumerate(sweeps):
+        for col, what in enumerate(("weld", "floor")):
+            plot_floor_static_map(sweep, what, ax=axes[row, col])
+    return fig
