@@ -174,7 +174,7 @@ def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsy
 
 
 def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
-    """The README's floor paragraph and docs/floor.md's rows for the fitted spring of runs 1 and 2,
+    """The README's floor paragraph and docs/floor.md's rows for the fitted spring of runs 1-4,
     recomputed by the study (a drift of any printed figure fails here)."""
     import re
     from pathlib import Path
@@ -187,21 +187,24 @@ def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
     doc = root.joinpath("docs", "floor.md").read_text(encoding="utf-8")
     found = re.search(
         r"run 1 stands on its front heel and rear toe at (\S+)° hip\s+pitch and stays within ([0-9.]+)° over "
-        r"([0-9.]+) s \(welded: ([0-9.]+)°\), but runs 2–4 cannot stand with the fitted\s+spring: run 2 falls at "
-        r"([0-9.]+) s, where the weld holds ([0-9.]+)°",
+        r"([0-9.]+) s \(welded: ([0-9.]+)°\), but runs 2–4 cannot stand with the fitted\s+spring: they fall at "
+        r"([0-9.]+), ([0-9.]+) and ([0-9.]+) s, where the weld holds ([0-9.]+)°, ([0-9.]+)° and ([0-9.]+)°",
         readme,
     )
     assert found, "the README's floor sentence changed shape"
-    start, floor_max, duration, weld_max, fall, weld2 = (float(x.replace("−", "-")) for x in found.groups())
-    settings = FloorSpringSettings(scenarios=("run1", "run2"), duration=duration)
+    start, floor_max, duration, weld_max, *rest = (float(x.replace("−", "-")) for x in found.groups())
+    falls, welds = rest[:3], rest[3:]
+    settings = FloorSpringSettings(scenarios=("run1", "run2", "run3", "run4"), duration=duration)
     study = floor_spring_study(settings, cases=[("fitted", 1.0)])
-    run1, run2 = study.row("run1", "fitted"), study.row("run2", "fitted")
+    run1 = study.row("run1", "fitted")
     assert run1.floor_start == "settled" and run1.floor_start_modes == "heel/toe"
     assert start == round(math.degrees(run1.floor_start_pitch), 2)
     assert floor_max == round(math.degrees(run1.floor_max_pitch), 1) and not run1.floor_failed
     assert weld_max == round(math.degrees(run1.weld_max_pitch), 1)
-    assert run2.floor_start == "none" and run2.floor_failed and "fell" in run2.floor_outcome
-    assert fall == round(run2.floor_end, 2) and weld2 == round(math.degrees(run2.weld_max_pitch), 1)
+    for run, fall, weld in zip(("run2", "run3", "run4"), falls, welds):
+        row = study.row(run, "fitted")
+        assert row.floor_start == "none" and row.floor_failed and "fell" in row.floor_outcome
+        assert fall == round(row.floor_end, 2) and weld == round(math.degrees(row.weld_max_pitch), 1)
     for row in floor_spring_table(study):  # docs/floor.md prints the same rows
         assert "| " + " | ".join(row.values()) + " |" in doc
 
@@ -317,3 +320,12 @@ def test_analyze_floor_section_links_its_figure_and_states_its_facts(tmp_path):
     assert 0 <= facts["floor_max_pitch"] and 0 <= facts["weld_max_pitch"]
     row = summary({"floor": facts})
     assert f"{math.degrees(facts['floor_max_pitch']):.1f}°" in row and facts["floor_outcome"] in row
+    # runs 1-4 answered quasi-statically (exact statics), the rows those of the library's study
+    from pasibot_pin.report.floor_static import case_rows
+    from pasibot_pin.studies.floor_static import floor_static_study
+
+    quasi = section.markdown.split("### Quasi-static")[1]
+    for row in case_rows(floor_static_study(("run4",), sweep=False)):
+        assert "| " + " | ".join(row.values()) + " |" in quasi
+    for run in ("run1", "run2", "run3"):
+        assert quasi.count(f"| {run} |") == 4
