@@ -212,7 +212,9 @@ def floor_static_path(
     if thetas.ndim != 1 or not len(thetas) or not np.all(np.isfinite(thetas)):
         raise ValueError("parameter 'thetas' must be a non-empty list of finite crank angles [rad]")
     cache = {} if cache is None else cache
-    statics = cache.setdefault("floor_statics", _FloorStatics(robot))
+    if "floor_statics" not in cache:  # one floor model per robot, built once
+        cache["floor_statics"] = _FloorStatics(robot)
+    statics = cache["floor_statics"]
     weld = static_equilibrium(robot, spring, thetas, cache=cache)
     n = len(thetas)
     heel, toe, tangential, use, cop, clearance, residual = (np.full(n, np.nan) for _ in range(7))
