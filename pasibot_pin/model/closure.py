@@ -23,7 +23,7 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
-from pasibot_pin.model.assembly import joint_angles_from_points, leg_points, sole_angle_from_points
+from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
 from pasibot_pin.model.description import sides
 
 RESIDUAL_TOL = 1e-12
@@ -205,6 +205,56 @@ def angular_coordinates(model: pin.Model) -> np.ndarray:
     return mask
 
 
+@dataclass(frozen=True)
+class _AssemblyPlan:
+    """What :func:`analytic_configurations` needs of a model, looked up once (per model)."""
+
+    neutral: np.ndarray
+    columns: dict[str, dict[str, int]]  # side -> joint name without the side -> q column
+
+
+_PLANS: dict[int, tuple[pin.Model, _AssemblyPlan]] = {}
+_WELDS: dict[tuple, tuple[pin.Model, pin.RigidConstraintModel]] = {}
+
+
+def _assembly_plan(robot) -> _AssemblyPlan:
+    """The :class:`_AssemblyPlan` of ``robot``'s model (cached; the entry keeps the model alive)."""
+    model = robot.model
+    cached = _PLANS.get(id(model))
+    if cached is not None and cached[0] is model:
+        return cached[1]
+    columns: dict[str, dict[str, int]] = {side: {} for side in sides(robot.legs)}
+    for j in range(1, model.njoints):
+        side, _, rest = model.names[j].partition("_")
+        if side in columns and model.joints[j].nq == 1:
+            columns[side][rest] = model.joints[j].idx_q
+    plan = _AssemblyPlan(np.array(pin.neutral(model)), columns)
+    if len(_PLANS) >= _CACHE_SIZE:
+        _PLANS.pop(next(iter(_PLANS)))
+    _PLANS[id(model)] = (model, plan)
+    return plan
+
+
+def stance_weld(robot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraintModel:
+    """The weld of ``stance``'s foot flat on the ground, its ankle at world x = ``ankle_x`` [m] (cached).
+
+    The same object is returned for the same model, stance and ``ankle_x``: do not modify it.
+    """
+    model = robot.model
+    y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
+    key = (id(model), stance, float(ankle_x), float(y))
+    cached = _WELDS.get(key)
+    if cached is not None and cached[0] is model:
+        return cached[1]
+    weld = constraints.weld_constraint(
+        model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
+    )
+    if len(_WELDS) >= _CACHE_SIZE:
+        _WELDS.pop(next(iter(_WELDS)))
+    _WELDS[key] = (model, weld)
+    return weld
+
+
 def analytic_configurations(
     robot,
     thetas,
@@ -215,6 +265,10 @@ def analytic_configurations(
     ankle_x: float = 0.0,
 ) -> tuple[np.ndarray, pin.RigidConstraintModel | None]:
     """Configurations from the analytic assembly alone, one per crank angle (closed to round-off).
+
+    Vectorised: the leg points of every sample and both legs come from one call of the closed
+    form (:func:`~pasibot_pin.model.assembly.leg_points_complex`), the joint columns and the
+    weld are looked up once per model.
 
     Args:
         robot: a loaded robot.
@@ -237,22 +291,28 @@ def analytic_configurations(
     for name, value in (("theta", thetas), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not np.all(np.isfinite(value)):
             raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
-    model = robot.model
     g, variant = robot.geometry, robot.spec
+    plan = _assembly_plan(robot)
+    n = len(thetas)
     left = thetas + math.pi
     if theta_left is not None:
         left = np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
+    legs = sides(robot.legs)
     angles = {"right": thetas, "left": left}
-    q = np.tile(pin.neutral(model), (len(thetas), 1))
     stance = stance or robot.stance or "right"
-    points = {side: leg_points(angles[side], g, variant) for side in sides(robot.legs)}
-    pitch = np.zeros(len(thetas))
+    # one closed-form call for all samples of both legs; the fixed pivots are scalars
+    every = leg_points_complex(np.concatenate([angles[side] for side in legs]), g, variant)
+    points = {
+        side: {k: v[i * n : (i + 1) * n] if np.ndim(v) else v for k, v in every.items()} for i, side in enumerate(legs)
+    }
+    q = np.tile(plan.neutral, (n, 1))
+    pitch = np.zeros(n)
     if robot.floating:
         if variant.free_ankle:
             pitch[:] = hip_pitch_value
         else:
             pitch = -sole_angle_from_points(points[stance], variant)
-    for side in sides(robot.legs):
+    for side in legs:
         foot_angle = None
         if variant.free_ankle:
             if not robot.floating:
@@ -261,19 +321,16 @@ def analytic_configurations(
                 foot_angle = -pitch
             elif swing_foot_pitch is not None:
                 foot_angle = swing_foot_pitch - pitch
-        for joint, value in joint_angles_from_points(points[side], angles[side], variant, foot_angle).items():
-            q[:, robot.idx_q(f"{side}_{joint}")] = value
+        columns = plan.columns[side]
+        for joint, value in joint_angles_complex(points[side], angles[side], variant, foot_angle).items():
+            q[:, columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}")] = value
     weld = None
     if robot.floating:
-        ankle = points[stance]["p13"]
-        c, s = np.cos(pitch), np.sin(pitch)
-        q[:, 0] = ankle_x - (c * ankle[:, 0] - s * ankle[:, 1])
-        q[:, 1] = -(s * ankle[:, 0] + c * ankle[:, 1])
+        ankle = points[stance]["p13"] * np.exp(1j * pitch)  # the ankle turned by the hip pitch
+        q[:, 0] = ankle_x - ankle.real
+        q[:, 1] = -ankle.imag
         q[:, 2] = pitch
-        y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
-        weld = constraints.weld_constraint(
-            model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
-        )
+        weld = stance_weld(robot, stance, ankle_x)
     return q, weld
 
 
