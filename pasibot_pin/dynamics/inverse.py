@@ -39,7 +39,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import coupling, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.constraints.system import inverse_many, planar_kinematics, split_torques_reduced
+from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
 from pasibot_pin.dynamics.newton_euler import batch_rnea, tree_layout
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
@@ -416,8 +416,18 @@ def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular) -> np.nda
     The angles are unwrapped along the sweep, as a continuation would carry them.
     """
     guess, _ = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
-    guess[:, angular] = np.unwrap(guess[:, angular], axis=0)
+    _unwrap(guess, angular)
     return guess
+
+
+def _unwrap(q: np.ndarray, angular: np.ndarray) -> None:
+    """Unwrap the angle columns of q (N, nq) along the sweep, in place (``np.unwrap`` where one jumps)."""
+    if len(q) < 2:
+        return
+    jumps = np.abs(np.diff(q[:, angular], axis=0)).max(axis=0) > math.pi
+    if jumps.any():
+        columns = np.flatnonzero(angular)[jumps]
+        q[:, columns] = np.unwrap(q[:, columns], axis=0)
 
 
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
@@ -515,16 +525,14 @@ def inverse_dynamics(
             stance_x = float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
         plan = _stance_plan(robot, side, swing_foot, layout, stance_x)
         rs, rows, tree = plan.robot, plan.rows, plan.tree
-        # the analytic assembly of the whole stance (closed to round-off; Newton only if it is not)
-        guess = _stance_guess(rs, th, swing_pitch, side, stance_x, plan.angular)
+        # q, v and a of the whole stance from the closed form and its exact time derivatives (jets);
+        # one batched evaluation of the rows checks the closure (Newton polishes only if it is open)
+        guess, v, a, _ = closure.analytic_motion(rs, th, omega, swing_pitch, side, stance_x)
+        _unwrap(guess, plan.angular)
         targets = np.column_stack([th, th + math.pi] + [np.full(th.size, f) for f in free])
         q, closed = rows.project_many(guess, targets)
-        if quasi_static:
-            v = a = np.zeros((th.size, nv))
-            jinv = inverse_many(closed.jac, "split")
-        else:
-            # v = G rates and a = J^-1 [-J_dot v; 0] with G = J^-1 [0; I]: one inverse per sample
-            v, a, jinv = rows.motion_inverse_many(q, rates, np.zeros_like(rates), closed.jac)
+        if not np.array_equal(q, guess):  # polished: v and a by the constraint core at the new q
+            v, a, _ = rows.motion_inverse_many(q, rates, np.zeros_like(rates), closed.jac)
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []
@@ -545,9 +553,11 @@ def inverse_dynamics(
             tau = batch_rnea(model, q, v, a)
             if reactions:
                 com_pos, com_acc, alpha = tree.body_motion(q, v, a)
-        # the split tau = S^T u + J_c^T lambda + C^T lambda_C by virtual power (G^T tau), then lambda
+        # the split tau = S^T u + J_c^T lambda + C^T lambda_C: one square solve per sample
         nc = rows.n_constraint_rows
-        u, lam_all = split_torques_reduced(tau, plan.s_matrix, plan.coupling, jinv, nc)
+        coupling = np.broadcast_to(plan.coupling, (th.size,) + plan.coupling.shape)
+        jac_split = np.concatenate((closed.jac[:, :nc], coupling), 1)
+        u, lam_all = split_torques_many(tau, plan.s_matrix, jac_split)
         lam = lam_all[:, :nc]
         seg = slice(i0, i1)
         out["beta"][seg], out["beta_swing"][seg] = ankle_angles(rs, q, side), ankle_angles(rs, q, other(side))

@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from pasibot_pin.model import jet
 from pasibot_pin.model.params import Geometry
 from pasibot_pin.model.variants import Variant, get_variant
 
@@ -53,14 +54,25 @@ def _check_meet(d, r1: float, r2: float, loop: str, theta) -> None:
 
 
 def circle_meet(c1, r1: float, c2, r2: float, left: bool, loop: str, theta):
-    """:func:`circle_intersection` on complex points x + i z (scalars or arrays (N,)) [m]."""
+    """:func:`circle_intersection` on complex points x + i z (scalars, arrays (N,) or jets) [m].
+
+    With d = c2 - c1 and s = |d|^2 the point is c1 + d (alpha +- i beta), alpha = a / |d| =
+    1/2 + (r1^2 - r2^2) / (2 s) and beta = h / |d| = sqrt(r1^2 / s - alpha^2): no square root
+    of s, few operations (each one is the chain rule for jets).
+    """
     d_vec = c2 - c1
-    d = np.abs(d_vec)
-    _check_meet(d, r1, r2, loop, theta)
-    a = (r1**2 - r2**2 + d**2) / (2 * d)
-    h = np.sqrt(np.maximum(r1**2 - a**2, 0.0))
-    # left of c1 -> c2 is the unit direction turned by +90 deg: i u
-    return c1 + (d_vec / d) * (a + 1j * h if left else a - 1j * h)
+    s = jet.abs2(d_vec)
+    _check_meet(np.sqrt(jet.value(s)), r1, r2, loop, jet.value(theta))
+    inv_s = 1.0 / s
+    alpha = 0.5 + (0.5 * (r1**2 - r2**2)) * inv_s
+    inner = r1**2 * inv_s - alpha * alpha
+    if isinstance(inner, jet.Jet):
+        inner.v = np.maximum(inner.v, 0.0)
+    else:
+        inner = np.maximum(inner, 0.0)
+    beta = jet.sqrt(inner)
+    # left of c1 -> c2 is the direction turned by +90 deg: i d
+    return c1 + d_vec * (alpha + 1j * beta if left else alpha - 1j * beta)
 
 
 def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, loop: str, theta) -> Point:
@@ -84,10 +96,6 @@ def _real(point) -> Point:
     """Complex x + i z points as (..., 2) arrays."""
     point = np.asarray(point)
     return np.stack((point.real, point.imag), axis=-1)
-
-
-def _unit(vec):
-    return vec / np.abs(vec)
 
 
 def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant = "spring") -> dict[str, Point]:
@@ -114,31 +122,37 @@ def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant =
 def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | Variant = "spring") -> dict:
     """:func:`leg_points` as complex numbers x + i z (arrays like ``theta``) [m]: the one closed form.
 
+    ``theta`` may be a :class:`~pasibot_pin.model.jet.Jet` (theta, theta_dot, theta_ddot): the
+    points are then jets too, with their exact velocities and accelerations.
+
     Raises:
         ValueError: when a loop cannot assemble (named, with the crank angle).
 
     """
     g = geometry or Geometry()
     spec = get_variant(variant)
-    theta = np.asarray(theta, dtype=float)
-    if not np.all(np.isfinite(theta)):
-        raise ValueError(f"crank angle theta must be finite, got {_first_bad(theta, ~np.isfinite(theta))!r}")
+    if not isinstance(theta, jet.Jet):
+        theta = np.asarray(theta, dtype=float)
+    bare = jet.value(theta)
+    if not np.all(np.isfinite(bare)):
+        raise ValueError(f"crank angle theta must be finite, got {_first_bad(bare, ~np.isfinite(bare))!r}")
     length = _lengths(g)
     p: dict = {}
     p["p0"] = 0j
     p["p3"] = complex(length[0], 0.0)
     p["p8"] = complex(length[0], -length[13])
-    p["p1"] = length[1] * np.exp(1j * theta)
+    p["p1"] = length[1] * jet.exp_i(theta)
     # Joint 2: coupler hangs below the line 1-3 (right of 1 -> 3).
     p["p2"] = circle_meet(p["p1"], length[2] / 2, p["p3"], length[3], False, "j2", theta)
-    p["p4"] = p["p1"] + length[2] * _unit(p["p2"] - p["p1"])
-    # Joint 5: knee forward, left of 4 -> 8.
+    # 2 is the coupler's mid-point (|p2 - p1| = L2 / 2 by construction): 4 = 2 p2 - p1
+    p["p4"] = 2.0 * p["p2"] - p["p1"]
+    # Joint 5: knee forward, left of 4 -> 8; its circle about 4 has radius L4 - L7.
     p["p5"] = circle_meet(p["p4"], length[4] - length[7], p["p8"], length[6], True, "j5", theta)
-    u4 = _unit(p["p5"] - p["p4"])
+    u4 = (p["p5"] - p["p4"]) * (1.0 / (length[4] - length[7]))
     p["p6"] = p["p4"] + length[4] * u4
-    # Joint 7: pantograph parallelogram 5-6-7-8.
+    # Joint 7: pantograph parallelogram 5-6-7-8, so |p7 - p6| = |p8 - p5| = L6.
     p["p7"] = p["p8"] + (p["p6"] - p["p5"])
-    u5 = _unit(p["p7"] - p["p6"])
+    u5 = (p["p7"] - p["p6"]) * (1.0 / length[6])
     p["p13"] = p["p6"] + length[5] * u5
     if spec.extension:
         _extension_points(p, theta, g, length, u4, u5)
@@ -154,15 +168,15 @@ def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) 
     """The parallel extension's points 9, 10, 11, 12 (complex), added to ``p``."""
     dz = p["p4"].imag + length[12]
     l8 = length[8]
-    bad = np.abs(dz) >= l8
+    bad = np.abs(jet.value(dz)) >= l8
     if np.any(bad):
-        th = _first_bad(theta, bad)
-        dz_bad = float(np.atleast_1d(np.abs(dz))[np.argmax(np.atleast_1d(bad))])
+        th = _first_bad(jet.value(theta), bad)
+        dz_bad = float(np.atleast_1d(np.abs(jet.value(dz)))[np.argmax(np.atleast_1d(bad))])
         raise ValueError(
             f"loop j4 (stabiliser) cannot assemble at crank angle {math.degrees(th):.3f} deg: "
             f"joint 4 is {dz_bad:.6g} m from the slider line, more than L8 = {l8:.6g} m"
         )
-    p["p10"] = (p["p4"].real - np.sqrt(l8**2 - dz**2)) - 1j * length[12]
+    p["p10"] = (p["p4"].real - jet.sqrt(l8**2 - dz * dz)) - 1j * length[12]
     u8 = (p["p4"] - p["p10"]) / l8
     p["p9"] = p["p10"] + (l8 / 2) * u8
     p["p11"] = p["p9"] + length[9] * u4
@@ -204,7 +218,8 @@ def _nearer(c1, r1: float, c2, r2: float, guess, loop: str, theta):
     """The intersection (complex) of two circles nearer to ``guess``, per sample (ValueError naming ``loop``)."""
     left = circle_meet(c1, r1, c2, r2, True, loop, theta)
     right = circle_meet(c1, r1, c2, r2, False, loop, theta)
-    return np.where(np.abs(left - guess) <= np.abs(right - guess), left, right)
+    use_left = np.abs(jet.value(left - guess)) <= np.abs(jet.value(right - guess))
+    return jet.where(use_left, left, right)
 
 
 def leg_joint_angles(
@@ -248,16 +263,18 @@ def _as_complex(p: dict) -> dict:
 
 
 def _dir(a, b):
-    """Direction of a -> b for complex points [rad] (the same arithmetic as :func:`_angle`)."""
-    return np.angle(b - a)
+    """Direction of a -> b for complex points or jets [rad] (the same arithmetic as :func:`_angle`)."""
+    return jet.angle(b - a)
 
 
 def joint_angles_complex(p: dict, theta, variant: str | Variant = "spring", foot_angle=None) -> dict:
     """Tree joint coordinates of one leg from complex points (:func:`leg_points_complex`) [rad, m].
 
-    Values are arrays like the points (or scalars); ``j0_crank`` is ``theta`` itself.
+    Values are arrays like the points (or scalars, or jets for jet points); ``j0_crank`` is
+    ``theta`` itself.
     """
     spec = get_variant(variant)
+    wrap = jet.wrap
     a12 = _dir(p["p1"], p["p4"])
     a46 = _dir(p["p4"], p["p6"])
     a613 = _dir(p["p6"], p["p13"])
@@ -277,7 +294,7 @@ def joint_angles_complex(p: dict, theta, variant: str | Variant = "spring", foot
         a104 = _dir(p["p10"], p["p4"])
         a911 = _dir(p["p9"], p["p11"])
         a1112 = _dir(p["p11"], p["p12"])
-        q["j10_slide"] = np.asarray(p["p10"]).real
+        q["j10_slide"] = p["p10"].real
         q["j10"] = a104
         q["j9"] = wrap(a911 - a104)
         q["j11"] = wrap(a1112 - a911)
@@ -302,12 +319,14 @@ def sole_angle_from_points(p: dict, variant: str | Variant = "spring"):
         out = _angle_any(p["p10"], p["p4"])
     else:
         out = _angle_any(p["p6"], p["p13"]) + math.pi / 2
-    return float(out) if np.ndim(out) == 0 else out
+    return float(out) if not isinstance(out, jet.Jet) and np.ndim(out) == 0 else out
 
 
 def _angle_any(a, b):
-    """Direction of a -> b for complex points or (..., 2) arrays [rad]."""
-    return _dir(a, b) if np.iscomplexobj(a) or np.iscomplexobj(b) else _angle(a, b)
+    """Direction of a -> b for complex points, jets or (..., 2) arrays [rad]."""
+    if isinstance(a, jet.Jet) or isinstance(b, jet.Jet) or np.iscomplexobj(a) or np.iscomplexobj(b):
+        return _dir(a, b)
+    return _angle(a, b)
 
 
 def _between(a: Point, b: Point):

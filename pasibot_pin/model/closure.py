@@ -23,6 +23,7 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
+from pasibot_pin.model import jet
 from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
 from pasibot_pin.model.description import sides
 
@@ -291,21 +292,86 @@ def analytic_configurations(
     for name, value in (("theta", thetas), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not np.all(np.isfinite(value)):
             raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
-    g, variant = robot.geometry, robot.spec
-    plan = _assembly_plan(robot)
-    n = len(thetas)
     left = thetas + math.pi
     if theta_left is not None:
         left = np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
+    q = np.tile(_assembly_plan(robot).neutral, (len(thetas), 1))
+    weld = _closed_form(robot, thetas, left, (q,), hip_pitch_value, swing_foot_pitch, stance, ankle_x)
+    return q, weld
+
+
+def analytic_motion(
+    robot,
+    thetas,
+    omega: float,
+    swing_foot_pitch: float | None = 0.0,
+    stance: str | None = None,
+    ankle_x: float = 0.0,
+    hip_pitch_value: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, pin.RigidConstraintModel | None]:
+    """q, v and a along a crank sweep from the closed form and its exact time derivatives.
+
+    Both cranks turn at ``omega`` (the left one pi ahead); the prescribed hip pitch and swing-foot
+    pitch are held. The closed form of :func:`analytic_configurations` is evaluated on
+    :class:`~pasibot_pin.model.jet.Jet` s (theta, omega, 0): every coordinate comes with its
+    velocity dq/dt = q'(theta) omega and acceleration q''(theta) omega^2, exactly (the chain
+    rule through the circle intersections; no Jacobian solve, no finite differences).
+
+    Args:
+        robot: a loaded robot.
+        thetas: right crank angles (N,) [rad].
+        omega: crank speed [rad/s].
+        swing_foot_pitch: swing-foot pitch for the ``spring`` biped [rad] (``None``: square).
+        stance: the welded foot (default the robot's stance or ``right``).
+        ankle_x: world x of the stance ankle [m].
+        hip_pitch_value: hip pitch for the ``spring`` biped [rad].
+
+    Returns:
+        (q (N, nq), v (N, nv), a (N, nv), the stance weld or ``None``).
+
+    Raises:
+        ValueError: a loop that cannot assemble at one of the crank angles (named).
+
+    """
+    thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
+    if not np.all(np.isfinite(thetas)) or not math.isfinite(omega):
+        raise ValueError("parameters 'thetas' and 'omega' must be finite")
+    n = len(thetas)
+    q = np.tile(_assembly_plan(robot).neutral, (n, 1))
+    v, a = np.zeros((n, robot.model.nv)), np.zeros((n, robot.model.nv))
+    right, left = jet.Jet(thetas, float(omega), 0.0), jet.Jet(thetas + math.pi, float(omega), 0.0)
+    weld = _closed_form(robot, right, left, (q, v, a), hip_pitch_value, swing_foot_pitch, stance, ankle_x)
+    return q, v, a, weld
+
+
+def _put(out: tuple[np.ndarray, ...], column: int, value) -> None:
+    """Write a coordinate (array or jet) into column ``column`` of q (and v, a for a jet)."""
+    if isinstance(value, jet.Jet):
+        out[0][:, column] = value.v
+        if len(out) > 1:
+            out[1][:, column], out[2][:, column] = value.d, value.dd
+    else:
+        out[0][:, column] = value
+
+
+def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, stance, ankle_x):
+    """Fill ``out`` = (q,) or (q, v, a) from the closed form at crank angles (arrays or jets); the weld."""
+    g, variant = robot.geometry, robot.spec
+    plan = _assembly_plan(robot)
+    n = len(jet.value(right))
     legs = sides(robot.legs)
-    angles = {"right": thetas, "left": left}
+    angles = {"right": right, "left": left}
     stance = stance or robot.stance or "right"
     # one closed-form call for all samples of both legs; the fixed pivots are scalars
-    every = leg_points_complex(np.concatenate([angles[side] for side in legs]), g, variant)
+    if isinstance(right, jet.Jet):
+        both = jet.Jet(np.concatenate([angles[side].v for side in legs]), right.d, right.dd)
+    else:
+        both = np.concatenate([angles[side] for side in legs])
+    every = leg_points_complex(both, g, variant)
     points = {
-        side: {k: v[i * n : (i + 1) * n] if np.ndim(v) else v for k, v in every.items()} for i, side in enumerate(legs)
+        side: {k: v[i * n : (i + 1) * n] if isinstance(v, jet.Jet) or np.ndim(v) else v for k, v in every.items()}
+        for i, side in enumerate(legs)
     }
-    q = np.tile(plan.neutral, (n, 1))
     pitch = np.zeros(n)
     if robot.floating:
         if variant.free_ankle:
@@ -323,15 +389,14 @@ def analytic_configurations(
                 foot_angle = swing_foot_pitch - pitch
         columns = plan.columns[side]
         for joint, value in joint_angles_complex(points[side], angles[side], variant, foot_angle).items():
-            q[:, columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}")] = value
-    weld = None
-    if robot.floating:
-        ankle = points[stance]["p13"] * np.exp(1j * pitch)  # the ankle turned by the hip pitch
-        q[:, 0] = ankle_x - ankle.real
-        q[:, 1] = -ankle.imag
-        q[:, 2] = pitch
-        weld = stance_weld(robot, stance, ankle_x)
-    return q, weld
+            _put(out, columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}"), value)
+    if not robot.floating:
+        return None
+    ankle = points[stance]["p13"] * jet.exp_i(pitch)  # the ankle turned by the hip pitch
+    _put(out, 0, ankle_x - ankle.real)
+    _put(out, 1, -ankle.imag)
+    _put(out, 2, pitch)
+    return stance_weld(robot, stance, ankle_x)
 
 
 def assemble(
