@@ -564,14 +564,6 @@ class ConstraintSystem:
         # J transposed in memory (a column-major view per sample)
         return Rows(phi, np.swapaxes(jac_t, 1, 2), drift, np.broadcast_to(self._phi_t, phi.shape).copy())
 
-    def drift_many(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
-        """J_dot v for a batch (N, nv) -> (N, m), without forming J [m/s^2, rad/s^2]."""
-        if self._coef is None:
-            return self.evaluate(q, v).drift
-        phase = np.exp(1j * (q @ self._phase_T))
-        w = v @ self._phase_T
-        return -((w * w * phase).view(float) @ self._weights_T)
-
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""
         return self.evaluate(q, None, t, targets).phi
@@ -699,34 +691,6 @@ class ConstraintSystem:
         rhs = -rows.drift
         rhs[:, n0:] += accelerations
         return v, _square_solve_many(rows.jac, rhs, "acceleration"), rows.jac
-
-    def motion_inverse_many(
-        self, q: np.ndarray, rates: np.ndarray, accelerations: np.ndarray, jac: np.ndarray | None = None
-    ):
-        """(v, a, J^-1) for a batch on the manifold (square system): one inverse of J per sample.
-
-        G = J^-1 [0; I] (the last n_scalars columns of J^-1) is the exact velocity map
-        v = G s_dot (dq/ds, s the scalar rows); a = J^-1 [-J_dot v; s_ddot]. The same J^-1 serves
-        the force split by virtual power (:func:`split_torques_reduced`).
-
-        Args:
-            q: configurations (N, nq) on the manifold.
-            rates: the scalar rows' rates (N, n_scalars) or (n_scalars,) [rad/s, m/s].
-            accelerations: their second derivatives, same shapes [rad/s^2, m/s^2].
-            jac: J at ``q`` (N, m, nv) if already known (from :meth:`project_many`).
-
-        """
-        jac = self.evaluate(q).jac if jac is None else jac
-        jinv = inverse_many(jac, "velocity")
-        n0 = self.n_constraint_rows
-        rates = np.asarray(rates, dtype=float)
-        if rates.ndim == 1:
-            v = jinv[:, :, n0:] @ rates
-        else:
-            v = np.einsum("nij,nj->ni", jinv[:, :, n0:], rates)
-        rhs = -self.drift_many(q, v)
-        rhs[:, n0:] += accelerations
-        return v, np.einsum("nij,nj->ni", jinv, rhs), jinv
 
     def _newton_step(self, q: np.ndarray, rows: Rows, metric: str) -> np.ndarray:
         jac = rows.jac
@@ -874,68 +838,6 @@ def split_torques_many(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -
     x = _square_solve_many(mat, tau, "split")
     ns = s_matrix.shape[0]
     return x[:, :ns], x[:, ns:]
-
-
-def split_torques_reduced(
-    tau: np.ndarray, s_matrix: np.ndarray, coupling: np.ndarray, jinv: np.ndarray, n0: int
-) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`split_torques_many` by virtual power, from J^-1 of the square system J = [J_c; J_s].
-
-    tau = S^T u + J_c^T lambda + C^T lambda_C, with J_c the constraint rows, C constant coupling
-    rows (one motor for two cranks) and J_s the n_s scalar rows that fix the motion. G = J^-1 [0; I]
-    spans the motions the constraints allow (J_c G = 0), so projecting on G removes lambda:
-
-        G^T tau = (S G)^T u + (C G)^T lambda_C       (n_s equations: the virtual power of tau)
-
-    and then J^T mu = tau - S^T u - C^T lambda_C gives mu = [lambda; 0] (the residual lies in the
-    row space of J_c). No (N, nv, nv) solve: an n_s x n_s one and products with J^-1.
-
-    Args:
-        tau: generalised forces (N, nv) [N.m, N].
-        s_matrix: actuation S (n_u, nv).
-        coupling: coupling rows C (n_c, nv) (may be empty).
-        jinv: J^-1 (N, nv, nv) (:meth:`ConstraintSystem.motion_inverse_many`).
-        n0: the number of constraint rows of J (the first rows).
-
-    Returns:
-        (u (N, n_u), [lambda; lambda_C] (N, n0 + n_c)): as :func:`split_torques_many` with the
-        Jacobian [J_c; C].
-
-    Raises:
-        ValueError: when n_u + n_c differs from the number of scalar rows, or the reduced system
-            is singular (the actuators cannot hold the motion).
-
-    """
-    basis = jinv[:, :, n0:]  # G (N, nv, n_s)
-    n_u = s_matrix.shape[0]
-    forcing = np.concatenate((s_matrix, coupling.reshape(-1, s_matrix.shape[1])), axis=0)
-    if forcing.shape[0] != basis.shape[2]:
-        raise ValueError(
-            f"split: {forcing.shape[0]} actuator and coupling forces for {basis.shape[2]} prescribed coordinates; "
-            "the system must be square"
-        )
-    reduced = np.swapaxes(forcing @ basis, 1, 2)  # (S G)^T, (C G)^T side by side (N, n_s, n_u + n_c)
-    power = np.einsum("nij,ni->nj", basis, tau)  # G^T tau
-    x = _square_solve_many(reduced, power, "split")
-    rest = tau - x @ forcing
-    mu = np.einsum("nij,ni->nj", jinv[:, :, :n0], rest)
-    return x[:, :n_u], np.concatenate((mu, x[:, n_u:]), axis=1)
-
-
-def inverse_many(matrix: np.ndarray, what: str) -> np.ndarray:
-    """Inverses of a batch of square matrices (N, n, n), with the errors of :func:`_square_solve`."""
-    if matrix.shape[-2] != matrix.shape[-1]:
-        raise ValueError(
-            f"{what}: constraints plus prescriptions give {matrix.shape[-2]} rows for nv = {matrix.shape[-1]}; "
-            "prescribe exactly the free coordinates"
-        )
-    try:
-        inv = np.linalg.inv(matrix)
-    except np.linalg.LinAlgError as err:
-        raise ValueError(f"{what}: singular pose, the constraint Jacobian lost rank") from err
-    if not np.all(np.isfinite(inv)):
-        raise ValueError(f"{what}: singular pose, the solution is not finite")
-    return inv
 
 
 def _square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:

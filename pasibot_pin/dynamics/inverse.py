@@ -532,7 +532,7 @@ def inverse_dynamics(
         targets = np.column_stack([th, th + math.pi] + [np.full(th.size, f) for f in free])
         q, closed = rows.project_many(guess, targets)
         if not np.array_equal(q, guess):  # polished: v and a by the constraint core at the new q
-            v, a, _ = rows.motion_inverse_many(q, rates, np.zeros_like(rates), closed.jac)
+            v, a, _ = rows.motion_many(q, rates, np.zeros_like(rates), closed.jac)
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []
