@@ -271,7 +271,8 @@ def joint_angles_complex(p: dict, theta, variant: str | Variant = "spring", foot
     """Tree joint coordinates of one leg from complex points (:func:`leg_points_complex`) [rad, m].
 
     Values are arrays like the points (or scalars, or jets for jet points); ``j0_crank`` is
-    ``theta`` itself.
+    ``theta`` itself. ``foot_angle`` (spring ankle) as in :func:`leg_joint_angles`; an array may
+    hold NaN where the foot stays square to its shank (ankle coordinate 0).
     """
     spec = get_variant(variant)
     wrap = jet.wrap
@@ -289,7 +290,11 @@ def joint_angles_complex(p: dict, theta, variant: str | Variant = "spring", foot
     }
     if spec.sole == "ankle":
         target = a613 + math.pi / 2 if foot_angle is None else foot_angle
-        q["j13_ankle"] = wrap(target - a613 - math.pi / 2)
+        ankle = wrap(target - a613 - math.pi / 2)
+        square = np.isnan(foot_angle) if foot_angle is not None and np.ndim(foot_angle) else None
+        if square is not None and square.any():  # NaN entries: the foot square to its shank
+            ankle = jet.where(square, 0.0, ankle)
+        q["j13_ankle"] = ankle
     if spec.extension:
         a104 = _dir(p["p10"], p["p4"])
         a911 = _dir(p["p9"], p["p11"])

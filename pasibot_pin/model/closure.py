@@ -344,6 +344,12 @@ def analytic_motion(
     return q, v, a, weld
 
 
+def _column(robot, plan: _AssemblyPlan, side: str, joint: str) -> int:
+    """The q column of ``side``'s ``joint`` (a name without the side)."""
+    columns = plan.columns[side]
+    return columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}")
+
+
 def _put(out: tuple[np.ndarray, ...], column: int, value) -> None:
     """Write a coordinate (array or jet) into column ``column`` of q (and v, a for a jet)."""
     if isinstance(value, jet.Jet):
@@ -355,44 +361,53 @@ def _put(out: tuple[np.ndarray, ...], column: int, value) -> None:
 
 
 def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, stance, ankle_x):
-    """Fill ``out`` = (q,) or (q, v, a) from the closed form at crank angles (arrays or jets); the weld."""
+    """Fill ``out`` = (q,) or (q, v, a) from the closed form at crank angles (arrays or jets); the weld.
+
+    Every leg's samples go through one call of the closed form and one of the joint angles
+    (arrays of all legs end to end), and each of q, v, a is written with one assignment per leg.
+    """
     g, variant = robot.geometry, robot.spec
     plan = _assembly_plan(robot)
     n = len(jet.value(right))
     legs = sides(robot.legs)
     angles = {"right": right, "left": left}
     stance = stance or robot.stance or "right"
-    # one closed-form call for all samples of both legs; the fixed pivots are scalars
     if isinstance(right, jet.Jet):
         both = jet.Jet(np.concatenate([angles[side].v for side in legs]), right.d, right.dd)
     else:
         both = np.concatenate([angles[side] for side in legs])
     every = leg_points_complex(both, g, variant)
-    points = {
-        side: {k: v[i * n : (i + 1) * n] if isinstance(v, jet.Jet) or np.ndim(v) else v for k, v in every.items()}
-        for i, side in enumerate(legs)
-    }
+    stance_part = slice(n * legs.index(stance), n * (legs.index(stance) + 1)) if stance in legs else slice(0, n)
     pitch = np.zeros(n)
     if robot.floating:
         if variant.free_ankle:
             pitch[:] = hip_pitch_value
         else:
-            pitch = -sole_angle_from_points(points[stance], variant)
-    for side in legs:
-        foot_angle = None
-        if variant.free_ankle:
-            if not robot.floating:
-                foot_angle = 0.0
-            elif side == stance:
-                foot_angle = -pitch
-            elif swing_foot_pitch is not None:
-                foot_angle = swing_foot_pitch - pitch
-        columns = plan.columns[side]
-        for joint, value in joint_angles_complex(points[side], angles[side], variant, foot_angle).items():
-            _put(out, columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}"), value)
+            stance_points = {k: v[stance_part] if isinstance(v, jet.Jet) or np.ndim(v) else v for k, v in every.items()}
+            pitch = -sole_angle_from_points(stance_points, variant)
+    foot_angle = None
+    if variant.free_ankle:
+        if not robot.floating:
+            foot_angle = 0.0
+        else:
+            swing = np.full(n, np.nan) if swing_foot_pitch is None else swing_foot_pitch - pitch
+            foot_angle = np.concatenate([-pitch if side == stance else swing for side in legs])
+    coordinates = joint_angles_complex(every, both, variant, foot_angle)
+    names = list(coordinates)
+    columns = [[_column(robot, plan, side, name) for name in names] for side in legs]
+    for part, target in enumerate(out):
+        values = np.empty((len(names), len(legs) * n))
+        for row, name in enumerate(names):
+            value = coordinates[name]
+            if isinstance(value, jet.Jet):
+                values[row] = (value.v, value.d, value.dd)[part]
+            else:
+                values[row] = value if part == 0 else 0.0
+        for i in range(len(legs)):
+            target[:, columns[i]] = values[:, i * n : (i + 1) * n].T
     if not robot.floating:
         return None
-    ankle = points[stance]["p13"] * jet.exp_i(pitch)  # the ankle turned by the hip pitch
+    ankle = every["p13"][stance_part] * jet.exp_i(pitch)  # the ankle turned by the hip pitch
     _put(out, 0, ankle_x - ankle.real)
     _put(out, 1, -ankle.imag)
     _put(out, 2, pitch)
