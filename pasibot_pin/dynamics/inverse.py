@@ -421,13 +421,12 @@ def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular) -> np.nda
 
 
 def _unwrap(q: np.ndarray, angular: np.ndarray) -> None:
-    """Unwrap the angle columns of q (N, nq) along the sweep, in place (``np.unwrap`` where one jumps)."""
+    """Unwrap the angle columns of q (N, nq) along the sweep, in place (as ``np.unwrap``: steps below pi)."""
     if len(q) < 2:
         return
-    jumps = np.abs(np.diff(q[:, angular], axis=0)).max(axis=0) > math.pi
-    if jumps.any():
-        columns = np.flatnonzero(angular)[jumps]
-        q[:, columns] = np.unwrap(q[:, columns], axis=0)
+    turns = np.round(np.diff(q[:, angular], axis=0) * (0.5 / math.pi))  # whole turns between samples
+    if turns.any():
+        q[1:, angular] -= (2 * math.pi) * np.cumsum(turns, axis=0)
 
 
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
