@@ -52,7 +52,7 @@ from pasibot_pin.model import closure, scenarios
 from pasibot_pin.studies import spring_study
 
 REPEAT = 200
-ROUNDS = 15
+ROUNDS = 25
 G = 9.81
 
 
