@@ -25,9 +25,13 @@ Measured in one run, on the same model (the ``spring`` biped, run 4: 5 rad/s, bo
    issue's old ratio (the seed's assemble + solve alone, for one sample in a Python loop, its
    kinematics given for free, over our batched sample) is printed too, labelled as such.
 
-Every case is timed in each of ``ROUNDS`` rounds, in turn, and keeps its best round. BLAS runs
-on one thread: on this 2-core machine its worker threads, left spinning after a batched solve,
-slow every measurement that follows (a bare rnea by up to 2x).
+Every case is timed in each of ``ROUNDS`` rounds, in turn (interleaved), and keeps its best round.
+Times are the process's CPU time (user + sys, ``time.process_time``), not wall time: on a shared
+machine the process is descheduled for whole milliseconds, which a wall clock charges to whichever
+case is running, while its CPU time does not count them; the best of the interleaved rounds then
+sheds what remains (cache and memory contention). BLAS runs on one thread: on this 2-core
+machine its worker threads, left spinning after a batched solve, slow every measurement that
+follows (a bare rnea by up to 2x).
 
 Prints times and ratios. Run: ``.venv/bin/python benchmarks/bench_dynamics.py``.
 """
@@ -53,6 +57,8 @@ from pasibot_pin.studies import spring_study
 
 REPEAT = 200
 ROUNDS = 25
+CLOCK = time.process_time
+"""CPU time of the process (user + sys) [s]: see the docstring."""
 G = 9.81
 
 
@@ -60,10 +66,10 @@ def best_time(func, repeat: int = REPEAT, rounds: int = 5) -> float:
     """Smallest mean time of ``rounds`` batches of ``repeat`` calls [s]."""
     best = math.inf
     for _ in range(rounds):
-        start = time.perf_counter()
+        start = CLOCK()
         for _ in range(repeat):
             func()
-        best = min(best, (time.perf_counter() - start) / repeat)
+        best = min(best, (CLOCK() - start) / repeat)
     return best
 
 
@@ -368,10 +374,10 @@ def main() -> None:
     best = dict.fromkeys(cases, math.inf)
     for _ in range(ROUNDS):
         for name, (func, repeat, per) in cases.items():
-            start = time.perf_counter()
+            start = CLOCK()
             for _ in range(repeat):
                 func()
-            best[name] = min(best[name], (time.perf_counter() - start) / (repeat * per))
+            best[name] = min(best[name], (CLOCK() - start) / (repeat * per))
     t_rnea, t_rnea_sim = best["rnea"], best["rnea_sim"]
 
     def line(label: str, seconds: float, ref: float, goal: str) -> None:
