@@ -343,8 +343,8 @@ class _StancePlan:
         coupling: the motor-coupling rows C (n_c, nv) (constant).
         tree: the batched Newton-Euler layout (COMs, joint origins, constraint ends).
         angular: mask of the angle coordinates (unwrapped along a sweep).
-        weld_rows: the weld's rows of lambda; cut_rows: (generic name, rows) of every loop.
-        joint_names: the generic name of tree joints 2 .. njoints - 1.
+        weld_rows: the weld's rows of lambda; cut_rows: generic name of every loop -> its rows.
+        joint_names: generic name of every tree joint 2 .. njoints - 1 -> its index.
         model_copy: the model as the plan was made (a plan is stale once the model changes).
 
     """
@@ -356,8 +356,8 @@ class _StancePlan:
     tree: object
     angular: np.ndarray
     weld_rows: slice
-    cut_rows: list[tuple[str, slice]]
-    joint_names: list[str]
+    cut_rows: dict[str, slice]
+    joint_names: dict[str, int]
     model_copy: pin.Model
 
 
@@ -374,12 +374,12 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
     rs = robot.with_weld(side, closure.stance_weld(robot, side, stance_x))
     rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
     coupling_rows = closure.system(rs, [], _couplings(rs, layout))
-    weld_rows, cut_rows = slice(0, 0), []
+    weld_rows, cut_rows = slice(0, 0), {}
     for cm, rows_of in zip(rs.constraint_models, planar_rows(rs.constraint_models)):
         if is_weld(cm):
             weld_rows = rows_of
         else:
-            cut_rows.append((_generic(cm.name, side), rows_of))
+            cut_rows[_generic(cm.name, side)] = rows_of
     entry = _StancePlan(
         robot=rs,
         rows=rows,
@@ -389,7 +389,7 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
         angular=closure.angular_coordinates(model),
         weld_rows=weld_rows,
         cut_rows=cut_rows,
-        joint_names=[_generic(model.names[j], side) for j in range(2, model.njoints)],
+        joint_names={_generic(model.names[j], side): j for j in range(2, model.njoints)},
         model_copy=pin.Model(model),
     )
     if len(_PLANS) >= 32:
@@ -503,8 +503,9 @@ def inverse_dynamics(
     out = {k: np.zeros(n) for k in ("beta", "beta_swing", "Ta", "Te", "Ta_swing", "Te_swing")}
     qs, vs, accs, taus = np.zeros((n, model.nq)), np.zeros((n, nv)), np.zeros((n, nv)), np.zeros((n, nv))
     ground = np.zeros((n, 3))
-    cuts: dict[str, np.ndarray] = {}
-    joints: dict[str, np.ndarray] = {}
+    cut_names: list[str] = []  # in the first stance's order (the columns of the CSV)
+    joint_names: list[str] = []
+    cut_forces = joint_forces = np.zeros((n, 0, 3))
     sides_used = sweep_stances(thetas, stance)
 
     spec = robot.spec
@@ -569,12 +570,15 @@ def inverse_dynamics(
             out["Te"][seg], out["Te_swing"][seg] = -u[:, n_motor], -u[:, n_motor + 1]
         qs[seg], vs[seg], accs[seg], taus[seg] = q, v, a, tau
         ground[seg] = lam[:, plan.weld_rows]
-        for name, rows_of in plan.cut_rows:
-            cuts.setdefault(name, np.zeros((n, 2)))[seg] = lam[:, rows_of]
+        if i0 == 0:
+            cut_names, cut_forces = list(plan.cut_rows), np.zeros((n, len(plan.cut_rows), 2))
+        for k, name in enumerate(cut_names):
+            cut_forces[seg, k] = lam[:, plan.cut_rows[name]]
         if reactions:
             reac = tree.reactions(q, com_pos, com_acc, alpha, lam)
-            for j, name in enumerate(plan.joint_names, start=2):
-                joints.setdefault(name, np.zeros((n, 3)))[seg] = reac[:, j]
+            if i0 == 0:
+                joint_names, joint_forces = list(plan.joint_names), np.zeros((n, len(plan.joint_names), 3))
+            joint_forces[seg] = reac[:, [plan.joint_names[name] for name in joint_names]]
         previous = (rows, q[-1])
 
     stance_crank = np.where(np.array(sides_used) == "right", thetas, thetas + math.pi)
@@ -590,8 +594,8 @@ def inverse_dynamics(
         a=accs,
         tau=taus,
         ground=ground,
-        cuts=cuts,
-        joints=joints,
+        cuts={name: cut_forces[:, k] for k, name in enumerate(cut_names)},
+        joints={name: joint_forces[:, k] for k, name in enumerate(joint_names)},
         omega=omega,
         accelerations=mode,
         swing_foot=swing_foot,
