@@ -541,7 +541,10 @@ class ConstraintSystem:
         (N, 2P) x (2P, m) product each.
         """
         nv, n = self.model.nv, len(q)
-        phase = np.exp(1j * (q @ self._phase_T))  # (N, P)
+        angle = q @ self._phase_T
+        phase = np.empty(angle.shape, dtype=complex)  # exp(i A q) (N, P), by cos and sin (cheaper)
+        np.cos(angle, out=phase.real)
+        np.sin(angle, out=phase.imag)
         weights = self._weights_T
         n_phase = phase.shape[1]
         jac_t = (self._coef[:nv] * phase[:, None, :]).view(float).reshape(n * nv, 2 * n_phase) @ weights
