@@ -2,18 +2,22 @@
 
 The robot follows a prescribed motion (DESIGN §5, §6): the stance foot is welded flat to the
 ground, the hip stays level (pitch 0), the swing foot stays level (or rigid at 90 deg to its
-shank), and both cranks turn at constant omega, pi apart. Per sample:
+shank), and both cranks turn at constant omega, pi apart. Each stance of a sweep is done in
+one batch (its constant parts, :class:`_StancePlan`, are set up once and cached):
 
-1. q on the constraint manifold by Newton on [c(q); s(q) - s*] (square, factored; the
-   in-plane rows of the loop closures and the weld, plus the four prescribed coordinates),
-2. v and a from :func:`pasibot_pin.model.closure.solve_velocity` / ``solve_acceleration``
-   (exact Jacobians and drift terms), or v = a = 0 (quasi-static),
-3. tau = ``pin.rnea(q, v, a)``,
-4. the split tau = S^T u + J_c^T lambda with u = [T_a, T_a', tau_ankle, tau_ankle'] (the
+1. q, v and a of every sample from the closed form of the legs on second-order jets
+   (:func:`pasibot_pin.model.closure.analytic_motion`: exact to round-off, no Jacobian solve),
+   checked by one batched evaluation of the in-plane rows of the loop closures and the weld plus
+   the four prescribed coordinates; only where they do not close does a batched Newton on
+   [c(q); s(q) - s*] polish q, and then v and a come from the exact Jacobians and drift terms
+   (``ConstraintSystem.motion_many``); v = a = 0 when quasi-static,
+2. tau = ``pin.rnea(q, v, a)`` for every sample in one C++ call,
+3. the split tau = S^T u + J_c^T lambda with u = [T_a, T_a', tau_ankle, tau_ankle'] (the
    actuated cranks and the two ankles, stance first) and lambda the in-plane constraint forces:
-   one square 19 x 19 solve, so the passive joints carry no torque,
-5. ``pin.rnea(q, v, a, fext)`` with the constraint forces as external forces gives every tree
-   joint's reaction (the force and moment the parent body applies to the child).
+   one square 19 x 19 solve per sample, so the passive joints carry no torque,
+4. every tree joint's reaction (the force and moment the parent body applies to the child) from
+   the batched planar Newton-Euler of the tree with the constraint forces as external forces
+   (:mod:`pasibot_pin.dynamics.newton_euler`, what ``pin.rnea(q, v, a, fext)`` transmits).
 
 Torques are reported as generalised forces of theta (stance crank), beta = pi/2 - q_ankle
 (the angle from the forward foot to the shank), theta' and beta': T_a = u[0], T_e = -u[2].
@@ -37,10 +41,10 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import coupling, is_weld, planar_rows
+from pasibot_pin.constraints import ConstraintSystem, coupling, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
-from pasibot_pin.dynamics.newton_euler import batch_rnea, tree_layout
+from pasibot_pin.dynamics.newton_euler import TreeLayout, batch_rnea, tree_layout
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
@@ -350,10 +354,10 @@ class _StancePlan:
     """
 
     robot: PasibotRobot
-    rows: object
+    rows: ConstraintSystem
     s_matrix: np.ndarray
     coupling: np.ndarray
-    tree: object
+    tree: TreeLayout
     angular: np.ndarray
     weld_rows: slice
     cut_rows: dict[str, slice]
