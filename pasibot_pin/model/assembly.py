@@ -159,9 +159,19 @@ def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | V
     return p
 
 
+_LENGTHS: dict[int, tuple[Geometry, list[float]]] = {}
+
+
 def _lengths(g: Geometry) -> list[float]:
-    """L0 .. L13 [m]."""
-    return [g.length(k) for k in range(14)]
+    """L0 .. L13 [m] (cached per geometry object; a Geometry is frozen)."""
+    cached = _LENGTHS.get(id(g))
+    if cached is not None and cached[0] is g:
+        return cached[1]
+    lengths = [g.length(k) for k in range(14)]
+    if len(_LENGTHS) >= 64:
+        _LENGTHS.pop(next(iter(_LENGTHS)))
+    _LENGTHS[id(g)] = (g, lengths)  # keeps the geometry alive: no id reuse
+    return lengths
 
 
 def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) -> None:
