@@ -200,10 +200,20 @@ class PlanarRowBlocks:
         self._slides = bool(np.any(slide[moving]))
         self._DT = self.D_moving.T.astype(complex)  # complex copy: numpy would cast on every product
         self._pitch_AT = self.pitch_A.T.copy()
+        # terms turned by the same pitch row (the points of one body) share exp(i A q): the phases are
+        # computed once per distinct row, and c exp(i a0) of each term is a constant factor
+        rows, group = np.unique(self._AT.T, axis=0, return_inverse=True)
+        self._phase_AT = rows.T.copy()  # (nv, distinct pitches)
+        self._group = group.reshape(-1)
+        self._c_turned = self._c * np.exp(1j * self._a0)
 
     def _turned(self, q: np.ndarray):
         """(c exp(i phi), the slider factor or None) of every moving term."""
-        turned = self._c * np.exp(1j * (q @ self._AT + self._a0))
+        angle = q @ self._phase_AT
+        phase = np.empty(angle.shape, dtype=complex)
+        np.cos(angle, out=phase.real)
+        np.sin(angle, out=phase.imag)
+        turned = self._c_turned * phase[..., self._group]
         return turned, (q @ self._slide_T + self._unit) if self._slides else None
 
     def terms(self, q: np.ndarray, v: np.ndarray | None = None):

@@ -481,8 +481,11 @@ class ConstraintSystem:
         The point rows come out in our order from one product with the picking matrix; the pitch
         and coordinate rows are linear in q.
         """
-        if q.ndim == 1 and self._coef is not None:
-            return self._evaluate_one(q, v, t, targets)
+        if self._coef is not None:
+            if q.ndim == 1:
+                return self._evaluate_one(q, v, t, targets)
+            if q.ndim == 2:
+                return self._evaluate_batch(q, v, t, targets)
         value, jac_t, term_drift = self._blocks.terms(q, v)
         phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
         # J transposed in memory (a column-major view): what Pinocchio's Eigen takes without a copy
@@ -529,6 +532,40 @@ class ConstraintSystem:
             phi[r] = math.remainder(phi[r], 2 * math.pi)
         # J transposed in memory (column-major): what Pinocchio's Eigen takes without a copy
         return Rows(phi, out[:nv].T, drift, self._phi_t.copy())
+
+    def _evaluate_batch(self, q, v, t, targets) -> Rows:
+        """:meth:`_evaluate_planar` for a batch (N, nv) through the tables of :meth:`_evaluate_one`.
+
+        The phases e = exp(i A q) (N, P) of the distinct body pitches, times i A^T, give J^T of every
+        sample in one (N nv, 2P) x (2P, m) product; the values and the drift (-w^2 e, w = A v) one
+        (N, 2P) x (2P, m) product each.
+        """
+        nv, n = self.model.nv, len(q)
+        angle = q @ self._phase_T
+        phase = np.empty(angle.shape, dtype=complex)  # exp(i A q) (N, P), by cos and sin (cheaper)
+        np.cos(angle, out=phase.real)
+        np.sin(angle, out=phase.imag)
+        weights = self._weights_T
+        n_phase = phase.shape[1]
+        jac_t = (self._coef[:nv] * phase[:, None, :]).view(float).reshape(n * nv, 2 * n_phase) @ weights
+        jac_t = jac_t.reshape(n, nv, self.nrows) + self._constant[:nv]
+        phi = phase.view(float) @ weights + (q @ self._linear_T + self._constant[nv])
+        if v is None:
+            drift = np.zeros((n, self.nrows))
+        else:
+            w = v @ self._phase_T
+            drift = (w * w * phase).view(float) @ weights
+            np.negative(drift, out=drift)
+        n0 = self.n_constraint_rows
+        if targets is None:
+            if t:
+                phi -= t * self._rate_all
+        else:
+            phi[:, n0:] += self._offset - np.asarray(targets, dtype=float)
+        if len(self._wrapped):
+            phi[:, self._wrapped] = _wrap(phi[:, self._wrapped])
+        # J transposed in memory (a column-major view per sample)
+        return Rows(phi, np.swapaxes(jac_t, 1, 2), drift, np.broadcast_to(self._phi_t, phi.shape).copy())
 
     def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""

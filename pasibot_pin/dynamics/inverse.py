@@ -2,18 +2,22 @@
 
 The robot follows a prescribed motion (DESIGN §5, §6): the stance foot is welded flat to the
 ground, the hip stays level (pitch 0), the swing foot stays level (or rigid at 90 deg to its
-shank), and both cranks turn at constant omega, pi apart. Per sample:
+shank), and both cranks turn at constant omega, pi apart. Each stance of a sweep is done in
+one batch (its constant parts, :class:`_StancePlan`, are set up once and cached):
 
-1. q on the constraint manifold by Newton on [c(q); s(q) - s*] (square, factored; the
-   in-plane rows of the loop closures and the weld, plus the four prescribed coordinates),
-2. v and a from :func:`pasibot_pin.model.closure.solve_velocity` / ``solve_acceleration``
-   (exact Jacobians and drift terms), or v = a = 0 (quasi-static),
-3. tau = ``pin.rnea(q, v, a)``,
-4. the split tau = S^T u + J_c^T lambda with u = [T_a, T_a', tau_ankle, tau_ankle'] (the
+1. q, v and a of every sample from the closed form of the legs on second-order jets
+   (:func:`pasibot_pin.model.closure.analytic_motion`: exact to round-off, no Jacobian solve),
+   checked by one batched evaluation of the in-plane rows of the loop closures and the weld plus
+   the four prescribed coordinates; only where they do not close does a batched Newton on
+   [c(q); s(q) - s*] polish q, and then v and a come from the exact Jacobians and drift terms
+   (``ConstraintSystem.motion_many``); v = a = 0 when quasi-static,
+2. tau = ``pin.rnea(q, v, a)`` for every sample in one C++ call,
+3. the split tau = S^T u + J_c^T lambda with u = [T_a, T_a', tau_ankle, tau_ankle'] (the
    actuated cranks and the two ankles, stance first) and lambda the in-plane constraint forces:
-   one square 19 x 19 solve, so the passive joints carry no torque,
-5. ``pin.rnea(q, v, a, fext)`` with the constraint forces as external forces gives every tree
-   joint's reaction (the force and moment the parent body applies to the child).
+   one square 19 x 19 solve per sample, so the passive joints carry no torque,
+4. every tree joint's reaction (the force and moment the parent body applies to the child) from
+   the batched planar Newton-Euler of the tree with the constraint forces as external forces
+   (:mod:`pasibot_pin.dynamics.newton_euler`, what ``pin.rnea(q, v, a, fext)`` transmits).
 
 Torques are reported as generalised forces of theta (stance crank), beta = pi/2 - q_ankle
 (the angle from the forward foot to the shank), theta' and beta': T_a = u[0], T_e = -u[2].
@@ -37,10 +41,10 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import coupling, is_weld, planar_rows
+from pasibot_pin.constraints import ConstraintSystem, coupling, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
-from pasibot_pin.dynamics.newton_euler import batch_rnea, tree_layout
+from pasibot_pin.dynamics.newton_euler import TreeLayout, batch_rnea, tree_layout
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
@@ -83,7 +87,8 @@ def sweep_stances(thetas: np.ndarray, stance: str = "auto") -> list[str]:
     """
     if stance != "auto":
         return [stance] * len(thetas)
-    sides = [stance_side(th) for th in thetas]
+    right = np.remainder(np.asarray(thetas, dtype=float) - math.pi / 2, 2 * math.pi) < math.pi  # stance_side
+    sides = ["right" if r else "left" for r in right.tolist()]
     if len(sides) > 1 and sides[-1] != sides[-2]:
         turns = (thetas[-1] - math.pi / 2) / math.pi
         if abs(turns - round(turns)) < 1e-9:
@@ -330,6 +335,73 @@ def ankle_angle(robot: PasibotRobot, q: np.ndarray, side: str) -> float:
     return float(ankle_angles(robot, q, side)[0])
 
 
+# --------------------------------------------------------------------------- one stance, set up once
+@dataclass
+class _StancePlan:
+    """Everything of one stance of a sweep that does not change from sample to sample (cached).
+
+    Attributes:
+        robot: the robot standing on ``side`` with the stance weld.
+        rows: the square constraint system (loops, weld, prescribed coordinates).
+        s_matrix: the actuation S (n_u, nv).
+        coupling: the motor-coupling rows C (n_c, nv) (constant).
+        tree: the batched Newton-Euler layout (COMs, joint origins, constraint ends).
+        angular: mask of the angle coordinates (unwrapped along a sweep).
+        weld_rows: the weld's rows of lambda; cut_rows: generic name of every loop -> its rows.
+        joint_names: generic name of every tree joint 2 .. njoints - 1 -> its index.
+        model_copy: the model as the plan was made (a plan is stale once the model changes).
+
+    """
+
+    robot: PasibotRobot
+    rows: ConstraintSystem
+    s_matrix: np.ndarray
+    coupling: np.ndarray
+    tree: TreeLayout
+    angular: np.ndarray
+    weld_rows: slice
+    cut_rows: dict[str, slice]
+    joint_names: dict[str, int]
+    model_copy: pin.Model
+
+
+_PLANS: dict[tuple, tuple[pin.Model, _StancePlan]] = {}
+
+
+def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorLayout, stance_x: float) -> _StancePlan:
+    """The :class:`_StancePlan` of ``robot`` standing on ``side`` with its ankle at x = ``stance_x`` [m]."""
+    model = robot.model
+    key = (id(model), side, swing_foot, layout.name, float(stance_x))
+    cached = _PLANS.get(key)
+    if cached is not None and cached[0] is model and cached[1].model_copy == model:
+        return cached[1]
+    rs = robot.with_weld(side, closure.stance_weld(robot, side, stance_x))
+    rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
+    coupling_rows = closure.system(rs, [], _couplings(rs, layout))
+    weld_rows, cut_rows = slice(0, 0), {}
+    for cm, rows_of in zip(rs.constraint_models, planar_rows(rs.constraint_models)):
+        if is_weld(cm):
+            weld_rows = rows_of
+        else:
+            cut_rows[_generic(cm.name, side)] = rows_of
+    entry = _StancePlan(
+        robot=rs,
+        rows=rows,
+        s_matrix=_actuation(rs, side, layout),
+        coupling=coupling_rows.jacobian(pin.neutral(model)).reshape(-1, model.nv),
+        tree=tree_layout(model, rs.constraint_models),
+        angular=closure.angular_coordinates(model),
+        weld_rows=weld_rows,
+        cut_rows=cut_rows,
+        joint_names={_generic(model.names[j], side): j for j in range(2, model.njoints)},
+        model_copy=pin.Model(model),
+    )
+    if len(_PLANS) >= 32:
+        _PLANS.pop(next(iter(_PLANS)))
+    _PLANS[key] = (model, entry)  # keeps the model alive: no id reuse
+    return entry
+
+
 # --------------------------------------------------------------------------- trajectory
 def _segments(sides: list[str]) -> list[tuple[int, int]]:
     """(start, stop) of each run of samples with the same stance side."""
@@ -342,14 +414,23 @@ def _shift(delta: float, free: list[float]) -> np.ndarray:
     return np.array([delta, delta] + [0.0] * len(free))
 
 
-def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular):
-    """(q (N, nq), stance weld): the analytic assembly along ``thetas``, to be polished by one batched Newton.
+def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular) -> np.ndarray:
+    """The analytic assembly along ``thetas``, q (N, nq), closed to round-off (a batched Newton checks it).
 
     The angles are unwrapped along the sweep, as a continuation would carry them.
     """
-    guess, weld = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
-    guess[:, angular] = np.unwrap(guess[:, angular], axis=0)
-    return guess, weld
+    guess, _ = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
+    _unwrap(guess, angular)
+    return guess
+
+
+def _unwrap(q: np.ndarray, angular: np.ndarray) -> None:
+    """Unwrap the angle columns of q (N, nq) along the sweep, in place (as ``np.unwrap``: steps below pi)."""
+    if len(q) < 2:
+        return
+    turns = np.round(np.diff(q[:, angular], axis=0) * (0.5 / math.pi))  # whole turns between samples
+    if turns.any():
+        q[1:, angular] -= (2 * math.pi) * np.cumsum(turns, axis=0)
 
 
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
@@ -426,8 +507,9 @@ def inverse_dynamics(
     out = {k: np.zeros(n) for k in ("beta", "beta_swing", "Ta", "Te", "Ta_swing", "Te_swing")}
     qs, vs, accs, taus = np.zeros((n, model.nq)), np.zeros((n, nv)), np.zeros((n, nv)), np.zeros((n, nv))
     ground = np.zeros((n, 3))
-    cuts: dict[str, np.ndarray] = {}
-    joints: dict[str, np.ndarray] = {}
+    cut_names: list[str] = []  # in the first stance's order (the columns of the CSV)
+    joint_names: list[str] = []
+    cut_forces = joint_forces = np.zeros((n, 0, 3))
     sides_used = sweep_stances(thetas, stance)
 
     spec = robot.spec
@@ -435,7 +517,7 @@ def inverse_dynamics(
     swing_pitch = 0.0 if swing_foot == "level" else None
     n_motor = len(layout.motors)
     transmission = np.zeros(n)
-    angular = closure.angular_coordinates(model)
+    rates = np.array([omega, omega, *free])
     stance_x = 0.0
     previous = None  # (rows, last q) of the previous stance
     for i0, i1 in _segments(sides_used):
@@ -445,22 +527,16 @@ def inverse_dynamics(
             q_land = previous[0].project(previous[1], targets=[switch, switch + math.pi, *free])
             pin.framesForwardKinematics(model, robot.data, q_land)
             stance_x = float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
-        # the analytic assembly of the whole stance, polished by one batched Newton
-        guess, weld = _stance_guess(robot, th, swing_pitch, side, stance_x, angular)
-        rs = robot.with_weld(side, weld)
-        rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
-        s_matrix = _actuation(rs, side, layout)
-        # the motor couplings are constraint rows of the force split (constant Jacobian)
-        coupling_jac = closure.system(rs, [], _couplings(rs, layout)).jacobian(guess[0])
+        plan = _stance_plan(robot, side, swing_foot, layout, stance_x)
+        rs, rows, tree = plan.robot, plan.rows, plan.tree
+        # q, v and a of the whole stance from the closed form and its exact time derivatives (jets);
+        # one batched evaluation of the rows checks the closure (Newton polishes only if it is open)
+        guess, v, a, _ = closure.analytic_motion(rs, th, omega, swing_pitch, side, stance_x)
+        _unwrap(guess, plan.angular)
         targets = np.column_stack([th, th + math.pi] + [np.full(th.size, f) for f in free])
         q, closed = rows.project_many(guess, targets)
-        if quasi_static:
-            v = a = np.zeros((th.size, nv))
-            jac = closed.jac
-        else:
-            rates = np.array([omega, omega, *free])
-            v, a, jac = rows.motion_many(q, rates, np.zeros_like(rates), closed.jac)
-        tree = tree_layout(model, rs.constraint_models)
+        if not np.array_equal(q, guess):  # polished: v and a by the constraint core at the new q
+            v, a, _ = rows.motion_many(q, rates, np.zeros_like(rates), closed.jac)
         if mode in ("central", "lagged"):
             offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
             coms = []
@@ -469,7 +545,7 @@ def inverse_dynamics(
                 if j == 0:
                     qj = q
                 else:
-                    shifted_guess = _stance_guess(rs, shifted, swing_pitch, side, stance_x, angular)[0]
+                    shifted_guess = _stance_guess(rs, shifted, swing_pitch, side, stance_x, plan.angular)
                     qj = rows.project_many(shifted_guess, targets + _shift(j * step, free))[0]
                 coms.append(tree.coms.positions(qj))
             com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / omega) ** 2
@@ -479,10 +555,13 @@ def inverse_dynamics(
             alpha = None
         else:
             tau = batch_rnea(model, q, v, a)
-            com_pos, com_acc, alpha = tree.body_motion(q, v, a)
+            if reactions:
+                com_pos, com_acc, alpha = tree.body_motion(q, v, a)
+        # the split tau = S^T u + J_c^T lambda + C^T lambda_C: one square solve per sample
         nc = rows.n_constraint_rows
-        jac_split = np.concatenate((jac[:, :nc], np.broadcast_to(coupling_jac, (th.size,) + coupling_jac.shape)), 1)
-        u, lam_all = split_torques_many(tau, s_matrix, jac_split)
+        coupling = np.broadcast_to(plan.coupling, (th.size,) + plan.coupling.shape)
+        jac_split = np.concatenate((closed.jac[:, :nc], coupling), 1)
+        u, lam_all = split_torques_many(tau, plan.s_matrix, jac_split)
         lam = lam_all[:, :nc]
         seg = slice(i0, i1)
         out["beta"][seg], out["beta_swing"][seg] = ankle_angles(rs, q, side), ankle_angles(rs, q, other(side))
@@ -494,18 +573,20 @@ def inverse_dynamics(
         if spec.free_ankle:
             out["Te"][seg], out["Te_swing"][seg] = -u[:, n_motor], -u[:, n_motor + 1]
         qs[seg], vs[seg], accs[seg], taus[seg] = q, v, a, tau
-        for cm, rows_of in zip(rs.constraint_models, planar_rows(rs.constraint_models)):
-            if is_weld(cm):
-                ground[seg] = lam[:, rows_of]
-            else:
-                cuts.setdefault(_generic(cm.name, side), np.zeros((n, 2)))[seg] = lam[:, rows_of]
+        ground[seg] = lam[:, plan.weld_rows]
+        if i0 == 0:
+            cut_names, cut_forces = list(plan.cut_rows), np.zeros((n, len(plan.cut_rows), 2))
+        for k, name in enumerate(cut_names):
+            cut_forces[seg, k] = lam[:, plan.cut_rows[name]]
         if reactions:
             reac = tree.reactions(q, com_pos, com_acc, alpha, lam)
-            for j in range(2, model.njoints):
-                joints.setdefault(_generic(model.names[j], side), np.zeros((n, 3)))[seg] = reac[:, j]
+            if i0 == 0:
+                joint_names, joint_forces = list(plan.joint_names), np.zeros((n, len(plan.joint_names), 3))
+            joint_forces[seg] = reac[:, [plan.joint_names[name] for name in joint_names]]
         previous = (rows, q[-1])
 
-    theta_stance = np.array([wrap_stance(th if s == "right" else th + math.pi) for th, s in zip(thetas, sides_used)])
+    stance_crank = np.where(np.array(sides_used) == "right", thetas, thetas + math.pi)
+    theta_stance = math.pi / 2 + np.remainder(stance_crank - math.pi / 2, 2 * math.pi)  # wrap_stance
     t = (thetas - thetas[0]) / (omega if omega > 0 else 1.0)
     return TorqueResult(
         t=t,
@@ -517,8 +598,8 @@ def inverse_dynamics(
         a=accs,
         tau=taus,
         ground=ground,
-        cuts=cuts,
-        joints=joints,
+        cuts={name: cut_forces[:, k] for k, name in enumerate(cut_names)},
+        joints={name: joint_forces[:, k] for k, name in enumerate(joint_names)},
         omega=omega,
         accelerations=mode,
         swing_foot=swing_foot,

@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from pasibot_pin.model import jet
 from pasibot_pin.model.params import Geometry
 from pasibot_pin.model.variants import Variant, get_variant
 
@@ -39,15 +40,8 @@ def _first_bad(theta, bad) -> float:
     return float(np.atleast_1d(theta)[np.argmax(np.atleast_1d(bad))])
 
 
-def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, loop: str, theta) -> Point:
-    """Intersection of two circles, on the left (or right) of the line c1 -> c2.
-
-    Raises:
-        ValueError: naming ``loop`` and the (first) crank angle where the circles do not meet.
-
-    """
-    d_vec = c2 - c1
-    d = np.hypot(d_vec[..., 0], d_vec[..., 1])
+def _check_meet(d, r1: float, r2: float, loop: str, theta) -> None:
+    """Raise ``ValueError`` naming ``loop`` and the first crank angle where two circles do not meet."""
     bad = ~((abs(r1 - r2) < d) & (d < r1 + r2))
     if np.any(bad):
         th = _first_bad(theta, bad)
@@ -57,15 +51,51 @@ def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, 
             f"(theta = {th:.6f} rad): distance {d_bad:.6g} m between its pivots is outside "
             f"[{abs(r1 - r2):.6g}, {r1 + r2:.6g}] m; check K and the link ratios"
         )
-    a = (r1**2 - r2**2 + d**2) / (2 * d)
-    h = np.sqrt(np.maximum(r1**2 - a**2, 0.0))
-    u = d_vec / d[..., None]
-    normal = np.stack((-u[..., 1], u[..., 0]), axis=-1)  # left of c1 -> c2
-    return c1 + a[..., None] * u + (h if left else -h)[..., None] * normal
 
 
-def _unit(vec: Point) -> Point:
-    return vec / np.linalg.norm(vec, axis=-1, keepdims=True)
+def circle_meet(c1, r1: float, c2, r2: float, left: bool, loop: str, theta):
+    """:func:`circle_intersection` on complex points x + i z (scalars, arrays (N,) or jets) [m].
+
+    With d = c2 - c1 and s = |d|^2 the point is c1 + d (alpha +- i beta), alpha = a / |d| =
+    1/2 + (r1^2 - r2^2) / (2 s) and beta = h / |d| = sqrt(r1^2 / s - alpha^2): no square root
+    of s, few operations (each one is the chain rule for jets).
+    """
+    d_vec = c2 - c1
+    s = jet.abs2(d_vec)
+    _check_meet(np.sqrt(jet.value(s)), r1, r2, loop, jet.value(theta))
+    inv_s = 1.0 / s
+    alpha = 0.5 + (0.5 * (r1**2 - r2**2)) * inv_s
+    inner = r1**2 * inv_s - alpha * alpha
+    if isinstance(inner, jet.Jet):
+        inner.v = np.maximum(inner.v, 0.0)
+    else:
+        inner = np.maximum(inner, 0.0)
+    beta = jet.sqrt(inner)
+    # left of c1 -> c2 is the direction turned by +90 deg: i d
+    return c1 + d_vec * (alpha + 1j * beta if left else alpha - 1j * beta)
+
+
+def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, loop: str, theta) -> Point:
+    """Intersection of two circles, on the left (or right) of the line c1 -> c2.
+
+    Raises:
+        ValueError: naming ``loop`` and the (first) crank angle where the circles do not meet.
+
+    """
+    meet = circle_meet(_complex(c1), r1, _complex(c2), r2, left, loop, theta)
+    return _real(meet)
+
+
+def _complex(point: Point):
+    """(..., 2) points as complex x + i z."""
+    point = np.asarray(point, dtype=float)
+    return point[..., 0] + 1j * point[..., 1]
+
+
+def _real(point) -> Point:
+    """Complex x + i z points as (..., 2) arrays."""
+    point = np.asarray(point)
+    return np.stack((point.real, point.imag), axis=-1)
 
 
 def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant = "spring") -> dict[str, Point]:
@@ -84,55 +114,92 @@ def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant =
         ValueError: when a loop cannot assemble (named, with the crank angle).
 
     """
+    theta = np.asarray(theta, dtype=float)
+    points = leg_points_complex(theta, geometry, variant)
+    return {k: _real(np.broadcast_to(v, theta.shape)) for k, v in points.items()}
+
+
+def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | Variant = "spring") -> dict:
+    """:func:`leg_points` as complex numbers x + i z (arrays like ``theta``) [m]: the one closed form.
+
+    ``theta`` may be a :class:`~pasibot_pin.model.jet.Jet` (theta, theta_dot, theta_ddot): the
+    points are then jets too, with their exact velocities and accelerations.
+
+    Raises:
+        ValueError: when a loop cannot assemble (named, with the crank angle).
+
+    """
     g = geometry or Geometry()
     spec = get_variant(variant)
-    theta = np.asarray(theta, dtype=float)
-    if not np.all(np.isfinite(theta)):
-        raise ValueError(f"crank angle theta must be finite, got {_first_bad(theta, ~np.isfinite(theta))!r}")
-    shape = theta.shape + (2,)
-    p: dict[str, Point] = {}
-    p["p0"] = np.zeros(shape)
-    p["p3"] = np.broadcast_to(np.array([g.length(0), 0.0]), shape)
-    p["p8"] = np.broadcast_to(np.array([g.length(0), -g.length(13)]), shape)
-    p["p1"] = g.length(1) * np.stack((np.cos(theta), np.sin(theta)), axis=-1)
+    if not isinstance(theta, jet.Jet):
+        theta = np.asarray(theta, dtype=float)
+    bare = jet.value(theta)
+    if not np.all(np.isfinite(bare)):
+        raise ValueError(f"crank angle theta must be finite, got {_first_bad(bare, ~np.isfinite(bare))!r}")
+    length = _lengths(g)
+    p: dict = {}
+    p["p0"] = 0j
+    p["p3"] = complex(length[0], 0.0)
+    p["p8"] = complex(length[0], -length[13])
+    p["p1"] = length[1] * jet.exp_i(theta)
     # Joint 2: coupler hangs below the line 1-3 (right of 1 -> 3).
-    p["p2"] = circle_intersection(p["p1"], g.length(2) / 2, p["p3"], g.length(3), False, "j2", theta)
-    u2 = _unit(p["p2"] - p["p1"])
-    p["p4"] = p["p1"] + g.length(2) * u2
-    # Joint 5: knee forward, left of 4 -> 8.
-    p["p5"] = circle_intersection(p["p4"], g.length(4) - g.length(7), p["p8"], g.length(6), True, "j5", theta)
-    u4 = _unit(p["p5"] - p["p4"])
-    p["p6"] = p["p4"] + g.length(4) * u4
-    # Joint 7: pantograph parallelogram 5-6-7-8.
+    p["p2"] = circle_meet(p["p1"], length[2] / 2, p["p3"], length[3], False, "j2", theta)
+    # 2 is the coupler's mid-point (|p2 - p1| = L2 / 2 by construction): 4 = 2 p2 - p1
+    p["p4"] = 2.0 * p["p2"] - p["p1"]
+    # Joint 5: knee forward, left of 4 -> 8; its circle about 4 has radius L4 - L7.
+    p["p5"] = circle_meet(p["p4"], length[4] - length[7], p["p8"], length[6], True, "j5", theta)
+    u4 = (p["p5"] - p["p4"]) * (1.0 / (length[4] - length[7]))
+    p["p6"] = p["p4"] + length[4] * u4
+    # Joint 7: pantograph parallelogram 5-6-7-8, so |p7 - p6| = |p8 - p5| = L6.
     p["p7"] = p["p8"] + (p["p6"] - p["p5"])
-    u5 = _unit(p["p7"] - p["p6"])
-    p["p13"] = p["p6"] + g.length(5) * u5
+    u5 = (p["p7"] - p["p6"]) * (1.0 / length[6])
+    p["p13"] = p["p6"] + length[5] * u5
     if spec.extension:
-        dz = p["p4"][..., 1] + g.length(12)
-        l8 = g.length(8)
-        bad = np.abs(dz) >= l8
-        if np.any(bad):
-            th = _first_bad(theta, bad)
-            dz_bad = float(np.atleast_1d(np.abs(dz))[np.argmax(np.atleast_1d(bad))])
-            raise ValueError(
-                f"loop j4 (stabiliser) cannot assemble at crank angle {math.degrees(th):.3f} deg: "
-                f"joint 4 is {dz_bad:.6g} m from the slider line, more than L8 = {l8:.6g} m"
-            )
-        p["p10"] = np.stack((p["p4"][..., 0] - np.sqrt(l8**2 - dz**2), np.full(theta.shape, -g.length(12))), axis=-1)
-        u8 = (p["p4"] - p["p10"]) / l8
-        p["p9"] = p["p10"] + (l8 / 2) * u8
-        p["p11"] = p["p9"] + g.length(9) * u4
-        p["p12"] = p["p11"] + g.length(11) * u5
-        r = g.ratios
-        if r["r9"] != r["r4"] or r["r8"] != 2 * r["r10"]:
-            # 4-6-11-9 is no parallelogram: joint 11 is where L9 (from 9) meets L10 (from 6),
-            # on the side nearer the parallelogram's point
-            p["p11"] = _nearer(p["p9"], g.length(9), p["p6"], g.length(10), p["p11"], "j11", theta)
-        if r["r11"] != r["r5"] or r["r9"] != r["r4"] or r["r8"] != 2 * r["r10"]:
-            # 6-11-12-13 is no parallelogram: joint 12 is where L11 (from 11) meets the foot bar (from 13)
-            guess = p["p11"] + g.length(11) * u5
-            p["p12"] = _nearer(p["p11"], g.length(11), p["p13"], g.length(10), guess, "j13", theta)
+        _extension_points(p, theta, g, length, u4, u5)
     return p
+
+
+_LENGTHS: dict[int, tuple[Geometry, list[float]]] = {}
+
+
+def _lengths(g: Geometry) -> list[float]:
+    """L0 .. L13 [m] (cached per geometry object; a Geometry is frozen)."""
+    cached = _LENGTHS.get(id(g))
+    if cached is not None and cached[0] is g:
+        return cached[1]
+    lengths = [g.length(k) for k in range(14)]
+    if len(_LENGTHS) >= 64:
+        _LENGTHS.pop(next(iter(_LENGTHS)))
+    _LENGTHS[id(g)] = (g, lengths)  # keeps the geometry alive: no id reuse
+    return lengths
+
+
+def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) -> None:
+    """The parallel extension's points 9, 10, 11, 12 (complex), added to ``p``."""
+    dz = p["p4"].imag + length[12]
+    l8 = length[8]
+    bad = np.abs(jet.value(dz)) >= l8
+    if np.any(bad):
+        th = _first_bad(jet.value(theta), bad)
+        dz_bad = float(np.atleast_1d(np.abs(jet.value(dz)))[np.argmax(np.atleast_1d(bad))])
+        raise ValueError(
+            f"loop j4 (stabiliser) cannot assemble at crank angle {math.degrees(th):.3f} deg: "
+            f"joint 4 is {dz_bad:.6g} m from the slider line, more than L8 = {l8:.6g} m"
+        )
+    p["p10"] = (p["p4"].real - jet.sqrt(l8**2 - dz * dz)) - 1j * length[12]
+    u8 = (p["p4"] - p["p10"]) / l8
+    p["p9"] = p["p10"] + (l8 / 2) * u8
+    p["p11"] = p["p9"] + length[9] * u4
+    p["p12"] = p["p11"] + length[11] * u5
+    r = g.ratios
+    if r["r9"] != r["r4"] or r["r8"] != 2 * r["r10"]:
+        # 4-6-11-9 is no parallelogram: joint 11 is where L9 (from 9) meets L10 (from 6),
+        # on the side nearer the parallelogram's point
+        p["p11"] = _nearer(p["p9"], length[9], p["p6"], length[10], p["p11"], "j11", theta)
+    if r["r11"] != r["r5"] or r["r9"] != r["r4"] or r["r8"] != 2 * r["r10"]:
+        # 6-11-12-13 is no parallelogram: joint 12 is where L11 (from 11) meets the foot bar (from 13)
+        guess = p["p11"] + length[11] * u5
+        p["p12"] = _nearer(p["p11"], length[11], p["p13"], length[10], guess, "j13", theta)
 
 
 FULL_TURN_SAMPLES: int = 720
@@ -157,12 +224,12 @@ def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "
         raise ValueError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
 
 
-def _nearer(c1: Point, r1: float, c2: Point, r2: float, guess: Point, loop: str, theta) -> Point:
-    """The intersection of two circles nearer to ``guess`` (per sample); ValueError naming ``loop`` if none."""
-    left = circle_intersection(c1, r1, c2, r2, True, loop, theta)
-    right = circle_intersection(c1, r1, c2, r2, False, loop, theta)
-    use_left = np.linalg.norm(left - guess, axis=-1) <= np.linalg.norm(right - guess, axis=-1)
-    return np.where(use_left[..., None], left, right)
+def _nearer(c1, r1: float, c2, r2: float, guess, loop: str, theta):
+    """The intersection (complex) of two circles nearer to ``guess``, per sample (ValueError naming ``loop``)."""
+    left = circle_meet(c1, r1, c2, r2, True, loop, theta)
+    right = circle_meet(c1, r1, c2, r2, False, loop, theta)
+    use_left = np.abs(jet.value(left - guess)) <= np.abs(jet.value(right - guess))
+    return jet.where(use_left, left, right)
 
 
 def leg_joint_angles(
@@ -190,38 +257,65 @@ def leg_joint_angles(
     return joint_angles_from_points(leg_points(theta, geometry, spec), theta, spec, foot_angle)
 
 
-def joint_angles_from_points(p: dict[str, Point], theta, variant: str | Variant = "spring", foot_angle=None):
-    """:func:`leg_joint_angles` from the points of :func:`leg_points` at ``theta`` (computed once)."""
+def joint_angles_from_points(p: dict, theta, variant: str | Variant = "spring", foot_angle=None):
+    """:func:`leg_joint_angles` from the points of :func:`leg_points` (or :func:`leg_points_complex`)."""
     spec = get_variant(variant)
     theta = np.asarray(theta, dtype=float)
-    a12 = _angle(p["p1"], p["p4"])
-    a46 = _angle(p["p4"], p["p6"])
-    a613 = _angle(p["p6"], p["p13"])
-    q = {
-        "j0_crank": theta,
-        "j1": wrap(a12 - theta),
-        "j3": _angle(p["p3"], p["p2"]),
-        "j4": wrap(a46 - a12),
-        "j6": wrap(a613 - a46),
-        "j8_l6": _angle(p["p8"], p["p5"]),
-        "j8_l7": _angle(p["p8"], p["p7"]),
-    }
-    if spec.sole == "ankle":
-        target = a613 + math.pi / 2 if foot_angle is None else foot_angle
-        q["j13_ankle"] = wrap(target - a613 - math.pi / 2)
-    if spec.extension:
-        a104 = _angle(p["p10"], p["p4"])
-        a911 = _angle(p["p9"], p["p11"])
-        a1112 = _angle(p["p11"], p["p12"])
-        q["j10_slide"] = p["p10"][..., 0]
-        q["j10"] = a104
-        q["j9"] = wrap(a911 - a104)
-        q["j11"] = wrap(a1112 - a911)
-        q["j12"] = wrap(_angle(p["p12"], p["p13"]) - a1112)
-        q["j6_l10"] = wrap(_angle(p["p6"], p["p11"]) - a46)
+    q = joint_angles_complex(_as_complex(p), theta, spec, foot_angle)
     if theta.ndim == 0:
         return {k: float(v) for k, v in q.items()}
     return {k: np.broadcast_to(v, theta.shape).astype(float) for k, v in q.items()}
+
+
+def _as_complex(p: dict) -> dict:
+    """Points as complex x + i z, whether given so or as (..., 2) arrays."""
+    return {k: v if np.iscomplexobj(v) else _complex(v) for k, v in p.items()}
+
+
+def _dir(a, b):
+    """Direction of a -> b for complex points or jets [rad] (the same arithmetic as :func:`_angle`)."""
+    return jet.angle(b - a)
+
+
+def joint_angles_complex(p: dict, theta, variant: str | Variant = "spring", foot_angle=None) -> dict:
+    """Tree joint coordinates of one leg from complex points (:func:`leg_points_complex`) [rad, m].
+
+    Values are arrays like the points (or scalars, or jets for jet points); ``j0_crank`` is
+    ``theta`` itself. ``foot_angle`` (spring ankle) as in :func:`leg_joint_angles`; an array may
+    hold NaN where the foot stays square to its shank (ankle coordinate 0).
+    """
+    spec = get_variant(variant)
+    wrap = jet.wrap
+    a12 = _dir(p["p1"], p["p4"])
+    a46 = _dir(p["p4"], p["p6"])
+    a613 = _dir(p["p6"], p["p13"])
+    q = {
+        "j0_crank": theta,
+        "j1": wrap(a12 - theta),
+        "j3": _dir(p["p3"], p["p2"]),
+        "j4": wrap(a46 - a12),
+        "j6": wrap(a613 - a46),
+        "j8_l6": _dir(p["p8"], p["p5"]),
+        "j8_l7": _dir(p["p8"], p["p7"]),
+    }
+    if spec.sole == "ankle":
+        target = a613 + math.pi / 2 if foot_angle is None else foot_angle
+        ankle = wrap(target - a613 - math.pi / 2)
+        square = np.isnan(foot_angle) if foot_angle is not None and np.ndim(foot_angle) else None
+        if square is not None and square.any():  # NaN entries: the foot square to its shank
+            ankle = jet.where(square, 0.0, ankle)
+        q["j13_ankle"] = ankle
+    if spec.extension:
+        a104 = _dir(p["p10"], p["p4"])
+        a911 = _dir(p["p9"], p["p11"])
+        a1112 = _dir(p["p11"], p["p12"])
+        q["j10_slide"] = p["p10"].real
+        q["j10"] = a104
+        q["j9"] = wrap(a911 - a104)
+        q["j11"] = wrap(a1112 - a911)
+        q["j12"] = wrap(_dir(p["p12"], p["p13"]) - a1112)
+        q["j6_l10"] = wrap(_dir(p["p6"], p["p11"]) - a46)
+    return q
 
 
 def sole_angle(theta, geometry: Geometry | None = None, variant: str | Variant = "spring"):
@@ -234,13 +328,20 @@ def sole_angle(theta, geometry: Geometry | None = None, variant: str | Variant =
     return sole_angle_from_points(leg_points(theta, geometry, variant), variant)
 
 
-def sole_angle_from_points(p: dict[str, Point], variant: str | Variant = "spring"):
-    """:func:`sole_angle` from the points of :func:`leg_points` (computed once)."""
+def sole_angle_from_points(p: dict, variant: str | Variant = "spring"):
+    """:func:`sole_angle` from the points of :func:`leg_points` (or complex ones), computed once."""
     if get_variant(variant).sole == "stabiliser":
-        out = _angle(p["p10"], p["p4"])
+        out = _angle_any(p["p10"], p["p4"])
     else:
-        out = _angle(p["p6"], p["p13"]) + math.pi / 2
-    return float(out) if np.ndim(out) == 0 else out
+        out = _angle_any(p["p6"], p["p13"]) + math.pi / 2
+    return float(out) if not isinstance(out, jet.Jet) and np.ndim(out) == 0 else out
+
+
+def _angle_any(a, b):
+    """Direction of a -> b for complex points, jets or (..., 2) arrays [rad]."""
+    if isinstance(a, jet.Jet) or isinstance(b, jet.Jet) or np.iscomplexobj(a) or np.iscomplexobj(b):
+        return _dir(a, b)
+    return _angle(a, b)
 
 
 def _between(a: Point, b: Point):

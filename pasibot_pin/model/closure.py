@@ -23,7 +23,8 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
-from pasibot_pin.model.assembly import joint_angles_from_points, leg_points, sole_angle_from_points
+from pasibot_pin.model import jet
+from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
 from pasibot_pin.model.description import sides
 
 RESIDUAL_TOL = 1e-12
@@ -205,6 +206,56 @@ def angular_coordinates(model: pin.Model) -> np.ndarray:
     return mask
 
 
+@dataclass(frozen=True)
+class _AssemblyPlan:
+    """What :func:`analytic_configurations` needs of a model, looked up once (per model)."""
+
+    neutral: np.ndarray
+    columns: dict[str, dict[str, int]]  # side -> joint name without the side -> q column
+
+
+_PLANS: dict[int, tuple[pin.Model, _AssemblyPlan]] = {}
+_WELDS: dict[tuple, tuple[pin.Model, pin.RigidConstraintModel]] = {}
+
+
+def _assembly_plan(robot) -> _AssemblyPlan:
+    """The :class:`_AssemblyPlan` of ``robot``'s model (cached; the entry keeps the model alive)."""
+    model = robot.model
+    cached = _PLANS.get(id(model))
+    if cached is not None and cached[0] is model:
+        return cached[1]
+    columns: dict[str, dict[str, int]] = {side: {} for side in sides(robot.legs)}
+    for j in range(1, model.njoints):
+        side, _, rest = model.names[j].partition("_")
+        if side in columns and model.joints[j].nq == 1:
+            columns[side][rest] = model.joints[j].idx_q
+    plan = _AssemblyPlan(np.array(pin.neutral(model)), columns)
+    if len(_PLANS) >= _CACHE_SIZE:
+        _PLANS.pop(next(iter(_PLANS)))
+    _PLANS[id(model)] = (model, plan)
+    return plan
+
+
+def stance_weld(robot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraintModel:
+    """The weld of ``stance``'s foot flat on the ground, its ankle at world x = ``ankle_x`` [m] (cached).
+
+    The same object is returned for the same model, stance and ``ankle_x``: do not modify it.
+    """
+    model = robot.model
+    y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
+    key = (id(model), stance, float(ankle_x), float(y))
+    cached = _WELDS.get(key)
+    if cached is not None and cached[0] is model:
+        return cached[1]
+    weld = constraints.weld_constraint(
+        model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
+    )
+    if len(_WELDS) >= _CACHE_SIZE:
+        _WELDS.pop(next(iter(_WELDS)))
+    _WELDS[key] = (model, weld)
+    return weld
+
+
 def analytic_configurations(
     robot,
     thetas,
@@ -215,6 +266,10 @@ def analytic_configurations(
     ankle_x: float = 0.0,
 ) -> tuple[np.ndarray, pin.RigidConstraintModel | None]:
     """Configurations from the analytic assembly alone, one per crank angle (closed to round-off).
+
+    Vectorised: the leg points of every sample and both legs come from one call of the closed
+    form (:func:`~pasibot_pin.model.assembly.leg_points_complex`), the joint columns and the
+    weld are looked up once per model.
 
     Args:
         robot: a loaded robot.
@@ -237,44 +292,126 @@ def analytic_configurations(
     for name, value in (("theta", thetas), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not np.all(np.isfinite(value)):
             raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
-    model = robot.model
-    g, variant = robot.geometry, robot.spec
     left = thetas + math.pi
     if theta_left is not None:
         left = np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
-    angles = {"right": thetas, "left": left}
-    q = np.tile(pin.neutral(model), (len(thetas), 1))
+    q = np.tile(_assembly_plan(robot).neutral, (len(thetas), 1))
+    weld = _closed_form(robot, thetas, left, (q,), hip_pitch_value, swing_foot_pitch, stance, ankle_x)
+    return q, weld
+
+
+def analytic_motion(
+    robot,
+    thetas,
+    omega: float,
+    swing_foot_pitch: float | None = 0.0,
+    stance: str | None = None,
+    ankle_x: float = 0.0,
+    hip_pitch_value: float = 0.0,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray, pin.RigidConstraintModel | None]:
+    """q, v and a along a crank sweep from the closed form and its exact time derivatives.
+
+    Both cranks turn at ``omega`` (the left one pi ahead); the prescribed hip pitch and swing-foot
+    pitch are held. The closed form of :func:`analytic_configurations` is evaluated on
+    :class:`~pasibot_pin.model.jet.Jet` s (theta, omega, 0): every coordinate comes with its
+    velocity dq/dt = q'(theta) omega and acceleration q''(theta) omega^2, exactly (the chain
+    rule through the circle intersections; no Jacobian solve, no finite differences).
+
+    Args:
+        robot: a loaded robot.
+        thetas: right crank angles (N,) [rad].
+        omega: crank speed [rad/s].
+        swing_foot_pitch: swing-foot pitch for the ``spring`` biped [rad] (``None``: square).
+        stance: the welded foot (default the robot's stance or ``right``).
+        ankle_x: world x of the stance ankle [m].
+        hip_pitch_value: hip pitch for the ``spring`` biped [rad].
+
+    Returns:
+        (q (N, nq), v (N, nv), a (N, nv), the stance weld or ``None``).
+
+    Raises:
+        ValueError: a loop that cannot assemble at one of the crank angles (named).
+
+    """
+    thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
+    if not np.all(np.isfinite(thetas)) or not math.isfinite(omega):
+        raise ValueError("parameters 'thetas' and 'omega' must be finite")
+    n = len(thetas)
+    q = np.tile(_assembly_plan(robot).neutral, (n, 1))
+    v, a = np.zeros((n, robot.model.nv)), np.zeros((n, robot.model.nv))
+    right, left = jet.Jet(thetas, float(omega), 0.0), jet.Jet(thetas + math.pi, float(omega), 0.0)
+    weld = _closed_form(robot, right, left, (q, v, a), hip_pitch_value, swing_foot_pitch, stance, ankle_x)
+    return q, v, a, weld
+
+
+def _column(robot, plan: _AssemblyPlan, side: str, joint: str) -> int:
+    """The q column of ``side``'s ``joint`` (a name without the side)."""
+    columns = plan.columns[side]
+    return columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}")
+
+
+def _put(out: tuple[np.ndarray, ...], column: int, value) -> None:
+    """Write a coordinate (array or jet) into column ``column`` of q (and v, a for a jet)."""
+    if isinstance(value, jet.Jet):
+        out[0][:, column] = value.v
+        if len(out) > 1:
+            out[1][:, column], out[2][:, column] = value.d, value.dd
+    else:
+        out[0][:, column] = value
+
+
+def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, stance, ankle_x):
+    """Fill ``out`` = (q,) or (q, v, a) from the closed form at crank angles (arrays or jets); the weld.
+
+    Every leg's samples go through one call of the closed form and one of the joint angles
+    (arrays of all legs end to end), and each of q, v, a is written with one assignment per leg.
+    """
+    g, variant = robot.geometry, robot.spec
+    plan = _assembly_plan(robot)
+    n = len(jet.value(right))
+    legs = sides(robot.legs)
+    angles = {"right": right, "left": left}
     stance = stance or robot.stance or "right"
-    points = {side: leg_points(angles[side], g, variant) for side in sides(robot.legs)}
-    pitch = np.zeros(len(thetas))
+    if isinstance(right, jet.Jet):
+        both = jet.Jet(np.concatenate([angles[side].v for side in legs]), right.d, right.dd)
+    else:
+        both = np.concatenate([angles[side] for side in legs])
+    every = leg_points_complex(both, g, variant)
+    stance_part = slice(n * legs.index(stance), n * (legs.index(stance) + 1)) if stance in legs else slice(0, n)
+    pitch = np.zeros(n)
     if robot.floating:
         if variant.free_ankle:
             pitch[:] = hip_pitch_value
         else:
-            pitch = -sole_angle_from_points(points[stance], variant)
-    for side in sides(robot.legs):
-        foot_angle = None
-        if variant.free_ankle:
-            if not robot.floating:
-                foot_angle = 0.0
-            elif side == stance:
-                foot_angle = -pitch
-            elif swing_foot_pitch is not None:
-                foot_angle = swing_foot_pitch - pitch
-        for joint, value in joint_angles_from_points(points[side], angles[side], variant, foot_angle).items():
-            q[:, robot.idx_q(f"{side}_{joint}")] = value
-    weld = None
-    if robot.floating:
-        ankle = points[stance]["p13"]
-        c, s = np.cos(pitch), np.sin(pitch)
-        q[:, 0] = ankle_x - (c * ankle[:, 0] - s * ankle[:, 1])
-        q[:, 1] = -(s * ankle[:, 0] + c * ankle[:, 1])
-        q[:, 2] = pitch
-        y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
-        weld = constraints.weld_constraint(
-            model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
-        )
-    return q, weld
+            stance_points = {k: v[stance_part] if isinstance(v, jet.Jet) or np.ndim(v) else v for k, v in every.items()}
+            pitch = -sole_angle_from_points(stance_points, variant)
+    foot_angle = None
+    if variant.free_ankle:
+        if not robot.floating:
+            foot_angle = 0.0
+        else:
+            swing = np.full(n, np.nan) if swing_foot_pitch is None else swing_foot_pitch - pitch
+            foot_angle = np.concatenate([-pitch if side == stance else swing for side in legs])
+    coordinates = joint_angles_complex(every, both, variant, foot_angle)
+    names = list(coordinates)
+    columns = [[_column(robot, plan, side, name) for name in names] for side in legs]
+    for part, target in enumerate(out):
+        values = np.empty((len(names), len(legs) * n))
+        for row, name in enumerate(names):
+            value = coordinates[name]
+            if isinstance(value, jet.Jet):
+                values[row] = (value.v, value.d, value.dd)[part]
+            else:
+                values[row] = value if part == 0 else 0.0
+        for i in range(len(legs)):
+            target[:, columns[i]] = values[:, i * n : (i + 1) * n].T
+    if not robot.floating:
+        return None
+    ankle = every["p13"][stance_part] * jet.exp_i(pitch)  # the ankle turned by the hip pitch
+    _put(out, 0, ankle_x - ankle.real)
+    _put(out, 1, -ankle.imag)
+    _put(out, 2, pitch)
+    return stance_weld(robot, stance, ankle_x)
 
 
 def assemble(
