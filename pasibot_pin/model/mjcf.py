@@ -31,7 +31,8 @@ import pinocchio as pin
 
 from pasibot_pin.model.description import sides
 
-ACTUATORS: tuple[str, ...] = ("position", "velocity", "none")
+ACTUATORS: tuple[str, ...] = ("position", "velocity", "constraint", "none")
+CONES: tuple[str, ...] = ("pyramidal", "elliptic")
 
 
 @dataclass(frozen=True)
@@ -42,7 +43,10 @@ class MjcfOptions:
         spring_stiffness: ankle spring K_e [N.m/rad] (0: no spring).
         spring_rest_angle: its rest angle beta0, forward foot to shank [rad].
         spring_damping: ankle damping [N.m.s/rad].
-        actuator: ``position`` (servo on the crank angle), ``velocity`` (servo on its rate) or ``none``.
+        actuator: ``position`` (servo on the crank angle), ``velocity`` (servo on its rate),
+            ``constraint`` (each crank held on its angle by an ``equality joint`` named
+            ``<crank>_drive``, as stiff as the loops: set ``model.eq_data[id][0]`` to the angle
+            each step; a rheonomic crank like ours, with no servo's compliance or lag) or ``none``.
         kp: position gain [N.m/rad]. The crank alone has a tiny inertia: with MuJoCo's explicit
             position term, kp dt^2 must stay small (5000 N.m/rad at 0.1 ms is stable; 2e4 at
             0.25 ms is not). A servo on theta0 + omega t lags by kv omega / kp: add it to ``ctrl``.
@@ -60,6 +64,14 @@ class MjcfOptions:
         solimp: MuJoCo's impedance (d0, dwidth, width) of the equality constraints: near 1 is
             near a hard constraint (MuJoCo's default 0.9 lets the loops give way enough to change
             the hip's fall by tens of percent: the spring and gravity nearly cancel here).
+        cone: MuJoCo's friction cone, ``pyramidal`` (its default) or ``elliptic``.
+        impratio: MuJoCo's ratio of frictional to normal impedance (elliptic cones: > 1 makes
+            friction harder).
+        contact_solref: (time constant [s], damping ratio) of the sole-floor contacts; MuJoCo's
+            default (0.02, 1) is a soft floor (the robot sinks ~0.7 mm into it); the time
+            constant must stay >= 2 timesteps.
+        contact_solimp: MuJoCo's impedance (d0, dwidth, width) of the sole-floor contacts
+            (its default (0.9, 0.95, 0.001)).
 
     """
 
@@ -77,9 +89,13 @@ class MjcfOptions:
     noslip_iterations: int = 0
     solref: tuple[float, float] = (1e-3, 1.0)
     solimp: tuple[float, float, float] = (0.9999, 0.9999, 0.001)
+    cone: str = "pyramidal"
+    impratio: float = 1.0
+    contact_solref: tuple[float, float] = (0.02, 1.0)
+    contact_solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)
 
     def __post_init__(self) -> None:
-        for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep"):
+        for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep", "impratio"):
             value = getattr(self, name)
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"parameter {name!r} must be a finite number >= 0, got {value!r}")
@@ -91,6 +107,12 @@ class MjcfOptions:
             raise ValueError("parameters 'timestep' and 'sole_radius' must be positive")
         if not math.isfinite(self.spring_rest_angle):
             raise ValueError(f"parameter 'spring_rest_angle' must be finite, got {self.spring_rest_angle!r}")
+        if self.cone not in CONES:
+            raise ValueError(f"parameter 'cone' must be one of {', '.join(CONES)}, got {self.cone!r}")
+        if not (math.isfinite(self.contact_solref[0]) and self.contact_solref[0] >= 2 * self.timestep):
+            raise ValueError(
+                f"parameter 'contact_solref' must have a time constant >= 2 timesteps, got {self.contact_solref!r}"
+            )
         if self.actuator not in ACTUATORS:
             raise ValueError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
         if self.weld_foot not in (None, "right", "left"):
@@ -175,6 +197,10 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
     option = ET.SubElement(
         root, "option", timestep=repr(options.timestep), gravity=_vec(model.gravity.linear), integrator="implicitfast"
     )
+    if options.cone != "pyramidal":
+        option.set("cone", options.cone)
+    if options.impratio != 1.0:
+        option.set("impratio", repr(float(options.impratio)))
     if options.noslip_iterations:
         option.set("noslip_iterations", str(options.noslip_iterations))
     default = ET.SubElement(root, "default")
@@ -228,6 +254,8 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
             conaffinity="0",
             condim="3",
             friction=f"{options.mu!r} 0.005 0.0001",
+            solref=_vec(options.contact_solref),
+            solimp=_vec(options.contact_solimp),
             rgba="0.2 0.2 0.2 1",
         )
     for name in spring_joints:  # joint springs: springref where beta = beta0, q = pi/2 - beta
@@ -264,7 +292,13 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
         home.set("ctrl", _vec([q_home[robot.idx_q(motor)] for motor in motors]))
     elif options.actuator == "velocity" and motors:
         home.set("ctrl", _vec([0.0] * len(motors)))
-    if options.actuator != "none" and motors:
+    if options.actuator == "constraint":
+        q_home = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
+        for motor in motors:  # q - qpos0 = polycoef[0] (qpos0 = 0: no joint ref)
+            ET.SubElement(
+                equality, "joint", name=f"{motor}_drive", joint1=motor, polycoef=_vec((q_home[robot.idx_q(motor)], 0, 0, 0, 0))
+            )
+    if options.actuator in ("position", "velocity") and motors:
         actuators = ET.SubElement(root, "actuator")
         for motor in motors:
             if options.actuator == "position":
