@@ -46,7 +46,7 @@ class MjcfOptions:
             ``constraint`` (each crank held on its angle by an ``equality joint`` named
             ``<crank>_drive``, as stiff as the loops: set ``model.eq_data[id, 0]`` to the angle
             each step; a rheonomic crank like ours, without a servo's compliance: kp = 5000
-            N.m/rad lets a crank give 2-6 mrad under load, which relieves most of the squeeze
+            N.m/rad lets a crank give 1-3 mrad under its 5-13 N.m, which relieves most of the squeeze
             of a foot standing on heel and toe) or ``none``.
         kp: position gain [N.m/rad]. The crank alone has a tiny inertia: with MuJoCo's explicit
             position term, kp dt^2 must stay small (5000 N.m/rad at 0.1 ms is stable; 2e4 at
