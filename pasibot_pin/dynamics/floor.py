@@ -19,7 +19,9 @@ floor stops there in one step (an inelastic touchdown, found by the step rather 
 scheduled); a point leaves the floor when its normal impulse is zero. Positions are then
 projected back onto the loops (mass metric), so the loops drift by less than Newton's
 tolerance. Each step reports the contact mode of each foot: ``flat`` (heel and toe load),
-``heel``, ``toe``, ``sliding`` or ``air``.
+``heel``, ``toe``, ``sliding`` or ``air`` (:func:`mode_runs` run-length encodes a sequence).
+The cranks turn at omega from t = 0, or start smoothly over ``FloorSettings.crank_ramp``
+(:func:`crank_advance`).
 
 Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 """
