@@ -154,8 +154,9 @@ MJ_FLOOR = MjcfOptions(
     contact_solimp=(0.9999, 0.9999, 0.001),
 )
 """MuJoCo's floor for the comparison with our rigid contacts: crank drives as stiff equality
-constraints, hard Coulomb friction, a stiff floor (the slide times converge: the fitted case's
-0.892, 0.886, 0.886 s for time constants 5, 2, 1 ms; docs/floor.md)."""
+constraints, hard Coulomb friction, a stiff floor, MuJoCo's 0.1 ms step (the fitted case's slide
+converges towards ours, 0.896 s: 0.892, 0.886, 0.886 s for floor time constants 5, 2, 1 ms;
+0.849, 0.869, 0.886, 0.892 s for steps 0.5, 0.25, 0.1, 0.05 ms; docs/floor.md)."""
 MJ_SINK = 1e-6
 """MuJoCo starts this far [m] into its floor, so its contacts carry the weight from the first step.
 Started exactly on it, the first step falls freely and the landing slides the toe by ~0.1 mm,
