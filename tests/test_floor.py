@@ -249,6 +249,81 @@ def test_a_sticking_point_does_not_creep_and_the_cranks_turn_at_omega():
     np.testing.assert_allclose(lam[m + 2 :], start.tangential[loaded], atol=0.05)
 
 
+def test_a_smooth_crank_start_follows_its_ramp_and_rings_nothing():
+    """``crank_ramp``: the cranks follow theta0 + omega advance(t), the advance's closed form
+    (the smoothstep rate integrated), its rate the finite difference of the advance.
+
+    Run 1, fitted spring, 0.5 s ramp: no mode change until the rear toe reaches its cone
+    (~0.9 s), the squeeze (the front heel's tangential force) within 30 N of the start's over
+    the first 0.5 s, where the impulsive start swings it by > 90 N and slides the rear toe within
+    0.2 s. Along the run the contact forces are those of rigid Newton-Euler, solved independently
+    (least squares of M a + b - spring on the loop, crank and loaded-point rows, a by central
+    differences), to 0.5 N: the squeeze's slow swing from -77 N to +74 N as the cranks turn is the
+    rigid double support's own (its smallest singular value is 2 mm: an ill-conditioned four-bar).
+    """
+    import pinocchio as pin
+
+    from pasibot_pin.dynamics.floor import crank_advance
+    from pasibot_pin.dynamics.simulator import spring_forces
+
+    ramp = 0.2
+    for t in (0.0, 0.05, 0.1, 0.2, 0.3):
+        advance, rate = crank_advance(t, ramp)
+        x = min(t / ramp, 1.0)
+        closed = ramp * (x**3 - x**4 / 2) + max(0.0, t - ramp)  # integral of 3 x^2 - 2 x^3 over t
+        assert advance == pytest.approx(closed, abs=1e-15)
+        step = 1e-6
+        low = max(0.0, t - step)
+        fd = (crank_advance(t + step, ramp)[0] - crank_advance(low, ramp)[0]) / (t + step - low)
+        assert rate == pytest.approx(fd, abs=1e-6)
+    assert crank_advance(0.3, 0.0) == (0.3, 1.0)  # no ramp: t and omega at once
+    inputs = spring_study.scenario_inputs("run1")
+    robot = inputs.robot
+    impulsive = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=inputs.fit)).run(0.25)
+    assert np.ptp(impulsive.tangential[:, 0]) > 90.0 and "sliding" in impulsive.modes["left"]
+    sim = FloorSimulator(robot, FloorSettings(omega=inputs.omega, spring=inputs.fit, crank_ramp=0.5))
+    smooth = sim.run(0.85)
+    for k, side in enumerate(("right", "left")):
+        crank = smooth.q[:, robot.idx_q(f"{side}_j0_crank")]
+        advance = np.array([crank_advance(t, 0.5)[0] for t in smooth.t])
+        np.testing.assert_allclose(crank, sim.settings.theta0 + k * math.pi + inputs.omega * advance, atol=1e-9)
+        assert set(smooth.modes[side]) == {smooth.start.modes[side]}  # front heel, rear toe throughout
+    early = smooth.t <= 0.5
+    assert np.max(np.abs(smooth.tangential[early, 0] - smooth.start.tangential[0])) < 30.0
+    data = robot.model.createData()
+    loaded = [0, 3]  # front heel, rear toe
+    for t in (0.3, 0.6, 0.84):
+        k = int(np.argmin(np.abs(smooth.t - t)))
+        q, v = smooth.q[k], smooth.v[k]
+        a = (smooth.v[k + 1] - smooth.v[k - 1]) / (smooth.t[k + 1] - smooth.t[k - 1])
+        rows = sim.bilateral.evaluate(q, None, smooth.t[k], sim.targets(smooth.t[k]))
+        _, _, jn, jt = sim.contact_rows(q)
+        stack = np.vstack((rows.jac, jn[loaded], jt[loaded]))
+        rhs = pin.rnea(robot.model, data, q, v, a) - spring_forces(robot, inputs.fit, q, v, sim.ankles)
+        lam = np.linalg.lstsq(stack.T, rhs, rcond=None)[0]
+        m = rows.jac.shape[0]
+        np.testing.assert_allclose(lam[m : m + 2], smooth.normal[k, loaded], atol=0.5)
+        np.testing.assert_allclose(lam[m + 2 :], smooth.tangential[k, loaded], atol=0.5)
+    assert smooth.tangential[-1, 0] > 60.0  # the squeeze has turned: the heel is pushed forward now
+    with pytest.raises(ValueError, match="'crank_ramp'"):
+        FloorSettings(crank_ramp=-1.0)
+
+
+def test_mode_runs_merge_blips_shorter_than_the_dwell():
+    from pasibot_pin.dynamics.floor import mode_runs
+
+    modes = ["sliding"] * 3 + ["toe"] * 40 + ["sliding"] * 5 + ["toe"] * 20 + ["sliding"] * 30
+    assert mode_runs(modes, 1e-3) == [
+        ("sliding", 1e-3),
+        ("toe", pytest.approx(4e-3)),
+        ("sliding", pytest.approx(44e-3)),
+        ("toe", pytest.approx(49e-3)),
+        ("sliding", pytest.approx(69e-3)),
+    ]
+    # 10 ms: the leading blip joins the run after it, the inner one the run before it
+    assert mode_runs(modes, 1e-3, 0.01) == [("toe", 1e-3), ("sliding", pytest.approx(69e-3))]
+
+
 def test_a_diverging_run_stops_with_its_cause_and_time():
     """Two forced failures stop the run with the cause and the time, never NaN:
     a robot thrown down at 999 m/s passes the speed limit (1000 m/s) when free fall says,

@@ -19,7 +19,9 @@ floor stops there in one step (an inelastic touchdown, found by the step rather 
 scheduled); a point leaves the floor when its normal impulse is zero. Positions are then
 projected back onto the loops (mass metric), so the loops drift by less than Newton's
 tolerance. Each step reports the contact mode of each foot: ``flat`` (heel and toe load),
-``heel``, ``toe``, ``sliding`` or ``air``.
+``heel``, ``toe``, ``sliding`` or ``air`` (:func:`mode_runs` run-length encodes a sequence).
+The cranks turn at omega from t = 0, or start smoothly over ``FloorSettings.crank_ramp``
+(:func:`crank_advance`).
 
 Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 """
@@ -76,6 +78,52 @@ BEARING_SHARE = 0.25
 swing toe does not count as a slip) [-]."""
 
 
+def crank_advance(t: float, ramp: float) -> tuple[float, float]:
+    """How far a crank has turned by ``t`` [s] per unit of omega, and its rate over omega [-].
+
+    Over ``ramp`` [s] the rate rises as the smoothstep 3 x^2 - 2 x^3 (x = t / ramp), so neither
+    the rate nor the crank acceleration jumps at either end; then it stays at 1. The advance is
+    ramp (x^3 - x^4 / 2) during the ramp and t - ramp / 2 after it; ``ramp = 0``: t and 1.
+
+    Returns:
+        (advance [s], rate [-]): the crank angle is theta0 + omega advance, its rate omega rate.
+
+    """
+    if t <= 0.0:
+        return 0.0, 0.0 if ramp > 0 else 1.0
+    if t >= ramp:
+        return t - 0.5 * ramp, 1.0
+    x = t / ramp
+    return ramp * x**3 * (1.0 - 0.5 * x), x * x * (3.0 - 2.0 * x)
+
+
+def mode_runs(modes: list[str] | tuple[str, ...], dt: float, dwell: float = 0.0) -> list[tuple[str, float]]:
+    """A foot's mode sequence, run-length encoded: (mode, start time [s]) of each run.
+
+    Mode samples every ``dt`` [s] (the first at t = dt). A run shorter than ``dwell`` [s] (a
+    blip) is merged into the run before it (a blip at the very start, into the run after it),
+    then equal neighbours are joined, so a sequence compares by its lasting modes only.
+    """
+    runs: list[list] = []  # [mode, first sample, samples]
+    for k, mode in enumerate(modes):
+        if runs and runs[-1][0] == mode:
+            runs[-1][2] += 1
+        else:
+            runs.append([mode, k, 1])
+    short = max(1, round(dwell / dt)) if dwell > 0 else 0
+    kept: list[list] = []
+    for run in runs:
+        if kept and run[2] < short:
+            kept[-1][2] += run[2]  # a blip: the mode before it goes on
+        elif kept and kept[-1][0] == run[0]:
+            kept[-1][2] += run[2]
+        elif not kept or kept[-1][2] >= short or kept[-1][1] > 0:
+            kept.append(list(run))
+        else:  # the first run was a blip: the run after it starts at the beginning
+            kept[-1] = [run[0], 0, kept[-1][2] + run[2]]
+    return [(mode, (first + 1) * dt) for mode, first, _ in kept]
+
+
 def _check(name: str, value: float, low: float, high: float = math.inf, low_open: bool = False) -> float:
     value = float(value)
     ok = math.isfinite(value) and (value > low if low_open else value >= low) and value <= high
@@ -91,6 +139,8 @@ class FloorSettings:
 
     Attributes:
         omega: crank rate [rad/s] (rheonomic cranks, theta0 + omega t).
+        crank_ramp: the cranks' rate rises from 0 to omega over this long [s], smoothly
+            (:func:`crank_advance`); 0: they turn at omega from t = 0 (an impulsive start).
         spring: the ankle springs (``None``: free ankles).
         mu: sole-floor Coulomb friction [-].
         dt: time step [s].
@@ -102,6 +152,7 @@ class FloorSettings:
 
     omega: float = 0.1
     spring: AnkleSpring | None = None
+    crank_ramp: float = 0.0
     mu: float = 0.8
     dt: float = 1e-3
     theta0: float = math.pi / 2
@@ -110,6 +161,7 @@ class FloorSettings:
 
     def __post_init__(self) -> None:
         _check("omega", self.omega, 0.0)
+        _check("crank_ramp", self.crank_ramp, 0.0, 1e3)
         _check("mu", self.mu, 0.0)
         _check("dt", self.dt, 0.0, 0.01, low_open=True)
         _check("theta0", self.theta0, -1e3, 1e3)
@@ -235,6 +287,8 @@ class FloorSimulator:
         ]
         if settings.hip == "level":
             scalars.append(coordinate("hip_pitch", 2, 0.0, 0.0))
+        self._target_offsets = np.array([row.offset for row in scalars])
+        self._target_rates = np.array([row.rate for row in scalars])
         self.bilateral = ConstraintSystem(model, robot.data, robot.loop_constraints, scalars, robot.geometry.L)
         frames = [model.frames[robot.frame_id(f"{side}_{point}")] for side in SIDES for point in POINTS]
         ends = planar_kinematics(model).ends(
@@ -246,6 +300,10 @@ class FloorSimulator:
         self._crank_rows = [self.bilateral.labels.index(f"{side}_j0_crank") for side in SIDES]
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
+
+    def targets(self, t: float) -> np.ndarray:
+        """The scalar rows' targets at ``t`` [rad]: the cranks at theta0 + omega advance (:func:`crank_advance`)."""
+        return self._target_offsets + self._target_rates * crank_advance(t, self.settings.crank_ramp)[0]
 
     # ---- one step
     def contact_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -270,7 +328,8 @@ class FloorSimulator:
         """
         model, data, s = self.robot.model, self.robot.data, self.settings
         mu = s.mu if mu is None else mu
-        rows = self.bilateral.evaluate(q, None, t + h)
+        targets = self.targets(t + h) if s.crank_ramp > 0 else None  # None: offset + rate t, as before
+        rows = self.bilateral.evaluate(q, None, t + h, targets)
         gap, _, jn, jt = self.contact_rows(q)
         mass = symmetric_mass_matrix(model, data, q)
         bias = pin.nonLinearEffects(model, data, q, v)
@@ -308,7 +367,7 @@ class FloorSimulator:
         z = -np.array(result.z)  # impulses of the cone rows (>= 0)
         k = len(gap)
         normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
-        q_new = self.bilateral.project(q + h * v_new, t + h, metric="mass", max_iter=20)
+        q_new = self.bilateral.project(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
         return q_new, v_new, normal, tangential, -np.array(result.y)
 
     def modes(self, normal: np.ndarray, slip: np.ndarray) -> dict[str, str]:
@@ -344,7 +403,8 @@ class FloorSimulator:
         _, _, jn, jt = self.contact_rows(q)
         rows = self.bilateral.evaluate(q, None, 0.0)
         jac = np.vstack((rows.jac, jn, jt, np.eye(q.size)[2:3]))
-        rhs = np.concatenate((-rows.phi_t, np.zeros(2 * len(jn) + 1)))
+        rate = crank_advance(0.0, self.settings.crank_ramp)[1]  # 0 with a ramp: the cranks start at rest
+        rhs = np.concatenate((-rate * rows.phi_t, np.zeros(2 * len(jn) + 1)))
         v = np.linalg.lstsq(jac, rhs, rcond=None)[0]
         return q, v
 

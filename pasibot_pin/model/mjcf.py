@@ -31,7 +31,7 @@ import pinocchio as pin
 
 from pasibot_pin.model.description import sides
 
-ACTUATORS: tuple[str, ...] = ("position", "velocity", "none")
+ACTUATORS: tuple[str, ...] = ("position", "velocity", "constraint", "none")
 
 
 @dataclass(frozen=True)
@@ -42,7 +42,12 @@ class MjcfOptions:
         spring_stiffness: ankle spring K_e [N.m/rad] (0: no spring).
         spring_rest_angle: its rest angle beta0, forward foot to shank [rad].
         spring_damping: ankle damping [N.m.s/rad].
-        actuator: ``position`` (servo on the crank angle), ``velocity`` (servo on its rate) or ``none``.
+        actuator: ``position`` (servo on the crank angle), ``velocity`` (servo on its rate),
+            ``constraint`` (each crank held on its angle by an ``equality joint`` named
+            ``<crank>_drive``, as stiff as the loops: set ``model.eq_data[id, 0]`` to the angle
+            each step; a rheonomic crank like ours, without a servo's compliance: kp = 5000
+            N.m/rad lets a crank give 1-3 mrad under its 5-13 N.m, which relieves most of the squeeze
+            of a foot standing on heel and toe) or ``none``.
         kp: position gain [N.m/rad]. The crank alone has a tiny inertia: with MuJoCo's explicit
             position term, kp dt^2 must stay small (5000 N.m/rad at 0.1 ms is stable; 2e4 at
             0.25 ms is not). A servo on theta0 + omega t lags by kv omega / kp: add it to ``ctrl``.
@@ -56,10 +61,20 @@ class MjcfOptions:
             contact inside its cone creeps (about 2 mm/s here, where our Coulomb contacts stick
             exactly); a few no-slip iterations make the friction hard, so that a stuck point stays
             put and only a point at its cone slides (what ``tests/test_mjcf.py`` compares modes with).
+        planar_noslip: write the sole-floor friction coefficient as 2 mu (needs no-slip
+            iterations). MuJoCo's no-slip solver on its pyramidal cone keeps each tangent
+            direction's pair of edges at its share of the normal force, half of it with condim
+            3, so along one direction the friction reaches only mu / 2 (a stuck point of the
+            robot slides at friction use 0.40 for mu = 0.8). For motion in the x-z plane, 2 mu
+            makes the x friction reach mu F_n, Coulomb's cone.
         solref: (time constant [s], damping ratio) of the equality constraints.
         solimp: MuJoCo's impedance (d0, dwidth, width) of the equality constraints: near 1 is
             near a hard constraint (MuJoCo's default 0.9 lets the loops give way enough to change
             the hip's fall by tens of percent: the spring and gravity nearly cancel here).
+        contact_solref: (time constant [s], damping ratio) of the sole-floor contacts (MuJoCo's
+            default (0.02, 1): a soft floor); the time constant must be >= 2 timesteps.
+        contact_solimp: impedance (d0, dwidth, width) of the sole-floor contacts (MuJoCo's
+            default (0.9, 0.95, 0.001)).
 
     """
 
@@ -77,6 +92,9 @@ class MjcfOptions:
     noslip_iterations: int = 0
     solref: tuple[float, float] = (1e-3, 1.0)
     solimp: tuple[float, float, float] = (0.9999, 0.9999, 0.001)
+    planar_noslip: bool = False
+    contact_solref: tuple[float, float] = (0.02, 1.0)
+    contact_solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)
 
     def __post_init__(self) -> None:
         for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep"):
@@ -91,6 +109,12 @@ class MjcfOptions:
             raise ValueError("parameters 'timestep' and 'sole_radius' must be positive")
         if not math.isfinite(self.spring_rest_angle):
             raise ValueError(f"parameter 'spring_rest_angle' must be finite, got {self.spring_rest_angle!r}")
+        if self.planar_noslip and not self.noslip_iterations:
+            raise ValueError("parameter 'planar_noslip' needs noslip_iterations > 0")
+        if not (math.isfinite(self.contact_solref[0]) and self.contact_solref[0] >= 2 * self.timestep):
+            raise ValueError(
+                f"parameter 'contact_solref' must have a time constant >= 2 timesteps, got {self.contact_solref!r}"
+            )
         if self.actuator not in ACTUATORS:
             raise ValueError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
         if self.weld_foot not in (None, "right", "left"):
@@ -190,7 +214,7 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
         size="20 2 0.1",
         contype="1" if options.floor else "0",
         conaffinity="1" if options.floor else "0",
-        friction=f"{options.mu!r} 0.005 0.0001",
+        friction=f"{options.mu * (2.0 if options.planar_noslip else 1.0)!r} 0.005 0.0001",
         rgba="0.85 0.85 0.8 1",
     )
 
@@ -213,6 +237,7 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
             _pose(site, frame.placement)
         bodies[j] = body
     # soles: a capsule from heel to toe on each foot body, the only geoms that collide (with the floor)
+    friction = options.mu * (2.0 if options.planar_noslip else 1.0)
     for side in sides(robot.legs):
         toe, heel = (model.frames[robot.frame_id(f"{side}_{p}")] for p in ("toe", "heel"))
         if toe.parentJoint != heel.parentJoint:
@@ -227,7 +252,9 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
             contype="1",
             conaffinity="0",
             condim="3",
-            friction=f"{options.mu!r} 0.005 0.0001",
+            friction=f"{friction!r} 0.005 0.0001",
+            solref=_vec(options.contact_solref),
+            solimp=_vec(options.contact_solimp),
             rgba="0.2 0.2 0.2 1",
         )
     for name in spring_joints:  # joint springs: springref where beta = beta0, q = pi/2 - beta
@@ -264,7 +291,17 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
         home.set("ctrl", _vec([q_home[robot.idx_q(motor)] for motor in motors]))
     elif options.actuator == "velocity" and motors:
         home.set("ctrl", _vec([0.0] * len(motors)))
-    if options.actuator != "none" and motors:
+    if options.actuator == "constraint":
+        q_home = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
+        for motor in motors:  # q - qpos0 = polycoef[0] (qpos0 = 0: no joint ref)
+            ET.SubElement(
+                equality,
+                "joint",
+                name=f"{motor}_drive",
+                joint1=motor,
+                polycoef=_vec((q_home[robot.idx_q(motor)], 0, 0, 0, 0)),
+            )
+    if options.actuator in ("position", "velocity") and motors:
         actuators = ET.SubElement(root, "actuator")
         for motor in motors:
             if options.actuator == "position":
