@@ -155,22 +155,20 @@ REPORT_SCENARIOS: tuple[str, ...] = ("run1",)
 runs all four runs into ``docs/``, about four times the work)."""
 
 
-def build(out_dir: Path):
-    """``pasibot analyze``'s floor section: weld against floor for :data:`REPORT_SCENARIOS`.
-
-    Writes the CSV and the figure; returns the text and the facts the report's summary quotes
-    (:class:`~pasibot_pin.report.markdown.Section`).
-    """
-    from pasibot_pin.report.markdown import Section
-    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
-
-    study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
+def _section_files(out_dir: Path, study: FloorSpringStudy) -> None:
+    """Write the section's CSV and figure (``floor_springs.md`` is not kept: report.md holds the text)."""
     folder = Path(out_dir)
     write_floor_spring(study, folder, force=True)
-    (folder / f"{SPRINGS_NAME}.md").unlink()  # report.md holds the text
-    runs = ", ".join(REPORT_SCENARIOS)
+    (folder / f"{SPRINGS_NAME}.md").unlink()
+
+
+def _section(study: FloorSpringStudy):
+    """The section's text and the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
+    from pasibot_pin.report.markdown import Section
+
+    runs = ", ".join(study.settings.scenarios)
     note = f"This report runs {runs}; `make floor-springs` runs every walking scenario (docs/floor.md)."
-    fitted = study.row(REPORT_SCENARIOS[0], "fitted")
+    fitted = study.row(study.settings.scenarios[0], "fitted")
     facts = {
         "duration": study.settings.duration,
         "weld_max_pitch": fitted.weld_max_pitch,
@@ -179,3 +177,77 @@ def build(out_dir: Path):
         "floor_outcome": fitted.floor_outcome,
     }
     return Section(floor_spring_markdown(study) + note + "\n", facts)
+
+
+def build(out_dir: Path):
+    """``pasibot analyze``'s floor section: weld against floor for :data:`REPORT_SCENARIOS`.
+
+    Writes the CSV and the figure; returns the text and the facts the report's summary quotes
+    (:class:`~pasibot_pin.report.markdown.Section`). :class:`FloorPlan` does the same in pool jobs.
+    """
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+
+    study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
+    _section_files(out_dir, study)
+    return _section(study)
+
+
+def floor_case_task(scenario: str, label: str, settings) -> CaseComparison:
+    """One spring case of ``scenario``, weld against floor (a pool job; inputs computed once per process)."""
+    from pasibot_pin.studies.floor_spring_study import compare_case
+    from pasibot_pin.studies.simulation_study import cached_inputs
+    from pasibot_pin.studies.spring_study import SPRING_CASES
+
+    return compare_case(cached_inputs(scenario), label, dict(SPRING_CASES)[label], settings)
+
+
+_CASE_ESTIMATE = {"fitted": 3.0, "no spring": 2.5, "half K_e": 2.5, "twice K_e": 3.0}
+"""CPU time [s] of one floor case (measured on the default analysis; it only orders the work)."""
+
+
+class FloorPlan:
+    """:func:`build` as pool jobs (:mod:`pasibot_pin.jobs`): one job per scenario and spring case.
+
+    :meth:`jobs` gives the cases; :meth:`done` takes each one and, once all are in, releases the
+    job writing the CSV and the figure; :meth:`section` gives the text and facts. The rows keep
+    :func:`~pasibot_pin.studies.floor_spring_study.floor_spring_study`'s order, so the files and
+    the text are the same as :func:`build`'s.
+    """
+
+    def __init__(self, out_dir: Path, settings=None):
+        from pasibot_pin.studies.floor_spring_study import FloorSpringSettings
+
+        self.out_dir = Path(out_dir)
+        self.settings = settings or FloorSpringSettings(scenarios=REPORT_SCENARIOS)
+        self.rows: dict = {}
+        self.study: FloorSpringStudy | None = None
+
+    def _keys(self) -> list[tuple[str, str]]:
+        from pasibot_pin.studies.spring_study import SPRING_CASES
+
+        return [(scenario, label) for scenario in self.settings.scenarios for label, _ in SPRING_CASES]
+
+    def jobs(self) -> list:
+        """One job per (scenario, spring case)."""
+        from pasibot_pin.jobs import Job
+
+        return [
+            Job(_CASE_ESTIMATE[label], ("case", scenario, label), floor_case_task, (scenario, label, self.settings))
+            for scenario, label in self._keys()
+        ]
+
+    def done(self, key, result) -> list:
+        """Take a job's result; return the file-writing job once every case is in."""
+        from pasibot_pin.jobs import Job
+
+        if key[0] != "case":
+            return []
+        self.rows[key[1:]] = result
+        if len(self.rows) < len(self._keys()):
+            return []
+        self.study = FloorSpringStudy(self.settings, [self.rows[k] for k in self._keys()])
+        return [Job(0.3, ("files",), _section_files, (self.out_dir, self.study))]
+
+    def section(self):
+        """The section's :class:`~pasibot_pin.report.markdown.Section`, once every job is done."""
+        return _section(self.study)

@@ -387,6 +387,12 @@ class SimulationPlan:
             check = SwingFootCheck(None, base, self.full, hip_pitch_gap(base, self.full))
         return section_markdown(self.settings, studies, check, self.anim_note, figures)
 
+    def section(self):
+        """:meth:`markdown` and :meth:`facts` as a :class:`~pasibot_pin.report.markdown.Section`."""
+        from pasibot_pin.report.markdown import Section
+
+        return Section(self.markdown(), self.facts())
+
     def facts(self) -> dict:
         """The numbers the report's summary quotes (once every job is done).
 
