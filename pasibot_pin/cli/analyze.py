@@ -90,7 +90,7 @@ def run(args: argparse.Namespace) -> int:
 
     jobs = [Job(ESTIMATES[name], ("step", name), run_step, (name, out_dir)) for name in ESTIMATES]
     jobs += [job for name, plan in plans.items() for job in tagged(name, plan.jobs())]
-    run_jobs(jobs, on_done, WORKERS)
+    run_jobs(jobs, on_done, WORKERS, preload=("matplotlib.pyplot",))  # every section draws
     built.update({name: plan.section() for name, plan in plans.items()})
     print(f"[{'], ['.join(plans)}] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
     text = report_text([built[name].markdown for name, _ in STEPS], {name: b.facts for name, b in built.items()})
