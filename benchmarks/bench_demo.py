@@ -75,7 +75,7 @@ def breakdown() -> str:
     per_job: list[tuple[float, object]] = []
     drawing = {"figure": [0, 0.0], "gif": [0, 0.0]}
 
-    def serial(queue, on_done, workers=None):  # run_jobs' order, one job at a time, timed
+    def serial(queue, on_done, workers=None, preload=()):  # run_jobs' order, one job at a time, timed
         order, ready = itertools.count(), []
         for job in queue:
             heapq.heappush(ready, (-job.estimate, next(order), job))
@@ -120,7 +120,7 @@ def breakdown() -> str:
     total = time.process_time() - start
     groups: dict[str, float] = {}
     for cpu, key in per_job:
-        name = key[1] if key[0] == "step" else f"{key[0]}: {key[1][0]}"
+        name = key[1] if key[0] == "step" else f"{key[0]}: {key[1][0]}" if isinstance(key[1], tuple) else key[0]
         groups[name] = groups.get(name, 0.0) + cpu
     lines = [f"serial run in this process: {total:.1f} s CPU, {len(per_job)} jobs"]
     lines += [f"  {name:28s} {cpu:6.1f} s" for name, cpu in sorted(groups.items(), key=lambda g: -g[1])]
