@@ -120,7 +120,8 @@ def breakdown() -> str:
     total = time.process_time() - start
     groups: dict[str, float] = {}
     for cpu, key in per_job:
-        name = key[1] if key[0] == "step" else f"{key[0]}: {key[1][0]}" if isinstance(key[1], tuple) else key[0]
+        inner = key[1] if len(key) > 1 else None
+        name = inner if key[0] == "step" else f"{key[0]}: {inner[0]}" if isinstance(inner, tuple) else key[0]
         groups[name] = groups.get(name, 0.0) + cpu
     lines = [f"serial run in this process: {total:.1f} s CPU, {len(per_job)} jobs"]
     lines += [f"  {name:28s} {cpu:6.1f} s" for name, cpu in sorted(groups.items(), key=lambda g: -g[1])]
