@@ -5,11 +5,19 @@ time of the child and its workers, and the machine: CPU model, core count, archi
 Pinocchio versions, and the load average when it started (other work on the machine slows it).
 ``--write docs/timings.md`` writes that page (``make timings``); the README and docs quote no other
 timing (``tests/test_readme_numbers.py`` checks).
+
+``--breakdown`` then runs the same analysis once more, in this process and one job at a time,
+and prints where its CPU goes: each section (the simulation and floor sections per kind of
+piece), and the figures (``save_figure_file``: drawing and PNG writing; the figures' plotting calls
+before it are counted in their section) and the GIFs (``save_gif``, whole). The serial run's total
+is close to the pool's CPU less the second worker's imports.
 """
 
 from __future__ import annotations
 
 import argparse
+import contextlib
+import io
 import os
 import platform
 import resource
@@ -53,6 +61,75 @@ def measure() -> dict:
     return {"wall": wall, "cpu": cpu, "machine": machine(), "load": load, "date": time.strftime("%Y-%m-%d")}
 
 
+def breakdown() -> str:
+    """Run the analysis serially here; the CPU [s] of each section and of the figures and GIFs, as text."""
+    import argparse
+    import functools
+    import heapq
+    import importlib
+    import itertools
+
+    from pasibot_pin import jobs
+    from pasibot_pin.cli import analyze
+
+    per_job: list[tuple[float, object]] = []
+    drawing = {"figure": [0, 0.0], "gif": [0, 0.0]}
+
+    def serial(queue, on_done, workers=None, preload=()):  # run_jobs' order, one job at a time, timed
+        order, ready = itertools.count(), []
+        for job in queue:
+            heapq.heappush(ready, (-job.estimate, next(order), job))
+        while ready:
+            job = heapq.heappop(ready)[2]
+            start = time.process_time()
+            result = job.fn(*job.args)
+            per_job.append((time.process_time() - start, job.key))
+            for new in on_done(job.key, result) or ():
+                heapq.heappush(ready, (-new.estimate, next(order), new))
+
+    def metered(fn, kind):
+        @functools.wraps(fn)
+        def wrapper(*args, **kwargs):
+            start = time.process_time()
+            try:
+                return fn(*args, **kwargs)
+            finally:
+                drawing[kind][0] += 1
+                drawing[kind][1] += time.process_time() - start
+
+        return wrapper
+
+    import pasibot_pin.report.files as files_module
+    import pasibot_pin.viz.animation as animation_module
+
+    savers = {"save_figure_file": metered(files_module.save_figure_file, "figure")}
+    savers["save_gif"] = metered(animation_module.save_gif, "gif")
+    files_module.save_figure_file, animation_module.save_gif = savers["save_figure_file"], savers["save_gif"]
+    for name, _ in analyze.STEPS:  # the sections import the savers by name
+        module = importlib.import_module(f"pasibot_pin.report.{dict(analyze.STEPS)[name]}")
+        for attr, wrapper in savers.items():
+            if hasattr(module, attr):
+                setattr(module, attr, wrapper)
+    jobs.run_jobs, pool_run_jobs = serial, jobs.run_jobs
+    start = time.process_time()
+    try:
+        with tempfile.TemporaryDirectory(prefix="pasibot-breakdown-") as out, contextlib.redirect_stdout(io.StringIO()):
+            analyze.run(argparse.Namespace(out=Path(out), force=True))
+    finally:
+        jobs.run_jobs = pool_run_jobs
+    total = time.process_time() - start
+    groups: dict[str, float] = {}
+    for cpu, key in per_job:
+        inner = key[1] if len(key) > 1 else None
+        name = inner if key[0] == "step" else f"{key[0]}: {inner[0]}" if isinstance(inner, tuple) else key[0]
+        groups[name] = groups.get(name, 0.0) + cpu
+    lines = [f"serial run in this process: {total:.1f} s CPU, {len(per_job)} jobs"]
+    lines += [f"  {name:28s} {cpu:6.1f} s" for name, cpu in sorted(groups.items(), key=lambda g: -g[1])]
+    for kind, (count, cpu) in drawing.items():
+        lines.append(f"  {kind + 's':28s} {cpu:6.1f} s ({count} written; inside the sections above)")
+    return "\n".join(lines)
+
+
 def page(m: dict) -> str:
     """docs/timings.md for one measurement."""
     return f"""# Timings
@@ -71,9 +148,12 @@ Measured on a {m["machine"]}, on {m["date"]}, with a load average of {m["load"]:
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--write", type=Path, default=None, help="write the timings page to this file")
+    parser.add_argument("--breakdown", action="store_true", help="also the CPU per section, figures and GIFs")
     args = parser.parse_args()
     m = measure()
     print(f"make demo: {m['wall']:.1f} s wall, {m['cpu']:.1f} s CPU on a {m['machine']} (load {m['load']:.1f})")
+    if args.breakdown:
+        print(breakdown())
     if args.write is not None:
         args.write.write_text(page(m), encoding="utf-8")
         print(f"wrote {args.write}")

@@ -2,14 +2,9 @@
 
 Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str`` (or ``build(out_dir)``, which
 also hands back the numbers the summary quotes): it runs its studies, writes its files into
-``out_dir`` and returns its Markdown for ``report.md``. The report opens with a summary of
-verdicts (:func:`pasibot_pin.report.markdown.summary`) and holds no wall-clock time, so two runs
-write the same text. The simulation
-section, by far the longest, runs in pieces (:class:`pasibot_pin.report.simulation.SimulationPlan`:
-each spring case, each sweep row, the swing-foot check, each scenario's figures, the animation).
-Those pieces and the other sections share one pool of :data:`pasibot_pin.jobs.WORKERS`
-processes, longest first (:func:`pasibot_pin.jobs.run_jobs`). ``report.md`` keeps the
-order of :data:`STEPS`.
+``out_dir`` and returns its Markdown. ``report.md`` opens with a summary of verdicts and holds no
+wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
+:data:`pasibot_pin.jobs.WORKERS` processes, longest first. ``report.md`` keeps the order of :data:`STEPS`.
 """
 
 from __future__ import annotations
@@ -40,9 +35,11 @@ ESTIMATES: dict[str, float] = {
     "animation": 3.0,
     "model": 0.7,
     "design_exploration": 0.6,
-    "floor": 11.0,
 }
-"""CPU time [s] of the steps besides the simulation (measured; they only order the work)."""
+"""CPU time [s] of the steps besides the planned ones (measured; they only order the work)."""
+
+PLANS: dict[str, str] = {"simulation": "SimulationPlan", "floor": "FloorPlan"}
+"""Steps run as pool jobs: name -> class in its report module (``jobs()``, ``done(key, result)``, ``section()``)."""
 
 
 def run_step(name: str, out_dir: Path):
@@ -69,30 +66,34 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.jobs import WORKERS, Job, run_jobs
     from pasibot_pin.report.files import write_text_atomic
     from pasibot_pin.report.markdown import report_text
-    from pasibot_pin.report.simulation import SimulationPlan
 
     out_dir: Path = check_output_folder(args.out, "--out")
     if out_dir.is_dir() and any(out_dir.iterdir()) and not args.force:
         raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
     out_dir.mkdir(parents=True, exist_ok=True)
-    sections: dict[str, str] = {}
-    facts: dict[str, dict] = {}
-    plan = SimulationPlan(out_dir)
+    built: dict = {}  # step name -> its Section
+    plans = {
+        name: getattr(importlib.import_module(f"pasibot_pin.report.{dict(STEPS)[name]}"), cls)(out_dir)
+        for name, cls in PLANS.items()
+    }
     start = time.perf_counter()
+
+    def tagged(name: str, jobs) -> list:
+        return [Job(j.estimate, (name, j.key), j.fn, j.args) for j in jobs or ()]
 
     def on_done(key, result):
         if key[0] == "step":
-            built, seconds = result
-            sections[key[1]], facts[key[1]] = built.markdown, built.facts
+            built[key[1]], seconds = result
             print(f"[{key[1]}] done in {seconds:.1f} s", flush=True)
             return None
-        return plan.done(key, result)
+        return tagged(key[0], plans[key[0]].done(key[1], result))
 
     jobs = [Job(ESTIMATES[name], ("step", name), run_step, (name, out_dir)) for name in ESTIMATES]
-    run_jobs(jobs + plan.jobs(), on_done, WORKERS)
-    sections["simulation"], facts["simulation"] = plan.markdown(), plan.facts()
-    print(f"[simulation] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
-    text = report_text([sections[name] for name, _ in STEPS], facts)
+    jobs += [job for name, plan in plans.items() for job in tagged(name, plan.jobs())]
+    run_jobs(jobs, on_done, WORKERS, preload=("matplotlib.pyplot",))  # every section draws
+    built.update({name: plan.section() for name, plan in plans.items()})
+    print(f"[{'], ['.join(plans)}] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
+    text = report_text([built[name].markdown for name, _ in STEPS], {name: b.facts for name, b in built.items()})
     report = write_text_atomic(out_dir / "report.md", text)
     print(f"wrote {report}")
     return 0

@@ -49,6 +49,24 @@ FIGURE_DPI = 100
 
 
 def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
-    """``fig.savefig(path, dpi=dpi)``; a PNG at :data:`PNG_COMPRESS_LEVEL` (the same pixels)."""
+    """``fig.savefig(path, dpi=dpi)``; a PNG at :data:`PNG_COMPRESS_LEVEL` (the same pixels).
+
+    A figure with a layout engine (constrained layout) is laid out once here, at ``dpi``, and then
+    saved with the engine off: ``savefig`` would otherwise draw the whole figure twice (once, not
+    rendered, to lay it out). The positions, hence the pixels, are the same; the engine and the
+    figure's dpi are restored afterwards.
+    """
     options = {"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}} if Path(path).suffix.lower() == ".png" else {}
-    fig.savefig(path, dpi=dpi, **options)
+    engine = fig.get_layout_engine()
+    if engine is None or not fig.axes:
+        fig.savefig(path, dpi=dpi, **options)
+        return
+    original_dpi = fig.dpi
+    try:
+        fig.dpi = dpi
+        engine.execute(fig)
+        fig.set_layout_engine("none")
+        fig.savefig(path, dpi=dpi, **options)
+    finally:
+        fig.set_layout_engine(engine)
+        fig.dpi = original_dpi

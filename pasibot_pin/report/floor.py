@@ -179,29 +179,37 @@ runs all four runs into ``docs/``, about four times the work). Its quasi-static 
 STATIC_SCENARIOS: tuple[str, ...] = ("run1", "run2", "run3", "run4")
 
 
-def build(out_dir: Path):
-    """``pasibot analyze``'s floor section: weld against floor for :data:`REPORT_SCENARIOS`.
-
-    Writes the CSV and the figure; returns the text and the facts the report's summary quotes
-    (:class:`~pasibot_pin.report.markdown.Section`).
-    """
-    from pasibot_pin.report.markdown import Section
-    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study, quasi_static_of
-    from pasibot_pin.studies.floor_static import floor_static_study
-
-    study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
+def _section_files(out_dir: Path, study: FloorSpringStudy) -> None:
+    """Write the section's CSV and figure (``floor_springs.md`` is not kept: report.md holds the text)."""
     folder = Path(out_dir)
     write_floor_spring(study, folder, force=True)
-    (folder / f"{SPRINGS_NAME}.md").unlink()  # report.md holds the text
-    others = tuple(s for s in STATIC_SCENARIOS if s not in REPORT_SCENARIOS)
-    statics = quasi_static_of(study) + floor_static_study(others, sweep=False)
-    runs = ", ".join(REPORT_SCENARIOS)
+    (folder / f"{SPRINGS_NAME}.md").unlink()
+
+
+def static_others(scenarios: tuple[str, ...]) -> list:
+    """The quasi-static floor answers of :data:`STATIC_SCENARIOS` not in ``scenarios`` (exact statics, no grid)."""
+    from pasibot_pin.studies.floor_static import floor_static_study
+
+    others = tuple(s for s in STATIC_SCENARIOS if s not in scenarios)
+    return floor_static_study(others, sweep=False) if others else []
+
+
+def _section(study: FloorSpringStudy, others: list):
+    """The section's text and the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`).
+
+    ``others``: :func:`static_others` of the study's scenarios.
+    """
+    from pasibot_pin.report.markdown import Section
+    from pasibot_pin.studies.floor_spring_study import quasi_static_of
+
+    statics = quasi_static_of(study) + others
+    runs = ", ".join(study.settings.scenarios)
     note = (
         f"\nThis report simulates {runs} and answers runs 1-4 quasi-statically (below: exact statics, no "
         "simulation); `make floor-springs` simulates every walking scenario and sweeps K_e x beta0 "
         "(docs/floor.md, docs/floor_springs.md).\n\n"
     )
-    fitted = study.row(REPORT_SCENARIOS[0], "fitted")
+    fitted = study.row(study.settings.scenarios[0], "fitted")
     facts = {
         "duration": study.settings.duration,
         "weld_max_pitch": fitted.weld_max_pitch,
@@ -212,3 +220,84 @@ def build(out_dir: Path):
         "quasi_static_floor_holds": sum(p.holds for s in statics for p in s.cases.values()),
     }
     return Section(floor_spring_markdown(study) + note + cases_markdown(statics), facts)
+
+
+def build(out_dir: Path):
+    """``pasibot analyze``'s floor section: weld against floor for :data:`REPORT_SCENARIOS`.
+
+    Writes the CSV and the figure; returns the text and the facts the report's summary quotes
+    (:class:`~pasibot_pin.report.markdown.Section`). :class:`FloorPlan` does the same in pool jobs.
+    """
+    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+
+    study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
+    _section_files(out_dir, study)
+    return _section(study, static_others(REPORT_SCENARIOS))
+
+
+def floor_case_task(scenario: str, label: str, settings) -> CaseComparison:
+    """One spring case of ``scenario``, weld against floor (a pool job; inputs computed once per process)."""
+    from pasibot_pin.studies.floor_spring_study import compare_case
+    from pasibot_pin.studies.simulation_study import cached_inputs
+    from pasibot_pin.studies.spring_study import SPRING_CASES
+
+    return compare_case(cached_inputs(scenario), label, dict(SPRING_CASES)[label], settings)
+
+
+_CASE_ESTIMATE = {"fitted": 3.0, "no spring": 2.5, "half K_e": 2.5, "twice K_e": 3.0}
+"""CPU time [s] of one floor case (measured on the default analysis; it only orders the work)."""
+
+
+class FloorPlan:
+    """:func:`build` as pool jobs (:mod:`pasibot_pin.jobs`): one job per scenario and spring case.
+
+    :meth:`jobs` gives the cases; :meth:`done` takes each one and, once all are in, releases the
+    job writing the CSV and the figure; :meth:`section` gives the text and facts. The rows keep
+    :func:`~pasibot_pin.studies.floor_spring_study.floor_spring_study`'s order, so the files and
+    the text are the same as :func:`build`'s.
+    """
+
+    def __init__(self, out_dir: Path, settings=None):
+        from pasibot_pin.studies.floor_spring_study import FloorSpringSettings
+
+        self.out_dir = Path(out_dir)
+        self.settings = settings or FloorSpringSettings(scenarios=REPORT_SCENARIOS)
+        self.rows: dict = {}
+        self.others: list | None = None
+        self.study: FloorSpringStudy | None = None
+
+    def _keys(self) -> list[tuple[str, str]]:
+        from pasibot_pin.studies.spring_study import SPRING_CASES
+
+        return [(scenario, label) for scenario in self.settings.scenarios for label, _ in SPRING_CASES]
+
+    def jobs(self) -> list:
+        """One job per (scenario, spring case), and one for the other runs' quasi-static answers."""
+        from pasibot_pin.jobs import Job
+
+        cases = [
+            Job(_CASE_ESTIMATE[label], ("case", scenario, label), floor_case_task, (scenario, label, self.settings))
+            for scenario, label in self._keys()
+        ]
+        return [*cases, Job(1.5, ("static",), static_others, (tuple(self.settings.scenarios),))]
+
+    def done(self, key, result) -> list:
+        """Take a job's result; return the file-writing job once every case is in."""
+        from pasibot_pin.jobs import Job
+
+        if key[0] == "static":
+            self.others = result
+            return []
+        if key[0] != "case":
+            return []
+        self.rows[key[1:]] = result
+        if len(self.rows) < len(self._keys()):
+            return []
+        self.study = FloorSpringStudy(self.settings, [self.rows[k] for k in self._keys()])
+        return [Job(0.3, ("files",), _section_files, (self.out_dir, self.study))]
+
+    def section(self):
+        """The section's :class:`~pasibot_pin.report.markdown.Section`, once every job is done."""
+        if self.study is None or self.others is None:
+            raise RuntimeError("FloorPlan.section() before every job is done")
+        return _section(self.study, self.others)

@@ -273,12 +273,12 @@ def write_check_animation(out_dir: Path, name: str, base) -> str:
 
 # CPU estimates [s] of the pieces (measured on the default analysis; they only order the work:
 # longest first). Walks at 0.1 rad/s that do not fall integrate 3142 steps.
-_CASE_ESTIMATE = {"fitted": 5.0, "twice K_e": 5.5, "half K_e": 0.4, "no spring": 0.3}
-_FAST_CASE_ESTIMATE = 0.4
-_ROW_ESTIMATE = {"dynamic": 3.8, "static": 0.5}
-_CHECK_ESTIMATE = 2.0
-_FIGURES_ESTIMATE = 1.0
-_ANIMATION_ESTIMATE = 3.0
+_CASE_ESTIMATE = {"fitted": 1.6, "twice K_e": 2.0, "half K_e": 0.2, "no spring": 0.2}
+_FAST_CASE_ESTIMATE = 0.3
+_ROW_ESTIMATE = {"dynamic": 1.5, "static": 0.3}
+_CHECK_ESTIMATE = 0.8
+_FIGURES_ESTIMATE = 1.3
+_ANIMATION_ESTIMATE = 1.5
 
 
 class SimulationPlan:
@@ -386,6 +386,12 @@ class SimulationPlan:
             base = self.studies[name].study.runs["fitted"]
             check = SwingFootCheck(None, base, self.full, hip_pitch_gap(base, self.full))
         return section_markdown(self.settings, studies, check, self.anim_note, figures)
+
+    def section(self):
+        """:meth:`markdown` and :meth:`facts` as a :class:`~pasibot_pin.report.markdown.Section`."""
+        from pasibot_pin.report.markdown import Section
+
+        return Section(self.markdown(), self.facts())
 
     def facts(self) -> dict:
         """The numbers the report's summary quotes (once every job is done).

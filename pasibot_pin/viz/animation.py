@@ -171,16 +171,44 @@ def stick_animation(robot, qs: np.ndarray, fps: float = 20.0, ax=None, title: st
     return FuncAnimation(fig, update, frames=len(qs), interval=1000.0 / fps, blit=False)
 
 
-def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None, **marks) -> list:
-    """The frames of :func:`stick_animation` as Pillow images (RGB when opaque), ``dpi`` dots per inch.
+def _clock_painter(fig, clock):
+    """Draw the clock's text onto an RGBA frame with Pillow (FreeType), where matplotlib would put it.
+
+    matplotlib lays out and rasterises a text glyph by glyph each frame; Pillow draws the same
+    font (the clock's monospace face, at its size in pixels) at the same anchor far faster.
+    """
+    from matplotlib.colors import to_rgba
+    from matplotlib.font_manager import findfont
+    from PIL import ImageDraw, ImageFont
+
+    props = clock.get_fontproperties()
+    size = props.get_size_in_points() * fig.dpi / 72.0
+    font = ImageFont.truetype(findfont(props), size=size)
+    x, y = clock.get_transform().transform(clock.get_position())
+    anchor = (float(x), float(fig.bbox.height - y))  # matplotlib's y points up, the image's down
+    linespacing = clock.get_linespacing()  # a factor, or "normal" (the font's own line gap)
+    spacing = (linespacing - 1.0) * size if isinstance(linespacing, (int, float)) else 0.2 * size
+    colour = tuple(round(255 * c) for c in to_rgba(clock.get_color()))
+
+    def paint(image) -> None:
+        text = clock.get_text()
+        if text:
+            ImageDraw.Draw(image).multiline_text(anchor, text, font=font, fill=colour, anchor="la", spacing=spacing)
+
+    return paint
+
+
+def _frame_arrays(robot, qs: np.ndarray, fps: float, dpi: int, title: str | None, **marks) -> list[np.ndarray]:
+    """The frames of :func:`stick_animation` as RGBA arrays (height, width, 4) of ``dpi`` dots per inch.
 
     The still part (axes, ticks, labels, grid) is drawn once; each frame restores it and draws
     only the moving artists over it (blitting), in the axes' own drawing order. The legend,
     drawn last and the same in every frame, is rendered once as a transparent layer and
-    composited over each frame.
+    composited over each frame; the clock's text is drawn last, with Pillow.
     """
     import matplotlib.pyplot as plt
     from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.text import Text
     from PIL import Image
 
     fig, update, moving = _stick_scene(robot, qs, fps, title=title, **marks)
@@ -197,19 +225,37 @@ def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title:
             renderer.clear()
             moving.pop().draw(renderer)
             layer = Image.fromarray(np.asarray(canvas.buffer_rgba()).copy(), "RGBA")
-        images = []
+        clock = next(a for a in moving if isinstance(a, Text))
+        moving.remove(clock)
+        paint = _clock_painter(fig, clock)
+        frames = []
         for k in range(len(qs)):
             canvas.restore_region(background)
             update(k)
             for artist in moving:
                 artist.draw(renderer)
-            image = Image.fromarray(np.asarray(canvas.buffer_rgba()).copy(), "RGBA")
+            image = Image.fromarray(np.asarray(canvas.buffer_rgba()), "RGBA")
             if layer is not None:
                 image = Image.alpha_composite(image, layer)
-            # opaque frames as RGB (as matplotlib's PillowWriter does: it quantises better for GIF)
-            images.append(image if image.getextrema()[3][0] < 255 else image.convert("RGB"))
+            paint(image)
+            frames.append(np.asarray(image))
     finally:
         plt.close(fig)
+    return frames
+
+
+def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None, **marks) -> list:
+    """The frames of :func:`stick_animation` as Pillow images (RGB when opaque), ``dpi`` dots per inch.
+
+    Drawn by blitting over the still part (see :func:`_frame_arrays`).
+    """
+    from PIL import Image
+
+    images = []
+    for rgba in _frame_arrays(robot, qs, fps, dpi, title, **marks):
+        image = Image.fromarray(rgba, "RGBA")
+        # opaque frames as RGB (as matplotlib's PillowWriter does: it quantises better for GIF)
+        images.append(image if rgba[..., 3].min() < 255 else image.convert("RGB"))
     return images
 
 
@@ -258,41 +304,44 @@ def save_gif(
         raise ValueError(f"parameter 'out' must end in .gif, got {out}")
     if not (isinstance(dpi, int) and dpi > 0):
         raise ValueError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
-    images = stick_frames(robot, qs, fps=fps, dpi=dpi, title=title, forces=forces, modes=modes, times=times)
-    if all(im.mode == "RGB" for im in images):
-        images = _shared_palette(images)
+    frames = _frame_arrays(robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times)
+    if all(f[..., 3].min() == 255 for f in frames):
+        images = _shared_palette(frames)
+    else:
+        from PIL import Image
+
+        images = [Image.fromarray(f, "RGBA") for f in frames]
     out.parent.mkdir(parents=True, exist_ok=True)
     images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
     return out
 
 
-def _shared_palette(images: list) -> list:
-    """RGB frames as palette frames sharing one adaptive palette (Pillow's, from three frames).
+def _shared_palette(frames: list[np.ndarray]) -> list:
+    """Opaque RGBA frames as palette images sharing one adaptive palette (Pillow's, from three frames).
 
     Pillow would compute a palette per frame; the stick frames share their colours, so one
     palette serves them all. Each colour maps exactly to its nearest palette entry (Pillow's own
     mapping to a given palette goes through a coarse colour cache: white would become grey).
+    The colours are keyed by their 24 RGB bits, read in place from the RGBA bytes.
     """
     from PIL import Image
 
-    w, h = images[0].size
-    sample = [images[0], images[len(images) // 2], images[-1]]
-    mosaic = Image.new("RGB", (w, h * len(sample)))
-    for i, im in enumerate(sample):
-        mosaic.paste(im, (0, h * i))
+    h, w = frames[0].shape[:2]
+    sample = [frames[0], frames[len(frames) // 2], frames[-1]]
+    mosaic = Image.fromarray(np.concatenate([f[..., :3] for f in sample], axis=0), "RGB")
     palette = mosaic.convert("P", palette=Image.Palette.ADAPTIVE).getpalette("RGB")
     entries = np.asarray(palette, dtype=np.int32).reshape(-1, 3)
-    rgb = np.stack([np.asarray(im) for im in images]).astype(np.uint32)
-    packed = (rgb[..., 0] << 16) | (rgb[..., 1] << 8) | rgb[..., 2]
+    packed = np.stack(frames).view("<u4")[..., 0] & 0xFFFFFF  # R + 256 G + 65536 B
     seen = np.zeros(1 << 24, dtype=bool)
     seen[packed] = True
     used = np.flatnonzero(seen)
-    colours = np.stack([used >> 16, (used >> 8) & 255, used & 255], axis=1).astype(np.int32)
+    colours = np.stack([used & 255, (used >> 8) & 255, used >> 16], axis=1).astype(float)
+    # nearest entry: argmin |c - e|^2 = argmin (|e|^2 - 2 c.e), exact in float64 (integers < 2^53)
     lookup = np.zeros(1 << 24, dtype=np.uint8)
-    lookup[used] = np.argmin(((colours[:, None, :] - entries[None, :, :]) ** 2).sum(axis=2), axis=1)
+    lookup[used] = np.argmin((entries.astype(float) ** 2).sum(axis=1) - 2.0 * colours @ entries.T.astype(float), axis=1)
     index = lookup[packed]
     out = []
-    for k in range(len(images)):
+    for k in range(len(frames)):
         frame = Image.fromarray(index[k], "P")
         frame.putpalette(palette)
         out.append(frame)
