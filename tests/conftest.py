@@ -4,11 +4,11 @@ from __future__ import annotations
 
 import os
 
-import matplotlib
 import pytest
 
-matplotlib.use("Agg")
-os.environ.setdefault("MPLBACKEND", "Agg")
+# Headless plots, here and in the commands' subprocesses; set before matplotlib is first imported
+# (not imported here: a worker that runs no plotting test never pays for it).
+os.environ["MPLBACKEND"] = "Agg"
 
 import pasibot_pin as pp  # noqa: E402
 
@@ -29,37 +29,64 @@ def L():
 
 # --------------------------------------------------------------------------- xdist scheduling
 # `pytest` runs on pytest-xdist workers (pyproject: addopts = "-n auto --dist loadscope").
-# The unit of work is one module, so module-scoped fixtures (the browser screenshots, the walks,
-# the meshcat server) are built once, on one worker. The modules below have no costly module
-# fixture and hold long tests of their own: their tests are scheduled one by one.
-SPLIT_MODULES = frozenset(
-    {"test_notebooks.py", "test_simulate.py", "test_energy.py", "test_regression.py", "test_report.py"}
+# The unit of work is one test, so that long tests spread over the workers, except in the modules
+# below: their module-scoped fixtures (the browser screenshots, the walks, the meshcat server, a
+# reference sweep) are costly, and one module is one unit, built once, on one worker.
+WHOLE_MODULES = frozenset(
+    {
+        "test_browser.py",
+        "test_viewer.py",
+        "test_animation.py",
+        "test_gait.py",
+        "test_kinematics.py",
+        "test_contact.py",
+        "test_design_metrics.py",
+        "test_newton_euler.py",
+        "test_optimize.py",
+        "test_questions.py",
+        "test_single_motor.py",
+        "test_sweep.py",
+    }
 )
 # Longest units first (a longest-processing-time-first schedule: no long test starts last and
-# keeps one worker busy alone). A nodeid prefix each; the other units follow in collection order.
+# keeps one worker busy alone), from a serial run's CPU time per unit (user + sys, with the
+# subprocesses). A nodeid prefix each; the other units follow in collection order.
 LONGEST_FIRST = (
-    "tests/test_browser.py",
+    "tests/test_browser.py",  # ~40 s of Chromium, on two threads
+    "tests/test_cli_signals.py::test_sweep_stops",
     "tests/test_energy.py::test_analyze_step_contact_energy",
+    "tests/test_report.py::test_kinematics_section",
+    "tests/test_floor.py::test_analyze_floor_section",
+    "tests/test_report.py::test_model_and_simulation",
+    "tests/test_sweep.py",
+    "tests/test_floor.py::test_simulate_command_on_the_floor",
+    "tests/test_viewer.py",
+    "tests/test_notebooks.py::test_notebook_runs[04_viewer",
+    "tests/test_mjcf.py::test_mujoco_on_the_floor_run1",
+    "tests/test_mjcf.py::test_loops_stay_closed",
+    "tests/test_notebooks.py::test_notebook_runs[02_kinematics",
+    "tests/test_questions.py",
+    "tests/test_design_metrics.py",
+    "tests/test_notebooks.py::test_notebook_runs[07_design",
+    "tests/test_notebooks.py::test_notebook_runs[08_floor",
+    "tests/test_floor.py::test_readme_and_docs_floor_numbers",
+    "tests/test_floor.py::test_simulate_study_command",
+    "tests/test_notebooks.py::test_notebook_runs[05_simulation",
+    "tests/test_readme_snippets.py::test_snippet_runs[2]",
+    "tests/test_simulate.py::test_energy_is_conserved_without_motor_damping_or_impact[cranks-free",
+    "tests/test_simulate.py::test_simulate_command",
+    "tests/test_report.py::test_torques_section",
+    "tests/test_readme_numbers.py::test_spring_study_bullets",
+    "tests/test_kinematics.py",
+    "tests/test_cli_design.py::test_simulate_walks",
+    "tests/test_cli_design.py::test_export_html",
+    "tests/test_notebooks.py",
     "tests/test_cli_signals.py",
+    "tests/test_gait.py",
+    "tests/test_cli_design.py",
     "tests/test_floor.py",
     "tests/test_mjcf.py",
-    "tests/test_sweep.py",
-    "tests/test_design_metrics.py",
-    "tests/test_cli_design.py",
-    "tests/test_questions.py",
-    "tests/test_optimize.py",
-    "tests/test_cli_errors.py",
-    "tests/test_notebooks.py::test_notebook_runs[05_simulation",
-    "tests/test_simulate.py::test_energy_is_conserved_without_motor_damping_or_impact[cranks-free",
-    "tests/test_viewer.py",
-    "tests/test_report.py::test_model_and_simulation",
-    "tests/test_report.py::test_kinematics_section",
-    "tests/test_notebooks.py::test_notebook_runs[04_viewer",
-    "tests/test_simulate.py::test_simulate_command",
-    "tests/test_notebooks.py",
-    "tests/test_kinematics.py",
-    "tests/test_simulate.py::test_without_spring",
-    "tests/test_simulate.py::test_forward_of_inverse",
+    "tests/test_simulate.py",
 )
 
 
@@ -79,7 +106,7 @@ def pytest_xdist_make_scheduler(config, log):
     class ModuleOrTestScheduling(LoadScopeScheduling):
         def _split_scope(self, nodeid: str) -> str:
             module = nodeid.split("::", 1)[0]
-            return nodeid if module.rsplit("/", 1)[-1] in SPLIT_MODULES else module
+            return module if module.rsplit("/", 1)[-1] in WHOLE_MODULES else nodeid
 
         def _assign_work_unit(self, node) -> None:
             if not getattr(self, "_ranked", False):  # the queue is complete at the first assignment

@@ -35,6 +35,28 @@ def test_python_dash_m_works():
     assert "numerical mobility nv - rank(J_c) = 19 - 15 = 4" in out
 
 
+HEAVY = ("matplotlib", "mujoco", "optuna", "dask", "distributed", "pyarrow", "scipy", "meshcat", "yourdfpy", "trimesh")
+"""Optional or slow-to-import libraries: only the commands that use them import them."""
+
+
+def test_the_command_line_starts_without_the_heavy_libraries():
+    """Every ``pasibot`` process builds the whole parser: it imports none of HEAVY (each would add
+    0.1-1.7 s to every command, ``--help`` and a refused flag included)."""
+    code = (
+        "import sys\n"
+        "import pasibot_pin.cli\n"
+        "from pasibot_pin.__main__ import build_parser\n"
+        "build_parser()\n"
+        f"print(sorted({{name.split('.')[0] for name in sys.modules}} & set({HEAVY!r})))\n"
+    )
+    out = subprocess.run([sys.executable, "-c", code], check=True, capture_output=True, text=True).stdout
+    assert out.strip() == "[]"
+    # the check can fail: the same probe sees them once a command that plots has been imported
+    probe = code.replace("build_parser()", "import pasibot_pin.report.floor")
+    out = subprocess.run([sys.executable, "-c", probe], check=True, capture_output=True, text=True).stdout
+    assert "matplotlib" in out
+
+
 def test_build_urdf_renders_and_refuses_to_overwrite(tmp_path, capsys):
     target = tmp_path / "leg.urdf"
     assert main(["build-urdf", "--variant", "rigid", "--legs", "1", "--L", "0.1", "--out", str(target)]) == 0

@@ -1,19 +1,41 @@
-"""``--design FILE`` on the commands: the design's numbers reach the output."""
+"""``--design FILE`` on the commands: the design's numbers reach the output.
+
+The commands run in this process (``main``, the code ``pasibot`` runs after its imports); the
+entry point's own process, exit codes and stderr are tested by ``test_cli.py`` and ``test_sweep.py``.
+"""
 
 from __future__ import annotations
 
 import re
 import subprocess
-import sys
 
 import numpy as np
 import pytest
 
+from pasibot_pin.__main__ import main
 from pasibot_pin.model.design import Design
 
+# export-html imports meshcat, which imports pyzmq's deprecated eventloop module; not ours to fix.
+pytestmark = pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")
 
-def _cli(*args):
-    return subprocess.run([sys.executable, "-m", "pasibot_pin", *args], capture_output=True, text=True)
+
+@pytest.fixture()
+def _cli(capsys, tmp_path, monkeypatch):
+    """``pasibot ARGS`` in this process, run in an empty folder: a CompletedProcess (exit code, stdout, stderr)."""
+    work = tmp_path / "cwd"
+    work.mkdir()
+    monkeypatch.chdir(work)
+
+    def run(*args: str) -> subprocess.CompletedProcess:
+        capsys.readouterr()
+        try:
+            code = main(list(args))
+        except SystemExit as stop:  # argparse's own refusals
+            code = stop.code
+        out, err = capsys.readouterr()
+        return subprocess.CompletedProcess(["pasibot", *args], code, out, err)
+
+    return run
 
 
 @pytest.fixture()
@@ -21,7 +43,7 @@ def design_file(tmp_path):
     return Design().with_(K=2.2, r4=9.4, body_mass=25.0).save(tmp_path / "d.toml")
 
 
-def test_info_and_build_urdf_use_the_design(design_file, tmp_path):
+def test_info_and_build_urdf_use_the_design(_cli, design_file, tmp_path):
     import yourdfpy
 
     info = _cli("info", "--design", str(design_file))
@@ -37,7 +59,7 @@ def test_info_and_build_urdf_use_the_design(design_file, tmp_path):
     assert j3.origin[0, 3] == pytest.approx(2.2 * 0.05)
 
 
-def test_torques_of_a_design_equal_the_scenario_it_copies(tmp_path):
+def test_torques_of_a_design_equal_the_scenario_it_copies(_cli, tmp_path):
     """A design with run 1's speed and body gives run 1's K_e: two paths (design record, scenario)."""
     path = Design().with_(omega=0.1, body_mass=16.0).save(tmp_path / "run1.toml")
     by_design = _cli("torques", "--design", str(path))
@@ -51,7 +73,7 @@ def test_torques_of_a_design_equal_the_scenario_it_copies(tmp_path):
     assert "scenario design" in by_design.stdout
 
 
-def test_simulate_walks_the_design_on_the_floor(tmp_path):
+def test_simulate_walks_the_design_on_the_floor(_cli, tmp_path):
     path = Design().with_(omega=5.0, body_mass=20.0, spring_stiffness=450.0, spring_rest_angle=1.6).save(
         tmp_path / "d.toml"
     )
@@ -63,7 +85,7 @@ def test_simulate_walks_the_design_on_the_floor(tmp_path):
 
 
 @pytest.mark.parametrize("command", ["info", "build-urdf", "torques", "simulate", "export-mjcf", "sweep"])
-def test_a_bad_design_file_is_one_line(tmp_path, command):
+def test_a_bad_design_file_is_one_line(_cli, tmp_path, command):
     bad = tmp_path / "bad.toml"
     bad.write_text("K = 'two'\n")
     extra = ["--out", str(tmp_path / "o")] if command in ("export-mjcf", "sweep") else []
@@ -71,7 +93,7 @@ def test_a_bad_design_file_is_one_line(tmp_path, command):
     assert res.returncode == 2 and res.stderr.count("\n") == 1 and "'K'" in res.stderr, res.stderr
 
 
-def test_gait_walks_the_design(design_file):
+def test_gait_walks_the_design(_cli, design_file):
     """The stroke printed for the design's leg equals the analytic assembly's x(90 deg) - x(270 deg)."""
     import math
 
@@ -86,13 +108,13 @@ def test_gait_walks_the_design(design_file):
     assert stroke == pytest.approx((ankle[0, 0] - ankle[1, 0]) / design.L, rel=1e-5)
 
 
-def test_export_html_draws_the_design(design_file, tmp_path):
+def test_export_html_draws_the_design(_cli, design_file, tmp_path):
     res = _cli("export-html", "--design", str(design_file), "--out", str(tmp_path / "d.html"), "--steps", "1")
     assert res.returncode == 0, res.stderr
     assert (tmp_path / "d.html").stat().st_size > 10_000
 
 
-def test_contact_of_a_design_equals_the_scenario_it_copies(tmp_path):
+def test_contact_of_a_design_equals_the_scenario_it_copies(_cli, tmp_path):
     path = Design().with_(omega=0.1, body_mass=16.0).save(tmp_path / "run1.toml")
     by_design = _cli("contact", "--design", str(path))
     by_scenario = _cli("contact", "--scenario", "run1")
@@ -100,7 +122,7 @@ def test_contact_of_a_design_equals_the_scenario_it_copies(tmp_path):
     assert by_design.stdout.splitlines()[1:] == by_scenario.stdout.splitlines()[1:]
 
 
-def test_energy_of_a_design_equals_the_variant_table(tmp_path):
+def test_energy_of_a_design_equals_the_variant_table(_cli, tmp_path):
     path = Design().with_(body_mass=16.0).save(tmp_path / "d.toml")
     by_design = _cli("energy", "--design", str(path), "--omegas", "0.1,5")
     by_variant = _cli("energy", "--variants", "spring", "--omegas", "0.1,5")

@@ -126,9 +126,11 @@ def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):
 
 
 @pytest.mark.parametrize(("sig", "group"), [(signal.SIGINT, True), (signal.SIGTERM, False)])
-def test_sweep_stops_its_workers_and_keeps_its_rows(tmp_path, sig, group):
+def test_sweep_stops_its_workers_and_keeps_its_rows(tmp_path, sig, group, capsys):
     """Ctrl-C or SIGTERM in a sweep: no orphan worker, no half file, the finished designs kept, a rerun continues."""
     import pyarrow.parquet as pq
+
+    from pasibot_pin.__main__ import main
 
     out = tmp_path / "run"
     args = ["sweep", "--n", "400", "--vary", "K=1.8:2.4", "--workers", "2", "--out", str(out), "--no-progress"]
@@ -140,7 +142,6 @@ def test_sweep_stops_its_workers_and_keeps_its_rows(tmp_path, sig, group):
     assert not list(out.rglob("*.tmp"))
     kept = sum(pq.read_table(p).num_rows for p in parts.glob("part-*.parquet"))
     assert 0 < kept < 400
-    again = subprocess.run(
-        [sys.executable, "-m", "pasibot_pin", *args[:2], "12", *args[3:]], capture_output=True, text=True
-    )
-    assert again.returncode == 2 and "different run" in again.stderr  # another --n is another run
+    capsys.readouterr()
+    again = main([*args[:2], "12", *args[3:]])  # in this process: refused before any work, no pool started
+    assert again == 2 and "different run" in capsys.readouterr().err  # another --n is another run

@@ -7,7 +7,6 @@ import xml.etree.ElementTree as ET
 import numpy as np
 import pinocchio as pin
 import pytest
-import yourdfpy
 from conftest import ALL_MODELS
 
 import pasibot_pin as pp
@@ -43,6 +42,8 @@ def test_yourdfpy_rejects_what_pinocchio_would_silently_accept(tmp_path):
     )
     bad = tmp_path / "bad.urdf"
     bad.write_text(text.replace("</robot>", extra))
+    import yourdfpy  # 1.7 s of imports (trimesh, networkx, scipy): only in the worker that runs these tests
+
     with pytest.raises(Exception):  # noqa: B017 - yourdfpy raises its own error types
         yourdfpy.URDF.load(str(bad), build_scene_graph=True, load_meshes=False)
 
@@ -50,6 +51,8 @@ def test_yourdfpy_rejects_what_pinocchio_would_silently_accept(tmp_path):
 @pytest.mark.parametrize("variant, legs", ALL_MODELS)
 def test_yourdfpy_forward_kinematics_matches_pinocchio(variant, legs):
     path = pp.urdf_path(variant, legs)
+    import yourdfpy
+
     urdf = yourdfpy.URDF.load(str(path), load_meshes=False)
     if legs == 2:
         model = pin.buildModelFromUrdf(str(path), planar_root_joint(), "hip_planar")

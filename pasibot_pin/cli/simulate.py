@@ -49,14 +49,14 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Simulate the scenario, write plots and CSV, print the excursions."""
-    from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation
-    from pasibot_pin.studies.simulation_study import SimulateSettings, check_fps, run_simulation, simulation_setup
-    from pasibot_pin.studies.spring_study import scenario_key
-
     if args.ground == "floor":
         from pasibot_pin.cli.simulate_floor import run_floor
 
         return run_floor(args)
+    from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation
+    from pasibot_pin.studies.simulation_study import SimulateSettings, check_fps, run_simulation, simulation_setup
+    from pasibot_pin.studies.spring_study import scenario_key
+
     floor_only = {"--study": args.study, "--duration": args.duration, "--mu": common.given(args, "mu")}
     for flag in (f for f, value in {**floor_only, "--design": args.design}.items() if value not in (None, False)):
         raise ValueError(f"{flag} applies to --ground floor only (the welded study: seed scenarios, the foot welded)")

@@ -15,7 +15,6 @@ from pasibot_pin.cli.common import check_output_folder, design_of, given
 
 def run_floor(args: argparse.Namespace) -> int:
     """The spring cases on the floor: print each outcome, write the CSV and the figure (or the study's files)."""
-    from pasibot_pin.report.floor import floor_files, write_floor
     from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
     from pasibot_pin.studies.spring_study import scenario_key
 
@@ -43,6 +42,8 @@ def run_floor(args: argparse.Namespace) -> int:
         "run1" if design else scenario, duration, args.mu, dt, cases=not args.no_cases, design=design
     )
     check_output_folder(args.out, "--out")
+    from pasibot_pin.report.floor import floor_files, write_floor  # matplotlib: after the flags' checks
+
     csv_path, png_path = floor_files(args.out, scenario, args.force)
     study = floor_study(settings, on_case=lambda case: print(case_summary(case), flush=True))
     for path in write_floor(study, csv_path, png_path):
