@@ -19,6 +19,7 @@ __all__ = [
     "atomic_path",
     "atomic_paths",
     "save_figure_file",
+    "write_dict_rows",
     "temporary_name",
     "write_columns_csv",
     "write_text_atomic",
@@ -38,6 +39,17 @@ def write_columns_csv(path: Path, cols: dict[str, np.ndarray]) -> None:
         writer.writerow(list(cols))
         for row in zip(*cols.values()):
             writer.writerow([repr(float(x)) for x in row])
+
+
+def write_dict_rows(path: Path, rows: list[dict]) -> None:
+    """Write ``rows`` (one dict each, the first's keys as the header) as CSV straight to ``path``.
+
+    The caller writes to a temporary name and renames (:func:`atomic_paths`).
+    """
+    with Path(path).open("w", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=list(rows[0]) if rows else [])
+        writer.writeheader()
+        writer.writerows(rows)
 
 
 PNG_COMPRESS_LEVEL = 3

@@ -15,7 +15,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 
 from pasibot_pin.files import atomic_paths
-from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.report.floor_static import cases_markdown, floor_text, static_files, sweep_markdown, write_static_into
 from pasibot_pin.studies.floor_spring_study import CaseComparison, FloorSpringStudy
 from pasibot_pin.studies.floor_study import FloorStudy, floor_columns
@@ -160,10 +160,7 @@ def write_floor_spring(study: FloorSpringStudy, out: Path, force: bool = False, 
         if sweep:
             write_static_into(statics, *static_tmp)
         md_tmp.write_text(floor_spring_markdown(study, statics=statics), encoding="utf-8")
-        with csv_tmp.open("w", newline="") as handle:
-            writer = csv.DictWriter(handle, fieldnames=list(rows[0]) if rows else [])
-            writer.writeheader()
-            writer.writerows(rows)
+        write_dict_rows(csv_tmp, rows)
         fig = plot_weld_vs_floor(study)
         try:
             save_figure_file(fig, png_tmp, 100)

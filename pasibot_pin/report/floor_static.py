@@ -7,7 +7,6 @@ markdown goes into ``floor_springs.md`` (:mod:`pasibot_pin.report.floor`) and th
 
 from __future__ import annotations
 
-import csv
 import math
 from collections.abc import Sequence
 from pathlib import Path
@@ -15,7 +14,7 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 
 from pasibot_pin.files import atomic_paths
-from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.studies.floor_static import CAUSES, FloorStatic, FloorStaticSweep
 
 STATIC_NAME = "floor_quasi_static"
@@ -167,11 +166,7 @@ def write_static_into(sweeps: Sequence[FloorStaticSweep], csv_path: Path, png_pa
     """Write the sweep's CSV and figure straight to these paths (the caller renames them)."""
     from pasibot_pin.viz.plots_floor import plot_floor_static_maps
 
-    rows = cell_rows(sweeps)
-    with Path(csv_path).open("w", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=list(rows[0]) if rows else [])
-        writer.writeheader()
-        writer.writerows(rows)
+    write_dict_rows(csv_path, cell_rows(sweeps))
     fig = plot_floor_static_maps(sweeps)
     try:
         save_figure_file(fig, png_path, 100)
