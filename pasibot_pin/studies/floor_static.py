@@ -50,7 +50,7 @@ from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, foot_pose
 from pasibot_pin.studies.spring_study import (
     SPRING_CASES,
     StaticEquilibrium,
-    _StaticProblem,
+    StaticProblem,
     scenario_inputs,
     static_equilibrium,
     sweep_springs,
@@ -225,7 +225,7 @@ def floor_static_path(
             status.append("none")
             continue
         stance = stance_of(float(theta))
-        _, q = _StaticProblem(robot, spring, float(theta), cache).torque(float(weld.hip_pitch[k]))
+        _, q = StaticProblem(robot, spring, float(theta), cache).torque(float(weld.hip_pitch[k]))
         configurations[k] = q
         heel[k], toe[k], tangential[k], cop[k], residual[k] = statics.forces(spring, q, stance)
         use[k] = abs(tangential[k]) / (heel[k] + toe[k])

@@ -64,7 +64,7 @@ class StaticEquilibrium:
         return float(np.max(np.abs(self.hip_pitch)))
 
 
-class _StaticProblem:
+class StaticProblem:
     """The hip-holding torque as a function of the hip pitch, at one crank angle.
 
     Cranks locked at ``theta``, swing ankle at the rest angle, stance foot welded flat.
@@ -107,6 +107,10 @@ class _StaticProblem:
             cache[shared_key] = (self.q_level, self.cset, self.targets, self.projections)
 
     def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
+        """The hip-holding torque [N.m] at hip pitch ``pitch`` [rad], and the static q it solved.
+
+        ``q_guess``: the Newton start (default: the level pose at this crank angle).
+        """
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
         key = (float(pitch), q.tobytes())
         if key in self.projections:
@@ -130,7 +134,7 @@ def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: fl
         (torque [N.m], q).
 
     """
-    return _StaticProblem(robot, spring, theta).torque(pitch, q_guess)
+    return StaticProblem(robot, spring, theta).torque(pitch, q_guess)
 
 
 def static_equilibrium(
@@ -152,7 +156,7 @@ def static_equilibrium(
     found = np.zeros(len(thetas), dtype=bool)
     for k, theta in enumerate(thetas):
         try:
-            problem = _StaticProblem(robot, spring, float(theta), cache)
+            problem = StaticProblem(robot, spring, float(theta), cache)
             p0, p1 = 0.0, 1e-3
             f0, q = problem.torque(p0)
             f1, q = problem.torque(p1, q)
