@@ -152,12 +152,14 @@ def leg_cycle(
         ankle[k], toe[k], heel[k] = _xz(data, ids["foot"]), _xz(data, ids["toe"]), _xz(data, ids["heel"])
         pitch[k] = planar_pitch(data.oMf[ids["foot"]].rotation)
     cycle = LegCycle(robot, thetas, qs, ankle, toe, heel, pitch, omega)
-    if omega is not None:
-        motion = [ankle_motion(robot, q, omega) for q in qs]
-        cycle.v = np.array([m.v for m in motion])
-        cycle.a = np.array([m.a for m in motion])
-        cycle.ankle_velocity = np.array([m.velocity for m in motion])
-        cycle.ankle_acceleration = np.array([m.acceleration for m in motion])
+    if omega is not None:  # exact v and a of the closed form (its jets), then the ankle's by Pinocchio
+        _, cycle.v, cycle.a, _ = closure.analytic_motion(robot, thetas, float(omega))
+        cycle.ankle_velocity, cycle.ankle_acceleration = np.zeros((n, 2)), np.zeros((n, 2))
+        for k, q in enumerate(qs):
+            pin.forwardKinematics(model, data, q, cycle.v[k], cycle.a[k])
+            cycle.ankle_velocity[k] = pin.getFrameVelocity(model, data, ids["foot"], LOCAL_WORLD_ALIGNED).linear[[0, 2]]
+            accel = pin.getFrameClassicalAcceleration(model, data, ids["foot"], LOCAL_WORLD_ALIGNED)
+            cycle.ankle_acceleration[k] = accel.linear[[0, 2]]
     return cycle
 
 
@@ -191,21 +193,28 @@ def configuration_at(robot, theta: float, q_guess: np.ndarray | None = None) -> 
 
 
 def sweep(robot, thetas: Sequence[float] | np.ndarray) -> np.ndarray:
-    """Closed configurations of a one-leg robot along ordered crank angles (N, nq).
+    """Closed configurations of a one-leg robot at crank angles (N, nq).
 
-    Continuation: each sample's Newton starts from the previous one, which keeps the
-    assembly branch. The ``spring`` foot is held level (:func:`leg_prescriptions`).
+    The closed form (:func:`~pasibot_pin.model.closure.analytic_configurations`, the assembly
+    branch of the seed) for every sample at once, then one batched Newton
+    (:meth:`~pasibot_pin.constraints.ConstraintSystem.project_many`) that only iterates where the
+    closed form is not closed to the tolerance. The ``spring`` foot is held level
+    (:func:`leg_prescriptions`).
     """
     _check_one_leg(robot)
     thetas = np.asarray(thetas, dtype=float).reshape(-1)
     if thetas.size == 0 or not np.all(np.isfinite(thetas)):
         raise ValueError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
-    out = np.zeros((len(thetas), robot.model.nq))
-    q = None
-    for k, theta in enumerate(thetas):
-        q = configuration_at(robot, float(theta), q)
-        out[k] = q
-    return out
+    prescribed = leg_prescriptions(robot)
+    guess, _ = closure.analytic_configurations(robot, thetas)
+    targets = np.array([_leg_targets(robot, prescribed, float(theta)) for theta in thetas])
+    try:
+        q, _ = closure.system(robot, None, prescribed).project_many(guess, targets)
+    except ValueError:  # name the crank angle where the loop cannot close, as Newton per sample does
+        q = guess
+        for k, theta in enumerate(thetas):
+            q[k] = configuration_at(robot, float(theta), guess[k])
+    return q
 
 
 def frame_xz(robot, q: np.ndarray, frame: str = "right_foot") -> np.ndarray:
