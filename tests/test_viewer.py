@@ -54,6 +54,23 @@ def decode_commands(html: str) -> list[dict]:
     return [umsgpack.unpackb(base64.b64decode(b)) for b in blobs]
 
 
+def without_uuids(commands: list[dict]) -> list:
+    """``commands`` with every meshcat uuid (uuid1: time-based) replaced by its order of appearance."""
+    pattern = re.compile(r"^[0-9a-f]{8}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{4}-[0-9a-f]{12}$")
+    seen: dict[str, str] = {}
+
+    def walk(value):
+        if isinstance(value, dict):
+            return {k: walk(v) for k, v in value.items()}
+        if isinstance(value, list):
+            return [walk(v) for v in value]
+        if isinstance(value, str) and pattern.match(value):
+            return seen.setdefault(value, f"uuid-{len(seen)}")
+        return value
+
+    return walk(commands)
+
+
 def animation_poses(commands: list[dict]) -> tuple[dict[str, list[np.ndarray]], dict]:
     """Per animated node path: the 4x4 pose at each keyframe; and the raw clip dicts."""
     anims = [c for c in commands if c["type"] == "set_animation"]
@@ -134,6 +151,25 @@ def test_reuses_a_running_server_and_leaves_it_running(robot, server):
     assert server.web_url in html and "iframe" in html
     v.close()
     assert server.process.poll() is None
+
+
+def test_offline_scene_gives_the_server_page(robot, exported, tmp_path):
+    """export_html builds its scene in-process (no server); a fresh server's page is the same."""
+    export, offline_html = exported
+    out = tmp_path / "via_server.html"
+    server = viewer.start_server()  # fresh: a server keeps the scenes of its earlier clients
+    try:
+        viewer.export_html(out, robot, steps=2, samples_per_step=10, fps=20.0, zmq_url=server.zmq_url)
+    finally:
+        server.close()
+    served_html = out.read_text()
+    blob = r"data:application/octet-binary;base64,[A-Za-z0-9+/=]+"
+    assert re.sub(blob, "", served_html) == re.sub(blob, "", offline_html)  # the page around the commands
+    served, offline = decode_commands(served_html), decode_commands(offline_html)
+    assert len(offline) > 50  # a whole scene, not an empty page
+    assert without_uuids(served) == without_uuids(offline)  # the same commands in the same order
+    with pytest.raises(ValueError, match="offline"):
+        viewer.WalkViewer(robot, offline=True, open=True)
 
 
 def test_bad_zmq_url(robot):

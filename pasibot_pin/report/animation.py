@@ -53,7 +53,7 @@ def export_animation(robot, result, html: Path | None = None, gif: Path | None =
     if html is not None:
         from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene
 
-        viewer = WalkViewer(robot)
+        viewer = WalkViewer(robot, offline=True)
         try:
             build_walk_scene(viewer, frames, fps, title=title)
             text = viewer.static_html()

@@ -596,27 +596,38 @@ class WalkViewer:
         zmq_url: reuse a running ``meshcat-server`` at this address; ``None`` starts a
             server of our own bound to 127.0.0.1 (:func:`start_server`).
         open: open the page in the default web browser.
+        offline: keep the scene in this process, with no server and no live page
+            (:class:`~pasibot_pin.viz.meshcat_scene.OfflineWindow`): for writing
+            :meth:`static_html` only (what :func:`export_html` does).
 
     """
 
     robot: object
     zmq_url: str | None = None
     open: bool = False
+    offline: bool = False
     server: ServerProcess | None = field(init=False, default=None)
 
     def __post_init__(self) -> None:
         import meshcat
         from pinocchio.visualize import MeshcatVisualizer
 
-        if self.zmq_url is None:
+        if self.offline:
+            from pasibot_pin.viz.meshcat_scene import OfflineWindow
+
+            if self.zmq_url is not None or self.open:
+                raise ValueError("an offline viewer has no server: pass neither 'zmq_url' nor open=True")
+            self.meshcat = meshcat.Visualizer(window=OfflineWindow())
+        elif self.zmq_url is None:
             self.server = start_server()
             self.zmq_url = self.server.zmq_url
         elif not isinstance(self.zmq_url, str) or not self.zmq_url.startswith(("tcp://", "ipc://")):
             raise ValueError(f"parameter 'zmq_url' must look like tcp://HOST:PORT, got {self.zmq_url!r}")
         else:
             check_meshcat_server(self.zmq_url)
-        with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints its URL; ``url`` has it
-            self.meshcat = meshcat.Visualizer(zmq_url=self.zmq_url)
+        if not self.offline:
+            with contextlib.redirect_stdout(io.StringIO()):  # meshcat prints its URL; ``url`` has it
+                self.meshcat = meshcat.Visualizer(zmq_url=self.zmq_url)
         self.visual_model = coloured_visual_model(self.robot)
         self.viz = MeshcatVisualizer(
             self.robot.model, self.robot.collision_model, self.visual_model, data=self.robot.model.createData()
@@ -985,7 +996,7 @@ def export_html(
             (:func:`quasi_static_ground_reaction`, 0.5 mm per N).
         reactions: crank speed [rad/s] at which to draw the ground reaction and the cut-joint
             forces of :func:`reaction_forces` (``spring`` only); ``None``: none.
-        zmq_url: reuse a running meshcat server instead of starting one.
+        zmq_url: build the scene on a running meshcat server (default: in this process, no server).
 
     Returns:
         The :class:`Export`.
@@ -1010,7 +1021,7 @@ def export_html(
         forces = {**(forces or {}), "ground": quasi_static_ground_reaction(robot, walk.q, walk.stance)}
     if reactions is not None:
         forces = {**(forces or {}), **reaction_forces(robot, walk, omega=reactions)}
-    viewer = WalkViewer(robot, zmq_url=zmq_url)
+    viewer = WalkViewer(robot, zmq_url=zmq_url, offline=zmq_url is None)
     try:
         title = f"PASIBOT {robot.variant} biped, {steps} steps (kinematic walk, stance sole welded flat)"
         paths = build_walk_scene(viewer, walk.q, fps, forces, title=title)
