@@ -66,6 +66,17 @@ class _Given(argparse.Action):
         namespace._given = recorded
 
 
+def float_list(text: str) -> list[float]:
+    """An argparse type: comma-separated numbers (``0.1,1,5``), at least one."""
+    try:
+        values = [float(x) for x in text.split(",") if x.strip()]
+    except ValueError as err:
+        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from err
+    if not values:
+        raise argparse.ArgumentTypeError("expected at least one number")
+    return values
+
+
 def given(args: argparse.Namespace, dest: str) -> bool:
     """Whether the shared option ``dest`` (e.g. ``"steps"``) was on the command line."""
     return dest in getattr(args, "_given", ())

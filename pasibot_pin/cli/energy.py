@@ -12,19 +12,16 @@ from __future__ import annotations
 
 import argparse
 
-from pasibot_pin.cli.common import add_design_option, add_output_options, atomic_path, check_outputs, design_of
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_output_options,
+    atomic_path,
+    check_outputs,
+    design_of,
+    float_list,
+)
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
-
-
-def _floats(text: str) -> list[float]:
-    try:
-        values = [float(x) for x in text.split(",") if x.strip()]
-    except ValueError as err:
-        raise argparse.ArgumentTypeError(f"expected comma-separated numbers, got {text!r}") from err
-    if not values:
-        raise argparse.ArgumentTypeError("expected at least one number")
-    return values
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -32,7 +29,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p = sub.add_parser(
         "energy", help="work per step, spring energy and cost of transport (spring vs parallel)", description=__doc__
     )
-    p.add_argument("--omegas", type=_floats, default=[0.1, 1.0, 5.0], help="crank speeds [rad/s] (default 0.1,1,5)")
+    p.add_argument("--omegas", type=float_list, default=[0.1, 1.0, 5.0], help="crank speeds [rad/s] (default 0.1,1,5)")
     p.add_argument(
         "--body-mass",
         type=float,
@@ -81,14 +78,7 @@ def run(args: argparse.Namespace) -> int:
     if args.flywheel is not None:
         print(f"\nflywheel {args.flywheel:g} kg.m^2 on the single motor's shaft:")
         for case in flywheel_cases(args.omegas, variants, args.flywheel, args.body_mass, args.com_dx, args.nodes):
-            fw, head = case.flywheel, f"  {case.variant:8s} omega {case.omega:g} rad/s:"
-            if fw is None:
-                print(f"{head} {case.error}")
-            else:
-                print(
-                    f"{head} motor {fw.mean_torque:+.3f} N.m constant instead of "
-                    f"peak {fw.peak_without:.3f} N.m; speed fluctuation {fw.speed_fluctuation * 100:.3f} %"
-                )
+            print(case.summary())
     if args.csv is not None:
         with atomic_path(args.csv) as tmp:
             write_energy_csv(tmp, sweep.rows)

@@ -44,24 +44,11 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
     add_force_option(p, "replace another run (or other files) in --out")
 
 
-def parse_by(text: str) -> tuple[str, str]:
-    """``METRIC[:min|max]`` -> (metric, sense); ValueError naming --by."""
-    from pasibot_pin.studies.design_metrics import ALL_METRICS as METRICS
-
-    name, _, sense = str(text).partition(":")
-    sense = sense or METRICS.get(name, None) and METRICS[name].sense or "min"
-    if name not in METRICS:
-        raise ValueError(f"--by {text!r}: unknown metric {name!r}; valid: {', '.join(METRICS)}")
-    if sense not in ("min", "max"):
-        raise ValueError(f"--by {text!r}: the sense must be min or max")
-    return name, sense
-
-
 def start_run(args: argparse.Namespace):
     """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
     from pasibot_pin.cli.common import check_output_folder
     from pasibot_pin.explore.executors import check_scheduler, check_workers
-    from pasibot_pin.explore.plan import check_floor, ranges_or_default
+    from pasibot_pin.explore.plan import check_floor, parse_ranking, ranges_or_default
     from pasibot_pin.model.design import Design, load_design
 
     check_output_folder(args.out, "--out")
@@ -71,7 +58,7 @@ def start_run(args: argparse.Namespace):
     check_floor(args.floor)
     if isinstance(args.best, bool) or not 0 <= args.best <= 100:
         raise ValueError(f"--best must be in [0, 100], got {args.best!r}")
-    by = parse_by(args.by)
+    by = parse_ranking(args.by, "--by")
     check_scheduler(args.dask)  # last: it may wait a few seconds for the scheduler
     return base, ranges, by
 

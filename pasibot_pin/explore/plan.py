@@ -156,6 +156,24 @@ class SweepPlan:
         )
 
 
+def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
+    """``METRIC[:min|max]`` -> (metric, sense), the sense defaulting to the metric's own.
+
+    Raises:
+        ValueError: an unknown metric or sense, naming ``option``.
+
+    """
+    from pasibot_pin.studies.design_metrics import ALL_METRICS
+
+    name, _, sense = str(text).partition(":")
+    if name not in ALL_METRICS:
+        raise ValueError(f"{option} {text!r}: unknown metric {name!r}; valid: {', '.join(ALL_METRICS)}")
+    sense = sense or ALL_METRICS[name].sense or "min"
+    if sense not in ("min", "max"):
+        raise ValueError(f"{option} {text!r}: the sense must be min or max")
+    return name, sense
+
+
 def check_floor(floor: float | None) -> float | None:
     """``floor`` if it is ``None`` or a duration in (0, 600] s, else a one-line ValueError naming ``--floor``."""
     if floor is None:

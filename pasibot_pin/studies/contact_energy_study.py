@@ -171,6 +171,17 @@ class FlywheelCase:
     variant: str = ""
     omega: float = math.nan
 
+    def summary(self) -> str:
+        """One line: the motor's constant torque and the speed fluctuation, or why there is none."""
+        head = f"  {self.variant:8s} omega {self.omega:g} rad/s:"
+        fw = self.flywheel
+        if fw is None:
+            return f"{head} {self.error}"
+        return (
+            f"{head} motor {fw.mean_torque:+.3f} N.m constant instead of peak {fw.peak_without:.3f} N.m; "
+            f"speed fluctuation {fw.speed_fluctuation * 100:.3f} %"
+        )
+
 
 def _flywheel_case(theta, torque, omega: float, inertia: float, variant: str = "") -> FlywheelCase:
     try:
