@@ -45,7 +45,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coupling, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
+from pasibot_pin.constraints.system import planar_kinematics
 from pasibot_pin.dynamics.newton_euler import TreeLayout, tree_layout
 from pasibot_pin.dynamics.planar_id import PlanarInverseDynamics, planar_inverse_dynamics
 from pasibot_pin.model import closure
@@ -347,6 +347,7 @@ class _StancePlan:
         robot: the robot standing on ``side`` with the stance weld.
         rows: the square constraint system (loops, weld, prescribed coordinates).
         s_matrix: the actuation S (n_u, nv).
+        actuated: the column of each row of S (S selects coordinates); passive: the other columns.
         coupling: the motor-coupling rows C (n_c, nv) (constant).
         tree: the batched Newton-Euler layout (COMs, joint origins, constraint ends).
         planar: the batched planar inverse dynamics on ``tree`` (torques and reactions).
@@ -360,6 +361,8 @@ class _StancePlan:
     robot: PasibotRobot
     rows: ConstraintSystem
     s_matrix: np.ndarray
+    actuated: np.ndarray
+    passive: np.ndarray
     coupling: np.ndarray
     tree: TreeLayout
     planar: PlanarInverseDynamics
@@ -390,10 +393,13 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
         else:
             cut_rows[_generic(cm.name, side)] = rows_of
     tree = tree_layout(model, rs.constraint_models)
+    s_matrix = _actuation(rs, side, layout)
     entry = _StancePlan(
         robot=rs,
         rows=rows,
-        s_matrix=_actuation(rs, side, layout),
+        s_matrix=s_matrix,
+        actuated=np.argmax(s_matrix, axis=1),
+        passive=np.nonzero(~s_matrix.any(axis=0))[0],
         coupling=coupling_rows.jacobian(pin.neutral(model)).reshape(-1, model.nv),
         tree=tree,
         planar=planar_inverse_dynamics(model, tree),
@@ -407,6 +413,37 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
         _PLANS.pop(next(iter(_PLANS)))
     _PLANS[key] = (model, entry)  # keeps the model alive: no id reuse
     return entry
+
+
+def _split(tau: np.ndarray, jac_t: np.ndarray, actuated: np.ndarray, passive: np.ndarray):
+    """Solve tau = S^T u + J^T lambda for a batch, S selecting the ``actuated`` coordinates.
+
+    The passive coordinates carry no actuator: J_P^T lambda = tau_P is square (one solve per
+    sample, nv - n_u unknowns), then u = tau_A - J_A^T lambda.
+
+    Args:
+        tau: joint torques (N, nv) [N.m, N].
+        jac_t: J^T (N, nv, m) of the constraint rows (m = nv - n_u).
+        actuated: the coordinate of each actuator, in the order of u (n_u,).
+        passive: the other coordinates (nv - n_u,).
+
+    Returns:
+        (u (N, n_u), lambda (N, m)).
+
+    Raises:
+        ValueError: when J_P^T is not square or singular (the actuators cannot hold the motion).
+
+    """
+    if jac_t.shape[2] != len(passive):
+        n_unknowns = jac_t.shape[2] + len(actuated)
+        raise ValueError(f"split: {n_unknowns} unknowns for nv = {jac_t.shape[1]}; the system must be square")
+    try:
+        lam = np.linalg.solve(jac_t[:, passive], tau[:, passive, None])
+    except np.linalg.LinAlgError as err:
+        raise ValueError("split: [S^T J_c^T] is singular at this pose") from err
+    if not np.all(np.isfinite(lam)):
+        raise ValueError("split: the actuator and constraint forces are not finite")
+    return tau[:, actuated] - (jac_t[:, actuated] @ lam)[:, :, 0], lam[:, :, 0]
 
 
 # --------------------------------------------------------------------------- trajectory
@@ -564,9 +601,11 @@ def inverse_dynamics(
         tau = plan.planar.torques(q, wrench)
         # the split tau = S^T u + J_c^T lambda + C^T lambda_C: one square solve per sample
         nc = rows.n_constraint_rows
-        coupling = np.broadcast_to(plan.coupling, (th.size,) + plan.coupling.shape)
-        jac_split = np.concatenate((closed.jac[:, :nc], coupling), 1)
-        u, lam_all = split_torques_many(tau, plan.s_matrix, jac_split)
+        jac_t = np.swapaxes(closed.jac, 1, 2)[:, :, :nc]  # J_c^T (N, nv, nc), contiguous in memory
+        if len(plan.coupling):
+            coupling_t = np.broadcast_to(plan.coupling.T, (th.size,) + plan.coupling.T.shape)
+            jac_t = np.concatenate((jac_t, coupling_t), 2)
+        u, lam_all = _split(tau, jac_t, plan.actuated, plan.passive)
         lam = lam_all[:, :nc]
         seg = slice(i0, i1)
         out["beta"][seg], out["beta_swing"][seg] = ankle_angles(rs, q, side), ankle_angles(rs, q, other(side))
