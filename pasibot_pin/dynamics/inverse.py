@@ -11,13 +11,15 @@ one batch (its constant parts, :class:`_StancePlan`, are set up once and cached)
    the four prescribed coordinates; only where they do not close does a batched Newton on
    [c(q); s(q) - s*] polish q, and then v and a come from the exact Jacobians and drift terms
    (``ConstraintSystem.motion_many``); v = a = 0 when quasi-static,
-2. tau = ``pin.rnea(q, v, a)`` for every sample in one C++ call,
+2. tau = ``pin.rnea(q, v, a)`` of every sample by the batched planar inverse dynamics
+   (:mod:`pasibot_pin.dynamics.planar_id`: the bodies' wrenches m (a_c - g), I_yy alpha summed
+   over each joint's subtree; no per-sample call; equal to Pinocchio's rnea to round-off),
 3. the split tau = S^T u + J_c^T lambda with u = [T_a, T_a', tau_ankle, tau_ankle'] (the
    actuated cranks and the two ankles, stance first) and lambda the in-plane constraint forces:
    one square 19 x 19 solve per sample, so the passive joints carry no torque,
-4. every tree joint's reaction (the force and moment the parent body applies to the child) from
-   the batched planar Newton-Euler of the tree with the constraint forces as external forces
-   (:mod:`pasibot_pin.dynamics.newton_euler`, what ``pin.rnea(q, v, a, fext)`` transmits).
+4. every tree joint's reaction (the force and moment the parent body applies to the child): the
+   same subtree sums minus the constraint forces on the subtree (what ``pin.rnea(q, v, a, fext)``
+   transmits).
 
 Torques are reported as generalised forces of theta (stance crank), beta = pi/2 - q_ankle
 (the angle from the forward foot to the shank), theta' and beta': T_a = u[0], T_e = -u[2].
@@ -25,8 +27,8 @@ A positive T_e is a counter-clockwise torque of the foot on the shank.
 
 The seed's own method uses second differences of the COM positions (0.1 rad apart) as
 accelerations. It is available as ``accelerations="central"`` / ``"lagged"`` (the seed uses
-each value one sample late): then tau = rnea(q, 0, 0, fext) with the inertial forces
--m_i a_i of the point masses as external forces.
+each value one sample late): then tau is that of the point masses' inertial forces m_i (a_i - g)
+(rnea(q, 0, 0, fext) with the forces -m_i a_i as external forces).
 
 Units: SI; angles [rad]; torques [N.m]; forces [N].
 """
@@ -43,8 +45,9 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coupling, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.constraints.system import planar_kinematics, split_torques_many
-from pasibot_pin.dynamics.newton_euler import TreeLayout, batch_rnea, tree_layout
+from pasibot_pin.constraints.system import planar_kinematics
+from pasibot_pin.dynamics.newton_euler import TreeLayout, tree_layout
+from pasibot_pin.dynamics.planar_id import PlanarInverseDynamics, planar_inverse_dynamics
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
@@ -344,8 +347,10 @@ class _StancePlan:
         robot: the robot standing on ``side`` with the stance weld.
         rows: the square constraint system (loops, weld, prescribed coordinates).
         s_matrix: the actuation S (n_u, nv).
+        actuated: the column of each row of S (S selects coordinates); passive: the other columns.
         coupling: the motor-coupling rows C (n_c, nv) (constant).
         tree: the batched Newton-Euler layout (COMs, joint origins, constraint ends).
+        planar: the batched planar inverse dynamics on ``tree`` (torques and reactions).
         angular: mask of the angle coordinates (unwrapped along a sweep).
         weld_rows: the weld's rows of lambda; cut_rows: generic name of every loop -> its rows.
         joint_names: generic name of every tree joint 2 .. njoints - 1 -> its index.
@@ -356,8 +361,11 @@ class _StancePlan:
     robot: PasibotRobot
     rows: ConstraintSystem
     s_matrix: np.ndarray
+    actuated: np.ndarray
+    passive: np.ndarray
     coupling: np.ndarray
     tree: TreeLayout
+    planar: PlanarInverseDynamics
     angular: np.ndarray
     weld_rows: slice
     cut_rows: dict[str, slice]
@@ -384,12 +392,17 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
             weld_rows = rows_of
         else:
             cut_rows[_generic(cm.name, side)] = rows_of
+    tree = tree_layout(model, rs.constraint_models)
+    s_matrix = _actuation(rs, side, layout)
     entry = _StancePlan(
         robot=rs,
         rows=rows,
-        s_matrix=_actuation(rs, side, layout),
+        s_matrix=s_matrix,
+        actuated=np.argmax(s_matrix, axis=1),
+        passive=np.nonzero(~s_matrix.any(axis=0))[0],
         coupling=coupling_rows.jacobian(pin.neutral(model)).reshape(-1, model.nv),
-        tree=tree_layout(model, rs.constraint_models),
+        tree=tree,
+        planar=planar_inverse_dynamics(model, tree),
         angular=closure.angular_coordinates(model),
         weld_rows=weld_rows,
         cut_rows=cut_rows,
@@ -400,6 +413,37 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
         _PLANS.pop(next(iter(_PLANS)))
     _PLANS[key] = (model, entry)  # keeps the model alive: no id reuse
     return entry
+
+
+def _split(tau: np.ndarray, jac_t: np.ndarray, actuated: np.ndarray, passive: np.ndarray):
+    """Solve tau = S^T u + J^T lambda for a batch, S selecting the ``actuated`` coordinates.
+
+    The passive coordinates carry no actuator: J_P^T lambda = tau_P is square (one solve per
+    sample, nv - n_u unknowns), then u = tau_A - J_A^T lambda.
+
+    Args:
+        tau: joint torques (N, nv) [N.m, N].
+        jac_t: J^T (N, nv, m) of the constraint rows (m = nv - n_u).
+        actuated: the coordinate of each actuator, in the order of u (n_u,).
+        passive: the other coordinates (nv - n_u,).
+
+    Returns:
+        (u (N, n_u), lambda (N, m)).
+
+    Raises:
+        ValueError: when J_P^T is not square or singular (the actuators cannot hold the motion).
+
+    """
+    if jac_t.shape[2] != len(passive):
+        n_unknowns = jac_t.shape[2] + len(actuated)
+        raise ValueError(f"split: {n_unknowns} unknowns for nv = {jac_t.shape[1]}; the system must be square")
+    try:
+        lam = np.linalg.solve(jac_t[:, passive], tau[:, passive, None])
+    except np.linalg.LinAlgError as err:
+        raise ValueError("split: [S^T J_c^T] is singular at this pose") from err
+    if not np.all(np.isfinite(lam)):
+        raise ValueError("split: the actuator and constraint forces are not finite")
+    return tau[:, actuated] - (jac_t[:, actuated] @ lam)[:, :, 0], lam[:, :, 0]
 
 
 # --------------------------------------------------------------------------- trajectory
@@ -549,19 +593,19 @@ def inverse_dynamics(
                     qj = rows.project_many(shifted_guess, targets + _shift(j * step, free))[0]
                 coms.append(tree.coms.positions(qj))
             com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / omega) ** 2
-            com_pos, com_jac, _, _ = tree.coms.evaluate(q)
-            zero = np.zeros((th.size, nv))
-            tau = batch_rnea(model, q, zero, zero) + tree.point_forces_torque(com_jac, tree.mass * com_acc)
-            alpha = None
+            com_pos, alpha = coms[offsets.index(0)], None  # point masses: gravity and the inertial forces -m a
         else:
-            tau = batch_rnea(model, q, v, a)
-            if reactions:
-                com_pos, com_acc, alpha = tree.body_motion(q, v, a)
+            com_pos, com_acc, alpha = tree.body_motion(q, v, a)
+        # every sample's tau = rnea(q, v, a) from the bodies' wrenches, summed over each joint's subtree
+        wrench = plan.planar.wrenches(q, com_pos, com_acc, alpha)
+        tau = plan.planar.torques(q, wrench)
         # the split tau = S^T u + J_c^T lambda + C^T lambda_C: one square solve per sample
         nc = rows.n_constraint_rows
-        coupling = np.broadcast_to(plan.coupling, (th.size,) + plan.coupling.shape)
-        jac_split = np.concatenate((closed.jac[:, :nc], coupling), 1)
-        u, lam_all = split_torques_many(tau, plan.s_matrix, jac_split)
+        jac_t = np.swapaxes(closed.jac, 1, 2)[:, :, :nc]  # J_c^T (N, nv, nc), contiguous in memory
+        if len(plan.coupling):
+            coupling_t = np.broadcast_to(plan.coupling.T, (th.size,) + plan.coupling.T.shape)
+            jac_t = np.concatenate((jac_t, coupling_t), 2)
+        u, lam_all = _split(tau, jac_t, plan.actuated, plan.passive)
         lam = lam_all[:, :nc]
         seg = slice(i0, i1)
         out["beta"][seg], out["beta_swing"][seg] = ankle_angles(rs, q, side), ankle_angles(rs, q, other(side))
@@ -579,7 +623,7 @@ def inverse_dynamics(
         for k, name in enumerate(cut_names):
             cut_forces[seg, k] = lam[:, plan.cut_rows[name]]
         if reactions:
-            reac = tree.reactions(q, com_pos, com_acc, alpha, lam)
+            reac = plan.planar.reactions(q, wrench, lam)
             if i0 == 0:
                 joint_names, joint_forces = list(plan.joint_names), np.zeros((n, len(plan.joint_names), 3))
             joint_forces[seg] = reac[:, [plan.joint_names[name] for name in joint_names]]
