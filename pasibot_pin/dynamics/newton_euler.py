@@ -1,4 +1,4 @@
-"""Batched planar Newton-Euler of the tree: body motion, joint reactions, point-force torques.
+"""The planar tree's layout for Newton-Euler: bodies, joint origins, constraint ends, subtrees.
 
 For a batch of samples (q, v, a) of a planar model, every body's centre of mass moves as
 c(q) = a point of the exact planar kinematics (:mod:`pasibot_pin.constraints.planar`), so its
@@ -12,11 +12,9 @@ subtree below j follow from the subtree's Newton-Euler balance, in the world x-z
 
 with f_e, mu_e the external (constraint) forces and moments at points p_e, and r x F =
 r_x F_z - r_z F_x the counter-clockwise moment (seen from the right side, about -y). This is
-the force ``pin.rnea(q, v, a, fext)`` transmits through joint j (``data.f[j]``), for every
-sample in a few array products. ``tests/test_dynamics.py`` compares it with Pinocchio.
-
-Pinocchio's C++ computes the joint torques of the whole batch at once
-(``pin.rneaInParallel`` on a model pool): :func:`batch_rnea`.
+the force ``pin.rnea(q, v, a, fext)`` transmits through joint j (``data.f[j]``). The sums are
+evaluated, for every sample at once, by :mod:`pasibot_pin.dynamics.planar_id` on the layout
+kept here (:class:`TreeLayout`, :func:`tree_layout`).
 
 Units: SI; forces [N], moments [N.m].
 """
@@ -31,25 +29,6 @@ import pinocchio as pin
 from pasibot_pin.constraints import anchor_points, is_weld, model_key, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
-
-_POOLS: dict[int, tuple[pin.Model, pin.ModelPool]] = {}
-
-
-def batch_rnea(model: pin.Model, q: np.ndarray, v: np.ndarray, a: np.ndarray) -> np.ndarray:
-    """``pin.rnea`` of every sample (N, nv) in one C++ call [N.m, N]; (N, nv) out."""
-    entry = _POOLS.get(id(model))
-    if entry is None or entry[0] is not model:
-        if len(_POOLS) >= 16:
-            _POOLS.pop(next(iter(_POOLS)))
-        entry = _POOLS[id(model)] = (model, pin.ModelPool(model, 1))  # keeps the model alive: no id reuse
-    tau = np.zeros((model.nv, len(q)), order="F")
-    pin.rneaInParallel(1, entry[1], np.asfortranarray(q.T), np.asfortranarray(v.T), np.asfortranarray(a.T), tau)
-    return tau.T
-
-
-def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
-    """Counter-clockwise moment r x F of complex points and forces (x + i z) [N.m]."""
-    return (np.conj(r) * f).imag
 
 
 @dataclass
@@ -86,49 +65,6 @@ class TreeLayout:
         pos, acc = self.coms.motion(q, v, a)
         alpha = a @ self.coms.pitch_A.T
         return pos, acc, alpha
-
-    def reactions(
-        self,
-        q: np.ndarray,
-        com_pos: np.ndarray,
-        com_acc: np.ndarray,
-        alpha: np.ndarray | None,
-        lam: np.ndarray,
-    ) -> np.ndarray:
-        """Force of each parent on its child at every joint, (N, njoints, 3): Fx, Fz [N], CCW moment [N.m].
-
-        Args:
-            q: configurations (N, nq).
-            com_pos: COM positions (N, J), complex x + i z [m].
-            com_acc: COM accelerations (N, J), complex x + i z [m/s^2].
-            alpha: angular accelerations (N, J) [rad/s^2], or None (point masses, no rotation term).
-            lam: the constraint multipliers (N, m): in-plane rows of the constraint models, in order.
-
-        """
-        n = len(q)
-        force = self.mass * (com_acc - self.gravity)  # (N, J) inertial force of each body
-        moment = _cross(com_pos, force)
-        if alpha is not None:
-            moment = moment + self.inertia_y * alpha
-        f_sub = force @ self.below.T
-        m_sub = moment @ self.below.T
-        if self.ends is not None:
-            p_end = self.ends.positions(q)  # (N, E)
-            f_end = self.end_sign * (lam[:, self.end_rx] + 1j * lam[:, self.end_rz])
-            mu = np.where(self.end_rm >= 0, self.end_sign * lam[:, np.maximum(self.end_rm, 0)], 0.0)
-            f_sub = f_sub - f_end @ self.ends_below.T
-            m_sub = m_sub - (_cross(p_end, f_end) + mu) @ self.ends_below.T
-        origin = self.origins.positions(q)  # (N, J)
-        out = np.zeros((n, len(self.mass) + 1, 3))
-        out[:, 1:, 0], out[:, 1:, 1] = f_sub.real, f_sub.imag
-        out[:, 1:, 2] = m_sub - _cross(origin, f_sub)
-        return out
-
-    def point_forces_torque(self, com_pos_jac: np.ndarray, forces: np.ndarray) -> np.ndarray:
-        """Generalised force sum_k J_k^T F_k of forces F_k (N, J) complex at the COMs, J_k (N, J, nv) complex."""
-        return np.einsum("njk,nj->nk", com_pos_jac.real, forces.real) + np.einsum(
-            "njk,nj->nk", com_pos_jac.imag, forces.imag
-        )
 
 
 _LAYOUTS: dict[tuple, tuple[object, TreeLayout]] = {}
