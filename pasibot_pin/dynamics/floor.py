@@ -316,7 +316,8 @@ class FloorSimulator:
         n_points = len(frames)
         feet = [[k, k + 1, k + n_points, k + 1 + n_points] for k in range(0, n_points, len(POINTS))]
         self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
-        self._contact_q: np.ndarray | None = None  # the configuration of the cached contact rows
+        self._contact_key: bytes | None = None  # the configuration of the cached contact rows
+        self._held_sim: FloorSimulator | None = None
         self._contact: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def targets(self, t: float) -> np.ndarray:
@@ -334,9 +335,10 @@ class FloorSimulator:
 
         The arrays are shared with the cache: read them, never write into them.
         """
-        if self._contact_q is None or not np.array_equal(q, self._contact_q):
+        key = np.asarray(q, dtype=float).tobytes()
+        if key != self._contact_key:
             self._contact = self.contact_rows(q)
-            self._contact_q = np.array(q, dtype=float)
+            self._contact_key = key
         return self._contact
 
     def step(
@@ -411,8 +413,10 @@ class FloorSimulator:
         return q, v
 
     def _held(self) -> FloorSimulator:
-        """A copy of the simulator with the cranks held at theta0 (omega = 0)."""
-        return FloorSimulator(self.robot, replace(self.settings, omega=0.0))
+        """A copy of the simulator with the cranks held at theta0 (omega = 0), built once."""
+        if self._held_sim is None:
+            self._held_sim = FloorSimulator(self.robot, replace(self.settings, omega=0.0))
+        return self._held_sim
 
     def rest_forces(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """Contact forces holding ``q`` at rest, the cranks held.

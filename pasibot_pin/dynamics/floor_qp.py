@@ -141,7 +141,7 @@ class ContactQP:
             if slack[worst] < -FEASIBILITY_TOL:
                 active.append(worst)
                 continue
-            if not np.max(np.abs(rows @ x - rhs)) <= RESIDUAL_TOL:  # also catches NaN
+            if not np.abs(rows @ x - rhs).max() <= RESIDUAL_TOL:  # also catches NaN
                 return None
             z = np.zeros(len(lower))
             z[active] = z_active
