@@ -12,7 +12,9 @@ the step solves the convex QP
     s.t.   J_b v = -Phi_t                                  (loops, cranks: bilateral)
            (J_n +- mu J_t) v >= -gap / h                   (each contact point: its friction cone)
 
-with proxsuite. Its multipliers are the contact impulses: a point's normal impulse is the sum
+(:mod:`pasibot_pin.dynamics.floor_qp`: an exact KKT solve on the last step's active cone rows,
+checked to be the QP's solution; proxsuite where it is not, or where the active rows are
+redundant). Its multipliers are the contact impulses: a point's normal impulse is the sum
 of its two cone rows' and the tangential one mu times their difference, so |F_t| <= mu F_n
 holds by construction (the planar cone is exactly two half-planes). A point that reaches the
 floor stops there in one step (an inelastic touchdown, found by the step rather than
