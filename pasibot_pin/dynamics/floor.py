@@ -320,6 +320,7 @@ class FloorSimulator:
         self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
         self._contact_key: bytes | None = None  # the configuration of the cached contact rows
         self._held_sim: FloorSimulator | None = None
+        self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
         self._contact: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def targets(self, t: float) -> np.ndarray:
@@ -361,7 +362,7 @@ class FloorSimulator:
         model, data, s = self.robot.model, self.robot.data, self.settings
         mu = s.mu if mu is None else mu
         targets = self.targets(t + h) if s.crank_ramp > 0 else None  # None: offset + rate t, as before
-        rows = self.bilateral.evaluate(q, None, t + h, targets)
+        phi, jac = self._bilateral_rows(q, t + h, targets)
         gap, _, jn, jt = self._contact_at(q)
         mass = symmetric_mass_matrix(model, data, q)
         bias = pin.nonLinearEffects(model, data, q, v)
@@ -378,14 +379,38 @@ class FloorSimulator:
         lower = -gap / h
         lower = np.concatenate((lower, lower))
         # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
-        v_new, bilateral, z = self._qp.solve(hessian, g, rows.jac, -rows.phi / h, cone, lower)
+        v_new, bilateral, z = self._qp.solve(hessian, g, jac, -phi / h, cone, lower)
         fastest = float(np.max(np.abs(v_new)))
         if not fastest <= SPEED_LIMIT:  # also catches NaN
             raise ValueError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
         k = len(gap)  # z: impulses of the cone rows (>= 0)
         normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
+        before = getattr(self.bilateral, "last_rows", None)
         q_new = self.bilateral.project(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
+        after = getattr(self.bilateral, "last_rows", None)  # the rows at q_new, t + h (a new object)
+        fresh = after is not None and after is not before
+        self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets)) if fresh else None
         return q_new, v_new, normal, tangential, bilateral
+
+    def _goal(self, t: float, targets: np.ndarray | None) -> np.ndarray:
+        """The scalar rows' targets at ``t`` [rad] (``targets``, or offset + rate t)."""
+        return self.bilateral.targets(t) if targets is None else np.asarray(targets, dtype=float)
+
+    def _bilateral_rows(self, q: np.ndarray, t: float, targets: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """Phi(q, t) and J(q) of the bilateral rows.
+
+        When the last step's projection ended at ``q``, its rows serve: J is the same and only the
+        scalar rows' targets move (Phi there is below Newton's tolerance, so no angle wraps); the
+        two differ from a new evaluation by round-off (1e-15 rad).
+        """
+        cached = self._rows_at
+        if cached is not None and cached[0] == np.asarray(q, dtype=float).tobytes():
+            _, rows, goal = cached
+            phi = rows.phi.copy()
+            phi[self.bilateral.n_constraint_rows :] += goal - self._goal(t, targets)
+            return phi, rows.jac
+        rows = self.bilateral.evaluate(q, None, t, targets)
+        return rows.phi, rows.jac
 
     def modes(self, normal: np.ndarray, slip: np.ndarray) -> dict[str, str]:
         """Contact mode of each foot from its heel and toe normal forces [N] and tangential speeds [m/s]."""
