@@ -66,6 +66,14 @@ def test_a_wrong_guess_is_corrected_or_left_to_proxsuite(robot):
     qp.solve(*args)
     assert (qp.fast, qp.fallback) == (0, 1)
     assert qp._independent([0, 1], 2) and not qp._independent([0, 1, 3], 2)  # more rows than freedoms
+    lower = args[5].copy()
+    lower[1] = -args[1][2]  # row 1 met with equality at the answer, its multiplier zero
+    touching = (*args[:5], lower)
+    for redundant, path in (([[0, 1]], (0, 1)), ([], (1, 0))):  # a redundant group met: proxsuite's split
+        qp = ContactQP(robot.model, redundant=redundant)
+        qp.active = [0, 2]
+        np.testing.assert_allclose(qp.solve(*touching)[0], x, atol=1e-8)
+        assert (qp.fast, qp.fallback) == path
 
 
 def _kkt_error(args, out) -> dict[str, float]:
