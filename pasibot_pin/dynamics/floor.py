@@ -12,7 +12,9 @@ the step solves the convex QP
     s.t.   J_b v = -Phi_t                                  (loops, cranks: bilateral)
            (J_n +- mu J_t) v >= -gap / h                   (each contact point: its friction cone)
 
-with proxsuite. Its multipliers are the contact impulses: a point's normal impulse is the sum
+(:mod:`pasibot_pin.dynamics.floor_qp`: an exact KKT solve on the last step's active cone rows,
+checked to be the QP's solution; proxsuite where it is not, or where the active rows are
+redundant). Its multipliers are the contact impulses: a point's normal impulse is the sum
 of its two cone rows' and the tangential one mu times their difference, so |F_t| <= mu F_n
 holds by construction (the planar cone is exactly two half-planes). A point that reaches the
 floor stops there in one step (an inelastic touchdown, found by the step rather than
@@ -33,11 +35,11 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 import pinocchio as pin
-import proxsuite
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate, symmetric_mass_matrix
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
+from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
 
 SIDES = ("right", "left")
@@ -71,8 +73,6 @@ REST_SPEED = 1e-7
 projection leave about 5e-9)."""
 SPEED_LIMIT = 1e3
 """A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
-QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 10_000), (1e-9, 100_000), (1e-8, 1_000_000))
-"""(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does)."""
 BEARING_SHARE = 0.25
 """A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
 swing toe does not count as a slip) [-]."""
@@ -131,6 +131,18 @@ def _check(name: str, value: float, low: float, high: float = math.inf, low_open
         bound = f"> {low:g}" if low_open else f">= {low:g}"
         raise ValueError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
     return value
+
+
+def _foot_mode(loaded: list[bool], slip: list[float], foot: int) -> str:
+    """The contact mode of foot ``foot`` (0 right, 1 left) from every point's load flag and tangential speed [m/s]."""
+    heel, toe = 2 * foot, 2 * foot + 1
+    if not (loaded[heel] or loaded[toe]):
+        return "air"
+    if (loaded[heel] and abs(slip[heel]) > SLIP_TOL) or (loaded[toe] and abs(slip[toe]) > SLIP_TOL):
+        return "sliding"
+    if loaded[heel] and loaded[toe]:
+        return "flat"
+    return POINTS[0] if loaded[heel] else POINTS[1]
 
 
 @dataclass(frozen=True)
@@ -300,6 +312,16 @@ class FloorSimulator:
         self._crank_rows = [self.bilateral.labels.index(f"{side}_j0_crank") for side in SIDES]
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
+        self._zero_v = np.zeros(model.nv)
+        # cone rows k (jn + mu jt) and k + 4 (jn - mu jt) of each point k; a flat foot whose heel and
+        # toe both stick has four dependent rows
+        n_points = len(frames)
+        feet = [[k, k + 1, k + n_points, k + 1 + n_points] for k in range(0, n_points, len(POINTS))]
+        self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
+        self._contact_key: bytes | None = None  # the configuration of the cached contact rows
+        self._held_sim: FloorSimulator | None = None
+        self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
+        self._contact: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
 
     def targets(self, t: float) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad]: the cranks at theta0 + omega advance (:func:`crank_advance`)."""
@@ -310,6 +332,17 @@ class FloorSimulator:
         """Gaps (4,) [m], tangential positions (4,) [m], J_n (4, nv) and J_t (4, nv) of heel and toe points."""
         rows, jac, _, _ = self.points.evaluate(q)
         return rows.imag, rows.real, jac.imag, jac.real
+
+    def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """:meth:`contact_rows`, cached for the last configuration asked (a step's end is the next one's start).
+
+        The arrays are shared with the cache: read them, never write into them.
+        """
+        key = np.asarray(q, dtype=float).tobytes()
+        if key != self._contact_key:
+            self._contact = self.contact_rows(q)
+            self._contact_key = key
+        return self._contact
 
     def step(
         self, t: float, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None
@@ -329,62 +362,60 @@ class FloorSimulator:
         model, data, s = self.robot.model, self.robot.data, self.settings
         mu = s.mu if mu is None else mu
         targets = self.targets(t + h) if s.crank_ramp > 0 else None  # None: offset + rate t, as before
-        rows = self.bilateral.evaluate(q, None, t + h, targets)
-        gap, _, jn, jt = self.contact_rows(q)
+        phi, jac = self._bilateral_rows(q, t + h, targets)
+        gap, _, jn, jt = self._contact_at(q)
         mass = symmetric_mass_matrix(model, data, q)
         bias = pin.nonLinearEffects(model, data, q, v)
         hessian = mass
-        tau = np.zeros(model.nv)
+        tau = self._zero_v
         if s.spring is not None and spring_scale > 0:
-            spring = s.spring.scaled(spring_scale)
-            tau = spring_forces(self.robot, spring, q, np.zeros(model.nv), self.ankles)
+            spring = s.spring if spring_scale == 1.0 else s.spring.scaled(spring_scale)
+            tau = spring_forces(self.robot, spring, q, self._zero_v, self.ankles)
             hessian = mass.copy()
             for i in self.ankles.values():
                 hessian[i, i] += h * (h * spring.stiffness + spring.damping)
         g = -(mass @ v + h * (tau - bias))
-        cone = np.vstack((jn + mu * jt, jn - mu * jt))
-        lower = np.concatenate((-gap / h, -gap / h))
-        for eps, max_iter in QP_ATTEMPTS:  # a hard step (a near-singular double support) gets more iterations
-            result = proxsuite.proxqp.dense.solve(
-                H=hessian,
-                g=g,
-                A=rows.jac,
-                b=-rows.phi / h,  # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
-                C=cone,
-                l=lower,
-                u=np.full(len(lower), 1e20),
-                eps_abs=eps,
-                max_iter=max_iter,
-            )
-            if result.info.status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
-                break
-        else:
-            raise ValueError(f"the contact QP did not solve ({result.info.status})")
-        v_new = np.array(result.x)
+        cone = np.concatenate((jn + mu * jt, jn - mu * jt))
+        lower = -gap / h
+        lower = np.concatenate((lower, lower))
+        # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
+        v_new, bilateral, z = self._qp.solve(hessian, g, jac, -phi / h, cone, lower)
         fastest = float(np.max(np.abs(v_new)))
         if not fastest <= SPEED_LIMIT:  # also catches NaN
             raise ValueError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
-        z = -np.array(result.z)  # impulses of the cone rows (>= 0)
-        k = len(gap)
+        k = len(gap)  # z: impulses of the cone rows (>= 0)
         normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
+        before = getattr(self.bilateral, "last_rows", None)
         q_new = self.bilateral.project(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
-        return q_new, v_new, normal, tangential, -np.array(result.y)
+        after = getattr(self.bilateral, "last_rows", None)  # the rows at q_new, t + h (a new object)
+        fresh = after is not None and after is not before
+        self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets)) if fresh else None
+        return q_new, v_new, normal, tangential, bilateral
+
+    def _goal(self, t: float, targets: np.ndarray | None) -> np.ndarray:
+        """The scalar rows' targets at ``t`` [rad] (``targets``, or offset + rate t)."""
+        return self.bilateral.targets(t) if targets is None else np.asarray(targets, dtype=float)
+
+    def _bilateral_rows(self, q: np.ndarray, t: float, targets: np.ndarray | None) -> tuple[np.ndarray, np.ndarray]:
+        """Phi(q, t) and J(q) of the bilateral rows.
+
+        When the last step's projection ended at ``q``, its rows serve: J is the same and only the
+        scalar rows' targets move (Phi there is below Newton's tolerance, so no angle wraps); the
+        two differ from a new evaluation by round-off (1e-15 rad).
+        """
+        cached = self._rows_at
+        if cached is not None and cached[0] == np.asarray(q, dtype=float).tobytes():
+            _, rows, goal = cached
+            phi = rows.phi.copy()
+            phi[self.bilateral.n_constraint_rows :] += goal - self._goal(t, targets)
+            return phi, rows.jac
+        rows = self.bilateral.evaluate(q, None, t, targets)
+        return rows.phi, rows.jac
 
     def modes(self, normal: np.ndarray, slip: np.ndarray) -> dict[str, str]:
         """Contact mode of each foot from its heel and toe normal forces [N] and tangential speeds [m/s]."""
-        out = {}
-        for i, side in enumerate(SIDES):
-            loaded = normal[2 * i : 2 * i + 2] > LOAD_TOL
-            sliding = np.any(loaded & (np.abs(slip[2 * i : 2 * i + 2]) > SLIP_TOL))
-            if not loaded.any():
-                out[side] = "air"
-            elif sliding:
-                out[side] = "sliding"
-            elif loaded.all():
-                out[side] = "flat"
-            else:
-                out[side] = POINTS[int(np.argmax(loaded))]
-        return out
+        loaded = [float(f) > LOAD_TOL for f in normal]
+        return {side: _foot_mode(loaded, [float(x) for x in slip], i) for i, side in enumerate(SIDES)}
 
     # ---- the start
     def initial_state(self, swing_pitch: float | None = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -409,8 +440,10 @@ class FloorSimulator:
         return q, v
 
     def _held(self) -> FloorSimulator:
-        """A copy of the simulator with the cranks held at theta0 (omega = 0)."""
-        return FloorSimulator(self.robot, replace(self.settings, omega=0.0))
+        """A copy of the simulator with the cranks held at theta0 (omega = 0), built once."""
+        if self._held_sim is None:
+            self._held_sim = FloorSimulator(self.robot, replace(self.settings, omega=0.0))
+        return self._held_sim
 
     def rest_forces(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """Contact forces holding ``q`` at rest, the cranks held.
@@ -527,11 +560,11 @@ class FloorSimulator:
         touchdowns: list[tuple[float, str, str]] = []
         steps: list[tuple[float, str, float, float]] = []
         landings: list[tuple[float, str, float]] = []
-        along0 = self.contact_rows(q)[1]
+        along0 = self._contact_at(q)[1]
         stand = {side: float(np.mean(along0[2 * i : 2 * i + 2])) for i, side in enumerate(SIDES)}
         advance = STEP_ADVANCE * self.robot.geometry.L
-        loaded_before = np.zeros(2 * len(SIDES), dtype=bool)
-        slid = np.zeros(len(SIDES))
+        loaded_before = [False] * (2 * len(SIDES))
+        slid = [0.0] * len(SIDES)
         failure = ""
         t = 0.0
         for _ in range(n):
@@ -548,23 +581,27 @@ class FloorSimulator:
                 break
             t += h
             q, v = q_new, v_new
-            gap, along, _, jt = self.contact_rows(q)
-            slip = jt @ v
-            mode = self.modes(normal / h, slip)
-            loaded = normal / h > LOAD_TOL
-            for k in np.nonzero(loaded & ~loaded_before)[0]:
-                touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
+            gap, along, _, jt = self._contact_at(q)
+            force = normal / h
+            # the bookkeeping in Python floats (a few scalars per foot: cheaper than numpy calls)
+            f_n, slip, gaps, xs = force.tolist(), (jt @ v).tolist(), gap.tolist(), along.tolist()
+            loaded = [f > LOAD_TOL for f in f_n]
+            mode = {side: _foot_mode(loaded, slip, i) for i, side in enumerate(SIDES)}
+            for k, now in enumerate(loaded):
+                if now and not loaded_before[k]:
+                    touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
             for i, side in enumerate(SIDES):
-                pair = slice(2 * i, 2 * i + 2)
-                if loaded[pair].any() and not loaded_before[pair].any() and t > h:
-                    x = float(np.mean(along[pair]))
+                heel, toe = 2 * i, 2 * i + 1
+                if (loaded[heel] or loaded[toe]) and not (loaded_before[heel] or loaded_before[toe]) and t > h:
+                    x = (xs[heel] + xs[toe]) / 2
                     landings.append((t, side, x))
                     if x > stand[side] + advance:
                         steps.append((t, side, x, x - stand[SIDES[1 - i]]))
                     stand[side] = x
-                if np.sum(normal[pair]) / h > BEARING_SHARE * self.weight:
-                    slid[i] += h * float(np.max(np.where(loaded[pair], np.abs(slip[pair]), 0.0)))
-                pitch = math.atan2(gap[2 * i + 1] - gap[2 * i], along[2 * i + 1] - along[2 * i])
+                if (normal[heel] + normal[toe]) / h > BEARING_SHARE * self.weight:
+                    speeds = [abs(slip[k]) if loaded[k] else 0.0 for k in (heel, toe)]
+                    slid[i] += h * max(speeds)
+                pitch = math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel])
                 if mode[side] in POINTS and abs(pitch) > ROLL_LIMIT:
                     failure = f"the {side} foot rolled over its {mode[side]} at t = {t:.3f} s"
                 if slid[i] > SLIP_LIMIT:
@@ -573,7 +610,7 @@ class FloorSimulator:
             rec["t"].append(t)
             rec["q"].append(q)
             rec["v"].append(v)
-            rec["normal"].append(normal / h)
+            rec["normal"].append(force)
             rec["tangential"].append(tangential / h)
             rec["motor"].append(bilateral[self._crank_rows] / h)
             for side in SIDES:

@@ -232,13 +232,23 @@ def build(out_dir: Path):
     return _section(study, static_others(REPORT_SCENARIOS))
 
 
+_STATIC_CACHES: dict[str, dict] = {}
+"""Per scenario, the quasi-static solves' cache its spring cases share in this process (as
+:func:`~pasibot_pin.studies.floor_spring_study.floor_spring_study` shares it between them)."""
+
+
 def floor_case_task(scenario: str, label: str, settings) -> CaseComparison:
-    """One spring case of ``scenario``, weld against floor (a pool job; inputs computed once per process)."""
+    """One spring case of ``scenario``, weld against floor (a pool job; inputs computed once per process).
+
+    The cases of a scenario that run in the same process share its quasi-static cache (the
+    assembly at each crank angle and the projections: the same numbers, solved once).
+    """
     from pasibot_pin.studies.floor_spring_study import compare_case
     from pasibot_pin.studies.simulation_study import cached_inputs
     from pasibot_pin.studies.spring_study import SPRING_CASES
 
-    return compare_case(cached_inputs(scenario), label, dict(SPRING_CASES)[label], settings)
+    cache = _STATIC_CACHES.setdefault(scenario, {})
+    return compare_case(cached_inputs(scenario), label, dict(SPRING_CASES)[label], settings, cache)
 
 
 _CASE_ESTIMATE = {"fitted": 3.0, "no spring": 2.5, "half K_e": 2.5, "twice K_e": 3.0}

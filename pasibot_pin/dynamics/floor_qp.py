@@ -1,0 +1,184 @@
+"""The floor step's contact QP: an exact active-set solve from the last step's contacts, proxsuite otherwise.
+
+The QP of one floor step (:mod:`pasibot_pin.dynamics.floor`) is
+
+    min_x  1/2 x^T H x + g^T x   s.t.   A x = b,   C x >= l
+
+(x the velocity after the step, A the bilateral rows, C the friction-cone rows). Its solution x
+is unique (H is the mass matrix plus the implicit springs: positive definite). Between two
+steps the set of active cone rows (the contact mode) rarely changes, so :class:`ContactQP`
+first solves the KKT system of the last step's active set exactly,
+
+    [H  -E^T] [x]   [-g]
+    [E    0 ] [λ] = [ r],   E = [A; C_W], r = [b; l_W],
+
+with Pinocchio's ``forwardDynamics`` (Cholesky factors of H and of E H^-1 E^T), and keeps that
+answer only if it *is* the QP's solution:
+every active cone multiplier >= 0, every other cone row satisfied (to :data:`FEASIBILITY_TOL`),
+the rows met to :data:`RESIDUAL_TOL`. A negative multiplier drops its row, a violated row joins
+the set, and the solve repeats (at most :data:`MAX_PASSES` times). Where the active rows are
+redundant (more rows than the robot has freedoms, or a flat foot that sticks at heel and toe:
+four rows met with equality on a body of three freedoms, whether or not all four are in the
+set) the multipliers are not unique; there, and wherever the guess does not settle, proxsuite
+solves the QP as before (cold start, the same settings), so its choice of multipliers stands.
+The exact answer is the point proxsuite converges to: on run 1's floor runs (2 s, four spring
+cases) proxsuite at its eps_abs = 1e-10 differs from itself at 1e-12 by as much as it differs
+from the exact answer (q 6e-9, forces 1e-4 N), while the exact answer and proxsuite at 1e-12
+agree to q 3e-11.
+
+Units: as the caller's (the floor step: x [m/s, rad/s], multipliers [N.s, N.m.s]).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+import proxsuite
+
+QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 10_000), (1e-9, 100_000), (1e-8, 1_000_000))
+"""(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does)."""
+MAX_PASSES = 4
+"""Active-set passes (one KKT solve each) before the step falls back to proxsuite."""
+FEASIBILITY_TOL = 1e-11
+"""A cone row outside the active set may miss its bound by this much [m/s] (a touchdown speed
+error of 1e-11 m/s, i.e. 1e-14 m of penetration per millisecond step)."""
+RESIDUAL_TOL = 1e-10
+"""Largest residual of the active rows in the exact solve (proxsuite's eps_abs) [m/s, rad/s]."""
+TOUCH_TOL = 1e-9
+"""A cone row outside the active set that its bound holds to this [m/s] is met with equality: if
+it completes a redundant group (a flat foot that sticks at heel and toe), the friction split
+between the two points is not unique and proxsuite, as before, picks it."""
+"""Largest residual of the active rows in the exact solve (proxsuite's eps_abs) [m/s, rad/s]."""
+UNBOUNDED = 1e20
+"""proxsuite's upper bound of a cone row (no upper bound)."""
+
+
+class ContactQP:
+    """The contact QP of successive floor steps (see the module docstring).
+
+    Args:
+        model: the Pinocchio model (its ``forwardDynamics`` solves the KKT systems, in a data of
+            the QP's own).
+        redundant: groups of cone rows that are linearly dependent when all are active (a flat
+            foot whose heel and toe both stick: four rows on a body of three freedoms).
+
+    Attributes:
+        active: indices of the cone rows active at the last solve (``None`` before the first).
+        fast: solves answered by the exact active-set step.
+        fallback: solves answered by proxsuite.
+
+    """
+
+    def __init__(self, model: pin.Model, redundant: Sequence[Sequence[int]] = ()) -> None:
+        self.model, self.data = model, pin.Data(model)
+        self.redundant = [frozenset(group) for group in redundant]
+        self.active: list[int] | None = None
+        self.fast = 0
+        self.fallback = 0
+
+    def solve(
+        self,
+        hessian: np.ndarray,
+        g: np.ndarray,
+        a_eq: np.ndarray,
+        b_eq: np.ndarray,
+        c_in: np.ndarray,
+        lower: np.ndarray,
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The QP's solution and multipliers.
+
+        Args:
+            hessian: H (n, n), symmetric positive definite, zero outside the model's mass-matrix pattern.
+            g: linear term (n,).
+            a_eq: equality rows A (m, n), full row rank (any memory order).
+            b_eq: their right-hand side (m,).
+            c_in: inequality rows C (k, n).
+            lower: their lower bounds (k,).
+
+        Returns:
+            (x, y, z): the solution (n,), the equality multipliers (m,) and the inequality ones
+            (k,) >= 0, signed so that H x + g = A^T y + C^T z.
+
+        Raises:
+            ValueError: proxsuite did not solve the QP.
+
+        """
+        if self.active is not None:
+            out = self._active_set(hessian, g, a_eq, b_eq, c_in, lower)
+            if out is not None:
+                self.fast += 1
+                return out
+        x, y, z = self._proxsuite(hessian, g, a_eq, b_eq, c_in, lower)
+        self.fallback += 1
+        self.active = np.flatnonzero(z > 0.0).tolist()
+        return x, y, z
+
+    def _independent(self, active: list[int], n_free: int) -> bool:
+        """Whether the active cone rows can be independent: at most ``n_free`` of them, no redundant group."""
+        if len(active) > n_free:
+            return False
+        rows = set(active)
+        return not any(group <= rows for group in self.redundant)
+
+    def _active_set(self, hessian, g, a_eq, b_eq, c_in, lower):
+        """The exact solve from the last active set, or ``None`` (redundant rows, no settling, a singular KKT)."""
+        model, data = self.model, self.data
+        n, m = hessian.shape[0], len(b_eq)
+        data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
+        data.nle[:] = 0.0
+        tau = -g
+        active = list(self.active)
+        for _ in range(MAX_PASSES):
+            if not self._independent(active, n - m):
+                return None
+            rows = np.concatenate((a_eq, c_in[active]))
+            rhs = np.concatenate((b_eq, lower[active]))
+            try:  # H x - E^T lam = -g, E x = r
+                x = pin.forwardDynamics(model, data, tau, rows, -rhs, 0.0)
+            except RuntimeError:
+                return None
+            lam = data.lambda_c
+            z_active = lam[m:]
+            if active and z_active.min() < 0.0:
+                active.pop(int(np.argmin(z_active)))
+                continue
+            slack = c_in @ x - lower
+            slack[active] = np.inf
+            worst = int(np.argmin(slack))
+            if slack[worst] < -FEASIBILITY_TOL:
+                active.append(worst)
+                continue
+            if not np.abs(rows @ x - rhs).max() <= RESIDUAL_TOL:  # also catches NaN
+                return None
+            if self.redundant:  # a redundant group met with equality: the multipliers are not unique
+                touching = set(np.flatnonzero(slack <= TOUCH_TOL).tolist()) | set(active)
+                if any(group <= touching for group in self.redundant):
+                    return None
+            z = np.zeros(len(lower))
+            z[active] = z_active
+            self.active = active
+            return x, lam[:m].copy(), z
+        return None
+
+    @staticmethod
+    def _proxsuite(hessian, g, a_eq, b_eq, c_in, lower):
+        """The QP by proxsuite's dense solver, cold, with :data:`QP_ATTEMPTS` (a hard step gets more iterations)."""
+        for eps, max_iter in QP_ATTEMPTS:
+            result = proxsuite.proxqp.dense.solve(
+                H=hessian,
+                g=g,
+                A=a_eq,
+                b=b_eq,
+                C=c_in,
+                l=lower,
+                u=np.full(len(lower), UNBOUNDED),
+                eps_abs=eps,
+                max_iter=max_iter,
+            )
+            if result.info.status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+                break
+        else:
+            raise ValueError(f"the contact QP did not solve ({result.info.status})")
+        return np.array(result.x), -np.array(result.y), -np.array(result.z)

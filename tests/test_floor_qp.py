@@ -1,0 +1,131 @@
+"""The floor step's contact QP (dynamics/floor_qp.py): the exact active-set solve and its proxsuite fallback.
+
+Independent references: a QP whose answer is known in closed form (H = I, one equality and
+bound rows: x_i = max(-g_i, l_i)), the KKT conditions checked directly on the floor's own QPs,
+and a floor run with every QP left to proxsuite (the solver before the active-set step).
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+import pasibot_pin as pp
+from pasibot_pin.dynamics import floor_qp
+from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor_qp import ContactQP
+from pasibot_pin.studies import spring_study
+
+
+@pytest.fixture(scope="module")
+def robot():
+    return pp.load("spring", 2)
+
+
+def _box_qp(nv: int):
+    """min 1/2 |x|^2 + g.x, x_0 = 0.3, x_i >= l_i on rows 1..4: x_i = max(-g_i, l_i), z_i = max(0, l_i + g_i)."""
+    rng = np.random.default_rng(3)
+    g = rng.normal(size=nv)
+    a_eq = np.eye(nv)[:1]
+    b_eq = np.array([0.3])
+    c_in = np.eye(nv)[1:5]
+    lower = np.array([-g[1] + 0.2, -g[2] - 0.2, -g[3] + 0.05, -g[4] - 0.4])  # rows 1 and 3 bind
+    x = -g.copy()
+    x[0] = 0.3
+    x[1:5] = np.maximum(-g[1:5], lower)
+    z = np.maximum(0.0, lower + g[1:5])
+    y = np.array([0.3 + g[0]])
+    return (np.eye(nv), g, a_eq, b_eq, c_in, lower), (x, y, z)
+
+
+def test_the_exact_step_and_proxsuite_give_the_closed_form_answer(robot):
+    args, (x, y, z) = _box_qp(robot.model.nv)
+    qp = ContactQP(robot.model)
+    first = qp.solve(*args)  # no active set yet: proxsuite
+    assert (qp.fast, qp.fallback) == (0, 1)
+    assert qp.active == [0, 2]
+    second = qp.solve(*args)  # from the active set: the exact KKT solve
+    assert (qp.fast, qp.fallback) == (1, 1)
+    for got, tol in ((first, 1e-8), (second, 1e-12)):
+        np.testing.assert_allclose(got[0], x, atol=tol)
+        np.testing.assert_allclose(got[1], y, atol=tol)
+        np.testing.assert_allclose(got[2], z, atol=tol)
+
+
+def test_a_wrong_guess_is_corrected_or_left_to_proxsuite(robot):
+    args, (x, _, z) = _box_qp(robot.model.nv)
+    for guess in ([], [0, 1, 2, 3], [1, 3]):  # too few, too many, the complement
+        qp = ContactQP(robot.model)
+        qp.active = list(guess)
+        got = qp.solve(*args)
+        np.testing.assert_allclose(got[0], x, atol=1e-8)
+        np.testing.assert_allclose(got[2], z, atol=1e-8)
+        assert qp.fast + qp.fallback == 1
+    qp = ContactQP(robot.model, redundant=[[0, 2]])  # a redundant group active: proxsuite decides
+    qp.active = [0, 2]
+    qp.solve(*args)
+    assert (qp.fast, qp.fallback) == (0, 1)
+    assert qp._independent([0, 1], 2) and not qp._independent([0, 1, 3], 2)  # more rows than freedoms
+    lower = args[5].copy()
+    lower[1] = -args[1][2]  # row 1 met with equality at the answer, its multiplier zero
+    touching = (*args[:5], lower)
+    for redundant, path in (([[0, 1]], (0, 1)), ([], (1, 0))):  # a redundant group met: proxsuite's split
+        qp = ContactQP(robot.model, redundant=redundant)
+        qp.active = [0, 2]
+        np.testing.assert_allclose(qp.solve(*touching)[0], x, atol=1e-8)
+        assert (qp.fast, qp.fallback) == path
+
+
+def _kkt_error(args, out) -> dict[str, float]:
+    hessian, g, a_eq, b_eq, c_in, lower = args
+    x, y, z = out
+    slack = c_in @ x - lower
+    return {
+        "stationarity": float(np.max(np.abs(hessian @ x + g - a_eq.T @ y - c_in.T @ z))),
+        "equality": float(np.max(np.abs(a_eq @ x - b_eq))),
+        "feasibility": float(max(0.0, -slack.min())),
+        "sign": float(max(0.0, -z.min())),
+        "complementarity": float(np.max(np.abs(z * slack))),
+    }
+
+
+def test_floor_steps_meet_the_kkt_conditions_and_mostly_take_the_exact_step(monkeypatch):
+    """Every QP of a floor run (fitted spring, cranks turning, heel and toe contacts changing) is solved."""
+    inputs = spring_study.scenario_inputs("run1")
+    seen: list = []
+    solve = ContactQP.solve
+
+    def recording(self, *args):
+        out = solve(self, *args)
+        seen.append((args, out))
+        return out
+
+    monkeypatch.setattr(ContactQP, "solve", recording)
+    sim = FloorSimulator(inputs.robot, FloorSettings(omega=inputs.omega, spring=inputs.fit))
+    q0, v0 = sim.initial_state()  # the flat start: the preload throws the feet, modes change
+    res = sim.run(0.15, q0, v0)
+    assert len(res.t) == 150 and len(set(res.modes["right"])) > 1
+    assert sim._qp.fast > 0.8 * len(res.t)
+    for args, out in seen:
+        err = _kkt_error(args, out)
+        scale = 1.0 + float(np.max(np.abs(args[1])))
+        assert err["stationarity"] < 1e-8 * scale and err["equality"] < 1e-9
+        assert err["feasibility"] < 1e-9 and err["sign"] == 0.0 and err["complementarity"] < 1e-9
+
+
+def test_a_floor_run_is_proxsuites_run_to_its_tolerance(monkeypatch):
+    """The same run with every QP left to proxsuite (the solver before): the same modes, q to 1e-7."""
+    inputs = spring_study.scenario_inputs("run1")
+    settings = FloorSettings(omega=inputs.omega, spring=inputs.fit)
+    sim = FloorSimulator(inputs.robot, settings)
+    q0, v0 = sim.initial_state()  # the flat start: the preload throws the feet, modes change
+    exact = sim.run(0.1, q0, v0)
+    assert sim._qp.fast > 0.8 * len(exact.t)
+    monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
+    sim = FloorSimulator(inputs.robot, settings)
+    reference = sim.run(0.1, q0, v0)
+    assert sim._qp.fast == 0
+    assert exact.modes == reference.modes and exact.outcome == reference.outcome
+    assert len(set(reference.modes["right"])) > 1
+    np.testing.assert_allclose(exact.q, reference.q, atol=1e-7)
+    np.testing.assert_allclose(exact.normal, reference.normal, rtol=1e-6, atol=1e-3)
