@@ -100,8 +100,8 @@ def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11
     """
     plt = _pyplot()
     from pasibot_pin.viz.plots_gait import plot_walk, plot_walk_hip
-
-    fig, axes = plt.subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]}, layout="constrained")
+    from pasibot_pin.viz.plots_layout import MarginLayout
+    fig, axes = plt.subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]}, layout=MarginLayout())
     plot_walk(run.walk, ax=axes[0])
     plot_walk_hip(run.walk, ax=axes[1])
     _save(fig, path, dpi)

@@ -36,7 +36,8 @@ def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
     import matplotlib.pyplot as plt
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=figsize, layout="constrained")
+        from pasibot_pin.viz.plots_layout import MarginLayout
+        fig, ax = plt.subplots(figsize=figsize, layout=MarginLayout())
         return fig, ax
     return ax.figure, ax
 

@@ -89,7 +89,8 @@ def plot_friction(res, ax=None):
 
 def contact_figure(res, title: str = ""):
     """Three stacked panels: forces, CoP, friction. Returns the figure."""
-    fig, axes = plt.subplots(3, 1, figsize=(7.5, 10.0), sharex=True, layout="constrained")
+    from pasibot_pin.viz.plots_layout import MarginLayout
+    fig, axes = plt.subplots(3, 1, figsize=(7.5, 10.0), sharex=True, layout=MarginLayout())
     plot_contact_forces(res, axes[0])
     plot_cop(res, axes[1])
     plot_friction(res, axes[2])

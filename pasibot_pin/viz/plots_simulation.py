@@ -85,7 +85,8 @@ def plot_simulation(results: Mapping[str, object], main: str | None = None, rest
     import matplotlib.pyplot as plt
 
     if axes is None:
-        fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True, layout="constrained")
+        from pasibot_pin.viz.plots_layout import MarginLayout
+        fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True, layout=MarginLayout())
     else:
         fig = axes[0].figure
     main = main or next(iter(results))
