@@ -66,6 +66,7 @@ def _axis_reach(renderer, axis, length: float, fracs_axis: int) -> dict[str, flo
     along = ("left", "right") if fracs_axis == 0 else ("bottom", "top")
     tick = axis.majorTicks[0]
     locs = np.asarray(axis.get_majorticklocs(), dtype=float)
+    frac = locs
     if locs.size:
         point = np.zeros((locs.size, 2))
         point[:, fracs_axis] = locs
