@@ -33,11 +33,9 @@ def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
 
     A new figure uses matplotlib's constrained layout: labels, titles and legends stay inside it.
     """
-    import matplotlib.pyplot as plt
-
     if ax is None:
-        from pasibot_pin.viz.plots_layout import MarginLayout
-        fig, ax = plt.subplots(figsize=figsize, layout=MarginLayout())
+        from pasibot_pin.viz.plots_layout import subplots
+        fig, ax = subplots(figsize=figsize)
         return fig, ax
     return ax.figure, ax
 

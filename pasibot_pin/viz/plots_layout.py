@@ -219,3 +219,37 @@ class MarginLayout(LayoutEngine):
             suptitle.set_y(1 - pad / height_in)
             suptitle.set_verticalalignment("top")
         return True
+
+
+TICK_BINS = 5
+"""At most this many intervals between major ticks on a linear axis (matplotlib's default is up to 9):
+a tick and its label cost more to draw than a curve."""
+
+
+def fewer_ticks(ax) -> None:
+    """Give ``ax``'s linear axes a :class:`~matplotlib.ticker.MaxNLocator` of :data:`TICK_BINS` bins."""
+    from matplotlib.ticker import AutoLocator, MaxNLocator
+
+    for axis in (ax.xaxis, ax.yaxis):
+        if type(axis.get_major_locator()) is AutoLocator:
+            axis.set_major_locator(MaxNLocator(TICK_BINS, steps=[1, 2, 2.5, 5, 10]))
+
+
+def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
+    """``plt.subplots`` laid out by :class:`MarginLayout`, with :func:`fewer_ticks` on every axes.
+
+    Args:
+        nrows: rows of panels.
+        ncols: columns of panels.
+        **kwargs: passed to ``plt.subplots`` (``figsize`` [in], ``sharex``, ``height_ratios``...).
+
+    Returns:
+        (figure, axes) as ``plt.subplots`` returns them.
+
+    """
+    import matplotlib.pyplot as plt
+
+    fig, axes = plt.subplots(nrows, ncols, layout=MarginLayout(), **kwargs)
+    for ax in fig.axes:
+        fewer_ticks(ax)
+    return fig, axes
