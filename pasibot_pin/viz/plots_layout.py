@@ -88,7 +88,8 @@ def _axis_reach(renderer, axis, length: float, fracs_axis: int) -> dict[str, flo
             reach[along[1]] = max(reach[along[1]], half - (1 - f) * length)
         out = tick.get_tick_padding() + tick.get_pad()
         reach[across] = max(reach[across], deepest + out * _POINT)
-    offset_w, offset_h = _text_size(renderer, axis.offsetText)
+    offset = axis.get_major_formatter().get_offset() if len(labels) else ""  # drawn as the offset text
+    offset_h = _text_size(renderer, axis.offsetText, offset)[1]
     if offset_h and axis.offsetText.get_visible():
         reach["bottom" if fracs_axis == 0 else "top"] += offset_h + 3 * _POINT
     label = axis.label
@@ -116,6 +117,8 @@ def axes_reach(ax, renderer) -> dict[str, float]:
         for side, value in _axis_reach(renderer, axis, length, k).items():
             reach[side] = max(reach[side], value)
     titles = [t for t in (ax.title, ax._left_title, ax._right_title) if t.get_text()]
+    if titles and ax.yaxis.get_major_formatter().get_offset() and getattr(ax, "_autotitlepos", None) is False:
+        ax._autotitlepos = True  # an offset text above the axes: let matplotlib lift the title over it
     if titles:
         pad = ax.titleOffsetTrans.get_matrix()[1, 2] / fig.dpi  # the title's pad above the axes
         sizes = [_text_size(renderer, t) for t in titles]
@@ -238,6 +241,11 @@ def fewer_ticks(ax) -> None:
 def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
     """``plt.subplots`` laid out by :class:`MarginLayout`, with :func:`fewer_ticks` on every axes.
 
+    The axes' titles sit at a fixed height (``axes.titley`` = 1, the title pad above the top edge),
+    where matplotlib would put them anyway when no tick label or axis label is on top: otherwise
+    every draw measures all the y tick labels of every titled axes to check. Where a y offset text
+    (such as ``1e-14``) sits above the axes, :class:`MarginLayout` hands the title back to matplotlib.
+
     Args:
         nrows: rows of panels.
         ncols: columns of panels.
@@ -247,9 +255,11 @@ def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
         (figure, axes) as ``plt.subplots`` returns them.
 
     """
+    import matplotlib as mpl
     import matplotlib.pyplot as plt
 
-    fig, axes = plt.subplots(nrows, ncols, layout=MarginLayout(), **kwargs)
+    with mpl.rc_context({"axes.titley": 1.0}):  # titles at the top edge + pad, not moved at draw time (see below)
+        fig, axes = plt.subplots(nrows, ncols, layout=MarginLayout(), **kwargs)
     for ax in fig.axes:
         fewer_ticks(ax)
     return fig, axes
