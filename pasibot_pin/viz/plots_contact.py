@@ -89,6 +89,7 @@ def plot_friction(res, ax=None):
 def contact_figure(res, title: str = ""):
     """Three stacked panels: forces, CoP, friction. Returns the figure."""
     from pasibot_pin.viz.plots_layout import subplots
+
     fig, axes = subplots(3, 1, figsize=(7.5, 10.0), sharex=True)
     plot_contact_forces(res, axes[0])
     plot_cop(res, axes[1])

@@ -56,6 +56,7 @@ def plot_floor_study(study, axes=None):
     """Hip pitch of every case above the fitted case's contact modes; returns the figure."""
     if axes is None:
         from pasibot_pin.viz.plots_layout import subplots
+
         fig, axes = subplots(2, 1, figsize=(7, 5.5), height_ratios=(3, 1.4))
     else:
         fig = axes[0].figure
@@ -130,6 +131,7 @@ def plot_floor_static_maps(sweeps, axes=None):
     sweeps = [s for s in sweeps if s.stiffness is not None]
     if axes is None:
         from pasibot_pin.viz.plots_layout import subplots
+
         fig, axes = subplots(len(sweeps), 2, figsize=(10, 3.2 * len(sweeps)), squeeze=False)
     else:
         axes = np.atleast_2d(axes)

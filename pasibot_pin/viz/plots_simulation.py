@@ -84,6 +84,7 @@ def plot_simulation(results: Mapping[str, object], main: str | None = None, rest
     """
     if axes is None:
         from pasibot_pin.viz.plots_layout import subplots
+
         fig, axes = subplots(3, 1, figsize=(8, 9), sharex=True)
     else:
         fig = axes[0].figure

@@ -51,6 +51,7 @@ def plot_pareto(table, x: str = "peak_crank_torque_Nm", y: str = "stride_m", ax=
 
     if ax is None:
         from pasibot_pin.viz.plots_layout import subplots
+
         fig, ax = subplots(figsize=(6.4, 4.6))
     fig = ax.figure
     ok = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
@@ -97,6 +98,7 @@ def plot_sensitivity(table, varied: Sequence[str], metrics: Sequence[str] | None
     rho = rank_correlations(table, varied, metrics)
     if ax is None:
         from pasibot_pin.viz.plots_layout import subplots
+
         fig, ax = subplots(figsize=(1.0 + 0.55 * len(metrics), 3.0 + 0.4 * len(varied)))
     fig = ax.figure
     image = ax.imshow(rho, cmap="RdBu_r", vmin=-1, vmax=1, aspect="auto")
