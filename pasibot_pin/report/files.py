@@ -66,7 +66,8 @@ def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
     ``savefig`` draws a figure that has a layout engine twice (once, not rendered, to lay it out;
     even with the engine switched off, since a figure that had one keeps a placeholder). A PNG of
     an Agg figure is therefore drawn here once (the layout engine runs in that draw) at ``dpi`` and
-    its pixels written by Pillow, with ``dpi`` recorded in the file: the pixels ``savefig`` gives.
+    its pixels written by Pillow, with ``dpi`` recorded in the file: the pixels ``savefig`` gives
+    (as RGB when the figure is opaque, as it is unless its face colour is transparent).
     Other formats and canvases go through ``savefig``. The figure's dpi is restored afterwards.
 
     Args:
@@ -90,6 +91,8 @@ def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
         renderer = canvas.get_renderer()
         size = (int(renderer.width), int(renderer.height))
         image = Image.frombuffer("RGBA", size, canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        if image.getchannel("A").getextrema()[0] == 255:  # opaque: the same pixels as RGB, a fifth faster to write
+            image = image.convert("RGB")
         image.save(path, format="png", dpi=(dpi, dpi), compress_level=PNG_COMPRESS_LEVEL)
     finally:
         fig.dpi = original_dpi
