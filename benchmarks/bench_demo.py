@@ -6,6 +6,8 @@ Pinocchio versions, and the load average when it started (other work on the mach
 ``--write docs/timings.md`` writes that page (``make timings``); the README and docs quote no other
 timing (``tests/test_readme_numbers.py`` checks).
 
+``--no-demo`` skips the timed demo (with ``--breakdown``, only the serial run below).
+
 ``--breakdown`` then runs the same analysis once more, in this process and one job at a time,
 and prints where its CPU goes: each section (the simulation and floor sections per kind of
 piece), and the figures (``save_figure_file``: drawing and PNG writing; the figures' plotting calls
@@ -149,9 +151,13 @@ def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--write", type=Path, default=None, help="write the timings page to this file")
     parser.add_argument("--breakdown", action="store_true", help="also the CPU per section, figures and GIFs")
+    parser.add_argument("--no-demo", action="store_true", help="skip the timed demo (with --breakdown: that only)")
     args = parser.parse_args()
-    m = measure()
-    print(f"make demo: {m['wall']:.1f} s wall, {m['cpu']:.1f} s CPU on a {m['machine']} (load {m['load']:.1f})")
+    if args.no_demo and args.write is not None:
+        parser.error("--write needs the demo's timing: drop --no-demo")
+    if not args.no_demo:
+        m = measure()
+        print(f"make demo: {m['wall']:.1f} s wall, {m['cpu']:.1f} s CPU on a {m['machine']} (load {m['load']:.1f})")
     if args.breakdown:
         print(breakdown())
     if args.write is not None:

@@ -183,3 +183,62 @@ def test_cost_of_transport_figure_is_not_clipped():
         assert _legend_without_drawing(fig) == []
     finally:
         plt.close(fig)
+
+
+def test_save_figure_file_writes_the_pixels_savefig_writes(tmp_path):
+    import matplotlib.pyplot as plt
+    from PIL import Image
+
+    from pasibot_pin.report.files import save_figure_file
+    from pasibot_pin.viz.plots_layout import subplots
+
+    for transparent in (False, True):
+        fig, ax = subplots(figsize=(4, 3))
+        ax.plot([0.0, 1.0, 2.0], [1.0, -1.0, 0.5], label="a line")
+        ax.set_title("title")
+        ax.legend()
+        if transparent:
+            fig.patch.set_alpha(0.0)
+        try:
+            save_figure_file(fig, tmp_path / "ours.png", dpi=72)
+            fig.savefig(tmp_path / "theirs.png", dpi=72)  # laid out the same (the engine is idempotent)
+        finally:
+            plt.close(fig)
+        ours, theirs = Image.open(tmp_path / "ours.png"), Image.open(tmp_path / "theirs.png")
+        assert ours.size == theirs.size == (4 * 72, 3 * 72)
+        assert round(ours.info["dpi"][0]) == 72
+        assert np.array_equal(np.asarray(ours.convert("RGBA")), np.asarray(theirs.convert("RGBA")))
+        assert (ours.mode == "RGBA") == transparent
+
+
+def test_margin_layout_keeps_every_text_inside_and_the_panels_apart():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_layout import subplots
+
+    fig, axes = subplots(2, 2, figsize=(8, 6))
+    x = np.linspace(0.0, 1.0, 50)
+    axes[0, 0].plot(x, 1e-14 * x, label="tiny")
+    axes[0, 0].set_title("an offset text above the axes and a title")
+    axes[0, 1].set_xticks([0, 1, 2], ["a long\nlabel", "another long label", "c"], rotation=90)
+    axes[0, 1].set_xlabel("rotated tick labels [-]")
+    mesh = axes[1, 0].pcolormesh(np.arange(12.0).reshape(3, 4))
+    fig.colorbar(mesh, ax=axes[1, 0], label="a colour bar's label [unit]")
+    axes[1, 1].plot(x, 1000.0 * x, label="left")
+    twin = axes[1, 1].twinx()
+    twin.plot(x, -x, color="r", label="right")
+    twin.set_ylabel("the twin's label [unit]")
+    axes[1, 1].legend(loc="upper center", bbox_to_anchor=(0.5, -0.15), ncol=2)
+    for ax in axes.flat:
+        ax.set_ylabel("a y label [unit]")
+    fig.suptitle("a suptitle")
+    try:
+        assert not _sticks_out(fig)
+        renderer = fig.canvas.get_renderer()
+        boxes = [(ax.get_subplotspec().get_topmost_subplotspec(), ax.get_tightbbox(renderer)) for ax in fig.axes]
+        for i, (cell_a, a) in enumerate(boxes):
+            for cell_b, b in boxes[i + 1 :]:
+                if cell_a != cell_b:  # twins and colour bars share their parent's cell
+                    assert not a.overlaps(b), (cell_a, cell_b)
+    finally:
+        plt.close(fig)

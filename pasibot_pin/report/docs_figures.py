@@ -22,8 +22,9 @@ def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
     from pasibot_pin.report.files import save_figure_file
     from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
     from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
+    from pasibot_pin.viz.plots_layout import subplots
 
-    fig, axes = plt.subplots(1, 2, figsize=(13, 4.5), layout="constrained")
+    fig, axes = subplots(1, 2, figsize=(13, 4.5))
     for ax, preset in zip(axes, ("default", "seed")):
         run = scenario_torques(TorqueSettings(scenario=scenario, preset=preset))
         plot_torques_vs_beta(run.result, run.fit, ax=ax, title=f"{run.scenario.description} [{preset}]")

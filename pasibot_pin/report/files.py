@@ -61,24 +61,38 @@ FIGURE_DPI = 100
 
 
 def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
-    """``fig.savefig(path, dpi=dpi)``; a PNG at :data:`PNG_COMPRESS_LEVEL` (the same pixels).
+    """``fig.savefig(path, dpi=dpi)``, drawn once; a PNG at :data:`PNG_COMPRESS_LEVEL`.
 
-    A figure with a layout engine (constrained layout) is laid out once here, at ``dpi``, and then
-    saved with the engine off: ``savefig`` would otherwise draw the whole figure twice (once, not
-    rendered, to lay it out). The positions, hence the pixels, are the same; the engine and the
-    figure's dpi are restored afterwards.
+    ``savefig`` draws a figure that has a layout engine twice (once, not rendered, to lay it out;
+    even with the engine switched off, since a figure that had one keeps a placeholder). A PNG of
+    an Agg figure is therefore drawn here once (the layout engine runs in that draw) at ``dpi`` and
+    its pixels written by Pillow, with ``dpi`` recorded in the file: the pixels ``savefig`` gives
+    (as RGB when the figure is opaque, as it is unless its face colour is transparent).
+    Other formats and canvases go through ``savefig``. The figure's dpi is restored afterwards.
+
+    Args:
+        fig: a matplotlib figure.
+        path: output file (its extension names the format).
+        dpi: resolution [dots per inch].
+
     """
-    options = {"pil_kwargs": {"compress_level": PNG_COMPRESS_LEVEL}} if Path(path).suffix.lower() == ".png" else {}
-    engine = fig.get_layout_engine()
-    if engine is None or not fig.axes:
-        fig.savefig(path, dpi=dpi, **options)
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    if Path(path).suffix.lower() != ".png" or not isinstance(fig.canvas, FigureCanvasAgg):
+        fig.savefig(path, dpi=dpi)
         return
+    from PIL import Image
+
     original_dpi = fig.dpi
     try:
         fig.dpi = dpi
-        engine.execute(fig)
-        fig.set_layout_engine("none")
-        fig.savefig(path, dpi=dpi, **options)
+        canvas = fig.canvas
+        canvas.draw()
+        renderer = canvas.get_renderer()
+        size = (int(renderer.width), int(renderer.height))
+        image = Image.frombuffer("RGBA", size, canvas.buffer_rgba(), "raw", "RGBA", 0, 1)
+        if image.getchannel("A").getextrema()[0] == 255:  # opaque: the same pixels as RGB, a fifth faster to write
+            image = image.convert("RGB")
+        image.save(path, format="png", dpi=(dpi, dpi), compress_level=PNG_COMPRESS_LEVEL)
     finally:
-        fig.set_layout_engine(engine)
         fig.dpi = original_dpi

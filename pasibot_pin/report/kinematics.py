@@ -98,10 +98,11 @@ def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11
         dpi: resolution [dots per inch].
 
     """
-    plt = _pyplot()
+    _pyplot()
     from pasibot_pin.viz.plots_gait import plot_walk, plot_walk_hip
+    from pasibot_pin.viz.plots_layout import subplots
 
-    fig, axes = plt.subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]}, layout="constrained")
+    fig, axes = subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]})
     plot_walk(run.walk, ax=axes[0])
     plot_walk_hip(run.walk, ax=axes[1])
     _save(fig, path, dpi)

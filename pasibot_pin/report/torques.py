@@ -110,7 +110,9 @@ def build(out_dir: Path):
     ]
     table: dict[str, list] = {"default": [], "seed preset": [], "seed stored": []}
     warnings_text = []
-    grid, axes = plt.subplots(len(SCENARIOS), 2, figsize=(13, 4 * len(SCENARIOS)), layout="constrained")
+    from pasibot_pin.viz.plots_layout import subplots
+
+    grid, axes = subplots(len(SCENARIOS), 2, figsize=(13, 4 * len(SCENARIOS)))
     for row, (name, scenario) in enumerate(SCENARIOS.items()):
         for col, preset in enumerate(SURVEY_PRESETS):
             run = survey.runs[(name, preset)]
@@ -150,7 +152,9 @@ def build(out_dir: Path):
 
     walk, slow = survey.walk, survey.slow
     write_result_csv(sub / "torques_run4_two_turns.csv", walk)
-    fig, (ax1, ax2) = plt.subplots(2, 1, figsize=(10, 8), layout="constrained")
+    from pasibot_pin.viz.plots_layout import subplots
+
+    fig, (ax1, ax2) = subplots(2, 1, figsize=(10, 8))
     plot_torques_vs_time(walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
     plot_torques_vs_time(slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
     save_figure_file(fig, sub / "torques_vs_time.png")

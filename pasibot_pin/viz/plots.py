@@ -31,12 +31,13 @@ def link_group(link: str) -> str:
 def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
     """(figure, axes): ``ax`` and its figure, or a new figure of ``figsize`` [in] when ``ax`` is None.
 
-    A new figure uses matplotlib's constrained layout: labels, titles and legends stay inside it.
+    A new figure is laid out by :class:`~pasibot_pin.viz.plots_layout.MarginLayout` (labels, titles
+    and legends stay inside it) with :func:`~pasibot_pin.viz.plots_layout.fewer_ticks`.
     """
-    import matplotlib.pyplot as plt
-
     if ax is None:
-        fig, ax = plt.subplots(figsize=figsize, layout="constrained")
+        from pasibot_pin.viz.plots_layout import subplots
+
+        fig, ax = subplots(figsize=figsize)
         return fig, ax
     return ax.figure, ax
 

@@ -9,7 +9,6 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-import matplotlib.pyplot as plt
 import numpy as np
 
 from pasibot_pin.viz.plots import figure_axes
@@ -89,7 +88,9 @@ def plot_friction(res, ax=None):
 
 def contact_figure(res, title: str = ""):
     """Three stacked panels: forces, CoP, friction. Returns the figure."""
-    fig, axes = plt.subplots(3, 1, figsize=(7.5, 10.0), sharex=True, layout="constrained")
+    from pasibot_pin.viz.plots_layout import subplots
+
+    fig, axes = subplots(3, 1, figsize=(7.5, 10.0), sharex=True)
     plot_contact_forces(res, axes[0])
     plot_cop(res, axes[1])
     plot_friction(res, axes[2])

@@ -55,7 +55,9 @@ def plot_contact_modes(result, ax=None, title: str = "contact mode of each foot"
 def plot_floor_study(study, axes=None):
     """Hip pitch of every case above the fitted case's contact modes; returns the figure."""
     if axes is None:
-        fig, axes = plt.subplots(2, 1, figsize=(7, 5.5), height_ratios=(3, 1.4), constrained_layout=True)
+        from pasibot_pin.viz.plots_layout import subplots
+
+        fig, axes = subplots(2, 1, figsize=(7, 5.5), height_ratios=(3, 1.4))
     else:
         fig = axes[0].figure
     plot_floor_pitch(study, ax=axes[0])
@@ -128,7 +130,9 @@ def plot_floor_static_maps(sweeps, axes=None):
     """The K_e x beta0 maps of every run (rows), weld (left) beside floor (right); returns the figure."""
     sweeps = [s for s in sweeps if s.stiffness is not None]
     if axes is None:
-        fig, axes = plt.subplots(len(sweeps), 2, figsize=(10, 3.2 * len(sweeps)), squeeze=False, layout="constrained")
+        from pasibot_pin.viz.plots_layout import subplots
+
+        fig, axes = subplots(len(sweeps), 2, figsize=(10, 3.2 * len(sweeps)), squeeze=False)
     else:
         axes = np.atleast_2d(axes)
         fig = axes[0, 0].figure

@@ -157,9 +157,9 @@ def _plot_motion(cycle: LegCycle, attr: str, ylabel: str, names: tuple[str, str]
 
 def plot_leg_summary(cycle: LegCycle):
     """Four panels: foot paths, foot pitch, ankle velocity and acceleration (needs ``omega``)."""
-    import matplotlib.pyplot as plt
+    from pasibot_pin.viz.plots_layout import subplots
 
-    fig, axes = plt.subplots(2, 2, figsize=(12, 9), layout="constrained")
+    fig, axes = subplots(2, 2, figsize=(12, 9))
     plot_leg_paths(cycle, ax=axes[0, 0])
     plot_foot_pitch({cycle.robot.variant: cycle}, ax=axes[0, 1])
     if cycle.ankle_velocity is not None:

@@ -82,10 +82,10 @@ def plot_simulation(results: Mapping[str, object], main: str | None = None, rest
         The figure.
 
     """
-    import matplotlib.pyplot as plt
-
     if axes is None:
-        fig, axes = plt.subplots(3, 1, figsize=(8, 9), sharex=True, layout="constrained")
+        from pasibot_pin.viz.plots_layout import subplots
+
+        fig, axes = subplots(3, 1, figsize=(8, 9), sharex=True)
     else:
         fig = axes[0].figure
     main = main or next(iter(results))

@@ -45,14 +45,14 @@ def plot_pareto(table, x: str = "peak_crank_torque_Nm", y: str = "stride_m", ax=
         The figure.
 
     """
-    import matplotlib.pyplot as plt
-
     from pasibot_pin.studies.design_metrics import pareto_mask
 
     METRICS = _metrics()
 
     if ax is None:
-        fig, ax = plt.subplots(figsize=(6.4, 4.6), layout="constrained")
+        from pasibot_pin.viz.plots_layout import subplots
+
+        fig, ax = subplots(figsize=(6.4, 4.6))
     fig = ax.figure
     ok = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
     xs, ys, cs = _values(table, x)[ok], _values(table, y)[ok], _values(table, color)[ok]
@@ -93,13 +93,13 @@ def plot_sensitivity(table, varied: Sequence[str], metrics: Sequence[str] | None
         The figure.
 
     """
-    import matplotlib.pyplot as plt
-
     names = [m for m in _metrics() if m in table.column_names]
     metrics = list(metrics or [m for m in names if np.isfinite(_values(table, m)).any()])
     rho = rank_correlations(table, varied, metrics)
     if ax is None:
-        fig, ax = plt.subplots(figsize=(1.0 + 0.55 * len(metrics), 3.0 + 0.4 * len(varied)), layout="constrained")
+        from pasibot_pin.viz.plots_layout import subplots
+
+        fig, ax = subplots(figsize=(1.0 + 0.55 * len(metrics), 3.0 + 0.4 * len(varied)))
     fig = ax.figure
     image = ax.imshow(rho, cmap="RdBu_r", vmin=-1, vmax=1, aspect="auto")
     ax.set_xticks(range(len(metrics)), [_label(m) for m in metrics], rotation=60, ha="right", fontsize=8)
