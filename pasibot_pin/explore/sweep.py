@@ -163,6 +163,7 @@ def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[
 
     matplotlib.use("Agg")
     from pasibot_pin.files import atomic_path
+    from pasibot_pin.viz.figure_files import save_figure_file
     from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity
 
     written = []
@@ -173,7 +174,7 @@ def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[
     for name, draw in figures:
         fig = draw()
         with atomic_path(Path(folder) / name) as tmp:
-            fig.savefig(tmp, dpi=120, format="png")
+            save_figure_file(fig, tmp, 120)
         matplotlib.pyplot.close(fig)
         written.append(Path(folder) / name)
     return written
