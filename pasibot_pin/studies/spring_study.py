@@ -110,18 +110,36 @@ class StaticProblem:
         """The hip-holding torque [N.m] at hip pitch ``pitch`` [rad], and the static q it solved.
 
         ``q_guess``: the Newton start (default: the level pose at this crank angle).
+
+        At rest the system is square (nv rows: loops, weld, cranks, swing ankle, hip), so J a = 0
+        gives a = 0 and M a + h = tau + J^T lambda reduces to J^T lambda = g(q) - tau_spring(q): the
+        hip row's multiplier is x . (g - tau_spring) with J x = e_hip. x . g and x on the ankles
+        depend on q only and are kept with the projection (shared by every stiffness).
         """
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
         key = (float(pitch), q.tobytes())
-        if key in self.projections:
-            q = self.projections[key].copy()
-        else:
+        entry = self.projections.get(key)
+        if entry is None:
             targets = self.targets.copy()
             targets[-1] = pitch
             q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
-            self.projections[key] = q.copy()
-        _, lam, _ = self.sim.acceleration(self.cset, 0.0, q, np.zeros(self.robot.model.nv))
-        return float(lam[self.row]), q
+            entry = self.projections[key] = (q.copy(), *self._hip_row(q, self.cset.last_rows.jac))
+        q, x_gravity, x_ankles = entry
+        # tau_spring on an ankle coordinate is -T = K_e (beta - beta0) (damping: no rate at rest)
+        spring = self.sim.settings.spring
+        hold = x_gravity
+        for i, x_i in x_ankles:
+            hold -= x_i * spring.stiffness * ((math.pi / 2 - q[i]) - spring.rest_angle)
+        return float(hold), q.copy()
+
+    def _hip_row(self, q: np.ndarray, jac: np.ndarray) -> tuple[float, tuple[tuple[int, float], ...]]:
+        """x . g(q) and x on each ankle coordinate, for J x = e_hip (the hip row's multiplier map)."""
+        model, data = self.robot.model, self.robot.data
+        unit = np.zeros(self.cset.nrows)
+        unit[self.row] = 1.0
+        x = np.linalg.solve(jac, unit)
+        gravity = pin.computeGeneralizedGravity(model, data, q)
+        return float(x.dot(gravity)), tuple((i, float(x[i])) for i in self.sim.ankles.values())
 
 
 def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
