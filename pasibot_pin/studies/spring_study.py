@@ -133,7 +133,7 @@ class StaticProblem:
         return float(hold), q.copy()
 
     def _hip_row(self, q: np.ndarray, jac: np.ndarray) -> tuple[float, tuple[tuple[int, float], ...]]:
-        """x . g(q) and x on each ankle coordinate, for J x = e_hip (the hip row's multiplier map)."""
+        """The hip row's multiplier map: x . g(q) and x on each ankle coordinate, for J x = e_hip."""
         model, data = self.robot.model, self.robot.data
         unit = np.zeros(self.cset.nrows)
         unit[self.row] = 1.0
