@@ -95,12 +95,23 @@ class StaticProblem:
         self.q_level = q_level.copy()
         swing = _other(stance)
         self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
-        coords = [c for c in self.sim.coordinate_rows(stance) if c.name != "hip_pitch"]
-        cmodels = list(robot.loop_constraints) + [weld]
-        # the hip-pitch row is last; each pitch is a new target of that row, not a new system
-        rows = [*coords, coordinate("hip_pitch", 2)]
-        self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
+        # one system per crank angle: the swing ankle's rest angle and the hip pitch are targets of their
+        # rows (offset 0, so a target t gives the residual q_i - t, the same bits as an offset t)
+        system_key = ("rows", key)
+        if cache is not None and system_key in cache:
+            self.cset = cache[system_key]
+        else:
+            coords = [c.at(0.0) if c.name == f"{swing}_j13_ankle" else c for c in self.sim.coordinate_rows(stance)]
+            coords = [c for c in coords if c.name != "hip_pitch"]
+            cmodels = list(robot.loop_constraints) + [weld]
+            rows = [*coords, coordinate("hip_pitch", 2)]  # the hip-pitch row is last
+            self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
+            if cache is not None:
+                cache[system_key] = self.cset
         self.targets = self.cset.targets(0.0)
+        self.targets[self.cset.labels.index(f"{swing}_j13_ankle") - self.cset.n_constraint_rows] = (
+            math.pi / 2 - spring.rest_angle
+        )
         self.row = self.cset.nrows - 1
         self.projections: dict = {}
         if cache is not None:
