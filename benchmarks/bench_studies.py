@@ -31,7 +31,8 @@ def _answers(key: tuple, result) -> dict[str, np.ndarray]:
     name = "/".join(str(k) for k in key)
     out: dict[str, np.ndarray] = {}
     if key[0] == "row":
-        out[name] = np.asarray(result, dtype=float)
+        for i, row in enumerate(result):
+            out[f"{name}/{i}"] = np.asarray(row, dtype=float)
         return out
     static, run = result if key[0] == "case" else (None, result)
     if static is not None:
@@ -50,16 +51,20 @@ def _answers(key: tuple, result) -> dict[str, np.ndarray]:
 def run_pieces(settings: sim.SimulationStudySettings) -> tuple[dict[str, float], dict[str, np.ndarray]]:
     """Every case, row and check job once, serially: CPU [s] per kind and the answers."""
     cpu = {"case": 0.0, "row": 0.0, "check": 0.0}
+    cpu.update({f"{kind} {name}": 0.0 for name in settings.scenarios for kind in ("case", "row")})
     answers: dict[str, np.ndarray] = {}
     jobs = []
     for name in settings.scenarios:
         jobs += [(("case", name, label), sim.case_task, (name, label, settings)) for label, _ in SPRING_CASES]
-        jobs += [(("row", name, i), sim.sweep_row_task, (name, i, settings)) for i in range(sim.sweep_shape(name)[0])]
+        rows = tuple(range(sim.sweep_shape(name)[0]))
+        jobs.append((("row", name), sim.sweep_rows_task, (name, rows, settings)))
     jobs.append((("check",), sim.check_task, (settings,)))
     for key, fn, args in jobs:
         start = time.process_time()
         result = fn(*args)
         cpu[key[0]] += time.process_time() - start
+        if len(key) > 1:
+            cpu[f"{key[0]} {key[1]}"] += time.process_time() - start
         answers.update(_answers(key, result))
     return cpu, answers
 
@@ -98,8 +103,8 @@ def main() -> int:
     total = best["case"] + best["row"]
     print(f"simulation section compute, serial, best of {max(1, args.repeat)} (process CPU):")
     for kind, value in best.items():
-        print(f"  {kind:6s} {value:6.2f} s")
-    print(f"  cases + rows {total:6.2f} s")
+        print(f"  {kind:18s} {value:6.2f} s")
+    print(f"  {'cases + rows':18s} {total:6.2f} s")
     if args.save is not None:
         np.savez_compressed(args.save, **answers)
         print(f"saved {len(answers)} arrays to {args.save}")

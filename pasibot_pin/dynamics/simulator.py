@@ -556,6 +556,14 @@ class BipedSimulator:
             except ValueError:
                 lam = np.zeros(cset.nrows)
             record(t, q, v, lam, last_drift, labels_index)
+        return self.result(rec, impacts, fell, message)
+
+    def result(self, rec: dict[str, list], impacts: list[Impact], fell: bool, message: str) -> SimulationResult:
+        """The :class:`SimulationResult` of recorded samples.
+
+        ``rec`` holds lists ``t``, ``q``, ``v``, ``lam`` (right motor, left motor, hip lock torques),
+        ``stance``, ``drift`` and ``swing`` (the swing sole's height).
+        """
         qs = np.array(rec["q"])
         betas = np.column_stack([math.pi / 2 - qs[:, self.ankles[side]] for side in ("right", "left")])
         lam = np.array(rec["lam"])
@@ -573,7 +581,7 @@ class BipedSimulator:
             impacts=impacts,
             fell=fell,
             message=message,
-            settings=s,
+            settings=self.settings,
         )
 
     def _multiplier_rows(self, cset: ConstraintSystem) -> list[int | None]:

@@ -346,12 +346,40 @@ def sweep_cell(
     cache: dict | None = None,
 ) -> float:
     """One cell of the (K_e, beta0) sweep: the largest |hip pitch| [rad] (inf: fell / none stable)."""
+    return float(sweep_cells(robot, omega, [spring], method, steps, swing_ankle, dt, static_samples, cache)[0])
+
+
+def sweep_cells(
+    robot,
+    omega: float,
+    springs: Sequence[AnkleSpring],
+    method: str,
+    steps: int = 2,
+    swing_ankle: str = "rest",
+    dt: float | None = None,
+    static_samples: int = 19,
+    cache: dict | None = None,
+) -> np.ndarray:
+    """Cells of the (K_e, beta0) sweep, one per spring: the largest |hip pitch| [rad] (inf: fell / none stable).
+
+    A dynamic sweep with the swing foot at its rest angle walks every spring together
+    (:func:`~pasibot_pin.dynamics.lockstep.simulate_many`: the same walks as :func:`simulate`, to
+    round-off), each from its :func:`standing_pitch`.
+    """
     dt = default_dt(swing_ankle) if dt is None else dt
-    thetas = _static_thetas(static_samples)
     if method == "static":
-        return static_equilibrium(robot, spring, thetas, cache=cache).max_excursion
-    settings = _walk_settings(omega, spring, swing_ankle, dt, standing_pitch(robot, spring, math.pi / 2, cache))
-    return _run_excursion(simulate(robot, settings, steps=steps))
+        thetas = _static_thetas(static_samples)
+        return np.array([static_equilibrium(robot, sp, thetas, cache=cache).max_excursion for sp in springs])
+    settings = [
+        _walk_settings(omega, sp, swing_ankle, dt, standing_pitch(robot, sp, math.pi / 2, cache)) for sp in springs
+    ]
+    if swing_ankle == "rest" and settings:
+        from pasibot_pin.dynamics.lockstep import simulate_many
+
+        runs = simulate_many(robot, settings, steps)
+    else:
+        runs = [simulate(robot, st, steps=steps) for st in settings]
+    return np.array([_run_excursion(run) for run in runs], dtype=float)
 
 
 def case_excursion(omega: float, static: StaticEquilibrium, run: SimulationResult | None) -> float:
@@ -439,6 +467,7 @@ def spring_study(
     if len(ks) and len(bs):
         method = sweep_method_for(omega, sweep_method)
         grid = np.full((len(bs), len(ks)), math.inf)
+        todo = []
         for i, beta0 in enumerate(bs):
             for j, k in enumerate(ks):
                 spring = AnkleSpring(float(k), float(beta0), fitted.damping)
@@ -446,7 +475,11 @@ def spring_study(
                 if label is not None:
                     grid[i, j] = case_excursion(omega if method == "dynamic" else 0.0, *cases[label])
                 else:
-                    grid[i, j] = sweep_cell(robot, omega, spring, method, **common)
+                    todo.append(((i, j), spring))
+        if todo:
+            values = sweep_cells(robot, omega, [sp for _, sp in todo], method, **common)
+            for (cell, _), value in zip(todo, values):
+                grid[cell] = value
     return assemble_spring_study(name, omega, fitted, cases, ks, bs, grid, method)
 
 
