@@ -1,7 +1,7 @@
 """Benchmark: the CPU of the ``simulation`` section's compute (spring cases, sweep rows, the check).
 
-Runs every piece of :class:`~pasibot_pin.report.simulation.SimulationPlan` that computes (the
-``case``, ``row`` and ``check`` jobs, not the figures nor the animation) serially in this process,
+Runs every job of :class:`~pasibot_pin.report.simulation.SimulationPlan` that computes (its spring
+cases, sweep rows and check; not the figures nor the animation) serially in this process,
 after warming the scenario inputs (:func:`~pasibot_pin.studies.simulation_study.cached_inputs`,
 the inverse dynamics: not this section's work), and prints the process CPU time of each kind.
 
@@ -23,16 +23,22 @@ import numpy as np
 
 from pasibot_pin.model.scenarios import SCENARIOS
 from pasibot_pin.studies import simulation_study as sim
-from pasibot_pin.studies.spring_study import SPRING_CASES
 
 
 def _answers(key: tuple, result) -> dict[str, np.ndarray]:
-    """The arrays of one job's result, under names starting with the job's key."""
-    name = "/".join(str(k) for k in key)
+    """The arrays of one job's result, under names starting with the piece's kind and scenario."""
     out: dict[str, np.ndarray] = {}
+    if key[0] == "cases":
+        for (name, label), outcome in zip(key[1], result):
+            out.update(_answers(("case", name, label), outcome))
+        return out
+    if key[0] == "rows":
+        for row, values in zip(key[2], result):
+            out.update(_answers(("row", key[1], row), values))
+        return out
+    name = "/".join(str(k) for k in key)
     if key[0] == "row":
-        for i, row in enumerate(result):
-            out[f"{name}/{i}"] = np.asarray(row, dtype=float)
+        out[name] = np.asarray(result, dtype=float)
         return out
     static, run = result if key[0] == "case" else (None, result)
     if static is not None:
@@ -48,24 +54,27 @@ def _answers(key: tuple, result) -> dict[str, np.ndarray]:
     return out
 
 
+KINDS = {"case": "case", "cases": "case", "row": "row", "rows": "row", "check": "check"}
+"""The plan's computing jobs by kind (its ``meta`` jobs, fits already cached, are left out)."""
+
+
 def run_pieces(settings: sim.SimulationStudySettings) -> tuple[dict[str, float], dict[str, np.ndarray]]:
-    """Every case, row and check job once, serially: CPU [s] per kind and the answers."""
+    """Every computing job of the section's plan once, serially: CPU [s] per kind and the answers."""
+    from pasibot_pin.report.simulation import SimulationPlan
+
     cpu = {"case": 0.0, "row": 0.0, "check": 0.0}
-    cpu.update({f"{kind} {name}": 0.0 for name in settings.scenarios for kind in ("case", "row")})
     answers: dict[str, np.ndarray] = {}
-    jobs = []
-    for name in settings.scenarios:
-        jobs += [(("case", name, label), sim.case_task, (name, label, settings)) for label, _ in SPRING_CASES]
-        rows = tuple(range(sim.sweep_shape(name)[0]))
-        jobs.append((("row", name), sim.sweep_rows_task, (name, rows, settings)))
-    jobs.append((("check",), sim.check_task, (settings,)))
-    for key, fn, args in jobs:
+    jobs = [job for job in SimulationPlan(Path("unused"), settings).jobs() if job.key[0] in KINDS]
+    for job in jobs:
         start = time.process_time()
-        result = fn(*args)
-        cpu[key[0]] += time.process_time() - start
-        if len(key) > 1:
-            cpu[f"{key[0]} {key[1]}"] += time.process_time() - start
-        answers.update(_answers(key, result))
+        result = job.fn(*job.args)
+        used = time.process_time() - start
+        kind = KINDS[job.key[0]]
+        cpu[kind] += used
+        inner = job.key[1] if len(job.key) > 1 else ''
+        label = f"{kind} {inner if isinstance(inner, str) else 'slow scenarios'}"
+        cpu[label] = cpu.get(label, 0.0) + used
+        answers.update(_answers(job.key, result))
     return cpu, answers
 
 
