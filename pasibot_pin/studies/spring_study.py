@@ -362,14 +362,18 @@ def sweep_cells(
 ) -> np.ndarray:
     """Cells of the (K_e, beta0) sweep, one per spring: the largest |hip pitch| [rad] (inf: fell / none stable).
 
-    A dynamic sweep with the swing foot at its rest angle walks every spring together
+    A static sweep solves every spring's equilibria together
+    (:func:`~pasibot_pin.studies.static_batch.static_equilibria`); a dynamic one with the swing foot
+    at its rest angle walks every spring together
     (:func:`~pasibot_pin.dynamics.lockstep.simulate_many`: the same walks as :func:`simulate`, to
     round-off), each from its :func:`standing_pitch`.
     """
     dt = default_dt(swing_ankle) if dt is None else dt
-    if method == "static":
+    if method == "static":  # every spring and crank angle at once (the same secant, batched)
+        from pasibot_pin.studies.static_batch import static_equilibria
+
         thetas = _static_thetas(static_samples)
-        return np.array([static_equilibrium(robot, sp, thetas, cache=cache).max_excursion for sp in springs])
+        return np.array([eq.max_excursion for eq in static_equilibria(robot, springs, thetas, cache=cache)])
     settings = [
         _walk_settings(omega, sp, swing_ankle, dt, standing_pitch(robot, sp, math.pi / 2, cache)) for sp in springs
     ]
