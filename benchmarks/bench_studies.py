@@ -71,7 +71,7 @@ def run_pieces(settings: sim.SimulationStudySettings) -> tuple[dict[str, float],
         used = time.process_time() - start
         kind = KINDS[job.key[0]]
         cpu[kind] += used
-        inner = job.key[1] if len(job.key) > 1 else ''
+        inner = job.key[1] if len(job.key) > 1 else ""
         label = f"{kind} {inner if isinstance(inner, str) else 'slow scenarios'}"
         cpu[label] = cpu.get(label, 0.0) + used
         answers.update(_answers(job.key, result))

@@ -28,6 +28,9 @@ MAX_NEWTON = 20
 """Newton iterations of a closure (the one-angle path's)."""
 SECANT_STEPS = 30
 """Secant iterations (the one-angle path's)."""
+CHUNK = 32
+"""Pairs per batched row evaluation: larger products start BLAS threads, which on a busy machine cost
+several times the CPU of the product (measured: 80 pairs 3.9 ms with threads, 0.3 ms without)."""
 
 
 class _Pairs:
@@ -93,6 +96,16 @@ class _Pairs:
         return hold, q, ok
 
     def _rows(self, q: np.ndarray, targets: np.ndarray, idx: np.ndarray):
+        """The rows of pairs ``idx``, evaluated in chunks of :data:`CHUNK` pairs."""
+        if len(idx) > CHUNK:
+            parts = [
+                self._rows(q[k : k + CHUNK], targets[k : k + CHUNK], idx[k : k + CHUNK])
+                for k in range(0, len(idx), CHUNK)
+            ]
+            rows = parts[0]
+            rows.phi = np.concatenate([p.phi for p in parts])
+            rows.jac = np.concatenate([p.jac for p in parts])
+            return rows
         rows = self.cset.evaluate(q, None, 0.0, targets)
         rows.phi[:, self.weld_x] += self.offset[idx]
         return rows
