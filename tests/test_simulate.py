@@ -496,3 +496,24 @@ def test_lockstep_walks_equal_the_single_walks():
             assert a.kinetic_after == pytest.approx(b.kinetic_after, rel=1e-9)
     with pytest.raises(ValueError, match="differ only"):
         simulate_many(scen.robot, [settings[0], settings[1].with_(dt=0.02)], steps=1)
+
+
+def test_batched_static_equilibria_equal_the_one_angle_path():
+    """static_equilibria (the static sweep's cells, all at once) finds the same equilibria as
+    static_equilibrium angle by angle: where, the pitch, and the stability; no spring, a softer one
+    with another rest angle, a stiffer one (angles with and without an equilibrium)."""
+    from pasibot_pin.studies.spring_study import scenario_inputs
+    from pasibot_pin.studies.static_batch import static_equilibria
+
+    scen = scenario_inputs("run2")
+    fit = scen.fit
+    springs = [fit.scaled(0.0), AnkleSpring(0.8 * fit.stiffness, fit.rest_angle - math.radians(6)), fit.scaled(1.25)]
+    thetas = np.linspace(math.pi / 2, 1.5 * math.pi, 6, endpoint=False)
+    many = static_equilibria(scen.robot, springs, thetas)
+    found = np.concatenate([eq.found for eq in many])
+    assert found.any() and not found.all()  # both kinds of answers are compared
+    for spring, eq in zip(springs, many):
+        one = static_equilibrium(scen.robot, spring, thetas)
+        assert np.array_equal(one.found, eq.found)
+        assert np.allclose(eq.hip_pitch[one.found], one.hip_pitch[one.found], rtol=0, atol=1e-10)
+        assert np.allclose(eq.stiffness[one.found], one.stiffness[one.found], rtol=1e-6)
