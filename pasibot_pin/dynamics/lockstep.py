@@ -60,7 +60,7 @@ class _Walks:
     """The lockstep state: one shared constraint system per stance, per-walk targets and weld offsets."""
 
     def __init__(self, robot, settings: Sequence[SimulationSettings]):
-        self.robot, self.model, self.data = robot, robot.model, robot.data
+        self.model, self.data = robot.model, robot.data
         self.sims = [BipedSimulator(robot, s) for s in settings]
         self.n = len(settings)
         springs = [s.spring for s in settings]
@@ -98,7 +98,7 @@ class _Walks:
             tau[:, i] = -(-k * ((math.pi / 2 - q[:, i]) - b0) - c * (-v[:, i]))
         return tau
 
-    def kkt(self, j: int, q: np.ndarray, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray, v=None):
+    def kkt(self, q: np.ndarray, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray, v=None):
         """One walk's KKT solve (M, and h when ``v`` is given, else h = 0): (a, lambda); _Failed if singular."""
         model, data = self.model, self.data
         pin.crba(model, data, q)
@@ -124,7 +124,7 @@ class _Walks:
             if k in failed:
                 continue
             try:
-                a[j], lam[j] = self.kkt(j, q[j], tau[j], rows.jac[j], rows.drift[j], v[j])
+                a[j], lam[j] = self.kkt(q[j], tau[j], rows.jac[j], rows.drift[j], v[j])
             except _Failed as err:
                 failed[k] = str(err)
         return a, lam
@@ -143,7 +143,7 @@ class _Walks:
                     open_[j] = False
                     continue
                 try:
-                    step = self.kkt(j, q[j], self.zero, rows.jac[j], rows.phi[j])[0]
+                    step = self.kkt(q[j], self.zero, rows.jac[j], rows.phi[j])[0]
                 except _Failed as err:
                     failed[idx[j]], open_[j] = str(err), False
                     continue
