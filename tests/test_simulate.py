@@ -464,3 +464,56 @@ def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
     assert main(quasi) == 0
     assert "equilibrium" in capsys.readouterr().out
     assert (out / "simulation_quasi-static.png").exists()
+
+
+def test_lockstep_walks_equal_the_single_walks():
+    """simulate_many (the dynamic sweep's lockstep walks) gives simulate's walk for each spring: a
+    standing fitted walk, a stiffer one with another rest angle, and a falling one without spring,
+    over two stances at 5 rad/s (a touchdown in between)."""
+    from pasibot_pin.dynamics.lockstep import simulate_many
+    from pasibot_pin.studies.spring_study import scenario_inputs, standing_pitch
+
+    scen = scenario_inputs("run4")
+    springs = [scen.fit, AnkleSpring(2.5 * scen.fit.stiffness, scen.fit.rest_angle + 0.05, 1.0), scen.fit.scaled(0.0)]
+    settings = [
+        SimulationSettings(
+            omega=scen.omega, spring=sp, swing_ankle="rest", dt=0.01, initial_pitch=standing_pitch(scen.robot, sp, 1.6)
+        )
+        for sp in springs
+    ]
+    many = simulate_many(scen.robot, settings, steps=2)
+    assert [run.fell for run in many] == [False, False, True]
+    for run, s in zip(many, settings):
+        one = simulate(scen.robot, s, steps=2)
+        assert (one.fell, one.message, one.stance) == (run.fell, run.message, run.stance)
+        assert run.t == pytest.approx(one.t, abs=1e-12)
+        for name in ("q", "v", "motor_torque", "swing_height"):
+            scale = np.max(np.abs(getattr(one, name)))
+            assert np.max(np.abs(getattr(run, name) - getattr(one, name))) < 1e-9 * scale, name
+        assert len(run.impacts) == len(one.impacts)
+        for a, b in zip(run.impacts, one.impacts):
+            assert (a.t, a.side) == (b.t, b.side)
+            assert a.kinetic_after == pytest.approx(b.kinetic_after, rel=1e-9)
+    with pytest.raises(ValueError, match="differ only"):
+        simulate_many(scen.robot, [settings[0], settings[1].with_(dt=0.02)], steps=1)
+
+
+def test_batched_static_equilibria_equal_the_one_angle_path():
+    """static_equilibria (the static sweep's cells, all at once) finds the same equilibria as
+    static_equilibrium angle by angle: where, the pitch, and the stability; no spring, a softer one
+    with another rest angle, a stiffer one (angles with and without an equilibrium)."""
+    from pasibot_pin.studies.spring_study import scenario_inputs
+    from pasibot_pin.studies.static_batch import static_equilibria
+
+    scen = scenario_inputs("run2")
+    fit = scen.fit
+    springs = [fit.scaled(0.0), AnkleSpring(0.8 * fit.stiffness, fit.rest_angle - math.radians(6)), fit.scaled(1.25)]
+    thetas = np.linspace(math.pi / 2, 1.5 * math.pi, 6, endpoint=False)
+    many = static_equilibria(scen.robot, springs, thetas)
+    found = np.concatenate([eq.found for eq in many])
+    assert found.any() and not found.all()  # both kinds of answers are compared
+    for spring, eq in zip(springs, many):
+        one = static_equilibrium(scen.robot, spring, thetas)
+        assert np.array_equal(one.found, eq.found)
+        assert np.allclose(eq.hip_pitch[one.found], one.hip_pitch[one.found], rtol=0, atol=1e-10)
+        assert np.allclose(eq.stiffness[one.found], one.stiffness[one.found], rtol=1e-6)

@@ -788,13 +788,20 @@ class ConstraintSystem:
             raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
         return a, lam
 
-    def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, t: float = 0.0):
+    def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, t: float = 0.0, mass_ready: bool = False):
         """Constrained forward dynamics, one KKT solve: returns (a, lambda, Rows).
 
         J^T lambda is the constraint force (generalised); M a + h = tau + J^T lambda, J a = -J_dot v.
+
+        ``mass_ready``: ``data`` already holds M(q) of this very ``q`` (the last :meth:`impulse` was at
+        ``q`` and nothing ran ``crba`` since): ``pin.crba`` is skipped, the answer is the same bits.
         """
         rows = self.evaluate(q, v, t)
-        a, lam = self._kkt(q, v, tau, rows.jac, rows.drift)
+        if mass_ready:
+            pin.nonLinearEffects(self.model, self.data, q, v)
+            a, lam = self._kkt_solve(tau, rows.jac, rows.drift)
+        else:
+            a, lam = self._kkt(q, v, tau, rows.jac, rows.drift)
         return a, lam, rows
 
     def impulse(self, q: np.ndarray, v_minus: np.ndarray, t: float = 0.0, rows: Rows | None = None):

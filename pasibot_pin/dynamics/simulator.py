@@ -380,14 +380,21 @@ class BipedSimulator:
             tau = tau + ff
         return tau
 
-    def acceleration(self, cset: ConstraintSystem, t: float, q: np.ndarray, v: np.ndarray):
-        """Constrained forward dynamics: returns (a, lambda, phi)."""
-        a, lam, rows = cset.forward_dynamics(q, v, self.forces(t, q, v), t)
+    def acceleration(self, cset: ConstraintSystem, t: float, q: np.ndarray, v: np.ndarray, mass_ready: bool = False):
+        """Constrained forward dynamics: returns (a, lambda, phi).
+
+        ``mass_ready``: the robot's data already holds M(q) (see :meth:`ConstraintSystem.forward_dynamics`).
+        """
+        a, lam, rows = cset.forward_dynamics(q, v, self.forces(t, q, v), t, mass_ready)
         return a, lam, rows.phi
 
-    def step(self, cset: ConstraintSystem, t: float, q: np.ndarray, v: np.ndarray, h: float):
-        """One integration step of length h; returns (q, v, lambda at the start, drift before projection)."""
-        a1, lam, _ = self.acceleration(cset, t, q, v)
+    def step(self, cset: ConstraintSystem, t: float, q: np.ndarray, v: np.ndarray, h: float, mass_ready: bool = False):
+        """One integration step of length h; returns (q, v, lambda at the start, drift before projection).
+
+        ``mass_ready``: the robot's data holds M(q) of this ``q`` (the previous step's velocity projection
+        ended there): the first stage reuses it. The step leaves M(q_new) in the data.
+        """
+        a1, lam, _ = self.acceleration(cset, t, q, v, mass_ready)
         if self.settings.integrator == "euler":
             v_new = v + h * a1
             q_new = q + h * v_new
@@ -498,12 +505,16 @@ class BipedSimulator:
         fell, message = False, ""
         count = 0
         last_drift = 0.0
+        # M(q) of the last velocity projection stays in the data for the next step's first stage, unless a
+        # feed-forward (which might use the robot's data) runs in between
+        reuse = s.feedforward is None
         for phase, t_end in enumerate(ends):
+            mass_ready = False
             n = max(1, math.ceil((t_end - t) / s.dt - 1e-9))
             h = (t_end - t) / n
             for _ in range(n):
                 try:
-                    q_new, v_new, lam, drift = self.step(cset, t, q, v, h)
+                    q_new, v_new, lam, drift = self.step(cset, t, q, v, h, mass_ready)
                 except ValueError as err:
                     fell, message = True, f"stopped at t = {t:.3f} s: {err}"
                     break
@@ -511,6 +522,7 @@ class BipedSimulator:
                     record(t, q, v, lam, last_drift, labels_index)
                 count += 1
                 q, v, t, last_drift = q_new, v_new, t + h, drift
+                mass_ready = reuse
                 if abs(q[2]) > s.fall_limit:
                     fell = True
                     message = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
@@ -544,6 +556,14 @@ class BipedSimulator:
             except ValueError:
                 lam = np.zeros(cset.nrows)
             record(t, q, v, lam, last_drift, labels_index)
+        return self.result(rec, impacts, fell, message)
+
+    def result(self, rec: dict[str, list], impacts: list[Impact], fell: bool, message: str) -> SimulationResult:
+        """The :class:`SimulationResult` of recorded samples.
+
+        ``rec`` holds lists ``t``, ``q``, ``v``, ``lam`` (right motor, left motor, hip lock torques),
+        ``stance``, ``drift`` and ``swing`` (the swing sole's height).
+        """
         qs = np.array(rec["q"])
         betas = np.column_stack([math.pi / 2 - qs[:, self.ankles[side]] for side in ("right", "left")])
         lam = np.array(rec["lam"])
@@ -561,7 +581,7 @@ class BipedSimulator:
             impacts=impacts,
             fell=fell,
             message=message,
-            settings=s,
+            settings=self.settings,
         )
 
     def _multiplier_rows(self, cset: ConstraintSystem) -> list[int | None]:

@@ -20,7 +20,7 @@ Units: SI; angles [rad].
 from __future__ import annotations
 
 import math
-from collections.abc import Callable, Iterable, Iterator
+from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from functools import cache as _memo
 
@@ -48,7 +48,7 @@ from pasibot_pin.studies.spring_study import (
     spring_case,
     standing_pitch,
     static_equilibrium,
-    sweep_cell,
+    sweep_cells,
     sweep_method_for,
     sweep_springs,
     toppling_stiffness,
@@ -402,14 +402,29 @@ def sweep_row_task(name: str, row: int, settings: SimulationStudySettings) -> np
     NaN marks a cell whose spring is one of the spring cases': :func:`assemble_scenario` fills
     it from that case instead of computing it again.
     """
+    return sweep_rows_task(name, (row,), settings)[0]
+
+
+def sweep_rows_task(name: str, rows: Sequence[int], settings: SimulationStudySettings) -> list[np.ndarray]:
+    """Rows ``rows`` of scenario ``name``'s (K_e, beta0) sweep [rad], as :func:`sweep_row_task` each.
+
+    The cells of all the rows go together to :func:`~pasibot_pin.studies.spring_study.sweep_cells`
+    (a dynamic sweep walks them in lockstep: the more, the cheaper each).
+    """
     scen = cached_inputs(name)
     ks, bs = sweep_springs(scen.fit)
     method = sweep_method_for(scen.omega)
-    out = np.full(len(ks), np.nan)
-    for j, k in enumerate(ks):
-        spring = AnkleSpring(float(k), float(bs[row]), scen.fit.damping)
-        if case_of_cell(scen.fit, spring) is None:
-            out[j] = sweep_cell(scen.robot, scen.omega, spring, method, **_walk_options(name, settings))
+    out = [np.full(len(ks), np.nan) for _ in rows]
+    todo = []
+    for r, row in enumerate(rows):
+        for j, k in enumerate(ks):
+            spring = AnkleSpring(float(k), float(bs[row]), scen.fit.damping)
+            if case_of_cell(scen.fit, spring) is None:
+                todo.append(((r, j), spring))
+    if todo:
+        values = sweep_cells(scen.robot, scen.omega, [sp for _, sp in todo], method, **_walk_options(name, settings))
+        for ((r, j), _), value in zip(todo, values):
+            out[r][j] = value
     return out
 
 
@@ -476,7 +491,7 @@ def scenario_study(name: str, settings: SimulationStudySettings | None = None) -
     """One scenario's spring study, toppling stiffness and fit (independent of the others: a pool task)."""
     settings = settings or SimulationStudySettings()
     cases = {label: case_task(name, label, settings) for label, _ in SPRING_CASES}
-    rows = [sweep_row_task(name, i, settings) for i in range(sweep_shape(name)[0])]
+    rows = sweep_rows_task(name, range(sweep_shape(name)[0]), settings)
     return assemble_scenario(meta_task(name), cases, rows)
 
 

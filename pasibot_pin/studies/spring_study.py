@@ -95,12 +95,23 @@ class StaticProblem:
         self.q_level = q_level.copy()
         swing = _other(stance)
         self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
-        coords = [c for c in self.sim.coordinate_rows(stance) if c.name != "hip_pitch"]
-        cmodels = list(robot.loop_constraints) + [weld]
-        # the hip-pitch row is last; each pitch is a new target of that row, not a new system
-        rows = [*coords, coordinate("hip_pitch", 2)]
-        self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
+        # one system per crank angle: the swing ankle's rest angle and the hip pitch are targets of their
+        # rows (offset 0, so a target t gives the residual q_i - t, the same bits as an offset t)
+        system_key = ("rows", key)
+        if cache is not None and system_key in cache:
+            self.cset = cache[system_key]
+        else:
+            coords = [c.at(0.0) if c.name == f"{swing}_j13_ankle" else c for c in self.sim.coordinate_rows(stance)]
+            coords = [c for c in coords if c.name != "hip_pitch"]
+            cmodels = list(robot.loop_constraints) + [weld]
+            rows = [*coords, coordinate("hip_pitch", 2)]  # the hip-pitch row is last
+            self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
+            if cache is not None:
+                cache[system_key] = self.cset
         self.targets = self.cset.targets(0.0)
+        self.targets[self.cset.labels.index(f"{swing}_j13_ankle") - self.cset.n_constraint_rows] = (
+            math.pi / 2 - spring.rest_angle
+        )
         self.row = self.cset.nrows - 1
         self.projections: dict = {}
         if cache is not None:
@@ -110,18 +121,36 @@ class StaticProblem:
         """The hip-holding torque [N.m] at hip pitch ``pitch`` [rad], and the static q it solved.
 
         ``q_guess``: the Newton start (default: the level pose at this crank angle).
+
+        At rest the system is square (nv rows: loops, weld, cranks, swing ankle, hip), so J a = 0
+        gives a = 0 and M a + h = tau + J^T lambda reduces to J^T lambda = g(q) - tau_spring(q): the
+        hip row's multiplier is x . (g - tau_spring) with J x = e_hip. x . g and x on the ankles
+        depend on q only and are kept with the projection (shared by every stiffness).
         """
         q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
         key = (float(pitch), q.tobytes())
-        if key in self.projections:
-            q = self.projections[key].copy()
-        else:
+        entry = self.projections.get(key)
+        if entry is None:
             targets = self.targets.copy()
             targets[-1] = pitch
             q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
-            self.projections[key] = q.copy()
-        _, lam, _ = self.sim.acceleration(self.cset, 0.0, q, np.zeros(self.robot.model.nv))
-        return float(lam[self.row]), q
+            entry = self.projections[key] = (q.copy(), *self._hip_row(q, self.cset.last_rows.jac))
+        q, x_gravity, x_ankles = entry
+        # tau_spring on an ankle coordinate is -T = K_e (beta - beta0) (damping: no rate at rest)
+        spring = self.sim.settings.spring
+        hold = x_gravity
+        for i, x_i in x_ankles:
+            hold -= x_i * spring.stiffness * ((math.pi / 2 - q[i]) - spring.rest_angle)
+        return float(hold), q.copy()
+
+    def _hip_row(self, q: np.ndarray, jac: np.ndarray) -> tuple[float, tuple[tuple[int, float], ...]]:
+        """The hip row's multiplier map: x . g(q) and x on each ankle coordinate, for J x = e_hip."""
+        model, data = self.robot.model, self.robot.data
+        unit = np.zeros(self.cset.nrows)
+        unit[self.row] = 1.0
+        x = np.linalg.solve(jac, unit)
+        gravity = pin.computeGeneralizedGravity(model, data, q)
+        return float(x.dot(gravity)), tuple((i, float(x[i])) for i in self.sim.ankles.values())
 
 
 def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
@@ -317,12 +346,44 @@ def sweep_cell(
     cache: dict | None = None,
 ) -> float:
     """One cell of the (K_e, beta0) sweep: the largest |hip pitch| [rad] (inf: fell / none stable)."""
+    return float(sweep_cells(robot, omega, [spring], method, steps, swing_ankle, dt, static_samples, cache)[0])
+
+
+def sweep_cells(
+    robot,
+    omega: float,
+    springs: Sequence[AnkleSpring],
+    method: str,
+    steps: int = 2,
+    swing_ankle: str = "rest",
+    dt: float | None = None,
+    static_samples: int = 19,
+    cache: dict | None = None,
+) -> np.ndarray:
+    """Cells of the (K_e, beta0) sweep, one per spring: the largest |hip pitch| [rad] (inf: fell / none stable).
+
+    A static sweep solves every spring's equilibria together
+    (:func:`~pasibot_pin.studies.static_batch.static_equilibria`); a dynamic one with the swing foot
+    at its rest angle walks every spring together
+    (:func:`~pasibot_pin.dynamics.lockstep.simulate_many`: the same walks as :func:`simulate`, to
+    round-off), each from its :func:`standing_pitch`.
+    """
     dt = default_dt(swing_ankle) if dt is None else dt
-    thetas = _static_thetas(static_samples)
-    if method == "static":
-        return static_equilibrium(robot, spring, thetas, cache=cache).max_excursion
-    settings = _walk_settings(omega, spring, swing_ankle, dt, standing_pitch(robot, spring, math.pi / 2, cache))
-    return _run_excursion(simulate(robot, settings, steps=steps))
+    if method == "static":  # every spring and crank angle at once (the same secant, batched)
+        from pasibot_pin.studies.static_batch import static_equilibria
+
+        thetas = _static_thetas(static_samples)
+        return np.array([eq.max_excursion for eq in static_equilibria(robot, springs, thetas, cache=cache)])
+    settings = [
+        _walk_settings(omega, sp, swing_ankle, dt, standing_pitch(robot, sp, math.pi / 2, cache)) for sp in springs
+    ]
+    if swing_ankle == "rest" and settings:
+        from pasibot_pin.dynamics.lockstep import simulate_many
+
+        runs = simulate_many(robot, settings, steps)
+    else:
+        runs = [simulate(robot, st, steps=steps) for st in settings]
+    return np.array([_run_excursion(run) for run in runs], dtype=float)
 
 
 def case_excursion(omega: float, static: StaticEquilibrium, run: SimulationResult | None) -> float:
@@ -410,6 +471,7 @@ def spring_study(
     if len(ks) and len(bs):
         method = sweep_method_for(omega, sweep_method)
         grid = np.full((len(bs), len(ks)), math.inf)
+        todo = []
         for i, beta0 in enumerate(bs):
             for j, k in enumerate(ks):
                 spring = AnkleSpring(float(k), float(beta0), fitted.damping)
@@ -417,7 +479,11 @@ def spring_study(
                 if label is not None:
                     grid[i, j] = case_excursion(omega if method == "dynamic" else 0.0, *cases[label])
                 else:
-                    grid[i, j] = sweep_cell(robot, omega, spring, method, **common)
+                    todo.append(((i, j), spring))
+        if todo:
+            values = sweep_cells(robot, omega, [sp for _, sp in todo], method, **common)
+            for (cell, _), value in zip(todo, values):
+                grid[cell] = value
     return assemble_spring_study(name, omega, fitted, cases, ks, bs, grid, method)
 
 

@@ -1,0 +1,321 @@
+"""Several welded walks at once, in lockstep: the walks of the dynamic spring sweep.
+
+Walks that differ only in their ankle spring (K_e, beta0, c) and their initial hip pitch share the
+touchdown times, the step and every constraint row but two: the stance weld's x (each walk's foot
+lands at its own x; the row is p_foot - p_target, so a walk's residual is the shared one plus
+x_shared - x_walk) and the swing ankle's rest angle (a per-walk target of its row).
+:func:`simulate_many` integrates them together with the same RK4, mass-metric projection and
+impulse as :class:`~pasibot_pin.dynamics.simulator.BipedSimulator`, walk by walk for every
+Pinocchio call (M, h and the KKT solves), but with the constraint rows of every walk in one batched
+evaluation (``ConstraintSystem.evaluate`` on (N, nv)). The answers equal :func:`simulate`'s to
+round-off (the batched rows sum in another order); ``tests/test_simulate.py`` checks it.
+
+Units: SI; angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Sequence
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.constraints.system import STEP_LIMIT, ConstraintSystem
+from pasibot_pin.dynamics.simulator import (
+    BipedSimulator,
+    Impact,
+    SimulationResult,
+    SimulationSettings,
+    _other,
+    foot_pose,
+    sole_height,
+    total_energy,
+)
+
+PROJECT_ITERATIONS = 20
+"""Newton iterations of the projections (the simulator's)."""
+
+
+class _Failed(Exception):
+    """One walk's solve failed (its message is the simulator's)."""
+
+
+def _check(settings: Sequence[SimulationSettings]) -> SimulationSettings:
+    """The shared settings; ValueError unless the walks differ only in spring and initial pitch."""
+    if not settings:
+        raise ValueError("simulate_many needs at least one walk")
+    first = settings[0]
+    for s in settings:
+        if s.with_(spring=first.spring, initial_pitch=first.initial_pitch) != first:
+            raise ValueError("simulate_many: the walks may differ only in their spring and initial pitch")
+    if first.swing_ankle != "rest" or first.integrator != "rk4" or first.feedforward is not None:
+        raise ValueError("simulate_many runs swing_ankle='rest', RK4 walks without feed-forward")
+    if first.record_every != 1 or not first.omega > 0:
+        raise ValueError("simulate_many records every step of a walk with a positive crank rate")
+    return first
+
+
+class _Walks:
+    """The lockstep state: one shared constraint system per stance, per-walk targets and weld offsets."""
+
+    def __init__(self, robot, settings: Sequence[SimulationSettings]):
+        self.model, self.data = robot.model, robot.data
+        self.sims = [BipedSimulator(robot, s) for s in settings]
+        self.n = len(settings)
+        springs = [s.spring for s in settings]
+        self.stiffness = np.array([sp.stiffness for sp in springs])
+        self.rest = np.array([sp.rest_angle for sp in springs])
+        self.damping = np.array([sp.damping for sp in springs])
+        self.ankle_index = list(self.sims[0].ankles.values())
+        self.zero = np.zeros(self.model.nv)
+
+    def stance(self, stance: str, welds: list) -> None:
+        """Take the constraint rows of ``stance`` with each walk's weld (``welds[k]``, None: stopped)."""
+        first = next(w for w in welds if w is not None)
+        self.cset: ConstraintSystem = self.sims[0].constraint_set(stance, first)
+        cset = self.cset
+        self.labels = self.sims[0]._multiplier_rows(cset)
+        self.weld_x = cset.labels.index(f"{first.name}.x")
+        shared = first.joint2_placement.translation[0]
+        self.offset = np.array([0.0 if w is None else shared - w.joint2_placement.translation[0] for w in welds])
+        self.ankle_target = cset.labels.index(f"{_other(stance)}_j13_ankle") - cset.n_constraint_rows
+        self.swing = _other(stance)
+
+    def rows(self, q: np.ndarray, v: np.ndarray | None, t: float, idx: np.ndarray):
+        """The rows of walks ``idx`` at (q, v) (N, nv), time t."""
+        targets = np.repeat(self.cset.targets(t)[None, :], len(idx), axis=0)
+        targets[:, self.ankle_target] = math.pi / 2 - self.rest[idx]
+        rows = self.cset.evaluate(q, v, t, targets)
+        rows.phi[:, self.weld_x] += self.offset[idx]
+        return rows
+
+    def forces(self, q: np.ndarray, v: np.ndarray, idx: np.ndarray) -> np.ndarray:
+        """The ankle springs' generalised forces (N, nv), as :func:`~.simulator.spring_forces`."""
+        tau = np.zeros(q.shape)
+        k, b0, c = self.stiffness[idx], self.rest[idx], self.damping[idx]
+        for i in self.ankle_index:
+            tau[:, i] = -(-k * ((math.pi / 2 - q[:, i]) - b0) - c * (-v[:, i]))
+        return tau
+
+    def kkt(self, q: np.ndarray, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray, v=None):
+        """One walk's KKT solve (M, and h when ``v`` is given, else h = 0): (a, lambda); _Failed if singular."""
+        model, data = self.model, self.data
+        pin.crba(model, data, q)
+        if v is None:
+            data.nle[:] = 0.0
+        else:
+            pin.nonLinearEffects(model, data, q, v)
+        try:
+            a = pin.forwardDynamics(model, data, tau, jac, gamma, 0.0)
+        except RuntimeError as err:
+            raise _Failed(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
+        lam = data.lambda_c.copy()
+        if not math.isfinite(a.dot(a) + lam.dot(lam)):
+            raise _Failed("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
+        return a, lam
+
+    def accelerations(self, t: float, q: np.ndarray, v: np.ndarray, idx: np.ndarray, failed: dict):
+        """Constrained accelerations and multipliers of walks ``idx``; a failing walk goes into ``failed``."""
+        rows = self.rows(q, v, t, idx)
+        tau = self.forces(q, v, idx)
+        a, lam = np.zeros(q.shape), np.zeros((len(idx), self.cset.nrows))
+        for j, k in enumerate(idx):
+            if k in failed:
+                continue
+            try:
+                a[j], lam[j] = self.kkt(q[j], tau[j], rows.jac[j], rows.drift[j], v[j])
+            except _Failed as err:
+                failed[k] = str(err)
+        return a, lam
+
+    def project(self, q: np.ndarray, t: float, idx: np.ndarray, failed: dict):
+        """Mass-metric Newton of walks ``idx`` onto the rows at t: (q, rows at q, residual before)."""
+        q = q.copy()
+        cset = self.cset
+        rows = self.rows(q, None, t, idx)
+        error = np.abs(rows.phi)
+        initial = error.max(axis=1)
+        open_ = ~np.all(error < cset.tolerance, axis=1)
+        for _ in range(PROJECT_ITERATIONS):
+            for j in np.nonzero(open_)[0]:
+                if idx[j] in failed:
+                    open_[j] = False
+                    continue
+                try:
+                    step = self.kkt(q[j], self.zero, rows.jac[j], rows.phi[j])[0]
+                except _Failed as err:
+                    failed[idx[j]], open_[j] = str(err), False
+                    continue
+                largest = np.abs(step).max()
+                if largest > STEP_LIMIT:
+                    step *= STEP_LIMIT / largest
+                q[j] = pin.integrate(self.model, q[j], step)
+            if not np.any(open_):
+                break
+            part = self.rows(q[open_], None, t, idx[open_])
+            rows.phi[open_], rows.jac[open_] = part.phi, part.jac
+            open_[open_] = ~np.all(np.abs(part.phi) < cset.tolerance, axis=1)
+        for j in np.nonzero(open_)[0]:
+            worst = int(np.argmax(np.abs(rows.phi[j]) / cset.tolerance))
+            failed[idx[j]] = (
+                f"loop closure failed: constraint {cset.labels[worst]} keeps a residual of "
+                f"{abs(rows.phi[j, worst]):.3e} after {PROJECT_ITERATIONS} Newton iterations at t = {t:.4f} s; "
+                "the loop cannot assemble there"
+            )
+        return q, rows, initial
+
+    def impulse(self, q: np.ndarray, v: np.ndarray, rows, idx: np.ndarray, failed: dict) -> np.ndarray:
+        """Velocity projection (inelastic impulse) of walks ``idx`` onto J v = -Phi_t."""
+        out = v.copy()
+        for j, k in enumerate(idx):
+            if k in failed:
+                continue
+            model, data = self.model, self.data
+            mass = pin.crba(model, data, q[j])
+            try:
+                out[j] = self.kkt_mass(mass, v[j], rows.jac[j], rows.phi_t[j])
+            except _Failed as err:
+                failed[k] = str(err)
+        return out
+
+    def kkt_mass(self, mass: np.ndarray, v: np.ndarray, jac: np.ndarray, phi_t: np.ndarray) -> np.ndarray:
+        """The impulse's KKT with M already in the data: v+ (_Failed if singular)."""
+        data = self.data
+        data.nle[:] = 0.0
+        try:
+            a = pin.forwardDynamics(self.model, data, mass.dot(v), jac, phi_t, 0.0)
+        except RuntimeError as err:
+            raise _Failed(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
+        if not math.isfinite(a.dot(a) + data.lambda_c.dot(data.lambda_c)):
+            raise _Failed("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
+        return a
+
+
+def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> list[SimulationResult]:
+    """Walk ``steps`` stance phases with each of ``settings`` (see the module docstring).
+
+    Args:
+        robot: the ``spring`` biped (``pp.load("spring", 2)`` or a scenario's copy).
+        settings: one per walk; they may differ only in ``spring`` and ``initial_pitch``
+            (``swing_ankle="rest"``, RK4, no feed-forward, every step recorded).
+        steps: stance phases to walk (a touchdown ends each but the last).
+
+    Returns:
+        One :class:`~pasibot_pin.dynamics.simulator.SimulationResult` per walk, as
+        :func:`~pasibot_pin.dynamics.simulator.simulate` gives it to round-off.
+
+    """
+    s = _check(settings)
+    if int(steps) != steps or steps < 1:
+        raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
+    walks = _Walks(robot, settings)
+    n = walks.n
+    k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
+    ends = [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(int(steps))]
+    starts = [sim.initial_state() for sim in walks.sims]
+    stance = starts[0][2]
+    q = np.array([st[0] for st in starts])
+    v = np.array([st[1] for st in starts])
+    walks.stance(stance, [sim.ground_weld(stance, q[k]) for k, sim in enumerate(walks.sims)])
+    recs = [{key: [] for key in ("t", "q", "v", "lam", "stance", "drift", "swing")} for _ in range(n)]
+    impacts: list[list[Impact]] = [[] for _ in range(n)]
+    fell, message = [False] * n, [""] * n
+    soles = walks.sims[0]._soles
+    failed: dict = {}
+    everyone = np.arange(n)
+    q, rows, _ = walks.project(q, 0.0, everyone, failed)
+    v = walks.impulse(q, v, rows, everyone, failed)
+    if failed:  # the single walk raises here: so does the batch
+        raise ValueError(next(iter(failed.values())))
+    last_drift = np.zeros(n)
+
+    def record(k: int, t: float, qk: np.ndarray, vk: np.ndarray, lam: np.ndarray) -> None:
+        rec = recs[k]
+        rec["t"].append(t)
+        rec["q"].append(qk.copy())
+        rec["v"].append(vk.copy())
+        rec["lam"].append(np.array([0.0 if i is None else lam[i] for i in walks.labels]))
+        rec["stance"].append(stance)
+        rec["drift"].append(last_drift[k])
+        rec["swing"].append(sole_height(robot, qk, walks.swing, soles[walks.swing]))
+
+    def finish(k: int, t: float, qk: np.ndarray, vk: np.ndarray) -> None:
+        """A stopped walk's last sample (its multipliers at (t, q, v), zeros if they fail)."""
+        done: dict = {}
+        lam = walks.accelerations(t, qk[None], vk[None], np.array([k]), done)[1][0]
+        record(k, t, qk, vk, np.zeros(walks.cset.nrows) if done else lam)
+
+    active = np.arange(n)
+    t = 0.0
+    for phase, t_end in enumerate(ends):
+        steps_n = max(1, math.ceil((t_end - t) / s.dt - 1e-9))
+        h = (t_end - t) / steps_n
+        half = h / 2
+        for _ in range(steps_n):
+            if not len(active):
+                break
+            qa, va = q[active], v[active]
+            failed = {}
+            a1, lam = walks.accelerations(t, qa, va, active, failed)
+            v2 = va + half * a1
+            a2 = walks.accelerations(t + half, qa + half * va, v2, active, failed)[0]
+            v3 = va + half * a2
+            a3 = walks.accelerations(t + half, qa + half * v2, v3, active, failed)[0]
+            v4 = va + h * a3
+            a4 = walks.accelerations(t + h, qa + h * v3, v4, active, failed)[0]
+            q_new = qa + h / 6 * ((va + v4) + 2 * (v2 + v3))
+            v_new = va + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
+            q_new, rows, drift = walks.project(q_new, t + h, active, failed)
+            v_new = walks.impulse(q_new, v_new, rows, active, failed)
+            keep = []
+            for j, k in enumerate(active):
+                if k in failed:
+                    fell[k], message[k] = True, f"stopped at t = {t:.3f} s: {failed[k]}"
+                    if not recs[k]["t"] or recs[k]["t"][-1] < t:  # as the single walk: no sample twice
+                        finish(k, t, qa[j], va[j])
+                    continue
+                record(k, t, qa[j], va[j], lam[j])
+                q[k], v[k], last_drift[k] = q_new[j], v_new[j], drift[j]
+                if abs(q[k, 2]) > s.fall_limit:
+                    fell[k] = True
+                    message[k] = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t + h:.3f} s"
+                    finish(k, t + h, q[k], v[k])
+                    continue
+                keep.append(k)
+            active = np.array(keep, dtype=int)
+            t += h
+        if not len(active) or phase == len(ends) - 1:
+            break
+        # touchdown of the swing foot
+        lam = walks.accelerations(t, q[active], v[active], active, {})[1]
+        side = _other(stance)
+        welds: list = [None] * n
+        poses = {}
+        for j, k in enumerate(active):
+            record(k, t, q[k], v[k], lam[j])
+            poses[k] = foot_pose(robot, q[k], side)
+            welds[k] = walks.sims[k].ground_weld(side, q[k])
+        stance = side
+        walks.stance(stance, welds)
+        failed = {}
+        q_land, rows, _ = walks.project(q[active], t, active, failed)
+        keep = []
+        for j, k in enumerate(active):
+            if k in failed:
+                fell[k], message[k] = True, f"landing failed at t = {t:.3f} s: {failed[k]}"
+                continue
+            keep.append(j)
+        if len(keep) < len(active):
+            q_land, active = q_land[keep], active[keep]
+            rows.phi, rows.jac, rows.phi_t = rows.phi[keep], rows.jac[keep], rows.phi_t[keep]
+        q[active] = q_land
+        before = [total_energy(robot, q[k], v[k])["kinetic"] for k in active]
+        v_land = walks.impulse(q[active], v[active], rows, active, failed)
+        for j, k in enumerate(active):
+            v[k] = v_land[j]
+            _, z, pitch = poses[k]
+            impacts[k].append(Impact(t, side, z, pitch, before[j], total_energy(robot, q[k], v[k])["kinetic"]))
+    for k in active:
+        finish(k, t, q[k], v[k])
+    return [walks.sims[k].result(recs[k], impacts[k], fell[k], message[k]) for k in range(n)]
