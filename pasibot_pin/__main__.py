@@ -19,10 +19,15 @@ import signal
 import sys
 import time
 
-import pinocchio as pin
+# Every matrix here is small (a few hundred rows at most): OpenBLAS worker threads only spin, on
+# CPU the pool's other worker needs (a batched solve cost 10x the CPU with them, measured). One
+# BLAS thread per process unless the caller chose otherwise; set before numpy is first imported.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
-from pasibot_pin import __version__
-from pasibot_pin.cli import COMMANDS
+import pinocchio as pin  # noqa: E402
+
+from pasibot_pin import __version__  # noqa: E402
+from pasibot_pin.cli import COMMANDS  # noqa: E402
 
 
 class Terminated(BaseException):
