@@ -44,15 +44,23 @@ def _pinocchio_reactions(model, data, q, v, a, cmodels, lam):
     return out
 
 
+def random_states(variant: str, inertia: str, n: int, seed: int, v_scale: float = 1.0, a_scale: float = 1.0):
+    """A two-leg robot, a fresh Data, and n samples (q, v, a) near q0 but off the manifold (the
+    identities tested hold anywhere); and the generator, for more draws."""
+    robot = pp.load(variant, 2, inertia=inertia)
+    model = robot.model
+    rng = np.random.default_rng(seed)
+    q = robot.q0 + 0.05 * rng.normal(size=(n, model.nq))
+    v, a = v_scale * rng.normal(size=(n, model.nv)), a_scale * rng.normal(size=(n, model.nv))
+    return robot, model.createData(), q, v, a, rng
+
+
 @pytest.mark.parametrize("variant", pp.VARIANTS)
 @pytest.mark.parametrize("inertia", ["point", "uniform"])
 def test_com_accelerations_equal_pinocchio_at_random_states(variant, inertia):
-    robot = pp.load(variant, 2, inertia=inertia)
-    model, data = robot.model, robot.model.createData()
-    rng = np.random.default_rng(7)
     n = 5
-    q = robot.q0 + 0.05 * rng.normal(size=(n, model.nq))  # off the manifold: the identity holds anywhere
-    v, a = rng.normal(size=(n, model.nv)), rng.normal(size=(n, model.nv))
+    robot, data, q, v, a, _ = random_states(variant, inertia, n, seed=7)
+    model = robot.model
     tree = tree_layout(model, robot.constraint_models)
     pos, acc, alpha = tree.body_motion(q, v, a)
     for k in range(n):

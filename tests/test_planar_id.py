@@ -14,7 +14,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from test_newton_euler_batch import _pinocchio_reactions
+from test_newton_euler_batch import _pinocchio_reactions, random_states
 
 import pasibot_pin as pp
 from pasibot_pin.constraints import is_weld
@@ -38,12 +38,9 @@ def _close(ours: np.ndarray, ref: np.ndarray) -> None:
 @pytest.mark.parametrize("variant", pp.VARIANTS)
 @pytest.mark.parametrize("inertia", ["point", "uniform"])
 def test_torques_and_reactions_equal_pinocchio_at_random_states(variant, inertia):
-    robot = pp.load(variant, 2, inertia=inertia)
-    model, data = robot.model, robot.model.createData()
-    rng = np.random.default_rng(11)
     n = 4
-    q = robot.q0 + 0.05 * rng.normal(size=(n, model.nq))  # off the manifold: the identities hold anywhere
-    v, a = 3.0 * rng.normal(size=(n, model.nv)), 30.0 * rng.normal(size=(n, model.nv))
+    robot, data, q, v, a, rng = random_states(variant, inertia, n, seed=11, v_scale=3.0, a_scale=30.0)
+    model = robot.model
     cmodels = robot.constraint_models
     lam = 50.0 * rng.normal(size=(n, sum(3 if is_weld(cm) else 2 for cm in cmodels)))
     tree = tree_layout(model, cmodels)

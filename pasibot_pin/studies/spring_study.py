@@ -334,21 +334,6 @@ def sweep_method_for(omega: float, sweep_method: str | None = None) -> str:
     return method
 
 
-def sweep_cell(
-    robot,
-    omega: float,
-    spring: AnkleSpring,
-    method: str,
-    steps: int = 2,
-    swing_ankle: str = "rest",
-    dt: float | None = None,
-    static_samples: int = 19,
-    cache: dict | None = None,
-) -> float:
-    """One cell of the (K_e, beta0) sweep: the largest |hip pitch| [rad] (inf: fell / none stable)."""
-    return float(sweep_cells(robot, omega, [spring], method, steps, swing_ankle, dt, static_samples, cache)[0])
-
-
 def sweep_cells(
     robot,
     omega: float,
@@ -456,7 +441,7 @@ def spring_study(
         static_samples: crank angles over one stance for the static paths.
 
     Returns:
-        The :class:`SpringStudy`. The pieces (:func:`spring_case`, :func:`sweep_cell`,
+        The :class:`SpringStudy`. The pieces (:func:`spring_case`, :func:`sweep_cells`,
         :func:`assemble_spring_study`) can also run apart, e.g. on a process pool; a sweep cell
         whose spring is one of the cases' is not computed again.
 
