@@ -18,7 +18,6 @@ from test_newton_euler_batch import _pinocchio_reactions, random_states
 
 import pasibot_pin as pp
 from pasibot_pin.constraints import is_weld
-from pasibot_pin.constraints.system import split_torques_many
 from pasibot_pin.dynamics import inverse as dynamics
 from pasibot_pin.dynamics.newton_euler import tree_layout
 from pasibot_pin.dynamics.planar_id import planar_inverse_dynamics
@@ -27,6 +26,14 @@ from pasibot_pin.model.variants import get_motor_layout
 
 RTOL = 1e-9
 """Relative to the largest entry of the reference [-]."""
+
+
+def split_torques_many(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The reference split: tau = S^T u + J^T lambda solved whole, [S^T J^T] (N, nv, nv) -> (u, lambda)."""
+    n = len(tau)
+    mat = np.concatenate((np.broadcast_to(s_matrix.T, (n,) + s_matrix.T.shape), np.swapaxes(jac, 1, 2)), axis=2)
+    x = np.linalg.solve(mat, tau[..., None])[..., 0]
+    return x[:, : s_matrix.shape[0]], x[:, s_matrix.shape[0] :]
 
 
 def _close(ours: np.ndarray, ref: np.ndarray) -> None:

@@ -839,17 +839,6 @@ def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tup
     return x[:ns], x[ns:]
 
 
-def split_torques_many(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """:func:`split_torques` for a batch: tau (N, nv), S (n_u, nv), J (N, m, nv) -> u (N, n_u), lambda (N, m)."""
-    n = len(tau)
-    mat = np.concatenate((np.broadcast_to(s_matrix.T, (n,) + s_matrix.T.shape), np.swapaxes(jac, 1, 2)), axis=2)
-    if mat.shape[1] != mat.shape[2]:
-        raise ValueError(f"split: {mat.shape[2]} unknowns for nv = {mat.shape[1]}; the system must be square")
-    x = _square_solve_many(mat, tau, "split")
-    ns = s_matrix.shape[0]
-    return x[:, :ns], x[:, ns:]
-
-
 def _square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
     """Solve a batch of square systems (N, n, n) x = (N, n), with the errors of :func:`_square_solve`."""
     if matrix.shape[-2] != matrix.shape[-1]:
