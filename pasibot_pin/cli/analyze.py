@@ -29,11 +29,11 @@ STEPS: list[tuple[str, str]] = [
 """(step name, report module) in report order."""
 
 ESTIMATES: dict[str, float] = {
-    "kinematics": 12.0,
-    "contact_energy": 10.0,
-    "dynamics": 5.0,
-    "animation": 3.0,
-    "model": 0.7,
+    "kinematics": 6.7,
+    "contact_energy": 6.7,
+    "dynamics": 2.9,
+    "animation": 2.9,
+    "model": 0.4,
     "design_exploration": 0.6,
 }
 """CPU time [s] of the steps besides the planned ones (measured; they only order the work)."""
