@@ -40,8 +40,10 @@ answers: install
 floor-springs: install
 	$(VENV)/bin/pasibot simulate --ground floor --study --scenario all --out docs --force
 
+# the ratio benchmarks (about 90 s); the demo's own time is `make timings`, compare_outputs.py a tool
+BENCHMARKS := bench_dynamics bench_floor bench_studies bench_floor_section bench_sweep
 bench: install
-	@for script in benchmarks/*.py; do echo "== $$script"; $(PY) $$script; done
+	@set -e; for name in $(BENCHMARKS); do echo "== benchmarks/$$name.py"; $(PY) benchmarks/$$name.py; done
 
 # docs/torques.png drawn by the library (the other docs pictures: make floor-springs, make answers)
 docs-figures: install
