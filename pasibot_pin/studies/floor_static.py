@@ -55,6 +55,7 @@ from pasibot_pin.studies.spring_study import (
     static_equilibrium,
     sweep_springs,
 )
+from pasibot_pin.studies.static_batch import static_equilibria
 
 STATUSES: tuple[str, ...] = ("flat", "heel", "toe", "none", "swing")
 """The floor's answer at one crank angle (see the module docstring)."""
@@ -196,6 +197,7 @@ def floor_static_path(
     thetas: Sequence[float],
     mu: float = 0.8,
     cache: dict | None = None,
+    weld: StaticEquilibrium | None = None,
 ) -> FloorStatic:
     """The quasi-static answer of one spring along ``thetas``, weld and floor (see the module docstring).
 
@@ -205,6 +207,8 @@ def floor_static_path(
         thetas: right crank angles [rad] (the weld's: :func:`static_equilibrium`).
         mu: sole-floor Coulomb friction [-].
         cache: shared between calls on the same robot (the weld's assemblies and the floor's rows).
+        weld: the weld's equilibria of ``spring`` along ``thetas`` if already solved (a sweep
+            solves all its springs at once: :func:`~pasibot_pin.studies.static_batch.static_equilibria`).
 
     """
     mu = _check_mu(mu)
@@ -215,7 +219,7 @@ def floor_static_path(
     if "floor_statics" not in cache:  # one floor model per robot, built once
         cache["floor_statics"] = _FloorStatics(robot)
     statics = cache["floor_statics"]
-    weld = static_equilibrium(robot, spring, thetas, cache=cache)
+    weld = static_equilibrium(robot, spring, thetas, cache=cache) if weld is None else weld
     n = len(thetas)
     heel, toe, tangential, use, cop, clearance, residual = (np.full(n, np.nan) for _ in range(7))
     status = []
@@ -309,18 +313,20 @@ def floor_static_sweep(
     robot, fit = inputs.robot, inputs.fit
     cache: dict = {}
     out = FloorStaticSweep(inputs.name, fit)
-    for label, factor in cases:
-        out.cases[label] = floor_static_path(robot, fit.scaled(factor), thetas, mu, cache)
+    springs = {label: fit.scaled(factor) for label, factor in cases}
+    grid: list[list[AnkleSpring]] = []
     if sweep:
         ks, bs = sweep_springs(fit, sweep_stiffness, sweep_rest)
         out.stiffness, out.rest = np.asarray(ks, dtype=float), np.asarray(bs, dtype=float)
-        for beta0 in out.rest:
-            row = []
-            for k in out.stiffness:
-                spring = AnkleSpring(float(k), float(beta0), fit.damping)
-                same = next((c for (lb, f), c in zip(cases, out.cases.values()) if fit.scaled(f) == spring), None)
-                row.append(same if same is not None else floor_static_path(robot, spring, thetas, mu, cache))
-            out.cells.append(row)
+        grid = [[AnkleSpring(float(k), float(beta0), fit.damping) for k in out.stiffness] for beta0 in out.rest]
+    # the weld's equilibria of every distinct spring in one batched secant search
+    distinct = list(dict.fromkeys([*springs.values(), *(spring for row in grid for spring in row)]))
+    welds = dict(zip(distinct, static_equilibria(robot, distinct, thetas, cache=cache)))
+    answers: dict[AnkleSpring, FloorStatic] = {}
+    for spring in distinct:
+        answers[spring] = floor_static_path(robot, spring, thetas, mu, cache, weld=welds[spring])
+    out.cases = {label: answers[spring] for label, spring in springs.items()}
+    out.cells = [[answers[spring] for spring in row] for row in grid]
     return out
 
 
