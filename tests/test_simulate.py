@@ -26,7 +26,8 @@ from pasibot_pin.dynamics.simulator import (
     simulate,
 )
 from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_configuration
-from pasibot_pin.studies.spring_study import static_equilibrium, toppling_stiffness
+from pasibot_pin.studies.spring_study import toppling_stiffness
+from pasibot_pin.studies.statics import static_equilibrium
 
 G = 9.81
 

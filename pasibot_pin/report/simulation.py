@@ -111,10 +111,10 @@ def case_line(label: str, outcome) -> str:
     Args:
         label: the case label (``fitted``, ``no spring``, ...).
         outcome: a :class:`~pasibot_pin.dynamics.simulator.SimulationResult` or, at omega = 0, a
-            :class:`~pasibot_pin.studies.spring_study.StaticEquilibrium`.
+            :class:`~pasibot_pin.studies.statics.StaticEquilibrium`.
 
     """
-    from pasibot_pin.studies.spring_study import StaticEquilibrium
+    from pasibot_pin.studies.statics import StaticEquilibrium
 
     if isinstance(outcome, StaticEquilibrium):
         exc = outcome.max_excursion

@@ -1,6 +1,6 @@
 """The quasi-static spring study on the floor: the weld's omega -> 0 answer, checked against a real sole.
 
-The welded quasi-static answer (:func:`~pasibot_pin.studies.spring_study.static_equilibrium`) holds
+The welded quasi-static answer (:func:`~pasibot_pin.studies.statics.static_equilibrium`) holds
 the cranks at each crank angle along the stance, keeps the swing foot in the air at its spring's
 rest angle, welds the stance foot flat, and finds the hip pitch where the robot stands still.
 On a floor nothing welds the stance foot: its heel and toe are unilateral contacts with Coulomb
@@ -47,15 +47,9 @@ import pinocchio as pin
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.floor import LOAD_TOL, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
-from pasibot_pin.studies.spring_study import (
-    SPRING_CASES,
-    StaticEquilibrium,
-    StaticProblem,
-    scenario_inputs,
-    static_equilibrium,
-    sweep_springs,
-)
+from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs
 from pasibot_pin.studies.static_batch import static_equilibria
+from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem, static_equilibrium
 
 STATUSES: tuple[str, ...] = ("flat", "heel", "toe", "none", "swing")
 """The floor's answer at one crank angle (see the module docstring)."""

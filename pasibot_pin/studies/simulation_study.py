@@ -38,7 +38,6 @@ from pasibot_pin.studies.spring_study import (
     SPRING_CASES,
     ScenarioInputs,
     SpringStudy,
-    StaticEquilibrium,
     assemble_spring_study,
     case_excursion,
     case_of_cell,
@@ -47,12 +46,12 @@ from pasibot_pin.studies.spring_study import (
     scenario_key,
     spring_case,
     standing_pitch,
-    static_equilibrium,
     sweep_cells,
     sweep_method_for,
     sweep_springs,
     toppling_stiffness,
 )
+from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
 
 MIN_STEPS_PER_STANCE: int = 20
 """Fewest integration steps per stance :class:`SimulateSettings` accepts (``dt`` <= stance / 20)."""

@@ -2,9 +2,8 @@
 
 Built on the simulator of :mod:`pasibot_pin.dynamics.simulator`:
 
-- :func:`static_equilibrium`: the hip pitch where the robot stands still at each crank angle
-  (cranks held, swing foot at the spring's rest angle): the omega -> 0 answer, with its
-  stability (d^2V/dpitch^2).
+- the hip pitch where the robot stands still at each crank angle (the omega -> 0 answer):
+  :func:`~pasibot_pin.studies.statics.static_equilibrium`.
 - :func:`toppling_stiffness`: gravity's negative stiffness k_g = g sum m_i (z_i - z_ankle) about
   the stance ankle; a spring must exceed it to hold the hip at all.
 - :func:`spring_study`: the hip-pitch excursion with the fitted spring, none, half and twice the
@@ -24,191 +23,16 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.simulator import (
     AnkleSpring,
-    BipedSimulator,
     SimulationResult,
     SimulationSettings,
     _check_finite,
-    _other,
     critical_foot_damping,
     simulate,
 )
-
-
-# --------------------------------------------------------------------------- statics (the omega -> 0 limit)
-@dataclass
-class StaticEquilibrium:
-    """Hip pitch at static equilibrium along the crank cycle (cranks still, swing foot at rest angle).
-
-    Attributes:
-        theta: right crank angles (n,) [rad].
-        hip_pitch: equilibrium hip pitch (n,) [rad]; NaN where there is none within the search range.
-        stiffness: d(holding torque)/d(pitch) at the equilibrium, i.e. d^2V/dpitch^2 (n,)
-            [N.m/rad]: positive when the equilibrium is stable, negative when the robot falls away.
-        found: True where an equilibrium was found.
-
-    """
-
-    theta: np.ndarray
-    hip_pitch: np.ndarray
-    stiffness: np.ndarray
-    found: np.ndarray
-
-    @property
-    def max_excursion(self) -> float:
-        """Largest |equilibrium hip pitch| [rad] (inf when some crank angle has no stable equilibrium)."""
-        if not np.all(self.found) or np.any(self.stiffness <= 0):
-            return math.inf
-        return float(np.max(np.abs(self.hip_pitch)))
-
-
-class StaticProblem:
-    """The hip-holding torque as a function of the hip pitch, at one crank angle.
-
-    Cranks locked at ``theta``, swing ankle at the rest angle, stance foot welded flat.
-    ``cache`` (a dict) lets several springs share the work that does not depend on the
-    stiffness: the assembly at each crank angle, and per (crank angle, rest angle) the
-    constraint system and the projections onto it (the same start and pitch give the same q;
-    only the torque, from the spring forces, differs).
-    """
-
-    def __init__(self, robot, spring: AnkleSpring | None, theta: float, cache: dict | None = None):
-        spring = spring if spring is not None else AnkleSpring(0.0, math.pi / 2)
-        settings = SimulationSettings(omega=0.0, spring=spring, hip="level", swing_ankle="rest", theta0=theta)
-        self.robot = robot
-        self.sim = BipedSimulator(robot, settings)
-        key = round(float(theta), 12)
-        shared_key = ("system", key, float(spring.rest_angle))
-        if cache is not None and shared_key in cache:
-            self.q_level, self.cset, self.targets, self.projections = cache[shared_key]
-            self.row = self.cset.nrows - 1
-            return
-        if cache is not None and key in cache:
-            q_level, stance, weld = cache[key]
-        else:
-            q_level, _, stance = self.sim.initial_state()
-            weld = self.sim.ground_weld(stance, q_level)
-            if cache is not None:
-                cache[key] = (q_level, stance, weld)
-        self.q_level = q_level.copy()
-        swing = _other(stance)
-        self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
-        # one system per crank angle: the swing ankle's rest angle and the hip pitch are targets of their
-        # rows (offset 0, so a target t gives the residual q_i - t, the same bits as an offset t)
-        system_key = ("rows", key)
-        if cache is not None and system_key in cache:
-            self.cset = cache[system_key]
-        else:
-            coords = [c.at(0.0) if c.name == f"{swing}_j13_ankle" else c for c in self.sim.coordinate_rows(stance)]
-            coords = [c for c in coords if c.name != "hip_pitch"]
-            cmodels = list(robot.loop_constraints) + [weld]
-            rows = [*coords, coordinate("hip_pitch", 2)]  # the hip-pitch row is last
-            self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
-            if cache is not None:
-                cache[system_key] = self.cset
-        self.targets = self.cset.targets(0.0)
-        self.targets[self.cset.labels.index(f"{swing}_j13_ankle") - self.cset.n_constraint_rows] = (
-            math.pi / 2 - spring.rest_angle
-        )
-        self.row = self.cset.nrows - 1
-        self.projections: dict = {}
-        if cache is not None:
-            cache[shared_key] = (self.q_level, self.cset, self.targets, self.projections)
-
-    def torque(self, pitch: float, q_guess=None) -> tuple[float, np.ndarray]:
-        """The hip-holding torque [N.m] at hip pitch ``pitch`` [rad], and the static q it solved.
-
-        ``q_guess``: the Newton start (default: the level pose at this crank angle).
-
-        At rest the system is square (nv rows: loops, weld, cranks, swing ankle, hip), so J a = 0
-        gives a = 0 and M a + h = tau + J^T lambda reduces to J^T lambda = g(q) - tau_spring(q): the
-        hip row's multiplier is x . (g - tau_spring) with J x = e_hip. x . g and x on the ankles
-        depend on q only and are kept with the projection (shared by every stiffness).
-        """
-        q = self.q_level if q_guess is None else np.array(q_guess, dtype=float)
-        key = (float(pitch), q.tobytes())
-        entry = self.projections.get(key)
-        if entry is None:
-            targets = self.targets.copy()
-            targets[-1] = pitch
-            q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
-            entry = self.projections[key] = (q.copy(), *self._hip_row(q, self.cset.last_rows.jac))
-        q, x_gravity, x_ankles = entry
-        # tau_spring on an ankle coordinate is -T = K_e (beta - beta0) (damping: no rate at rest)
-        spring = self.sim.settings.spring
-        hold = x_gravity
-        for i, x_i in x_ankles:
-            hold -= x_i * spring.stiffness * ((math.pi / 2 - q[i]) - spring.rest_angle)
-        return float(hold), q.copy()
-
-    def _hip_row(self, q: np.ndarray, jac: np.ndarray) -> tuple[float, tuple[tuple[int, float], ...]]:
-        """The hip row's multiplier map: x . g(q) and x on each ankle coordinate, for J x = e_hip."""
-        model, data = self.robot.model, self.robot.data
-        unit = np.zeros(self.cset.nrows)
-        unit[self.row] = 1.0
-        x = np.linalg.solve(jac, unit)
-        gravity = pin.computeGeneralizedGravity(model, data, q)
-        return float(x.dot(gravity)), tuple((i, float(x[i])) for i in self.sim.ankles.values())
-
-
-def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
-    """Torque needed on the hip pitch to hold the robot still at crank angle ``theta`` and ``pitch``.
-
-    The cranks are locked (the motor holds them), the swing ankle sits at the spring's rest
-    angle, the stance foot (from ``theta``) is welded flat. Zero at a static equilibrium.
-
-    Returns:
-        (torque [N.m], q).
-
-    """
-    return StaticProblem(robot, spring, theta).torque(pitch, q_guess)
-
-
-def static_equilibrium(
-    robot,
-    spring: AnkleSpring | None,
-    thetas: Sequence[float],
-    search: float = math.radians(30.0),
-    cache: dict | None = None,
-) -> StaticEquilibrium:
-    """Equilibrium hip pitch at each crank angle (the quasi-static limit omega -> 0).
-
-    For each crank angle, the hip-holding torque tau(pitch) of :func:`static_hip_torque` is
-    driven to zero by the secant method from pitch = 0, within +-``search`` [rad]. ``cache``
-    (a dict, filled on first use) shares the assembly of each crank angle between calls.
-    """
-    thetas = np.asarray(thetas, dtype=float)
-    pitch = np.full(len(thetas), np.nan)
-    stiff = np.full(len(thetas), np.nan)
-    found = np.zeros(len(thetas), dtype=bool)
-    for k, theta in enumerate(thetas):
-        try:
-            problem = StaticProblem(robot, spring, float(theta), cache)
-            p0, p1 = 0.0, 1e-3
-            f0, q = problem.torque(p0)
-            f1, q = problem.torque(p1, q)
-            for _ in range(30):
-                if f1 == f0:
-                    break
-                p2 = p1 - f1 * (p1 - p0) / (f1 - f0)
-                if abs(p2) > search:
-                    break
-                p0, f0 = p1, f1
-                p1 = p2
-                f1, q = problem.torque(p1, q)
-                if abs(p1 - p0) < 1e-12:
-                    break
-            if abs(f1) < 1e-8 and abs(p1) <= search:
-                eps = 1e-5
-                fp = problem.torque(p1 + eps, q)[0]
-                fm = problem.torque(p1 - eps, q)[0]
-                pitch[k], stiff[k], found[k] = p1, (fp - fm) / (2 * eps), True
-        except ValueError:
-            continue
-    return StaticEquilibrium(thetas, pitch, stiff, found)
-
+from pasibot_pin.studies.static_batch import static_equilibria
+from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
 
 # --------------------------------------------------------------------------- the spring study
 SPRING_CASES: tuple[tuple[str, float], ...] = (
@@ -355,8 +179,6 @@ def sweep_cells(
     """
     dt = default_dt(swing_ankle) if dt is None else dt
     if method == "static":  # every spring and crank angle at once (the same secant, batched)
-        from pasibot_pin.studies.static_batch import static_equilibria
-
         thetas = _static_thetas(static_samples)
         return np.array([eq.max_excursion for eq in static_equilibria(robot, springs, thetas, cache=cache)])
     settings = [

@@ -1,7 +1,7 @@
 """Static equilibria of many (spring, crank angle) pairs at once: the static spring sweep's cells.
 
 :func:`static_equilibria` runs, for every spring and every crank angle together, the secant of
-:func:`~pasibot_pin.studies.spring_study.static_equilibrium` (same start, same steps, same stops,
+:func:`~pasibot_pin.studies.statics.static_equilibrium` (same start, same steps, same stops,
 the same central difference for the stability): the hip-holding torque of each pair comes from one
 batched Newton closure (``ConstraintSystem.evaluate`` on (N, nv), one ``np.linalg.solve`` on
 (N, nv, nv) per iteration) and J^T lambda = g - tau_spring. The pairs share one constraint system:
@@ -23,6 +23,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints.system import STEP_LIMIT
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem
 
 MAX_NEWTON = 20
 """Newton iterations of a closure (the one-angle path's)."""
@@ -37,8 +38,6 @@ class _Pairs:
     """Every (spring, crank angle) pair's rows, as targets and weld offsets of one shared system."""
 
     def __init__(self, robot, springs: Sequence[AnkleSpring], thetas: np.ndarray, cache: dict):
-        from pasibot_pin.studies.spring_study import StaticProblem
-
         self.robot = robot
         problems = [[StaticProblem(robot, sp, float(th), cache) for th in thetas] for sp in springs]
         flat = [p for row in problems for p in row]
@@ -132,7 +131,7 @@ def static_equilibria(
     search: float = math.radians(30.0),
     cache: dict | None = None,
 ) -> list:
-    """:func:`~pasibot_pin.studies.spring_study.static_equilibrium` of each spring, all pairs at once.
+    """:func:`~pasibot_pin.studies.statics.static_equilibrium` of each spring, all pairs at once.
 
     Args:
         robot: the scenario's two-legged ``spring`` robot.
@@ -142,11 +141,9 @@ def static_equilibria(
         cache: the static solves' cache (shared with the one-angle path).
 
     Returns:
-        One :class:`~pasibot_pin.studies.spring_study.StaticEquilibrium` per spring.
+        One :class:`~pasibot_pin.studies.statics.StaticEquilibrium` per spring.
 
     """
-    from pasibot_pin.studies.spring_study import StaticEquilibrium
-
     thetas = np.asarray(thetas, dtype=float)
     cache = {} if cache is None else cache
     pairs = _Pairs(robot, springs, thetas, cache)
