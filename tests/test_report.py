@@ -186,10 +186,12 @@ def test_cost_of_transport_figure_is_not_clipped():
 
 
 def test_save_figure_file_writes_the_pixels_savefig_writes(tmp_path):
+    import matplotlib as mpl
     import matplotlib.pyplot as plt
     from PIL import Image
 
     from pasibot_pin.report.files import save_figure_file
+    from pasibot_pin.viz.figure_files import TEXT_HINTING
     from pasibot_pin.viz.plots_layout import subplots
 
     for transparent in (False, True):
@@ -201,7 +203,8 @@ def test_save_figure_file_writes_the_pixels_savefig_writes(tmp_path):
             fig.patch.set_alpha(0.0)
         try:
             save_figure_file(fig, tmp_path / "ours.png", dpi=72)
-            fig.savefig(tmp_path / "theirs.png", dpi=72)  # laid out the same (the engine is idempotent)
+            with mpl.rc_context({"text.hinting": TEXT_HINTING}):  # the text drawn as save_figure_file draws it
+                fig.savefig(tmp_path / "theirs.png", dpi=72)  # laid out the same (the engine is idempotent)
         finally:
             plt.close(fig)
         ours, theirs = Image.open(tmp_path / "ours.png"), Image.open(tmp_path / "theirs.png")

@@ -17,6 +17,7 @@ from __future__ import annotations
 import numpy as np
 from matplotlib.layout_engine import LayoutEngine
 from matplotlib.text import Text
+from matplotlib.ticker import AutoLocator, MaxNLocator
 
 PAD = 4.0 / 72.0
 """Space kept free at the figure's edges and between panels [in]."""
@@ -229,13 +230,26 @@ TICK_BINS = 5
 a tick and its label cost more to draw than a curve."""
 
 
-def fewer_ticks(ax) -> None:
-    """Give ``ax``'s linear axes a :class:`~matplotlib.ticker.MaxNLocator` of :data:`TICK_BINS` bins."""
-    from matplotlib.ticker import AutoLocator, MaxNLocator
+class InViewLocator(MaxNLocator):
+    """A :class:`~matplotlib.ticker.MaxNLocator` that gives only the ticks in view.
 
+    ``MaxNLocator`` also returns a tick on either side beyond the view, for which matplotlib builds
+    a tick (lines and labels) at every draw only to leave it undrawn.
+    """
+
+    def __call__(self):
+        """The tick locations inside the axis' view interval."""
+        low, high = sorted(self.axis.get_view_interval())
+        locs = self.tick_values(low, high)
+        slack = 1e-10 * (high - low)
+        return locs[(locs >= low - slack) & (locs <= high + slack)]
+
+
+def fewer_ticks(ax) -> None:
+    """Give ``ax``'s linear axes at most :data:`TICK_BINS` + 1 major ticks, all in view."""
     for axis in (ax.xaxis, ax.yaxis):
         if type(axis.get_major_locator()) is AutoLocator:
-            axis.set_major_locator(MaxNLocator(TICK_BINS, steps=[1, 2, 2.5, 5, 10]))
+            axis.set_major_locator(InViewLocator(TICK_BINS, steps=[1, 2, 2.5, 5, 10]))
 
 
 def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
