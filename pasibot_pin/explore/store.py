@@ -18,6 +18,7 @@ Rows: ``index``, every parameter of the design record by its flat name (``varian
 from __future__ import annotations
 
 import json
+import math
 import shutil
 import time
 from collections.abc import Iterable, Mapping, Sequence
@@ -35,7 +36,8 @@ OWNED = (PLAN_FILE, PARTS, RESULTS, RESULTS_CSV, "pareto.png", "sensitivity.png"
 """The names a run writes in its folder (``--force`` removes these, nothing else)."""
 
 FLUSH_SECONDS: float = 2.0
-"""Finished rows are written at least this often [s]."""
+"""Finished rows are written at least this often [s]; the first finished rows at once (a run shows
+on disk that it works, and an interrupted one keeps them)."""
 
 
 def parameter_names() -> list[str]:
@@ -95,7 +97,7 @@ class ResultStore:
         self.total = int(total)
         self.schema = schema(extra)
         self._buffer: list[dict] = []
-        self._last_flush = time.monotonic()
+        self._last_flush = -math.inf  # the first rows are written as soon as they finish
         self._check(force)
         self.done: set[int] = self._done_indices()
 
@@ -146,7 +148,7 @@ class ResultStore:
 
     # ---- writing
     def add(self, rows: Iterable[Mapping]) -> None:
-        """Buffer finished rows; write them when :data:`FLUSH_SECONDS` have passed."""
+        """Buffer finished rows; write them when :data:`FLUSH_SECONDS` have passed since the last part."""
         for row in rows:
             self._buffer.append(dict(row))
             self.done.add(int(row["index"]))
