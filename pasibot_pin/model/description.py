@@ -7,6 +7,7 @@ turns every pair into a Pinocchio constraint model.
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -150,12 +151,24 @@ def render_urdf(
     Returns:
         The URDF as a string. The xacro banner names the source relative to the
         repository, so the text does not depend on where the package is installed.
+        The text of the last :data:`RENDER_CACHE` distinct argument sets is kept (xacro takes
+        tens of milliseconds; a study loads the same design many times).
 
     """
+    mappings = xacro_arguments(variant, legs, geometry, masses)
+    return _render(tuple(sorted(mappings.items())))
+
+
+RENDER_CACHE = 64
+"""How many rendered URDF texts :func:`render_urdf` keeps (one per distinct xacro argument set)."""
+
+
+@functools.lru_cache(maxsize=RENDER_CACHE)
+def _render(mappings: tuple[tuple[str, str], ...]) -> str:
+    """The xacro source processed with ``mappings`` (sorted (name, value) pairs), as URDF text."""
     import xacro
 
-    mappings = xacro_arguments(variant, legs, geometry, masses)
-    document = xacro.process_file(str(XACRO_PATH), mappings=mappings)
+    document = xacro.process_file(str(XACRO_PATH), mappings=dict(mappings))
     text = document.toprettyxml(indent="  ")
     return text.replace(str(XACRO_PATH), "urdf/pasibot.urdf.xacro")
 
