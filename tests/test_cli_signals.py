@@ -12,6 +12,10 @@ import pytest
 
 from pasibot_pin.__main__ import descendants
 
+SETTLE = 0.3
+"""Seconds between the children starting and the signal: they are then at work (importing,
+computing), which is when a stop must still clean up."""
+
 
 def _alive(pid: int) -> bool:
     try:
@@ -76,7 +80,7 @@ def test_view_stops_its_meshcat_server(tmp_path, sig, group):
     except BaseException:
         proc.kill()
         raise
-    time.sleep(1.0)
+    time.sleep(SETTLE)
     children = descendants(proc.pid)
     # Ctrl-C is the documented end of --hold -1: exit code 0 then
     err = _stop_and_check(proc, sig, children, group, ok=(0,) if sig == signal.SIGINT else ())
@@ -95,7 +99,7 @@ def test_analyze_stops_its_pool_workers_and_leaves_no_half_file(tmp_path, sig, g
     except BaseException:
         proc.kill()
         raise
-    time.sleep(1.0)
+    time.sleep(SETTLE)
     children = descendants(proc.pid)
     assert len(children) >= 2
     _stop_and_check(proc, sig, children, group)
