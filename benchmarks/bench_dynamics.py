@@ -25,7 +25,8 @@ Measured in one run, on the same model (the ``spring`` biped, run 4: 5 rad/s, bo
    exact v and a, the ID, the split and every reaction. Our pipeline with the seed's own
    accelerations (``accelerations="central"``) gives the same T_a, T_e to 1e-9 (checked). The
    issue's old ratio (the seed's assemble + solve alone, for one sample in a Python loop, its
-   kinematics given for free, over our batched sample) is printed too, labelled as such.
+   kinematics given for free, over our batched sample) is printed too, labelled as such, and
+   the same port called one sample at a time with its kinematics (5. on a one-sample batch).
 
 Every case is timed in each of ``ROUNDS`` rounds, in turn (interleaved), and keeps its best round.
 Times are the process's CPU time (user + sys, ``time.process_time``), not wall time: on a shared
@@ -369,6 +370,7 @@ def main() -> None:
         ),
         "seed_batch": (lambda: seed.run(thetas, scenario.omega), 3, len(thetas)),
         "seed_loop": (lambda: free_body_solve(geo), 20, 1),
+        "seed_loop_kin": (lambda: [seed.run(thetas[k : k + 1], scenario.omega) for k in range(len(thetas))], 1, 41),
         "fd": (lambda: sim.acceleration(cset, 0.0, q0, v0), 100, 1),
         "rk4": (lambda: sim.step(cset, 0.0, q0, v0, 2e-3), 10, 1),
         "floor": (lambda: floor.step(0.0, fq, fv, floor.settings.dt), 10, 1),
@@ -407,6 +409,7 @@ def main() -> None:
     )
     line("seed free-body, whole stance batched: kinematics, A, solve", best["seed_batch"], t_rnea, "")
     line("seed free-body, A.F = b alone, one sample (geometry given)", best["seed_loop"], t_rnea, "")
+    line("seed free-body, one sample per call, its kinematics included", best["seed_loop_kin"], t_rnea, "")
     full, bare, batch, loop = best["full"], best["bare"], best["seed_batch"], best["seed_loop"]
     print(
         "speed-up of one full sample over the seed's free-body method (goal >= 10):\n"
@@ -414,6 +417,9 @@ def main() -> None:
         "  Python loop, as the issue measured it) over our full sample, batched over the 41-sample stance:\n"
         f"    ours with every reaction:    {loop / full:6.2f} x\n"
         f"    ours without reactions:      {loop / bare:6.2f} x\n"
+        "  the seed's port one sample per call with its kinematics (the batched port below, called per\n"
+        "  sample: closed-form assembly at theta and theta +- 0.1 rad, A, solve) over our batched full sample:\n"
+        f"    ours with every reaction:    {best['seed_loop_kin'] / full:6.2f} x\n"
         "  like for like: both batched over the same 41-sample stance, from crank angles to T_a, T_e\n"
         "  and every joint force (the seed's side with its kinematics):\n"
         f"    ours with every reaction:    {batch / full:6.2f} x\n"
