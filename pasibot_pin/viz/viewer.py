@@ -140,14 +140,25 @@ _COMMAND = re.compile(
 )
 
 
-def _animation_last(html: str) -> str:
-    """Move the ``set_animation`` command(s) of a meshcat static page after every other command."""
+def _command_type(packed: bytes) -> str:
+    """The ``type`` of a msgpack-packed meshcat command.
+
+    Every command's ``lower()`` puts ``type`` first, so it is read from the first bytes (a map
+    header, the key ``type``, a short string); anything else is unpacked whole.
+    """
+    if len(packed) > 6 and packed[1:6] == b"\xa4type" and 0xA0 <= packed[6] <= 0xBF:
+        return packed[7 : 7 + (packed[6] & 0x1F)].decode("utf-8")
     import umsgpack
 
+    return umsgpack.unpackb(packed)["type"]
+
+
+def _animation_last(html: str) -> str:
+    """Move the ``set_animation`` command(s) of a meshcat static page after every other command."""
     commands = list(_COMMAND.finditer(html))
     if not commands:
         raise RuntimeError("no meshcat commands found in static_html()")
-    moved = [m for m in commands if umsgpack.unpackb(base64.b64decode(m["data"]))["type"] == "set_animation"]
+    moved = [m for m in commands if _command_type(base64.b64decode(m["data"])) == "set_animation"]
     if not moved:
         return html
     end = commands[-1].end()
