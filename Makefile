@@ -45,7 +45,8 @@ BENCHMARKS := bench_dynamics bench_floor bench_studies bench_floor_section bench
 bench: install
 	@set -e; for name in $(BENCHMARKS); do echo "== benchmarks/$$name.py"; $(PY) benchmarks/$$name.py; done
 
-# docs/torques.png drawn by the library (the other docs pictures: make floor-springs, make answers)
+# the README's pictures (docs/variants.png, gait.gif, kinematics.png, torques.png, simulation.png) drawn by
+# the library, about 3 s (the other docs pictures: make floor-springs, make answers)
 docs-figures: install
 	$(PY) -m pasibot_pin.report.docs_figures
 

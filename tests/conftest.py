@@ -53,7 +53,7 @@ WHOLE_MODULES = frozenset(
 # keeps one worker busy alone), from the durations of a run on two workers (`--durations`).
 # A nodeid prefix each; the other units follow in collection order.
 LONGEST_FIRST = (
-    "tests/test_browser.py",  # ~26 s of Chromium, on two threads
+    "tests/test_browser.py",  # ~13 s of Chromium, two browsers at once
     "tests/test_floor_static.py",  # its module fixtures: the quasi-static study of runs 1-4
     "tests/test_energy.py::test_analyze_step_contact_energy",
     "tests/test_floor.py::test_analyze_floor_section",
@@ -72,6 +72,7 @@ LONGEST_FIRST = (
     "tests/test_floor.py::test_simulate_study_command",
     "tests/test_notebooks.py::test_notebook_runs[04_viewer",
     "tests/test_readme_numbers.py::test_spring_study_bullets",
+    "tests/test_docs_figures.py::test_docs_picture_is_the_library_drawing[simulation",
     "tests/test_notebooks.py::test_notebook_runs[02_kinematics",
     "tests/test_viewer.py",
     "tests/test_report.py::test_torques_section",

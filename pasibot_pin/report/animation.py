@@ -21,6 +21,35 @@ FPS = 30.0
 """HTML frames per second [1/s]."""
 GIF_STRIDE = 2
 """The GIF keeps every ``GIF_STRIDE``-th frame, played at ``FPS / GIF_STRIDE`` (the HTML's speed)."""
+GIF_DPI = 80
+"""Resolution of ``gait.gif`` [dots per inch] (512 x 400 pixels)."""
+PLAYBACK_OMEGA = math.pi * FPS / SAMPLES_PER_STEP
+"""The crank speed at which the animation plays [rad/s] (its arrows' inverse dynamics)."""
+
+
+def _gif(robot, q, ground, path: Path, dpi: int):
+    """The stick GIF of the walk ``q`` with its ``ground`` reaction track (every :data:`GIF_STRIDE`-th frame); its q."""
+    import numpy as np
+
+    from pasibot_pin.viz.animation import save_gif
+
+    qs = q[::GIF_STRIDE]
+    ground = type(ground)(ground.points[::GIF_STRIDE], ground.forces[::GIF_STRIDE], ground.scale, ground.colour)
+    times = np.arange(len(q))[::GIF_STRIDE] / FPS
+    save_gif(robot, qs, path, fps=FPS / GIF_STRIDE, dpi=dpi, force=True, forces={"ground": ground}, times=times)
+    return qs
+
+
+def write_gait_gif(path: Path, dpi: int = GIF_DPI) -> Path:
+    """The ``analyze`` walk's stick GIF alone (no HTML written), at ``dpi`` [dots per inch]."""
+    from pasibot_pin.model.robot import load
+    from pasibot_pin.viz.viewer import reaction_forces, walk_trajectory
+
+    robot = load(VARIANT, legs=2)
+    walk = walk_trajectory(robot, steps=STEPS, samples_per_step=SAMPLES_PER_STEP)
+    ground = reaction_forces(robot, walk, omega=PLAYBACK_OMEGA)["ground"]
+    _gif(robot, walk.q, ground, Path(path), dpi)
+    return Path(path)
 
 
 def export_animation(robot, result, html: Path | None = None, gif: Path | None = None, fps: float = 20.0) -> list[Path]:
@@ -76,11 +105,9 @@ def section(out_dir: Path) -> str:
     from pasibot_pin.model.closure import constraint_residual
     from pasibot_pin.model.robot import load
     from pasibot_pin.report.markdown import figure
-    from pasibot_pin.viz.animation import save_gif
     from pasibot_pin.viz.viewer import export_html
 
     robot = load(VARIANT, legs=2)
-    omega = math.pi * FPS / SAMPLES_PER_STEP  # the crank speed at which the animation plays [rad/s]
     export = export_html(
         out_dir / "gait.html",
         robot,
@@ -88,15 +115,9 @@ def section(out_dir: Path) -> str:
         samples_per_step=SAMPLES_PER_STEP,
         fps=FPS,
         force=True,
-        reactions=omega,
+        reactions=PLAYBACK_OMEGA,
     )
-    gif_qs = export.q[::GIF_STRIDE]
-    ground = export.forces["ground"]
-    ground = type(ground)(ground.points[::GIF_STRIDE], ground.forces[::GIF_STRIDE], ground.scale, ground.colour)
-    times = np.arange(len(export.q))[::GIF_STRIDE] / FPS
-    save_gif(
-        robot, gif_qs, out_dir / "gait.gif", fps=FPS / GIF_STRIDE, force=True, forces={"ground": ground}, times=times
-    )
+    gif_qs = _gif(robot, export.q, export.forces["ground"], out_dir / "gait.gif", GIF_DPI)
     worst = max(float(np.abs(constraint_residual(robot, q, robot.loop_constraints)).max()) for q in export.q)
     return "\n".join(
         [
@@ -106,7 +127,7 @@ def section(out_dir: Path) -> str:
             f"[gait.html](gait.html) is one self-contained page (meshcat, {len(export.q)} frames at {FPS:g} fps,"
             " looping; open it in any browser, add `#t=1.0` to the address to pause at 1 s).",
             f"Largest loop-closure residual over the exported frames: {worst:.1e} m.",
-            f"Arrows (from the constrained inverse dynamics at the playback crank speed {omega:.3f} rad/s):"
+            f"Arrows (from the constrained inverse dynamics at the playback crank speed {PLAYBACK_OMEGA:.3f} rad/s):"
             " magenta, the ground reaction through the centre of pressure (0.5 mm/N); yellow, the force"
             " on the first link of each cut joint (the largest drawn 0.15 m long).",
             "",

@@ -1,7 +1,15 @@
 """The README's pictures, drawn by the library (``make docs-figures``), not by hand.
 
-:func:`write_torques_figure` draws ``docs/torques.png``: run 2's torques against the stance ankle
-angle with the fitted spring, the default model beside the seed preset.
+- :func:`write_variants_figure`: ``docs/variants.png``, the three variants (two legs) at q0;
+- :func:`write_gait_gif`: ``docs/gait.gif``, the ``analyze`` walk's stick GIF, smaller;
+- :func:`write_kinematics_figure`: ``docs/kinematics.png``, the parallel leg's foot paths over a
+  crank turn beside the spring biped walking three steps;
+- :func:`write_torques_figure`: ``docs/torques.png``, run 2's torques against the stance ankle
+  angle with the fitted spring, the default model beside the seed preset;
+- :func:`write_simulation_figure`: ``docs/simulation.png``, run 1's hip pitch with the fitted, no,
+  half and twice the stiffness beside its (K_e, beta0) sweep.
+
+``tests/test_docs_figures.py`` redraws each and compares it with the committed file.
 """
 
 from __future__ import annotations
@@ -10,24 +18,15 @@ from pathlib import Path
 
 DOCS_DPI: int = 100
 """The resolution of the README's pictures [dots per inch], the report's."""
+GIF_DPI: int = 60
+"""The resolution of ``docs/gait.gif`` [dots per inch]: 384 x 300 pixels (the report's is 80)."""
 
 
-def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
-    """``docs/torques.png``: T_a, T_e, T_a', T_e' against beta with the fit, default model | seed preset."""
-    import matplotlib
-
-    matplotlib.use("Agg")
+def _save(fig, path: Path) -> Path:
     import matplotlib.pyplot as plt
 
     from pasibot_pin.report.files import save_figure_file
-    from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
-    from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
-    from pasibot_pin.viz.plots_layout import subplots
 
-    fig, axes = subplots(1, 2, figsize=(13, 4.5))
-    for ax, preset in zip(axes, ("default", "seed")):
-        run = scenario_torques(TorqueSettings(scenario=scenario, preset=preset))
-        plot_torques_vs_beta(run.result, run.fit, ax=ax, title=f"{run.scenario.description} [{preset}]")
     try:
         save_figure_file(fig, Path(path), DOCS_DPI)
     finally:
@@ -35,10 +34,91 @@ def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
     return Path(path)
 
 
+def _subplots(*args, **kwargs):
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pasibot_pin.viz.plots_layout import subplots
+
+    return subplots(*args, **kwargs)
+
+
+def write_variants_figure(path: Path) -> Path:
+    """``docs/variants.png``: rigid, parallel and spring (two legs) at their q0, side by side."""
+    from pasibot_pin.model.params import VARIANTS
+    from pasibot_pin.model.robot import load
+    from pasibot_pin.viz.plots import plot_robot
+
+    fig, axes = _subplots(1, len(VARIANTS), figsize=(10, 5))
+    for ax, variant in zip(axes, VARIANTS):
+        plot_robot(load(variant, 2), ax=ax)
+    return _save(fig, path)
+
+
+def write_kinematics_figure(path: Path) -> Path:
+    """``docs/kinematics.png``: the parallel leg's foot paths (leg frame) | the spring biped's three steps."""
+    from pasibot_pin.kinematics.gait import walk
+    from pasibot_pin.kinematics.leg import crank_grid, leg_cycle
+    from pasibot_pin.model.robot import load
+    from pasibot_pin.viz.plots_gait import plot_leg_paths, plot_walk
+
+    fig, axes = _subplots(1, 2, figsize=(11.5, 4.6))
+    plot_leg_paths(leg_cycle(load("parallel", 1), crank_grid()), ax=axes[0])
+    plot_walk(walk(load("spring", 2), 3, 36), ax=axes[1], snapshots=4, points=("ankle",))
+    return _save(fig, path)
+
+
+def write_simulation_figure(path: Path, scenario: str = "run1") -> Path:
+    """``docs/simulation.png``: the scenario's hip pitch for its four springs | its (K_e, beta0) sweep."""
+    from pasibot_pin.studies.simulation_study import scenario_study
+    from pasibot_pin.viz.plots_simulation import plot_hip_pitch, plot_spring_sweep
+
+    study = scenario_study(scenario).study
+    fig, axes = _subplots(1, 2, figsize=(12, 4.8))
+    plot_hip_pitch(study.runs, ax=axes[0])
+    axes[0].set_title(f"{scenario} ({study.omega:g} rad/s): hip pitch, hip free (x: fell)")
+    fitted = (study.fitted.stiffness, study.fitted.rest_angle)
+    plot_spring_sweep(
+        study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best, ax=axes[1]
+    )
+    axes[1].set_title(f"{study.sweep_method} sweep: max |hip pitch|")
+    return _save(fig, path)
+
+
+def write_gait_gif(path: Path) -> Path:
+    """``docs/gait.gif``: the stick GIF of ``pasibot analyze``'s walk (its frames), at :data:`GIF_DPI`."""
+    from pasibot_pin.report.animation import write_gait_gif as write
+
+    return write(Path(path), dpi=GIF_DPI)
+
+
+def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
+    """``docs/torques.png``: T_a, T_e, T_a', T_e' against beta with the fit, default model | seed preset."""
+    from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
+    from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
+
+    fig, axes = _subplots(1, 2, figsize=(13, 4.5))
+    for ax, preset in zip(axes, ("default", "seed")):
+        run = scenario_torques(TorqueSettings(scenario=scenario, preset=preset))
+        plot_torques_vs_beta(run.result, run.fit, ax=ax, title=f"{run.scenario.description} [{preset}]")
+    return _save(fig, path)
+
+
+DOCS_PICTURES = (
+    (write_variants_figure, "variants.png"),
+    (write_gait_gif, "gait.gif"),
+    (write_kinematics_figure, "kinematics.png"),
+    (write_torques_figure, "torques.png"),
+    (write_simulation_figure, "simulation.png"),
+)
+"""Every README picture and the function that draws it."""
+
+
 def main() -> None:
     """Draw the README's generated pictures into ``docs/``."""
     docs = Path(__file__).resolve().parents[2] / "docs"
-    print(write_torques_figure(docs / "torques.png"))
+    for write, name in DOCS_PICTURES:
+        print(write(docs / name))
 
 
 if __name__ == "__main__":

@@ -171,6 +171,11 @@ def plot_leg_summary(cycle: LegCycle):
     return fig
 
 
+WALK_LEGEND_GAP = 6.0
+"""Gap between the walk plot's x axis and its legend below, in legend font sizes (7 pt): room for
+the tick labels and the axis label."""
+
+
 def plot_walk(walk, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ankle", "toe", "heel")):
     """The biped walking in the world frame: hip path, both feet's paths, stick figures.
 
@@ -207,7 +212,8 @@ def plot_walk(walk, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ank
     steps = int(walk.step.max()) + 1
     ax.set_title(f"PASIBOT {robot.variant}: {steps} step(s), foot = {walk.foot}")
     ax.grid(True, alpha=0.3)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=4)
+    # below the x axis' tick labels and label whatever the axes' height (borderaxespad in legend font sizes)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=WALK_LEGEND_GAP, ncol=4)
     return fig
 
 
