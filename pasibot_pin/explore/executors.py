@@ -53,6 +53,11 @@ def check_scheduler(address: str | None) -> None:
         from distributed import Client
     except ImportError:
         raise ValueError("--dask needs the sweep extra: pip install 'pasibot-pin[sweep]'") from None
+    from pasibot_pin.net import tcp_refused
+
+    refused = tcp_refused(address)
+    if refused:
+        raise ValueError(f"--dask {address}: cannot reach a Dask scheduler there ({refused})")
     try:
         Client(address, timeout=CONNECT_TIMEOUT).close()
     except (OSError, TimeoutError, ValueError) as err:

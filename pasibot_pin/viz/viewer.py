@@ -291,7 +291,8 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
 def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
     """Ask the meshcat server at ``zmq_url`` for its web address, waiting at most ``timeout`` [s].
 
-    meshcat's own client waits forever for a server that does not answer; this asks first.
+    meshcat's own client waits forever for a server that does not answer; this asks first (and a
+    closed port is refused at once, without the wait).
 
     Returns:
         The server's web address.
@@ -302,6 +303,14 @@ def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
     """
     import zmq
 
+    from pasibot_pin.net import tcp_refused
+
+    refused = tcp_refused(zmq_url)
+    if refused:
+        raise ValueError(
+            f"parameter 'zmq_url': no meshcat server answered at {zmq_url} ({refused}; start one with "
+            "meshcat-server, or leave --zmq-url out to start our own)"
+        )
     context = zmq.Context.instance()
     socket = context.socket(zmq.REQ)
     socket.setsockopt(zmq.LINGER, 0)
