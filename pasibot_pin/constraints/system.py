@@ -773,20 +773,8 @@ class ConstraintSystem:
         return mass
 
     def _kkt_solve(self, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):
-        """Solve M a + h = tau + J^T lambda, J a = -gamma with M and h already in ``data``; returns (a, lambda).
-
-        ``pin.forwardDynamics`` with our rows as its constraint Jacobian: a Cholesky factorisation
-        of M and of J M^-1 J^T (J must have full row rank).
-        """
-        data = self.data
-        try:
-            a = pin.forwardDynamics(self.model, data, tau, jac, gamma, 0.0)  # a new array
-        except RuntimeError as err:
-            raise ValueError(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
-        lam = data.lambda_c.copy()
-        if not math.isfinite(a.dot(a) + lam.dot(lam)):  # a NaN or an infinity anywhere shows in the sum
-            raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
-        return a, lam
+        """Solve M a + h = tau + J^T lambda, J a = -gamma with M and h already in ``data``: :func:`kkt_solve`."""
+        return kkt_solve(self.model, self.data, tau, jac, gamma)
 
     def forward_dynamics(self, q: np.ndarray, v: np.ndarray, tau: np.ndarray, t: float = 0.0, mass_ready: bool = False):
         """Constrained forward dynamics, one KKT solve: returns (a, lambda, Rows).
@@ -817,6 +805,38 @@ class ConstraintSystem:
         rows = self.evaluate(q, None, t) if rows is None else rows
         mass = self._mass_only(q)
         return self._kkt_solve(mass.dot(v_minus), rows.jac, rows.phi_t)
+
+
+def kkt_solve(model: pin.Model, data: pin.Data, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):
+    """Solve M a + h = tau + J^T lambda, J a = -gamma with M and h already in ``data``; returns (a, lambda).
+
+    ``pin.forwardDynamics`` with the rows ``jac`` as its constraint Jacobian: a Cholesky
+    factorisation of M (the upper triangle of ``data.M``) and of J M^-1 J^T (J must have full row
+    rank). Every KKT solve of the package goes through here: the simulator's accelerations and
+    impacts, the lockstep walks and the floor's contact QP (with H for M and g for h - tau).
+
+    Args:
+        model: the Pinocchio model.
+        data: its data, holding M in ``data.M`` and h in ``data.nle``.
+        tau: generalised force (nv,).
+        jac: the rows' Jacobian J (m, nv).
+        gamma: the rows' right-hand side: J a = -gamma (m,).
+
+    Returns:
+        (a (nv,), lambda (m,)), both new arrays.
+
+    Raises:
+        ValueError: a singular system (the constraint Jacobian lost rank) or a non-finite answer.
+
+    """
+    try:
+        a = pin.forwardDynamics(model, data, tau, jac, gamma, 0.0)  # a new array
+    except RuntimeError as err:
+        raise ValueError(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
+    lam = data.lambda_c.copy()
+    if not math.isfinite(a.dot(a) + lam.dot(lam)):  # a NaN or an infinity anywhere shows in the sum
+        raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
+    return a, lam
 
 
 def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:

@@ -12,7 +12,8 @@ first solves the KKT system of the last step's active set exactly,
     [H  -E^T] [x]   [-g]
     [E    0 ] [λ] = [ r],   E = [A; C_W], r = [b; l_W],
 
-with Pinocchio's ``forwardDynamics`` (Cholesky factors of H and of E H^-1 E^T), and keeps that
+with Pinocchio's ``forwardDynamics`` (:func:`~pasibot_pin.constraints.system.kkt_solve`: Cholesky
+factors of H and of E H^-1 E^T), and keeps that
 answer only if it *is* the QP's solution:
 every active cone multiplier >= 0, every other cone row satisfied (to :data:`FEASIBILITY_TOL`),
 the rows met to :data:`RESIDUAL_TOL`. A negative multiplier drops its row, a violated row joins
@@ -36,6 +37,8 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 import proxsuite
+
+from pasibot_pin.constraints.system import kkt_solve
 
 QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 10_000), (1e-9, 100_000), (1e-8, 1_000_000))
 """(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does)."""
@@ -136,10 +139,9 @@ class ContactQP:
             rows = np.concatenate((a_eq, c_in[active]))
             rhs = np.concatenate((b_eq, lower[active]))
             try:  # H x - E^T lam = -g, E x = r
-                x = pin.forwardDynamics(model, data, tau, rows, -rhs, 0.0)
-            except RuntimeError:
+                x, lam = kkt_solve(model, data, tau, rows, -rhs)
+            except ValueError:  # singular, or not finite
                 return None
-            lam = data.lambda_c
             z_active = lam[m:]
             if active and z_active.min() < 0.0:
                 active.pop(int(np.argmin(z_active)))

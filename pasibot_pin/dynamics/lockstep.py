@@ -21,7 +21,7 @@ from collections.abc import Sequence
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints.system import STEP_LIMIT, ConstraintSystem
+from pasibot_pin.constraints.system import STEP_LIMIT, ConstraintSystem, kkt_solve
 from pasibot_pin.dynamics.simulator import (
     BipedSimulator,
     Impact,
@@ -107,13 +107,9 @@ class _Walks:
         else:
             pin.nonLinearEffects(model, data, q, v)
         try:
-            a = pin.forwardDynamics(model, data, tau, jac, gamma, 0.0)
-        except RuntimeError as err:
-            raise _Failed(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
-        lam = data.lambda_c.copy()
-        if not math.isfinite(a.dot(a) + lam.dot(lam)):
-            raise _Failed("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
-        return a, lam
+            return kkt_solve(model, data, tau, jac, gamma)
+        except ValueError as err:
+            raise _Failed(str(err)) from err
 
     def accelerations(self, t: float, q: np.ndarray, v: np.ndarray, idx: np.ndarray, failed: dict):
         """Constrained accelerations and multipliers of walks ``idx``; a failing walk goes into ``failed``."""
@@ -181,15 +177,11 @@ class _Walks:
 
     def kkt_mass(self, mass: np.ndarray, v: np.ndarray, jac: np.ndarray, phi_t: np.ndarray) -> np.ndarray:
         """The impulse's KKT with M already in the data: v+ (_Failed if singular)."""
-        data = self.data
-        data.nle[:] = 0.0
+        self.data.nle[:] = 0.0
         try:
-            a = pin.forwardDynamics(self.model, data, mass.dot(v), jac, phi_t, 0.0)
-        except RuntimeError as err:
-            raise _Failed(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
-        if not math.isfinite(a.dot(a) + data.lambda_c.dot(data.lambda_c)):
-            raise _Failed("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
-        return a
+            return kkt_solve(self.model, self.data, mass.dot(v), jac, phi_t)[0]
+        except ValueError as err:
+            raise _Failed(str(err)) from err
 
 
 def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> list[SimulationResult]:
