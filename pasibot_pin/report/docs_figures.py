@@ -19,7 +19,8 @@ from pathlib import Path
 DOCS_DPI: int = 100
 """The resolution of the README's pictures [dots per inch], the report's."""
 GIF_DPI: int = 60
-"""The resolution of ``docs/gait.gif`` [dots per inch]: 384 x 300 pixels (the report's is 80)."""
+"""The resolution of ``docs/gait.gif`` [dots per inch]: 384 x 300 pixels, smaller than the report's
+(:data:`pasibot_pin.report.animation.GIF_DPI`)."""
 
 
 def _save(fig, path: Path) -> Path:
