@@ -35,12 +35,14 @@ import copy
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarKinematics, PlanarRowBlocks
+from pasibot_pin.errors import ClosureError, SingularPoseError
 
 _PLANAR_CACHE: dict[int, tuple[pin.Model, PlanarKinematics | None]] = {}
 
@@ -156,6 +158,21 @@ class Rows:
     jac: np.ndarray
     drift: np.ndarray
     phi_t: np.ndarray
+
+
+class Projection(NamedTuple):
+    """What :meth:`ConstraintSystem.project_rows` computed.
+
+    Attributes:
+        q: the closed configuration (nq,).
+        rows: the rows evaluated at ``q`` (residual below the tolerance, J, no drift).
+        initial_residual: the largest |Phi| at the start configuration [m, rad].
+
+    """
+
+    q: np.ndarray
+    rows: Rows
+    initial_residual: float
 
 
 def _cross(a: np.ndarray, b: np.ndarray) -> np.ndarray:
@@ -592,7 +609,21 @@ class ConstraintSystem:
         metric: str = "euclidean",
         max_iter: int = 50,
     ) -> np.ndarray:
-        """Newton onto Phi(q, t) = 0 from ``q``.
+        """Newton onto Phi(q, t) = 0 from ``q``: the closed configuration (:meth:`project_rows`'s ``q``)."""
+        return self.project_rows(q, t, targets, metric, max_iter).q
+
+    def project_rows(
+        self,
+        q: np.ndarray,
+        t: float = 0.0,
+        targets: Sequence[float] | None = None,
+        metric: str = "euclidean",
+        max_iter: int = 50,
+    ) -> Projection:
+        """Newton onto Phi(q, t) = 0 from ``q``, with the rows at the answer.
+
+        Nothing is stored on the system (it is cached and shared): everything the projection
+        computed is in the returned :class:`Projection`.
 
         Args:
             q: start configuration.
@@ -603,29 +634,31 @@ class ConstraintSystem:
             max_iter: iteration limit.
 
         Returns:
-            q with every row below :attr:`tolerance`.
+            :class:`Projection`: q with every row below :attr:`tolerance`, the rows evaluated
+            there, and the largest residual at the start.
 
         Raises:
-            ValueError: no convergence (naming the worst row) or a singular pose.
+            ClosureError: no convergence (naming the worst row).
+            SingularPoseError: the Jacobian lost rank on the way.
 
         """
         q = np.array(q, dtype=float)
         rows = None
+        initial = 0.0
         for k in range(max_iter):
             rows = self.evaluate(q, None, t, targets)
             error = np.abs(rows.phi)
             if k == 0:
-                self.last_initial_residual = float(error.max()) if self.nrows else 0.0
+                initial = float(error.max()) if self.nrows else 0.0
             if (error < self.tolerance).all():
-                self.last_rows = rows
-                return q
+                return Projection(q, rows, initial)
             step = self._newton_step(q, rows, metric)
             largest = np.abs(step).max()
             if largest > STEP_LIMIT:
                 step *= STEP_LIMIT / largest
             q = pin.integrate(self.model, q, step)
         worst = int(np.argmax(np.abs(rows.phi) / self.tolerance))
-        raise ValueError(
+        raise ClosureError(
             f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[worst]):.3e} "
             f"after {max_iter} Newton iterations at t = {t:.4f} s; the loop cannot assemble there"
         )
@@ -661,7 +694,7 @@ class ConstraintSystem:
             try:
                 step = np.linalg.solve(rows.jac[open_], -rows.phi[open_][:, :, None])[:, :, 0]
             except np.linalg.LinAlgError as err:
-                raise ValueError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
+                raise SingularPoseError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
             largest = np.max(np.abs(step), axis=1, keepdims=True)
             step *= np.minimum(1.0, STEP_LIMIT / np.maximum(largest, 1e-300))
             q[open_] += step  # nq == nv and every joint is Euclidean: integrate is a sum
@@ -669,7 +702,7 @@ class ConstraintSystem:
             rows.phi[open_], rows.jac[open_] = part.phi, part.jac
         k = int(np.argmax(np.any(np.abs(rows.phi) >= self.tolerance, axis=1)))
         worst = int(np.argmax(np.abs(rows.phi[k]) / self.tolerance))
-        raise ValueError(
+        raise ClosureError(
             f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[k, worst]):.3e} "
             f"after {max_iter} Newton iterations (sample {k}, targets {np.round(targets[k], 6).tolist()}); "
             "the loop cannot assemble there"
@@ -706,7 +739,7 @@ class ConstraintSystem:
             try:
                 return np.linalg.solve(jac, -rows.phi)
             except np.linalg.LinAlgError as err:
-                raise ValueError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
+                raise SingularPoseError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
         return np.linalg.lstsq(jac, -rows.phi, rcond=None)[0]
 
     def velocity(self, q: np.ndarray, t: float = 0.0, rates: Sequence[float] | None = None) -> np.ndarray:
@@ -742,7 +775,7 @@ class ConstraintSystem:
     ):
         """(v, a, J) on the manifold for given scalar-row rates and accelerations (square system).
 
-        ``jac``: J at ``q`` if already known (e.g. ``last_rows.jac`` after :meth:`project`).
+        ``jac``: J at ``q`` if already known (e.g. ``rows.jac`` of :meth:`project_rows`).
         """
         jac = self.evaluate(q).jac if jac is None else jac
         v = _square_solve(jac, self._rhs_rates(rates), "velocity")
@@ -832,10 +865,10 @@ def kkt_solve(model: pin.Model, data: pin.Data, tau: np.ndarray, jac: np.ndarray
     try:
         a = pin.forwardDynamics(model, data, tau, jac, gamma, 0.0)  # a new array
     except RuntimeError as err:
-        raise ValueError(f"KKT system singular: the constraint Jacobian lost rank (singular pose): {err}") from err
+        raise SingularPoseError(f"KKT system singular: the constraint Jacobian lost rank: {err}") from err
     lam = data.lambda_c.copy()
     if not math.isfinite(a.dot(a) + lam.dot(lam)):  # a NaN or an infinity anywhere shows in the sum
-        raise ValueError("KKT solve returned non-finite values: the constraint Jacobian lost rank (singular pose)")
+        raise SingularPoseError("KKT solve returned non-finite values: the constraint Jacobian lost rank")
     return a, lam
 
 
@@ -852,9 +885,9 @@ def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tup
     try:
         x = np.linalg.solve(mat, tau)
     except np.linalg.LinAlgError as err:
-        raise ValueError("split: [S^T J_c^T] is singular at this pose") from err
+        raise SingularPoseError("split: [S^T J_c^T] is singular at this pose") from err
     if not np.all(np.isfinite(x)):
-        raise ValueError("split: the actuator and constraint forces are not finite")
+        raise SingularPoseError("split: the actuator and constraint forces are not finite")
     ns = s_matrix.shape[0]
     return x[:ns], x[ns:]
 
@@ -869,9 +902,9 @@ def _square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.nda
     try:
         sol = np.linalg.solve(matrix, rhs[..., None])[..., 0]
     except np.linalg.LinAlgError as err:
-        raise ValueError(f"{what}: singular pose, the matrix lost rank") from err
+        raise SingularPoseError(f"{what}: singular pose, the matrix lost rank") from err
     if not np.all(np.isfinite(sol)):
-        raise ValueError(f"{what}: singular pose, the solution is not finite")
+        raise SingularPoseError(f"{what}: singular pose, the solution is not finite")
     return sol
 
 
@@ -884,9 +917,9 @@ def _square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
     try:
         sol = np.linalg.solve(matrix, rhs)
     except np.linalg.LinAlgError as err:
-        raise ValueError(f"{what}: singular pose, the constraint Jacobian lost rank") from err
+        raise SingularPoseError(f"{what}: singular pose, the constraint Jacobian lost rank") from err
     if not np.all(np.isfinite(sol)):
-        raise ValueError(f"{what}: singular pose, the solution is not finite")
+        raise SingularPoseError(f"{what}: singular pose, the solution is not finite")
     return sol
 
 

@@ -41,6 +41,14 @@ from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
+from pasibot_pin.errors import (
+    ClosureError,
+    DivergedError,
+    NoRestError,
+    ParameterError,
+    SimulationError,
+    SingularPoseError,
+)
 
 SIDES = ("right", "left")
 POINTS = ("heel", "toe")
@@ -129,7 +137,7 @@ def _check(name: str, value: float, low: float, high: float = math.inf, low_open
     ok = math.isfinite(value) and (value > low if low_open else value >= low) and value <= high
     if not ok:
         bound = f"> {low:g}" if low_open else f">= {low:g}"
-        raise ValueError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
+        raise ParameterError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
     return value
 
 
@@ -382,14 +390,11 @@ class FloorSimulator:
         v_new, bilateral, z = self._qp.solve(hessian, g, jac, -phi / h, cone, lower)
         fastest = float(np.max(np.abs(v_new)))
         if not fastest <= SPEED_LIMIT:  # also catches NaN
-            raise ValueError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
+            raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
         k = len(gap)  # z: impulses of the cone rows (>= 0)
         normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
-        before = getattr(self.bilateral, "last_rows", None)
-        q_new = self.bilateral.project(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
-        after = getattr(self.bilateral, "last_rows", None)  # the rows at q_new, t + h (a new object)
-        fresh = after is not None and after is not before
-        self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets)) if fresh else None
+        q_new, after, _ = self.bilateral.project_rows(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
+        self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets))  # the rows at q_new, t + h
         return q_new, v_new, normal, tangential, bilateral
 
     def _goal(self, t: float, targets: np.ndarray | None) -> np.ndarray:
@@ -489,7 +494,7 @@ class FloorSimulator:
             q, v, *_ = held.step(0.0, q, v * (1.0 - SETTLE_DAMPING * h), h, scale, s.mu * SETTLE_MARGIN)
             t += h
             if abs(q[2]) > s.fall_limit:
-                raise ValueError(
+                raise NoRestError(
                     f"no consistent start: settling at theta0 the robot falls (hip pitch past the limit at {t:.2f} s)"
                 )
             if t >= SETTLE_RAMP and np.max(np.abs(v)) < REST_SPEED:
@@ -497,7 +502,7 @@ class FloorSimulator:
                     normal, tangential, _ = self.rest_forces(q)
                     return self._start(q, "settled", t, normal, tangential)
                 h = s.dt
-        raise ValueError(f"no consistent start: the robot does not come to rest within {SETTLE_MAX:g} s of settling")
+        raise NoRestError(f"no consistent start: the robot does not come to rest within {SETTLE_MAX:g} s of settling")
 
     def _start(self, q, kind, settle_time, normal, tangential) -> StartState:
         loops = self.bilateral.evaluate(q).phi[: self.bilateral.n_constraint_rows]
@@ -550,7 +555,7 @@ class FloorSimulator:
                 begin = self.start_state()
                 q, v = begin.q, begin.v
                 start_kind = begin.kind
-            except ValueError as err:  # the robot cannot stand at theta0: start from the flat double support
+            except SimulationError as err:  # the robot cannot stand at theta0: start from the flat double support
                 q, v = self.initial_state()
                 start_kind, note = "flat", str(err)
         n = max(1, math.ceil(duration / s.dt - 1e-9))
@@ -570,10 +575,10 @@ class FloorSimulator:
         for _ in range(n):
             try:
                 q_new, v_new, normal, tangential, bilateral = self.step(t, q, v, h)
-            except ValueError as err:
-                if "loop closure" in str(err):
+            except SimulationError as err:
+                if isinstance(err, ClosureError):
                     cause = "a loop cannot close"
-                elif "diverged" in str(err):
+                elif isinstance(err, (DivergedError, SingularPoseError)):
                     cause = "the simulation diverged"
                 else:
                     cause = "the contact problem failed"

@@ -39,6 +39,7 @@ import pinocchio as pin
 import proxsuite
 
 from pasibot_pin.constraints.system import kkt_solve
+from pasibot_pin.errors import ContactSolveError
 
 QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 10_000), (1e-9, 100_000), (1e-8, 1_000_000))
 """(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does)."""
@@ -182,5 +183,5 @@ class ContactQP:
             if result.info.status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
                 break
         else:
-            raise ValueError(f"the contact QP did not solve ({result.info.status})")
+            raise ContactSolveError(f"the contact QP did not solve ({result.info.status})")
         return np.array(result.x), -np.array(result.y), -np.array(result.z)

@@ -32,6 +32,7 @@ from pasibot_pin.dynamics.simulator import (
     sole_height,
     total_energy,
 )
+from pasibot_pin.errors import SimulationError
 
 PROJECT_ITERATIONS = 20
 """Newton iterations of the projections (the simulator's)."""
@@ -108,7 +109,7 @@ class _Walks:
             pin.nonLinearEffects(model, data, q, v)
         try:
             return kkt_solve(model, data, tau, jac, gamma)
-        except ValueError as err:
+        except SimulationError as err:
             raise _Failed(str(err)) from err
 
     def accelerations(self, t: float, q: np.ndarray, v: np.ndarray, idx: np.ndarray, failed: dict):
@@ -180,7 +181,7 @@ class _Walks:
         self.data.nle[:] = 0.0
         try:
             return kkt_solve(self.model, self.data, mass.dot(v), jac, phi_t)[0]
-        except ValueError as err:
+        except SimulationError as err:
             raise _Failed(str(err)) from err
 
 
@@ -219,7 +220,7 @@ def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> 
     q, rows, _ = walks.project(q, 0.0, everyone, failed)
     v = walks.impulse(q, v, rows, everyone, failed)
     if failed:  # the single walk raises here: so does the batch
-        raise ValueError(next(iter(failed.values())))
+        raise SimulationError(next(iter(failed.values())))
     last_drift = np.zeros(n)
 
     def record(k: int, t: float, qk: np.ndarray, vk: np.ndarray, lam: np.ndarray) -> None:

@@ -50,6 +50,7 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, coordinate, symmetric_mass_matrix
+from pasibot_pin.errors import SimulationError
 from pasibot_pin.model.closure import hip_pitch, joint_coordinate, solve_velocity
 
 MOTOR_MODES: tuple[str, ...] = ("rheonomic", "free")
@@ -408,9 +409,9 @@ class BipedSimulator:
             a4 = self.acceleration(cset, t + h, q + h * v3, v4)[0]
             q_new = q + h / 6 * ((v + v4) + 2 * (v2 + v3))
             v_new = v + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
-        q_new = cset.project(q_new, t + h, metric="mass", max_iter=20)
-        v_new, _ = cset.impulse(q_new, v_new, t + h, cset.last_rows)
-        return q_new, v_new, lam, cset.last_initial_residual
+        q_new, rows, initial_residual = cset.project_rows(q_new, t + h, metric="mass", max_iter=20)
+        v_new, _ = cset.impulse(q_new, v_new, t + h, rows)
+        return q_new, v_new, lam, initial_residual
 
     # ---- initial state
     def initial_state(self, stance: str | None = None) -> tuple[np.ndarray, np.ndarray, str]:
@@ -515,7 +516,7 @@ class BipedSimulator:
             for _ in range(n):
                 try:
                     q_new, v_new, lam, drift = self.step(cset, t, q, v, h, mass_ready)
-                except ValueError as err:
+                except SimulationError as err:
                     fell, message = True, f"stopped at t = {t:.3f} s: {err}"
                     break
                 if count % s.record_every == 0:

@@ -119,8 +119,8 @@ class StaticProblem:
         if entry is None:
             targets = self.targets.copy()
             targets[-1] = pitch
-            q = self.cset.project(q, 0.0, targets=targets, metric="mass", max_iter=20)
-            entry = self.projections[key] = (q.copy(), *self._hip_row(q, self.cset.last_rows.jac))
+            q, rows, _ = self.cset.project_rows(q, 0.0, targets=targets, metric="mass", max_iter=20)
+            entry = self.projections[key] = (q.copy(), *self._hip_row(q, rows.jac))
         q, x_gravity, x_ankles = entry
         # tau_spring on an ankle coordinate is -T = K_e (beta - beta0) (damping: no rate at rest)
         spring = self.sim.settings.spring
