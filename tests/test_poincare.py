@@ -226,23 +226,37 @@ def test_decay_rate_of_linear_maps():
 
 
 # --------------------------------------------------------------------------- failures
+def counting(step_map):
+    """``step_map`` with a call counter (``wrapped.calls``)."""
+
+    def wrapped(x):
+        wrapped.calls += 1
+        return step_map(x)
+
+    wrapped.calls = 0
+    return wrapped
+
+
 def test_no_fixed_point_is_a_typed_error_quickly():
-    calls = []
-
-    def shift(x):
-        calls.append(1)
-        return np.asarray(x) + 1.0  # F(x) - x = 1 everywhere
-
     start = time.perf_counter()
+    shift = counting(lambda x: np.asarray(x) + 1.0)  # F(x) - x = 1 everywhere
     with pytest.raises(NoFixedPointError, match="no progress"):
         find_fixed_point(shift, [0.0, 0.0])
+    assert shift.calls <= 1 + 4 + 11  # F(x0), one Jacobian, one failed line search
+    square_plus_one = counting(lambda x: np.asarray(x) ** 2 + 1.0)  # x^2 - x + 1 > 0: no real fixed point
     with pytest.raises(NoFixedPointError):
-        find_fixed_point(lambda x: np.asarray(x) ** 2 + 1.0, [3.0], max_iter=50)  # x^2 - x + 1 > 0
-    budget = 7 * (2 + 12) + 3
+        find_fixed_point(square_plus_one, [3.0], max_iter=50)
+    assert square_plus_one.calls <= 50 * (2 + 12) + 3
+    wavy = counting(lambda x: np.asarray(x) + 1.0 + 0.5 * np.sin(3 * np.asarray(x)))  # F(x) - x >= 0.5
     with pytest.raises(NoFixedPointError, match="max_evaluations|did not converge|no progress"):
-        find_fixed_point(lambda x: np.asarray(x) + 1.0 + 0.5 * np.sin(3 * np.asarray(x)), [0.0], max_iter=7)
-    assert time.perf_counter() - start < 1.0 and len(calls) < 50
-    assert budget > 0 and issubclass(NoFixedPointError, SimulationError) and issubclass(NoFixedPointError, PasibotError)
+        find_fixed_point(wavy, [0.0], max_iter=7)
+    assert wavy.calls <= 7 * (2 + 12) + 3
+    capped = counting(lambda x: np.asarray(x) + 1.0 + 0.5 * np.sin(3 * np.asarray(x)))
+    with pytest.raises(NoFixedPointError, match="max_evaluations|no progress"):
+        find_fixed_point(capped, [0.0], max_evaluations=6)
+    assert capped.calls <= 6
+    assert time.perf_counter() - start < 1.0
+    assert issubclass(NoFixedPointError, SimulationError) and issubclass(NoFixedPointError, PasibotError)
 
 
 def test_map_failing_inside_the_jacobian():
