@@ -443,7 +443,10 @@ def basin_estimate(
     ``bisections`` times between the last returning and the first failing amplitude. A start
     returns when ``|F^k(x) - x*| < tol`` for some ``k <= steps``; it fails if the map raises a
     :class:`~pasibot_pin.errors.SimulationError` (the walker falls), diverges, or is still away
-    after ``steps`` steps. For PASIBOT the direction is the hip pitch's index.
+    after ``steps`` steps. For PASIBOT the direction is the hip pitch's index. The result is the
+    first boundary along the ray: a walker's basin need not be an interval (it can be fractal), so
+    an amplitude beyond ``failing`` may return again; a perturbation of the other sign is another
+    ray (pass ``-e_i`` as ``direction``).
 
     Args:
         step_map: the map ``F``.
