@@ -68,10 +68,13 @@ class GaitCriteria:
         roll_limit: a foot on its heel or toe alone has rolled past this sole pitch [rad].
         slip_per_step: largest slide of a weight-bearing foot in one stance [m].
         advance_tolerance: the hip's advance per step may differ from 8 L by this share [-].
-        bearing_share: a foot bears weight when its normal force exceeds this share of the weight [-].
+        bearing_share: a foot is the stance foot, whose slide counts, when its normal force exceeds this share
+            of the weight (the trailing foot of a double support may scuff as it unloads) [-].
         dwell: a contact (or flight) lasting less than this is a blip and ignored [s].
         grace_steps: the first this many step periods settle the start: landings there are not judged [-].
         flight_limit: both feet in the air for longer than this is a hop [s].
+        bounce_share: a foot back on the floor after a flight shorter than this share of a step
+            period bounced (it was not swung): neither a step nor a hop [-].
 
     """
 
@@ -81,10 +84,11 @@ class GaitCriteria:
     roll_limit: float = math.radians(30.0)
     slip_per_step: float = 0.005
     advance_tolerance: float = 0.10
-    bearing_share: float = 0.25
+    bearing_share: float = 0.5
     dwell: float = 0.01
     grace_steps: float = 0.5
     flight_limit: float = 0.02
+    bounce_share: float = 0.1
 
     def __post_init__(self) -> None:
         integer = isinstance(self.steps, (int, np.integer)) and not isinstance(self.steps, bool)
@@ -100,6 +104,7 @@ class GaitCriteria:
             ("dwell", 0.0, 10.0),
             ("grace_steps", 0.0, 100.0),
             ("flight_limit", 0.0, 100.0),
+            ("bounce_share", 0.0, 1.0),
         ):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and low <= value <= high):
@@ -224,7 +229,7 @@ class _Foot:
     stand: float  # where it last stood [m]
     loaded: bool = False  # its debounced contact state
     pending_since: float | None = None  # when the raw state first differed from ``loaded``
-    air_since: float | None = None
+    air_since: float | None = None  # when it last left the floor
     stance_slip: float = 0.0  # slide while bearing weight in the current stance [m]
 
 
@@ -310,7 +315,7 @@ class GaitJudge:
         c, state, side = self.criteria, self._feet[i], SIDES[i]
         if foot.loaded and foot.on_point and abs(foot.pitch) > c.roll_limit:
             self._decide("rolled", sample.t, f"the {side} foot rolled past {math.degrees(c.roll_limit):.0f} deg")
-        if foot.loaded and foot.normal > c.bearing_share * self.weight:
+        if judged and foot.loaded and foot.normal > c.bearing_share * self.weight:
             state.stance_slip += h * foot.slip
             self._max_slip = max(self._max_slip, state.stance_slip)
             if state.stance_slip > c.slip_per_step and judged:
@@ -329,6 +334,8 @@ class GaitJudge:
             state.air_since = state.pending_since
             return
         state.stance_slip = 0.0
+        if state.air_since is not None and state.pending_since - state.air_since < c.bounce_share * self.period:
+            return  # a bounce (a short flight of a foot that was down): neither a step nor a hop
         ahead = (foot.x - state.stand) / self.crank_length
         if ahead >= c.step_advance:
             self._steps.append((state.pending_since, side, foot.x, sample.hip_x))
