@@ -17,7 +17,17 @@ import json
 import math
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_design_option, add_force_option, add_mu_option, check_output_file, design_of
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_force_option,
+    add_mu_option,
+    add_out_folder_option,
+    add_robot_options,
+    check_output_file,
+    check_output_folder,
+    design_of,
+    given,
+)
 
 MAX_STEPS = 1000
 """Most steps ``--steps`` takes [-]."""
@@ -38,15 +48,16 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("walk", help="put a design on the floor: does it walk?", description=__doc__)
     add_design_option(p)
-    p.add_argument("--variant", default=None, choices=("rigid", "parallel", "spring"), help="override the variant")
+    add_robot_options(p, legs=False)  # --variant given overrides the design's variant
     p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s]")
     p.add_argument("--steps", type=positive_steps, default=20, help="steps to walk (default 20)")
     add_mu_option(p)
     p.add_argument("--stability", action="store_true", help="also the gait's Floquet multipliers (shooting)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
-    p.add_argument("--html", type=Path, default=None, metavar="FILE", help="write the walk as a meshcat page")
-    p.add_argument("--gif", type=Path, default=None, metavar="FILE", help="write the walk as a stick GIF")
-    add_force_option(p, "overwrite existing --html/--gif files")
+    p.add_argument("--html", action="store_true", help="also write the walk as a meshcat page (walk_NAME.html)")
+    p.add_argument("--gif", action="store_true", help="also write the walk as a stick GIF (walk_NAME.gif in --out)")
+    add_out_folder_option(p, Path("out"), "the animations (NAME: the design file's stem, else the variant)")
+    add_force_option(p, "overwrite existing animations")
     p.set_defaults(func=run)
 
 
@@ -56,12 +67,14 @@ def run(args: argparse.Namespace) -> int:
 
     if args.omega is not None and not (math.isfinite(args.omega) and 0.05 <= args.omega <= 20.0):
         raise ValueError(f"--omega must be a crank speed in [0.05, 20] rad/s, got {args.omega!r}")
-    for option, path, suffix in (("--html", args.html, ".html"), ("--gif", args.gif, ".gif")):
-        if path is not None and path.suffix.lower() != suffix:
-            raise ValueError(f"{option} must name a {suffix} file, got {path}")
-        check_output_file(path, option, args.force)
+    name = args.design.stem if args.design is not None else (args.variant if given(args, "variant") else "seed")
+    html = gif = None
+    if args.html or args.gif:
+        check_output_folder(args.out, "--out")
+        html = check_output_file(args.out / f"walk_{name}.html", "--out", args.force) if args.html else None
+        gif = check_output_file(args.out / f"walk_{name}.gif", "--out", args.force) if args.gif else None
     design = design_of(args) or Design()
-    if args.variant is not None:
+    if given(args, "variant"):
         design = design.with_(variant=args.variant)
     if args.omega is not None:
         design = design.with_(omega=args.omega)
@@ -70,7 +83,7 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.studies.walking import WalkSettings, walk_design
 
     settings = WalkSettings(steps=args.steps, mu=args.mu)
-    robot = design_robot(design, 2, visuals=args.html is not None)
+    robot = design_robot(design, 2, visuals=html is not None)
     walk = walk_design(design, settings, robot)
     stability = None
     if args.stability:
@@ -84,7 +97,7 @@ def run(args: argparse.Namespace) -> int:
             print(line, flush=True)
         if stability is not None:
             print(stability.summary(), flush=True)
-    for path in write_walk_animation(walk, robot, args.html, args.gif):
+    for path in write_walk_animation(walk, robot, html, gif):
         if not args.json:
             print(f"wrote {path}")
     return 0

@@ -52,6 +52,9 @@ FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "
 
 SIDES: tuple[str, str] = ("right", "left")
 
+MIN_STRIDE_STEPS = 3
+"""The advance band is checked over whole strides, which needs at least this many judged steps [-]."""
+
 LINKAGE_ADVANCE_PER_STEP = 8.0
 """The linkage's own hip advance per step (half a crank turn), in crank lengths L [-]."""
 
@@ -358,7 +361,7 @@ class GaitJudge:
     def _stride_window(self) -> tuple[int, int] | None:
         """The first and last judged step indices spanning whole strides (an even number of steps)."""
         judged = [k for k, s in enumerate(self._steps) if s[0] - self.start.t > self.criteria.grace_steps * self.period]
-        if len(judged) < 3:
+        if len(judged) < MIN_STRIDE_STEPS:
             return None
         first, last = judged[0], judged[-1]
         if (last - first) % 2:
@@ -369,7 +372,9 @@ class GaitJudge:
         window = self._stride_window()
         ratio = self._advance_ratio(window)
         tol = self.criteria.advance_tolerance
-        if math.isnan(ratio):
+        if math.isnan(ratio) and self.criteria.steps < MIN_STRIDE_STEPS:
+            self._decide("walks", t, "")  # too few steps asked for a whole stride: no advance band
+        elif math.isnan(ratio):
             self._decide("stalled", t, "too few judged steps to measure the advance")
         elif ratio < 1.0 - tol:
             self._decide("stalled", t, f"the hip advanced {100 * ratio:.0f} % of the linkage's 8 L per step")
