@@ -58,7 +58,7 @@ class StabilitySettings:
     tol: float = 1e-6
     max_iter: int = 4
     fd_step: float = 1e-3
-    basin_kicks: tuple[float, ...] = (0.05, 0.2, 0.5)
+    basin_kicks: tuple[float, ...] = (0.1, 0.5, 2.0, 5.0)
     basin_steps: int = 4
     basin_tol: float = 1e-3
 
@@ -181,7 +181,9 @@ class GaitStability:
             f"gait {'stable' if self.stable else 'unstable'}: |multipliers| {mods}"
             f" (dominant {self.fixed_point.dominant:.4g}; {self.evaluations} steps simulated)"
         )
-        if self.basin is not None:
+        if self.basin is not None and math.isinf(self.basin.failing):
+            text += f"\nbasin: the walk returns from every hip-pitch rate kick tried, up to {self.basin.returning:.3g} rad/s"
+        elif self.basin is not None:
             text += (
                 f"\nbasin: the walk returns from a hip-pitch rate kick of {self.basin.returning:.3g} rad/s"
                 f" and not from {self.basin.failing:.3g} rad/s"
