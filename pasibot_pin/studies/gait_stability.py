@@ -182,7 +182,8 @@ class GaitStability:
             f" (dominant {self.fixed_point.dominant:.4g}; {self.evaluations} steps simulated)"
         )
         if self.basin is not None and math.isinf(self.basin.failing):
-            text += f"\nbasin: the walk returns from every hip-pitch rate kick tried, up to {self.basin.returning:.3g} rad/s"
+            text += f"\nbasin: the walk returns from every hip-pitch rate kick tried, up to {self.basin.returning:.3g}"
+            text += " rad/s"
         elif self.basin is not None:
             text += (
                 f"\nbasin: the walk returns from a hip-pitch rate kick of {self.basin.returning:.3g} rad/s"
