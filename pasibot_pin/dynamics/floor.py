@@ -50,11 +50,9 @@ from pasibot_pin.errors import (
     SimulationError,
     SingularPoseError,
 )
-from pasibot_pin.model.variants import MOTOR_LAYOUTS  # noqa: E402
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, SIDES
+from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
-SIDES = ("right", "left")
-HIP_X, HIP_PITCH = 0, 2
-"""Indices of the floating hip's forward position and pitch in q and v."""
 MAX_STEPS = 20_000_000
 """Most time steps one run takes (a bound on its time and memory)."""
 POINTS = ("heel", "toe")
@@ -516,7 +514,7 @@ class FloorSimulator:
             scale = ramp * ramp * (3 - 2 * ramp)
             q, v, *_ = held.step(0.0, q, v * (1.0 - SETTLE_DAMPING * h), h, scale, s.mu * SETTLE_MARGIN)
             t += h
-            if abs(q[2]) > s.fall_limit:
+            if abs(q[HIP_PITCH]) > s.fall_limit:
                 raise NoRestError(
                     f"no consistent start: settling at theta0 the robot falls (hip pitch past the limit at {t:.2f} s)"
                 )

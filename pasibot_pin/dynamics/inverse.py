@@ -50,6 +50,7 @@ from pasibot_pin.dynamics.newton_euler import TreeLayout, tree_layout
 from pasibot_pin.dynamics.planar_id import PlanarInverseDynamics, planar_inverse_dynamics
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
+from pasibot_pin.model.coordinates import other
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
 from pasibot_pin.model.robot import PasibotRobot, apply_masses, load
 from pasibot_pin.model.scenarios import (
@@ -68,11 +69,6 @@ STANCE_RANGE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 STANCE_MARGIN: float = 0.1
 """How far a fit window may reach past the ends of stance [rad]. The seed's last fit sample,
 4.8 rad, is 0.088 rad past 3 pi/2: it keeps the right foot welded that long."""
-
-
-def other(side: str) -> str:
-    """The other leg."""
-    return "left" if side == "right" else "right"
 
 
 def stance_side(theta_right: float) -> str:

@@ -36,6 +36,7 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.model import closure
+from pasibot_pin.model.coordinates import SIDES, other
 
 FOOT_MODES: tuple[str, ...] = ("flat", "point", "toe")
 """How the stance foot holds the ground (see the module docstring)."""
@@ -46,14 +47,6 @@ MAX_WALK_SAMPLES: int = 1_000_000
 CLOSURE_TOL: float = 1e-10
 """Largest closure residual accepted at any sample of a walk [m, rad]."""
 
-SIDES: tuple[str, str] = ("right", "left")
-
-
-def other(side: str) -> str:
-    """The other leg's side."""
-    if side not in SIDES:
-        raise ValueError(f"unknown side {side!r}; valid: right, left")
-    return "left" if side == "right" else "right"
 
 
 def body_pitch(rotation: np.ndarray) -> float:

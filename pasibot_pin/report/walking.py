@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor import SIDES
+from pasibot_pin.model.coordinates import SIDES
 
 FORCE_SCALE = 5e-4
 """Arrow length per newton of floor force [m/N]."""

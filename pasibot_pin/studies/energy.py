@@ -39,6 +39,7 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.model.coordinates import other
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
@@ -92,7 +93,7 @@ def actuator_powers(robot: PasibotRobot, result) -> dict[str, np.ndarray]:
         out.update({k: np.zeros(n) for k in ("ankle_stance", "ankle_swing")})
     for k in range(n):
         side = result.stance[k]
-        swing = "left" if side == "right" else "right"
+        swing = other(side)
         v = result.v[k]
         out["crank_stance"][k] = result.Ta[k] * v[robot.idx_v(f"{side}_j0_crank")]
         out["crank_swing"][k] = result.Ta_swing[k] * v[robot.idx_v(f"{swing}_j0_crank")]

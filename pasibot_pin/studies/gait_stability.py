@@ -28,13 +28,12 @@ from dataclasses import dataclass, replace
 import numpy as np
 
 from pasibot_pin.constraints import coordinate
-from pasibot_pin.dynamics.floor import HIP_PITCH, HIP_X, FloorSimulator
+from pasibot_pin.dynamics.floor import FloorSimulator
 from pasibot_pin.dynamics.simulator import ankle_indices
 from pasibot_pin.errors import DivergedError, ParameterError
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z
 from pasibot_pin.studies.poincare import BasinEstimate, FixedPoint, basin_estimate, find_fixed_point
 
-HIP_Z = 1
-"""Index of the floating hip's height in q and v."""
 SECTION_THETA = math.pi
 """The right crank's angle on the section: mid-stance of the right leg [rad]."""
 
