@@ -36,9 +36,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, symmetric_mass_matrix
-from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.constraints.system import planar_kinematics
+from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, frame_rows, symmetric_mass_matrix
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample, Verdict
@@ -331,13 +329,8 @@ class FloorSimulator:
         self._target_offsets = np.array([row.offset for row in scalars])
         self._target_rates = np.array([row.rate for row in scalars])
         self.bilateral = ConstraintSystem(model, robot.data, robot.loop_constraints, scalars, robot.geometry.L)
-        frames = [model.frames[robot.frame_id(f"{side}_{point}")] for side in SIDES for point in POINTS]
-        ends = planar_kinematics(model).ends(
-            np.array([f.parentJoint for f in frames]),
-            np.array([f.placement.translation for f in frames]),
-            np.array([f.placement.rotation for f in frames]),
-        )
-        self.points = PlanarRowBlocks(ends, [(k, -1) for k in range(len(frames))], [])
+        frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
+        self.points = frame_rows(model, frames, range(len(frames)))
         self._crank_rows = [self.bilateral.labels.index(name) for name in layout.motors]
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
