@@ -244,7 +244,7 @@ def export_best(table, rows: Sequence[int], folder: Path) -> list[Path]:
         design = design_of_row(table, row)
         stem = folder / f"{rank:02d}_index{int(table.column('index')[row].as_py())}"
         written.append(design.save(stem.with_suffix(".toml"), force=True))
-        text = render_urdf(design.variant, 2, design.geometry(), design.masses())
+        text = render_urdf(design.variant, 2, design.geometry(), design.masses(), design.inertia)
         written.append(write_text_atomic(stem.with_suffix(".urdf"), text))
         robot = design_robot(design, 2)
         spring = design_spring(design, robot)
