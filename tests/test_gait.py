@@ -52,7 +52,10 @@ def test_walk_structure(walks, robots):
         assert walk.residual.max() < 1e-10
         assert np.all(np.isfinite(walk.q))
     # the viewer's call: positional steps and samples_per_step, default foot
-    assert gait.walk(robots[("spring", 2)], 1, 4).t is None
+    default = gait.walk(robots[("spring", 2)], 1, 4)
+    assert default.omega > 0 and default.t is not None  # always time-stamped (the README tour prints .t)
+    assert default.t == pytest.approx((default.theta - default.theta[0]) / default.omega)
+    assert default.t[0] == 0 and np.all(np.diff(default.t) > 0)
 
 
 @pytest.mark.parametrize("case", [("rigid", "flat"), ("parallel", "flat"), ("spring", "flat"), ("rigid", "point")])

@@ -19,6 +19,7 @@ import numpy as np
 
 from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import (
     pareto_mask,  # noqa: F401 (re-exported)
     warm_caches,
@@ -75,6 +76,8 @@ class SweepResult:
         results: path of ``results.parquet``.
 
     """
+
+    __repr__ = short_repr
 
     folder: Path
     plan: SweepPlan

@@ -42,6 +42,7 @@ import pinocchio as pin
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+from pasibot_pin.reprs import short_repr
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -132,6 +133,8 @@ class StepEnergy:
             ``motors+residual`` (cranks + ankle work the spring cannot give; spring only) [-].
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     omega: float

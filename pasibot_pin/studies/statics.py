@@ -21,6 +21,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings, _other
+from pasibot_pin.reprs import short_repr
 
 
 # --------------------------------------------------------------------------- statics (the omega -> 0 limit)
@@ -36,6 +37,8 @@ class StaticEquilibrium:
         found: True where an equilibrium was found.
 
     """
+
+    __repr__ = short_repr
 
     theta: np.ndarray
     hip_pitch: np.ndarray
