@@ -162,7 +162,6 @@ COMMANDS = [
     ("torques", "--samples", "5", "--out", "torques"),
     ("contact", "--samples", "5", "--out", "contact"),
     ("energy", "--omegas", "1", "--variants", "spring", "--nodes", "8", "--out", "energy"),
-    ("build-urdf", "--out", "robot.urdf"),
     ("build-urdf", "--defaults", "--out", "urdf"),
     ("export-mjcf", "--out", "robot.xml"),
     ("export-html", "--steps", "1", "--samples-per-step", "4", "--out", "gait.html"),
