@@ -146,7 +146,7 @@ def test_analyze_step_contact_energy(tmp_path):
     assert {r["variant"] for r in rows} == {"spring", "parallel"} and len(rows) == 10
     for r in rows:  # the table's CoT is its positive work over weight x distance
         assert float(r["cot_motors"]) == pytest.approx(
-            float(r["W_crank_pos"]) / (float(r["mass"]) * G * float(r["distance"])), rel=1e-9
+            float(r["W_crank_pos_J"]) / (float(r["mass_kg"]) * G * float(r["distance_m"])), rel=1e-9
         )
     for name in ("single_motor_run4.png", "cost_of_transport.png", "power_spring_5.png", "single_motor_run4.csv"):
         assert (tmp_path / "contact_energy" / name).exists()

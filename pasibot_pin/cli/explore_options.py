@@ -46,6 +46,11 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
 
 def start_run(args: argparse.Namespace):
     """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
+    from pasibot_pin.extras import require
+
+    # the extra first: a plain install says so in one line and writes nothing
+    needed = ["pyarrow", "scipy"] + (["optuna"] if args.command == "optimize" else [])
+    require("sweep", needed + (["distributed"] if args.dask is not None else []), f"pasibot {args.command}")
     from pasibot_pin.cli.common import check_output_folder
     from pasibot_pin.explore.executors import check_scheduler, check_workers
     from pasibot_pin.explore.plan import check_floor, parse_ranking, ranges_or_default

@@ -47,12 +47,15 @@ def check_workers(workers: int | None) -> int:
 
 def check_scheduler(address: str | None) -> None:
     """Before any work: ``address`` is ``None``, ``local``, or a Dask scheduler that answers (ValueError if not)."""
-    if address is None or address == "local":
+    from pasibot_pin.extras import require
+
+    if address is None:
         return
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ValueError("--dask needs the sweep extra: pip install 'pasibot-pin[sweep]'") from None
+    require("sweep", ["distributed"], f"--dask {address}")
+    if address == "local":
+        return
+    from distributed import Client
+
     from pasibot_pin.net import tcp_refused
 
     refused = tcp_refused(address)

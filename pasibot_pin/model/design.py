@@ -273,6 +273,7 @@ class Design:
         text = _to_toml(self.to_dict()) if path.suffix == ".toml" else _to_json(self.to_dict())
         fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".tmp")
         try:
+            os.fchmod(fd, 0o666 & ~_umask())  # mkstemp's 0600 -> what open() gives (0644 with umask 022)
             with os.fdopen(fd, "w") as handle:
                 handle.write(text)
             os.replace(tmp, path)
@@ -280,6 +281,13 @@ class Design:
             Path(tmp).unlink(missing_ok=True)
             raise
         return path
+
+
+def _umask() -> int:
+    """The process's file-creation mask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def design_robot(design: Design, legs: int = 2, visuals: bool = True):

@@ -79,7 +79,9 @@ def write_energy_csv(path: Path, rows: Sequence[StepEnergy]) -> None:
         rows: :class:`pasibot_pin.studies.energy.StepEnergy` rows.
 
     """
-    table = [r.row() for r in rows]
+    from pasibot_pin.units import with_unit
+
+    table = [{with_unit(k): v for k, v in r.row().items()} for r in rows]  # omega_rad_s, W_crank_net_J, ...
     keys = list(dict.fromkeys(k for row in table for k in row))
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)

@@ -62,15 +62,11 @@ def answers() -> list[Answer]:
 
 
 def explored() -> tuple[int, float]:
-    """(designs evaluated in the two runs, the best CoP margin of any feasible one [m]), from docs/results."""
-    import numpy as np
-    import pyarrow.parquet as pq
+    """(designs evaluated in the two runs, the best CoP margin of any feasible one [m]), from the answers' summary."""
+    from pasibot_pin.explore.questions import read_summary
 
-    from pasibot_pin.explore.questions import answer_path
-
-    tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
-    margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
-    return sum(t.num_rows for t in tables), float(np.max(margins))
+    summary = read_summary()
+    return int(summary["designs_explored"]), float(summary["best_cop_margin_m"])
 
 
 def _cell(value: float, scale: float, fmt: str) -> str:
@@ -113,7 +109,20 @@ def markdown(rows: list[Answer] | None = None) -> str:
 
 @dataclass(frozen=True)
 class FloorAnswer:
-    """Question 2 on the floor: how the spring designs fared (from docs/results/floor_springs.parquet)."""
+    """Question 2 on the floor: how the spring designs fared (from docs/results/floor_springs.parquet).
+
+    Attributes:
+        trials: designs simulated.
+        best_time: the longest time any design stayed up [s].
+        best_steps: that design's steps.
+        most_steps: the most steps any design took.
+        fell: designs whose hip pitch passed 60 deg.
+        slipped: designs that slipped.
+        rolled: designs that rolled over a heel or toe.
+        other: the other outcomes.
+        best_index: the longest run's ``index`` in the table.
+
+    """
 
     trials: int
     best_time: float
@@ -126,13 +135,13 @@ class FloorAnswer:
     best_index: int
 
 
-def floor_answer() -> FloorAnswer:
-    """The summary of question 2's run."""
-    import pyarrow.parquet as pq
+def floor_answer_of_rows(rows: list[dict]) -> FloorAnswer:
+    """Question 2's summary from its table's rows.
 
-    from pasibot_pin.explore.questions import FLOOR_TABLE, RESULTS_DIR
+    Args:
+        rows: one dict per design, with ``index``, ``floor_time_s`` [s], ``floor_steps`` and ``floor_outcome``.
 
-    rows = pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist()
+    """
     best = max(rows, key=lambda r: (r["floor_time_s"], r["floor_steps"]))
     outcomes = [r["floor_outcome"] for r in rows]
     fell = sum(o.startswith("fell") for o in outcomes)
@@ -149,6 +158,13 @@ def floor_answer() -> FloorAnswer:
         other=len(rows) - fell - slipped - rolled,
         best_index=int(best["index"]),
     )
+
+
+def floor_answer() -> FloorAnswer:
+    """The summary of question 2's run, as ``make answers`` stored it (no pyarrow needed)."""
+    from pasibot_pin.explore.questions import read_summary
+
+    return FloorAnswer(**read_summary()["floor"])
 
 
 def floor_markdown(answer: FloorAnswer | None = None) -> str:

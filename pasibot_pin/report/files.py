@@ -29,16 +29,19 @@ __all__ = [
 
 
 def write_columns_csv(path: Path, cols: dict[str, np.ndarray]) -> None:
-    """Write equal-length columns as CSV (header = column names, full float precision).
+    """Write equal-length columns as CSV (header = column names with their units, full float precision).
 
     Args:
         path: output file; its folder is created. Written to a temporary name, then renamed.
-        cols: column name -> values (anything ``float()`` accepts).
+        cols: column name -> values (anything ``float()`` accepts), in SI units; the header names each
+            column with its unit (:func:`pasibot_pin.units.with_unit`: ``theta`` -> ``theta_rad``).
 
     """
+    from pasibot_pin.units import with_unit
+
     with atomic_path(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(list(cols))
+        writer.writerow([with_unit(name) for name in cols])
         for row in zip(*cols.values()):
             writer.writerow([repr(float(x)) for x in row])
 

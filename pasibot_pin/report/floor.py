@@ -36,11 +36,13 @@ def floor_files(out: Path, scenario: str, force: bool = False) -> tuple[Path, Pa
 
 def write_floor(study: FloorStudy, csv_path: Path, png_path: Path) -> list[Path]:
     """Write the fitted case's CSV and the study's figure; returns the paths."""
+    from pasibot_pin.units import with_unit
+
     cols = floor_columns(study.cases[0].result)
     with atomic_paths(csv_path, png_path) as (csv_tmp, png_tmp):
         with csv_tmp.open("w", newline="") as handle:
             writer = csv.writer(handle)
-            writer.writerow(list(cols))
+            writer.writerow([with_unit(name) for name in cols])  # t_s, right_heel_Fn_N, ...
             for row in zip(*cols.values()):
                 writer.writerow([x if isinstance(x, str) else repr(float(x)) for x in row])
         fig = plot_floor_study(study)

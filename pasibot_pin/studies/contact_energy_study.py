@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies import energy, single_motor
 from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES, ContactResult, scenario_contact
 
@@ -87,6 +88,8 @@ class ScenarioContact:
 
     """
 
+    __repr__ = short_repr
+
     scenario: str
     variant: str
     torques: object
@@ -114,6 +117,8 @@ class ContactSweep:
         slip: contact of the infeasible-friction check (tiny mu on a what-if sole).
 
     """
+
+    __repr__ = short_repr
 
     mu: float
     cases: list[ScenarioContact]
@@ -165,6 +170,8 @@ class FlywheelCase:
 
     """
 
+    __repr__ = short_repr
+
     inertia: float
     flywheel: single_motor.Flywheel | None
     error: str = ""
@@ -205,6 +212,8 @@ class SingleMotorStudy:
         inertia_for_target: flywheel inertia for that fluctuation [kg.m^2].
 
     """
+
+    __repr__ = short_repr
 
     scenario: str
     omega: float
@@ -281,6 +290,8 @@ class EnergySweep:
 
     """
 
+    __repr__ = short_repr
+
     rows: list[energy.StepEnergy]
 
     @property
@@ -323,6 +334,8 @@ class PowerProfile:
         powers: power given by each actuator [W] (:func:`pasibot_pin.studies.energy.actuator_powers`).
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     omega: float
@@ -397,6 +410,8 @@ class ContactEnergyResult:
         power: the :class:`PowerProfile`.
 
     """
+
+    __repr__ = short_repr
 
     settings: ContactEnergySettings
     contact: ContactSweep

@@ -43,6 +43,7 @@ from pasibot_pin.model.coordinates import other
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+from pasibot_pin.reprs import short_repr
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -133,6 +134,8 @@ class StepEnergy:
             ``motors+residual`` (cranks + ankle work the spring cannot give; spring only) [-].
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     omega: float

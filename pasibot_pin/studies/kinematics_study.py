@@ -22,6 +22,7 @@ from pasibot_pin.kinematics import leg as kin
 from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
+from pasibot_pin.reprs import short_repr
 
 LEG_COLUMNS: tuple[str, ...] = (
     "theta",
@@ -160,6 +161,8 @@ class LegRun:
 
     """
 
+    __repr__ = short_repr
+
     variant: str
     L: float
     omega: float
@@ -186,6 +189,8 @@ class WalkRun:
         max_jump: largest pose jump at an exchange, 0 without exchanges [m or rad].
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     foot: str
@@ -380,6 +385,8 @@ class KinematicsSurvey:
         walks: one biped walk per ``settings.walk_cases`` entry.
 
     """
+
+    __repr__ = short_repr
 
     settings: KinematicsSettings
     legs: dict[str, LegRun]

@@ -22,6 +22,7 @@ import pinocchio as pin
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings
 from pasibot_pin.model.coordinates import HIP_PITCH, other
+from pasibot_pin.reprs import short_repr
 
 
 # --------------------------------------------------------------------------- statics (the omega -> 0 limit)
@@ -37,6 +38,8 @@ class StaticEquilibrium:
         found: True where an equilibrium was found.
 
     """
+
+    __repr__ = short_repr
 
     theta: np.ndarray
     hip_pitch: np.ndarray
