@@ -28,6 +28,33 @@ import pinocchio as pin  # noqa: E402
 
 from pasibot_pin import __version__  # noqa: E402
 from pasibot_pin.cli import COMMANDS  # noqa: E402
+from pasibot_pin.cli.bounds import check_flags  # noqa: E402
+
+NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
+"""What argparse reads as a negative number, not an option: ``-2``, ``-.5``, ``-2e-1``, ``-5E-2``, ``-inf``
+(argparse's own pattern misses exponents, so ``--com-dx -5e-2`` was read as an unknown option)."""
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line, ``pasibot CMD: error: ...`` (exit code 2), like the commands'."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+    def error(self, message: str):
+        """Print ``PROG: error: MESSAGE`` on one line and exit with code 2 (no usage block).
+
+        A value argparse cannot read (``--samples 1e9``, ``--mu abc``) gets the flag's valid range too.
+        """
+        from pasibot_pin.cli.bounds import BOUNDS
+
+        text = " ".join(message.split())
+        named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: invalid", text)
+        bound = BOUNDS.get(self.prog.split()[-1], {}).get(named.group(1)) if named else None
+        if bound is not None:
+            text += f"; {named.group(1)} must be {bound.text()}"
+        self.exit(2, f"{self.prog}: error: {text}\n")
 
 
 class Terminated(BaseException):
@@ -36,9 +63,9 @@ class Terminated(BaseException):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    parser = argparse.ArgumentParser(prog="pasibot", description="PASIBOT closed-loop biped in Pinocchio")
+    parser = OneLineParser(prog="pasibot", description="PASIBOT closed-loop biped in Pinocchio")
     parser.add_argument("--version", action="version", version=f"pasibot {__version__} (pin {pin.__version__})")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=OneLineParser)
     for name in COMMANDS:
         importlib.import_module(f"pasibot_pin.cli.{name}").register(sub)
     for command in sub.choices.values():  # --help is plain text: no docstring markup
@@ -153,6 +180,7 @@ def main(argv: list[str] | None = None) -> int:
     if is_entry_point:
         _install_signal_handlers()
     try:
+        check_flags(args.command, args)  # every numeric flag within its range, before any work
         return int(args.func(args) or 0)
     except (ValueError, FileExistsError) as err:
         print(f"pasibot {args.command}: error: {err}", file=sys.stderr)
