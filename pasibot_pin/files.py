@@ -13,11 +13,54 @@ from __future__ import annotations
 import contextlib
 import os
 import secrets
+import stat
 from collections.abc import Iterator
 from pathlib import Path
 
 PART_MARKER = ".part-"
 """What the temporary names contain (``.gait.part-1a2b3c4d.png``)."""
+
+MARKER = ".pasibot"
+"""The file that marks a folder as a pasibot output folder (``--force`` replaces only in those) and that
+a run locks (:func:`fcntl.flock`) while it writes there."""
+
+LIVE_TEMPORARIES: set[str] = set()
+"""Temporary files of this process not yet renamed or removed (a signal handler removes them)."""
+
+
+def remove_temporaries() -> None:
+    """Remove every temporary file this process is writing (called by the SIGTERM/SIGINT handlers)."""
+    for name in list(LIVE_TEMPORARIES):
+        with contextlib.suppress(OSError):
+            os.unlink(name)
+        LIVE_TEMPORARIES.discard(name)
+
+
+def check_replaceable(path: Path, option: str) -> None:
+    """Refuse to replace anything at ``path`` but a regular file (``--force`` never replaces a device or a link).
+
+    A symbolic link is refused, even one to a regular file: the message names the file it points to,
+    so the user can name that file instead (the link itself is left as it is).
+
+    Raises:
+        FileExistsError: ``path`` is a symbolic link, a device, a pipe, a socket or a folder.
+
+    """
+    path = Path(path)
+    try:
+        info = os.lstat(path)
+    except FileNotFoundError:
+        return
+    except OSError:  # a path through a file, or one we may not look at: the write will say why
+        return
+    if stat.S_ISLNK(info.st_mode):
+        raise FileExistsError(
+            f"{option} {path} is a symbolic link (to {os.readlink(path)}); name the file itself, pasibot replaces "
+            "only regular files"
+        )
+    if not stat.S_ISREG(info.st_mode):
+        kind = "a folder" if stat.S_ISDIR(info.st_mode) else "not a regular file (a device, pipe or socket)"
+        raise FileExistsError(f"{option} {path} is {kind}; pasibot replaces only regular files")
 
 
 def temporary_name(path: Path) -> Path:
@@ -42,8 +85,10 @@ def atomic_paths(*paths: Path | None) -> Iterator[list[Path | None]]:
     temps: list[Path | None] = []
     for target in targets:
         if target is not None:
+            check_replaceable(target, "file")
             target.parent.mkdir(parents=True, exist_ok=True)
         temps.append(None if target is None else temporary_name(target))
+    LIVE_TEMPORARIES.update(os.fspath(t) for t in temps if t is not None)
     try:
         yield temps
         for tmp, target in zip(temps, targets):
@@ -51,17 +96,42 @@ def atomic_paths(*paths: Path | None) -> Iterator[list[Path | None]]:
                 continue
             if not tmp.exists():
                 raise FileNotFoundError(f"nothing was written to {target}")
-            os.replace(tmp, target)
+            check_replaceable(target, "file")  # nothing but a regular file appeared there meanwhile
+        for tmp, target in zip(temps, targets):
+            if tmp is not None:
+                os.replace(tmp, target)
+    except OSError as err:  # name the file the caller asked for, not its temporary name
+        for tmp, target in zip(temps, targets):
+            if tmp is not None and err.filename is not None and os.fspath(err.filename) == os.fspath(tmp):
+                err.filename = os.fspath(target)
+        raise
     finally:
         for tmp in temps:
             if tmp is not None:
                 tmp.unlink(missing_ok=True)
+                LIVE_TEMPORARIES.discard(os.fspath(tmp))
 
 
 @contextlib.contextmanager
 def atomic_path(path: Path) -> Iterator[Path]:
     """One file of :func:`atomic_paths`: yields the temporary name to write to."""
     with atomic_paths(path) as (tmp,):
+        yield tmp
+
+
+@contextlib.contextmanager
+def writing(path: Path) -> Iterator[Path]:
+    """The name to write ``path`` to, renamed to ``path`` at the end when the block ends without error.
+
+    A temporary name (:func:`atomic_path`), or ``path`` itself when it is a temporary name already
+    (then the caller renames it).
+    """
+    path = Path(path)
+    if PART_MARKER in path.name:
+        path.parent.mkdir(parents=True, exist_ok=True)
+        yield path
+        return
+    with atomic_path(path) as tmp:
         yield tmp
 
 

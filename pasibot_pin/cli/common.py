@@ -77,6 +77,13 @@ def float_list(text: str) -> list[float]:
     return values
 
 
+def file_path(text: str) -> Path:
+    """An argparse type for a FILE option: a path that does not end in a separator (``out/new/`` is a folder)."""
+    if text.endswith(("/", os.sep)):
+        raise argparse.ArgumentTypeError(f"{text} ends in {os.sep}, so it names a folder; give a file name")
+    return Path(text)
+
+
 def given(args: argparse.Namespace, dest: str) -> bool:
     """Whether the shared option ``dest`` (e.g. ``"steps"``) was on the command line."""
     return dest in getattr(args, "_given", ())
@@ -167,10 +174,10 @@ def add_force_option(parser: argparse.ArgumentParser, what: str = "overwrite exi
 
 def add_output_options(parser: argparse.ArgumentParser, csv_help: str, plot_help: str) -> None:
     """``--csv FILE``, ``--plot FILE``, ``--out DIR`` (both under their default names) and ``--force``."""
-    parser.add_argument("--csv", type=Path, default=None, metavar="FILE", help=csv_help)
+    parser.add_argument("--csv", type=file_path, default=None, metavar="FILE", help=csv_help)
     parser.add_argument(
         "--plot",
-        type=Path,
+        type=file_path,
         default=None,
         metavar="FILE",
         help=f"{plot_help} (.png, .pdf, .svg, ...; no extension: .png)",
@@ -275,12 +282,15 @@ def check_outputs(args: argparse.Namespace, stem: str | None = None) -> None:
     written (``.png`` added when it has no extension).
     """
     out = getattr(args, "out", None)
+    csv_option, plot_option = "--csv", "--plot"
     if out is not None and stem is not None:
         check_output_folder(out, "--out")
-        args.csv = Path(out) / f"{stem}.csv" if args.csv is None else args.csv
-        args.plot = Path(out) / f"{stem}.png" if args.plot is None else args.plot
-    csv_path = check_output_file(args.csv, "--csv", args.force)
-    plot_path = check_plot_file(args.plot, "--plot", args.force)
+        if args.csv is None:  # a file the user named by --out DIR: the messages name --out
+            args.csv, csv_option = Path(out) / f"{stem}.csv", "--out"
+        if args.plot is None:
+            args.plot, plot_option = Path(out) / f"{stem}.png", "--out"
+    csv_path = check_output_file(args.csv, csv_option, args.force)
+    plot_path = check_plot_file(args.plot, plot_option, args.force)
     if csv_path is not None and plot_path is not None and csv_path.resolve() == plot_path.resolve():
         raise ValueError(f"--csv and --plot name the same file {csv_path}")
     args.csv, args.plot = csv_path, plot_path

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import FIGURE_DPI, save_figure_file
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, writing
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
     KinematicsSurvey,
@@ -36,9 +36,7 @@ def write_rows_csv(path: Path, columns: list[str] | tuple[str, ...], rows: np.nd
         rows: one sequence of cells per row.
 
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
+    with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow(columns)
         for row in rows:
