@@ -19,6 +19,7 @@ import argparse
 import os
 from pathlib import Path
 
+from pasibot_pin.files import check_replaceable, temporary_name
 from pasibot_pin.model.params import SOLE_FLOOR_MU, VARIANTS
 from pasibot_pin.report.files import atomic_path, atomic_paths, write_columns_csv
 
@@ -224,10 +225,30 @@ def check_output_file(path: Path | None, option: str, force: bool = False) -> Pa
     path = Path(path)
     if not path.name or path.is_dir() or str(path).endswith(os.sep):
         raise ValueError(f"{option} {path} is a folder; give a file name")
-    if path.exists() and not force:
-        raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
+    if os.path.lexists(path):
+        if not force:
+            raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
+        check_replaceable(path, option)  # --force replaces a regular file, never a device or a link
     _check_writable_folder(path.parent, option, path)
+    _probe_folder(path.parent, option, path)
     return path
+
+
+def _probe_folder(folder: Path, option: str, path: Path) -> None:
+    """Create and remove a temporary file in ``folder`` when it exists.
+
+    A folder that refuses files even to root (``/sys``, a read-only mount) is refused before any work.
+    """
+    folder = Path(folder) if str(folder) else Path(".")
+    if not folder.is_dir():
+        return  # created later, under a writable ancestor (checked)
+    probe = temporary_name(folder / "probe")
+    try:
+        fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError as err:
+        raise ValueError(f"{option} {path}: cannot write in folder {folder} ({err.strerror})") from None
+    os.close(fd)
+    os.unlink(probe)
 
 
 def check_output_folder(path: Path, option: str) -> Path:
