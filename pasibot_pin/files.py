@@ -11,8 +11,10 @@ model (URDF), the viewer (HTML), the report and the command line all use this on
 from __future__ import annotations
 
 import contextlib
+import fcntl
 import os
 import secrets
+import shutil
 import stat
 from collections.abc import Iterator
 from pathlib import Path
@@ -141,3 +143,94 @@ def write_text_atomic(path: Path, text: str, encoding: str = "utf-8") -> Path:
     with atomic_path(path) as tmp:
         tmp.write_text(text, encoding=encoding)
     return path
+
+
+class OutputFolder:
+    """An output folder a run owns while it writes: marked as pasibot's, locked, removed if the run fails.
+
+    :meth:`claim` creates the folder (and its missing parents) or takes an existing one, writes the
+    :data:`MARKER` file into a folder that is new or empty, and locks the marker
+    (:func:`fcntl.flock`): a second run on the same folder is refused at once. ``--force`` over a
+    folder that holds files but no marker (a folder pasibot did not make) is refused: pasibot
+    replaces only in its own folders. :meth:`release` unlocks; :meth:`discard` (a failed run)
+    removes what this run created: the folders it made, or else the names it added.
+
+    Args:
+        path: the folder.
+        option: the option that named it, for the messages (``--out``).
+
+    """
+
+    def __init__(self, path: Path, option: str = "--out"):
+        self.path = Path(path)
+        self.option = option
+        self.created: Path | None = None  # the topmost folder this run made
+        self.before: set[str] = set()  # the names the folder held before the run
+        self._lock: int | None = None
+
+    @property
+    def marked(self) -> bool:
+        """Whether the folder holds the :data:`MARKER` (pasibot made it)."""
+        return (self.path / MARKER).is_file()
+
+    def claim(self, force: bool = False) -> OutputFolder:
+        """Create or take the folder, mark it when new or empty, and lock it.
+
+        Raises:
+            FileExistsError: ``force`` on a folder holding files without the marker, or another
+                run holds the folder's lock.
+
+        """
+        path = self.path
+        if not path.is_dir():
+            top = path
+            while not top.parent.exists() and top.parent != top:
+                top = top.parent
+            path.mkdir(parents=True, exist_ok=True)
+            self.created = top
+        self.before = {entry.name for entry in path.iterdir()}
+        foreign = self.before - {MARKER}
+        if not self.marked:
+            if force and foreign:
+                raise FileExistsError(
+                    f"{self.option} {path} holds files pasibot did not write (no {MARKER} marker in it); "
+                    "--force replaces only in pasibot's own output folders: use another folder"
+                )
+            if foreign:  # a folder of other files: not ours to mark; the command's own checks decide
+                return self
+            (path / MARKER).write_text("an output folder of pasibot (pasibot_pin): --force may replace its files\n")
+        fd = os.open(path / MARKER, os.O_RDWR)
+        try:
+            fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+        except BlockingIOError:
+            os.close(fd)
+            raise FileExistsError(
+                f"{self.option} {path} is in use by another pasibot run; wait for it to end or use another folder"
+            ) from None
+        self._lock = fd
+        return self
+
+    def release(self) -> None:
+        """Unlock the folder (the marker stays)."""
+        if self._lock is not None:
+            with contextlib.suppress(OSError):
+                fcntl.flock(self._lock, fcntl.LOCK_UN)
+            os.close(self._lock)
+            self._lock = None
+
+    def discard(self) -> None:
+        """Remove what this run created: the folders it made, or the names it added to the folder."""
+        self.release()
+        if self.created is not None:
+            shutil.rmtree(self.created, ignore_errors=True)
+            return
+        if not self.path.is_dir():
+            return
+        for entry in self.path.iterdir():
+            if entry.name in self.before:
+                continue
+            if entry.is_dir() and not entry.is_symlink():
+                shutil.rmtree(entry, ignore_errors=True)
+            else:
+                with contextlib.suppress(OSError):
+                    entry.unlink()

@@ -21,12 +21,10 @@ import math
 from dataclasses import dataclass
 
 from pasibot_pin.errors import ParameterError
+from pasibot_pin.explore.executors import MAX_WORKERS
 
 MAX_INTEGRATION_STEPS: int = 10_000_000
 """The most integration steps one run may take (a duration over a time step)."""
-
-MAX_WORKERS: int = 64
-"""The most worker processes a sweep or an optimisation starts."""
 
 
 @dataclass(frozen=True)

@@ -24,7 +24,7 @@ import time
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-from pasibot_pin.files import write_text_atomic
+from pasibot_pin.files import MARKER, write_text_atomic
 from pasibot_pin.model.design import CHOICES, Design
 from pasibot_pin.studies.design_metrics import METRICS
 
@@ -124,7 +124,7 @@ class ResultStore:
                     f"--out {folder} holds a different run ({PLAN_FILE} differs); "
                     "use another folder, or --force to replace it"
                 )
-        elif not force and folder.is_dir() and any(folder.iterdir()):
+        elif not force and folder.is_dir() and any(entry.name != MARKER for entry in folder.iterdir()):
             raise FileExistsError(f"--out {folder} is not empty and holds no run; use another folder or --force")
         (folder / PARTS).mkdir(parents=True, exist_ok=True)
         if not saved.is_file():
