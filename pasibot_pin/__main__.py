@@ -29,6 +29,7 @@ import pinocchio as pin  # noqa: E402
 from pasibot_pin import __version__  # noqa: E402
 from pasibot_pin.cli import COMMANDS  # noqa: E402
 from pasibot_pin.cli.bounds import check_flags  # noqa: E402
+from pasibot_pin.files import remove_temporaries  # noqa: E402
 
 NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
 """What argparse reads as a negative number, not an option: ``-2``, ``-.5``, ``-2e-1``, ``-5E-2``, ``-inf``
@@ -153,6 +154,7 @@ def _install_signal_handlers() -> None:
     main_pid = os.getpid()
 
     def handler(signum, frame):
+        remove_temporaries()  # the files this process is writing, never left under a .part name
         if os.getpid() != main_pid:  # a forked worker inherited this handler: die as by default
             signal.signal(signum, signal.SIG_DFL)
             os.kill(os.getpid(), signum)

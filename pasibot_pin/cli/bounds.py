@@ -135,7 +135,7 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--mu": _MU,
         "--steps": Bound(1, 1000, integer=True),
         "--stiffness": Bound(0.0, 5000.0, "N.m/rad"),
-        "--rest-angle": Bound(0.0, 180.0, "deg", low_open=True),
+        "--rest-angle": Bound(17.2, 160.4, "deg"),  # the design record's beta0, 0.3 .. 2.8 rad
         "--damping": Bound(0.0, 200.0, "N.m.s/rad"),
         "--dt": Bound(1e-5, 0.1, "s"),
         "--fps": _FPS,
