@@ -50,7 +50,7 @@ class OneLineParser(argparse.ArgumentParser):
         """
         from pasibot_pin.cli.bounds import BOUNDS
 
-        text = " ".join(message.split())
+        text = re.sub(r"'([^']{40})[^']+'", r"'\1...'", " ".join(message.split()))  # a 5,000-digit value, cut
         named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: invalid", text)
         bound = BOUNDS.get(self.prog.split()[-1], {}).get(named.group(1)) if named else None
         if bound is not None:

@@ -158,12 +158,14 @@ class OutputFolder:
     Args:
         path: the folder.
         option: the option that named it, for the messages (``--out``).
+        ours: names only pasibot writes there (a folder holding nothing else is pasibot's, marker or not).
 
     """
 
-    def __init__(self, path: Path, option: str = "--out"):
+    def __init__(self, path: Path, option: str = "--out", ours: tuple[str, ...] = ()):
         self.path = Path(path)
         self.option = option
+        self.ours = frozenset(ours)
         self.created: Path | None = None  # the topmost folder this run made
         self.before: set[str] = set()  # the names the folder held before the run
         self._lock: int | None = None
@@ -191,6 +193,8 @@ class OutputFolder:
         self.before = {entry.name for entry in path.iterdir()}
         foreign = self.before - {MARKER}
         if not self.marked:
+            if foreign and foreign <= self.ours:  # a run of an older pasibot, without the marker: ours
+                foreign = set()
             if force and foreign:
                 raise FileExistsError(
                     f"{self.option} {path} holds files pasibot did not write (no {MARKER} marker in it); "

@@ -149,7 +149,7 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--omegas": Bound(0.0, 20.0, "rad/s", low_open=True),
         "--body-mass": Bound(0.5, 500.0, "kg"),
         "--com-dx": Bound(-1.0, 1.0, "m"),
-        "--nodes": Bound(2, 10_000, integer=True),
+        "--nodes": Bound(2, 1000, integer=True),
         "--flywheel": Bound(0.0, 1000.0, "kg.m^2", low_open=True),
     },
     "sweep": {"--n": Bound(1, 1_000_000, integer=True), **_EXPLORE},
@@ -183,6 +183,22 @@ def check_flags(command: str, args: argparse.Namespace) -> None:
                 check_number(flag, item, bound)
         else:
             check_number(flag, value, bound)
+    if command in ("view", "export-html"):
+        check_frames(args)
+
+
+MAX_FRAMES: int = 10_000
+"""The most animation frames ``view`` and ``export-html`` draw (``--steps`` x ``--samples-per-step``): each
+frame is a closure solve and, in the HTML, every body's transform (about 50 MB at this bound)."""
+
+
+def check_frames(args: argparse.Namespace) -> None:
+    """``--steps`` x ``--samples-per-step`` at most :data:`MAX_FRAMES` (``view``, ``export-html``)."""
+    frames = args.steps * args.samples_per_step
+    if frames > MAX_FRAMES:
+        raise ParameterError(
+            f"--steps {args.steps} x --samples-per-step {args.samples_per_step} = {frames} frames; at most {MAX_FRAMES}"
+        )
 
 
 def check_integration_steps(duration: float, dt: float, what: str) -> None:

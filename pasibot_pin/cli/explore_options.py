@@ -70,11 +70,11 @@ def run_resumable(args: argparse.Namespace, runner, plan, what: str):
     finished removes what it created (its folder, or the files it added), so the same command
     can run again; the lock is held until :func:`finish_run` ends.
     """
-    from pasibot_pin.explore.store import PARTS
+    from pasibot_pin.explore.store import OWNED, PARTS
     from pasibot_pin.files import OutputFolder
 
     out = Path(args.out)
-    folder = OutputFolder(out).claim(force=args.force)  # refused at once if another run writes there
+    folder = OutputFolder(out, ours=OWNED).claim(force=args.force)  # refused at once if another run writes there
     args.claimed = folder
     try:
         flags = {"workers": args.workers, "dask": args.dask, "force": args.force, "csv": args.csv}
