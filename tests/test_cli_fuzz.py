@@ -131,7 +131,10 @@ CASES: list[tuple[str, str]] = [
     ("simulate --no-cases --duration 600 --dt 1e-5", r"--duration 600 s at --dt 1e-05 s gives 6e\+07 integration"),
     ("simulate --no-cases --dt 0.05", r"--dt must be in \[1e-05, 0.01\] s with --ground floor"),
     ("sweep --n 2 --workers 1 --floor 1e-300 --out {tmp}/run", r"--floor must be in \[0.05, 600\] s"),
-    ("energy --nodes 1000000000", r"--nodes must be an integer in \[2, 10000\]"),
+    ("energy --nodes 1000000000", r"--nodes must be an integer in \[2, 1000\]"),
+    ("energy --nodes 1000 --omegas 1,2,3,4,5,6,7,8,9,10,11", r"= 22000 inverse-dynamics nodes; at most 20000"),
+    ("view --steps 1000 --samples-per-step 1000", r"--steps 1000 x --samples-per-step 1000 = 1000000 frames; at"),
+    ("export-html --steps 100 --samples-per-step 101", r"= 10100 frames; at most 10000"),
     ("simulate --ground weld --no-cases --steps 1000000000", r"--steps must be an integer in \[1, 1000\]"),
     # late
     ("contact --samples 1000000000", r"--samples must be an integer in \[2, 100000\]"),
@@ -326,12 +329,24 @@ def test_force_is_refused_in_a_folder_pasibot_did_not_make(tmp_path, capsys):
     out = tmp_path / "mine"
     (out / "best").mkdir(parents=True)
     (out / "best" / "thesis.tex").write_text("precious")
+    (out / "notes.txt").write_text("mine")  # not a name pasibot writes: the folder is not pasibot's
     code, err = run_cli(["sweep", "--n", "2", "--workers", "1", "--out", str(out), "--force"], capsys)
     assert_one_line_error(code, err, "sweep", r"holds files pasibot did not write .*use another folder")
     assert (out / "best" / "thesis.tex").read_text() == "precious"
     code, err = run_cli(["analyze", "--out", str(out), "--force"], capsys)
     assert_one_line_error(code, err, "analyze", r"holds files pasibot did not write")
-    assert sorted(p.name for p in out.iterdir()) == ["best"]
+    assert sorted(p.name for p in out.iterdir()) == ["best", "notes.txt"]
+
+
+def test_a_run_folder_of_an_older_pasibot_counts_as_pasibots(tmp_path):
+    from pasibot_pin.explore.store import OWNED
+    from pasibot_pin.files import MARKER, OutputFolder
+
+    (tmp_path / "plan.json").write_text("{}")
+    (tmp_path / "parts").mkdir()
+    folder = OutputFolder(tmp_path, ours=OWNED).claim(force=True)
+    assert (tmp_path / MARKER).is_file()
+    folder.release()
 
 
 def test_a_failed_run_removes_what_it_created(tmp_path, capsys, monkeypatch):

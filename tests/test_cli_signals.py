@@ -104,6 +104,7 @@ def test_analyze_stops_its_pool_workers_and_leaves_no_half_file(tmp_path, sig, g
     assert len(children) >= 2
     _stop_and_check(proc, sig, children, group)
     assert not [p for p in out.rglob("*") if ".part-" in p.name]  # no temporary file left
+    assert not out.exists()  # a stopped run leaves nothing it created (no half figure under its name either)
 
 
 def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):

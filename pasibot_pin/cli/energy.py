@@ -28,6 +28,10 @@ ENERGY_VARIANTS: tuple[str, ...] = ("spring", "parallel")
 designs whose motors and ankles the study sizes)."""
 
 
+MAX_ENERGY_NODES: int = 20_000
+"""The most inverse-dynamics nodes one ``energy`` run solves (about 4 ms each: a minute and a half)."""
+
+
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser(
@@ -72,6 +76,12 @@ def run(args: argparse.Namespace) -> int:
             raise ParameterError(f"--variants: unknown variant {v!r}; valid: {', '.join(ENERGY_VARIANTS)}")
     if len(set(variants)) != len(variants):
         raise ParameterError(f"--variants names a variant twice: {args.variants!r}")
+    work = len(args.omegas) * len(variants) * args.nodes
+    if work > MAX_ENERGY_NODES:
+        raise ParameterError(
+            f"--omegas ({len(args.omegas)} speeds) x --variants ({len(variants)}) x --nodes ({args.nodes}) = {work} "
+            f"inverse-dynamics nodes; at most {MAX_ENERGY_NODES} (fewer speeds or nodes)"
+        )
     design = design_of(args)
     if design is not None and args.flywheel is not None:
         raise ValueError("--flywheel sizes the variants' motors; it takes no --design")
