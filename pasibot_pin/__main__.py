@@ -4,7 +4,9 @@ Each subcommand lives in its own module of :mod:`pasibot_pin.cli` and registers
 itself with ``register(subparsers)``. Everything runs headless and writes files.
 
 Errors: bad input (``ValueError``, ``FileExistsError``) and a file the system refuses
-(``OSError``) are one line ``pasibot CMD: error: ...`` with exit code 2, never a traceback.
+(``OSError``) are one line ``pasibot CMD: error: ...`` with exit code 2, never a traceback; so are
+argparse's own errors (no usage block). Every numeric flag is checked against its range
+(:mod:`pasibot_pin.cli.bounds`) before the command runs; ``-2e-1`` is a number, not an option.
 SIGTERM and Ctrl-C stop the command, its child processes (process-pool workers, the meshcat
 server) and their children; files being written are left under no name (exit code 143 / 130).
 """

@@ -9,8 +9,11 @@ one leg is refused) asks :func:`given`, so the default itself stays the same eve
 Every output path is checked before any work starts (:func:`check_output_file`,
 :func:`check_output_folder`, :func:`check_plot_file`): not a folder, not an existing file
 without ``--force``, a folder that exists and is writable or can be created, and for figures
-an extension matplotlib can write. The checks raise ``ValueError`` or ``FileExistsError``,
-which ``pasibot`` prints as one line with exit code 2.
+an extension matplotlib can write. ``--force`` replaces regular files only: a symbolic link is
+refused (naming the file it points to, so the user can name that file; the link is kept), and so
+are devices, pipes and sockets. The checks raise ``ValueError`` or ``FileExistsError``, which
+``pasibot`` prints as one line with exit code 2. A FILE option ending in ``/`` is refused (it names
+a folder). The numeric flags' ranges are in :mod:`pasibot_pin.cli.bounds`.
 """
 
 from __future__ import annotations
