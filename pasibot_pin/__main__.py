@@ -53,7 +53,7 @@ class OneLineParser(argparse.ArgumentParser):
         from pasibot_pin.cli.bounds import BOUNDS
 
         text = re.sub(r"'([^']{40})[^']+'", r"'\1...'", " ".join(message.split()))  # a 5,000-digit value, cut
-        named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: invalid", text)
+        named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: ", text)
         bound = BOUNDS.get(self.prog.split()[-1], {}).get(named.group(1)) if named else None
         if bound is not None:
             text += f"; {named.group(1)} must be {bound.text()}"
