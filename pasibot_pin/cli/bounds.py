@@ -105,7 +105,7 @@ _WALK_VIEW = {
     "--steps": _WALK_STEPS,
     "--samples-per-step": _SAMPLES_PER_STEP,
     "--fps": _FPS,
-    "--reactions": Bound(0.0, 20.0, "rad/s", low_open=True),
+    "--reactions": _OMEGA,  # 0: quasi-static
 }
 
 BOUNDS: dict[str, dict[str, Bound]] = {
