@@ -9,8 +9,9 @@ Every error is a :class:`PasibotError`, itself a ``ValueError`` (code written ag
 * a computation that breaks on valid input, :class:`SimulationError` and its kinds:
   :class:`ClosureError` (a loop cannot close), :class:`SingularPoseError` (the constraint
   Jacobian lost rank), :class:`ContactSolveError` (the contact problem has no solution the
-  solver finds), :class:`DivergedError` (the state left every physical bound) and
-  :class:`NoRestError` (a robot that cannot stand still where it was asked to start).
+  solver finds), :class:`DivergedError` (the state left every physical bound),
+  :class:`NoRestError` (a robot that cannot stand still where it was asked to start) and
+  :class:`NoFixedPointError` (a search for a periodic gait, a fixed point of a step map, failed).
 
 The command line prints any :class:`PasibotError` as one line and exits with code 2; a
 simulation turns a :class:`SimulationError` into a named outcome (``diverged``) with the time it
@@ -25,6 +26,7 @@ __all__ = [
     "DesignError",
     "DivergedError",
     "MissingExtraError",
+    "NoFixedPointError",
     "NoRestError",
     "ParameterError",
     "PasibotError",
@@ -71,3 +73,7 @@ class DivergedError(SimulationError):
 
 class NoRestError(SimulationError):
     """The robot finds no state of rest where it was asked to start (it falls or keeps sliding)."""
+
+
+class NoFixedPointError(SimulationError):
+    """Newton found no fixed point of a step map (no periodic gait) within its iteration and evaluation budget."""

@@ -19,9 +19,9 @@ from pasibot_pin.model.params import SOLE_FLOOR_MU
 DIFFERENT_MEANING = {
     "--out": "a FILE for one-file commands (export-html, export-mjcf, build-urdf), a DIR otherwise",
     "--csv": "a FILE for one-table commands; a switch (results.csv in --out) for sweep and optimize",
-    "--omega": "gait: the crank rate of a kinematic walk; torques: an override of the scenario's own rate",
+    "--omega": "gait: the crank rate of a kinematic walk; torques, walk: an override of the scenario's or design's rate",
     "--samples": "torques: one stance's grid with both ends (61); contact: the stance without its last sample (60)",
-    "--steps": "torques: stances of the K_e fit (1; the seed's fit window is one stance)",
+    "--steps": "torques: stances of the K_e fit (1); walk: the verdict's steps on the floor (20)",
 }
 
 
@@ -59,8 +59,8 @@ def test_the_exceptions_are_few_and_still_needed():
     for flag in DIFFERENT_MEANING:
         values = {repr(v) for v in table[flag].values()}
         assert len(table[flag]) > 1 and len(values) > 1, f"{flag} is no longer an exception: drop it from the list"
-    # --steps differs only in torques: every other command walks the same 2 steps
-    steps = {c: v for c, v in table["--steps"].items() if c != "torques"}
+    # --steps differs only in torques and walk: every other command walks the same 2 steps
+    steps = {c: v for c, v in table["--steps"].items() if c not in ("torques", "walk")}
     assert set(steps.values()) == {DEFAULTS["--steps"]}, steps
 
 

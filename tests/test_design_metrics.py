@@ -158,23 +158,23 @@ def test_design_record_round_trips_through_a_sweep_row(tmp_path):
     assert design_module.load_design(path) == design
 
 
-def test_floor_metrics_agree_with_the_outcome():
-    """The optional floor simulation: the metrics and the outcome line tell the same story."""
-    import re
+def test_floor_metrics_are_the_walking_verdict():
+    """The optional floor walk: the table's columns are the verdict of walk_design, one definition."""
+    from pasibot_pin.errors import ParameterError
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
 
     design = SEED.with_(omega=5.0, body_mass=20.0)
-    out = dm.design_metrics(design, floor=0.3)
+    out = dm.design_metrics(design, floor=2)
     assert out.feasible and out.floor_outcome
     row = out.row()
     assert list(row)[len(dm.METRICS) : len(dm.METRICS) + len(dm.FLOOR_METRICS) + 1] == [
         *dm.FLOOR_METRICS,
         "floor_outcome",
     ]
-    if out.floor_outcome.startswith("walks"):
-        assert out["floor_time_s"] == pytest.approx(0.3)
-        assert out.floor_outcome.startswith(f"walks {int(out['floor_steps'])} steps")
-    else:  # the failure's time is the time the run lasted
-        stated = float(re.search(r"t = ([0-9.]+) s", out.floor_outcome).group(1))
-        assert out["floor_time_s"] == pytest.approx(stated, abs=1e-3) and stated < 0.3
-    with pytest.raises(ValueError, match="floor"):
-        dm.design_metrics(design, floor=-1.0)
+    verdict = walk_design(design, WalkSettings(steps=2)).verdict
+    assert out.floor_outcome == verdict.outcome
+    assert out["floor_walks"] == float(verdict.walks) and out["floor_steps"] == verdict.steps
+    assert out["floor_time_s"] == pytest.approx(verdict.decided_at, abs=1e-12)
+    for bad in (-1, 0, 1.5, True, 10**6):
+        with pytest.raises(ParameterError, match="floor"):
+            dm.design_metrics(design, floor=bad)

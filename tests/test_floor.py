@@ -31,7 +31,7 @@ def test_standing_still_the_floor_carries_the_weight(robot):
     # cranks held, hip held level, free ankles: both feet flat on the floor hold the rest
     sim = FloorSimulator(robot, FloorSettings(omega=0.0, hip="level", dt=1e-3))
     res = sim.run(0.2)
-    assert not res.failed and res.outcome.startswith("walks 0 steps")
+    assert not res.failed and res.outcome == "stood" and res.verdict is None  # cranks held: no walk to judge
     weight = total_mass(robot) * G
     assert np.sum(res.normal[-1]) == pytest.approx(weight, rel=1e-6)  # vertical balance of the whole robot
     assert res.modes["right"][-1] == "flat" and res.modes["left"][-1] == "flat"
@@ -203,7 +203,7 @@ def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
     assert weld_max == round(math.degrees(run1.weld_max_pitch), 1)
     for run, fall, weld in zip(("run2", "run3", "run4"), falls, welds):
         row = study.row(run, "fitted")
-        assert row.floor_start == "none" and row.floor_failed and "fell" in row.floor_outcome
+        assert row.floor_start == "none" and row.floor_failed  # the verdict names the first failure
         assert fall == round(row.floor_end, 2) and weld == round(math.degrees(row.weld_max_pitch), 1)
     for row in floor_spring_table(study):  # docs/floor.md prints the same rows
         assert "| " + " | ".join(row.values()) + " |" in doc
@@ -339,8 +339,8 @@ def test_a_diverging_run_stops_with_its_cause_and_time():
     q0[1] += 200.0  # 200 m up: it never reaches the floor
     v0[1] = -(SPEED_LIMIT - 1.0)
     res = sim.run(1.0, q0, v0)
-    assert res.failed and res.outcome.startswith("the simulation diverged at t = ")
-    t_fail = float(res.outcome.split("t = ")[1].split(" s")[0])
+    assert res.failed and res.outcome == "diverged" and res.stop_reason.startswith("the simulation diverged at t = ")
+    t_fail = float(res.stop_reason.split("t = ")[1].split(" s")[0])
     assert t_fail == pytest.approx(1.0 / G, abs=2e-3)
     assert len(res.t) and res.t[-1] <= t_fail + 1e-12
     for array in (res.t, res.q, res.v, res.normal, res.tangential, res.motor_torque, res.hip_pitch):
@@ -349,8 +349,9 @@ def test_a_diverging_run_stops_with_its_cause_and_time():
     res = crazy.run(0.5, start="flat")
     import re
 
-    found = re.search(r"(slipped|diverged|failed|fell|rolled).* t = (\d+\.\d{3}) s", res.outcome)
-    assert res.failed and found and float(found.group(2)) <= 0.05, res.outcome
+    found = re.search(r"(slipped|diverged|failed|fell|rolled).* t = (\d+\.\d{3}) s", res.stop_reason)
+    assert res.failed and found and float(found.group(2)) <= 0.05, res.stop_reason
+    assert res.verdict.failed and res.verdict.decided_at <= 0.05  # the verdict saw it as early
     assert all(np.all(np.isfinite(a)) for a in (res.t, res.q, res.v, res.normal))
 
 

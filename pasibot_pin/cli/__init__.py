@@ -13,6 +13,7 @@ COMMANDS: list[str] = [
     "gait",
     "torques",
     "simulate",
+    "walk",
     "contact",
     "energy",
     "sweep",

@@ -35,10 +35,10 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
     )
     p.add_argument(
         "--floor",
-        type=float,
+        type=int,
         default=None,
-        metavar="SECONDS",
-        help="also simulate every design walking on the floor this long (slower; adds floor_* columns)",
+        metavar="STEPS",
+        help="also walk every design this many steps on the floor and judge it (slower; adds floor_* columns)",
     )
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     add_force_option(p, "replace another run (or other files) in --out")

@@ -734,7 +734,13 @@ class ConstraintSystem:
         if metric == "mass" and jac.shape[0] != jac.shape[1]:
             # M delta = J^T lambda, J delta = -phi: the KKT with M(q), no bias force and tau = 0
             self._mass_only(q)
-            return self._kkt_solve(self._zero_v, jac, rows.phi)[0]
+            try:
+                return self._kkt_solve(self._zero_v, jac, rows.phi)[0]
+            except SingularPoseError:
+                # M is singular (a point mass on its own joint axis: a foot with toe = heel has no
+                # inertia about its ankle). The metric only picks which correction closes the rows:
+                # the minimum-norm one below closes them as well.
+                pass
         if jac.shape[0] == jac.shape[1]:
             try:
                 return np.linalg.solve(jac, -rows.phi)

@@ -36,11 +36,12 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import ConstraintSystem, coordinate, symmetric_mass_matrix
+from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, symmetric_mass_matrix
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
+from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample, Verdict
 from pasibot_pin.errors import (
     ClosureError,
     DivergedError,
@@ -49,8 +50,13 @@ from pasibot_pin.errors import (
     SimulationError,
     SingularPoseError,
 )
+from pasibot_pin.model.variants import MOTOR_LAYOUTS  # noqa: E402
 
 SIDES = ("right", "left")
+HIP_X, HIP_PITCH = 0, 2
+"""Indices of the floating hip's forward position and pitch in q and v."""
+MAX_STEPS = 20_000_000
+"""Most time steps one run takes (a bound on its time and memory)."""
 POINTS = ("heel", "toe")
 MODES = ("flat", "heel", "toe", "sliding", "air")
 STARTS = ("consistent", "flat")
@@ -166,7 +172,9 @@ class FloorSettings:
         dt: time step [s].
         theta0: initial right crank angle [rad].
         hip: ``free`` or ``level`` (pitch held at 0).
-        fall_limit: the run stops when |hip pitch| passes this [rad].
+        fall_limit: a run without a verdict stops when |hip pitch| passes this [rad].
+        motors: the motor layout (:data:`~pasibot_pin.model.variants.MOTOR_LAYOUTS`): ``two``
+            (each crank on its own motor) or ``one`` (one motor, the cranks coupled pi apart).
 
     """
 
@@ -178,6 +186,7 @@ class FloorSettings:
     theta0: float = math.pi / 2
     hip: str = "free"
     fall_limit: float = math.radians(60.0)
+    motors: str = "two"
 
     def __post_init__(self) -> None:
         _check("omega", self.omega, 0.0)
@@ -187,12 +196,14 @@ class FloorSettings:
         _check("theta0", self.theta0, -1e3, 1e3)
         _check("fall_limit", self.fall_limit, 0.0, math.pi, low_open=True)
         if self.hip not in ("free", "level"):
-            raise ValueError(f"parameter 'hip' must be free or level, got {self.hip!r}")
+            raise ParameterError(f"parameter 'hip' must be free or level, got {self.hip!r}")
+        if self.motors not in MOTOR_LAYOUTS:
+            raise ParameterError(f"parameter 'motors' must be one of {', '.join(MOTOR_LAYOUTS)}, got {self.motors!r}")
 
 
 @dataclass
 class FloorResult:
-    """Samples of a floor run, one per step.
+    """Samples of a floor run, one per step, and its walking verdict.
 
     Attributes:
         t: times [s].
@@ -200,16 +211,14 @@ class FloorResult:
         hip_pitch: [rad].
         modes: contact mode of each foot per sample, ``{"right": [...], "left": [...]}`` (:data:`MODES`).
         normal, tangential: contact forces (n, 4) [N], columns right heel, right toe, left heel, left toe.
-        motor_torque: crank torques (n, 2) [N.m], right, left.
+        motor_torque: torque of each motor (n, motors) [N.m]: right and left crank, or the one motor.
         touchdowns: (t, side, point) of every point that starts to carry load after carrying none.
-        steps: (t, side, x, length) of every step: a foot that lands (air -> loaded) at least
-            :data:`STEP_ADVANCE` L ahead of where it last stood; x is where it lands (the middle of
-            its heel and toe) and length its distance ahead of the other foot [m].
-        landings: (t, side, x) of every landing, steps and hops alike [m].
-        outcome: ``walks N steps`` (N landings, no failure), or the cause and time of the failure:
-            the hip pitch beyond its limit, a foot rolled over its heel or toe, a foot slipped, a
-            loop that cannot close, a contact problem the solver could not solve.
-        failed: True when the run stopped on a failure.
+        landings: (t, side, x) of every landing of a foot from the air, steps and hops alike [m].
+        outcome: the verdict's outcome (:data:`~pasibot_pin.dynamics.verdict.OUTCOMES`); ``stood``
+            with the cranks held (no walk to judge) and ``diverged`` if a held run broke.
+        failed: True when the outcome is a failure (:data:`~pasibot_pin.dynamics.verdict.FAILURES`).
+        stop_reason: why the run ended, in words (a failure and its time, or the run's length).
+        verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict` (``None`` with the cranks held).
         start: the consistent start it began from (``None`` for a given or ``flat`` start).
         start_kind: ``flat`` (geometric double support), ``settled`` (:meth:`FloorSimulator.start_state`)
             or ``given``.
@@ -227,17 +236,28 @@ class FloorResult:
     tangential: np.ndarray
     motor_torque: np.ndarray
     touchdowns: list[tuple[float, str, str]] = field(default_factory=list)
-    steps: list[tuple[float, str, float, float]] = field(default_factory=list)
     landings: list[tuple[float, str, float]] = field(default_factory=list)
     outcome: str = ""
     failed: bool = False
+    stop_reason: str = ""
+    verdict: Verdict | None = None
     start: StartState | None = None
     start_kind: str = ""
     start_note: str = ""
 
+    def __repr__(self) -> str:
+        head = self.verdict.summary() if self.verdict is not None else f"{self.outcome}: {self.stop_reason}"
+        return f"FloorResult({len(self.t)} samples, start {self.start_kind}: {head})"
+
+    @property
+    def steps(self) -> list[tuple[float, str, float]]:
+        """(t, side, x) of every step the verdict counted [s, -, m]."""
+        v = self.verdict
+        return [] if v is None else list(zip(v.step_times, v.step_sides, v.step_x))
+
     def step_lengths(self) -> np.ndarray:
-        """The landing foot's distance ahead of the other foot at each step [m]."""
-        return np.array([length for *_, length in self.steps])
+        """The distance from each step's landing to the one before [m]."""
+        return np.diff([x for *_, x in self.steps])
 
     def step_durations(self) -> np.ndarray:
         """Time from one step to the next [s]."""
@@ -295,18 +315,21 @@ class FloorSimulator:
 
     def __init__(self, robot, settings: FloorSettings):
         if robot.legs != 2 or not robot.floating:
-            raise ValueError("the floor simulator needs the two-legged robot with its floating hip")
+            raise ParameterError("the floor simulator needs the two-legged robot with its floating hip")
         self.robot, self.settings = robot, settings
         model = robot.model
         self.ankles = ankle_indices(robot) if robot.spec.free_ankle else {}
+        layout = MOTOR_LAYOUTS[settings.motors]
+        phase = {f"{side}_j0_crank": k * math.pi for k, side in enumerate(SIDES)}
         scalars = [
-            coordinate(
-                f"{side}_j0_crank", robot.idx_v(f"{side}_j0_crank"), settings.theta0 + k * math.pi, settings.omega
-            )
-            for k, side in enumerate(SIDES)
+            coordinate(name, robot.idx_v(name), settings.theta0 + phase[name], settings.omega) for name in layout.motors
         ]
+        scalars += [
+            coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings
+        ]
+        self._motor_index = [robot.idx_v(name) for name in layout.motors]
         if settings.hip == "level":
-            scalars.append(coordinate("hip_pitch", 2, 0.0, 0.0))
+            scalars.append(coordinate("hip_pitch", HIP_PITCH, 0.0, 0.0))
         self._target_offsets = np.array([row.offset for row in scalars])
         self._target_rates = np.array([row.rate for row in scalars])
         self.bilateral = ConstraintSystem(model, robot.data, robot.loop_constraints, scalars, robot.geometry.L)
@@ -317,7 +340,7 @@ class FloorSimulator:
             np.array([f.placement.rotation for f in frames]),
         )
         self.points = PlanarRowBlocks(ends, [(k, -1) for k in range(len(frames))], [])
-        self._crank_rows = [self.bilateral.labels.index(f"{side}_j0_crank") for side in SIDES]
+        self._crank_rows = [self.bilateral.labels.index(name) for name in layout.motors]
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
         self._zero_v = np.zeros(model.nv)
@@ -521,124 +544,203 @@ class FloorSimulator:
         )
 
     def run(
-        self, duration: float, q0: np.ndarray | None = None, v0: np.ndarray | None = None, start: str = "consistent"
+        self,
+        duration: float,
+        q0: np.ndarray | None = None,
+        v0: np.ndarray | None = None,
+        start: str = "consistent",
+        criteria: GaitCriteria | None = None,
+        stop_on_verdict: bool = False,
     ) -> FloorResult:
-        """Integrate for ``duration`` [s] (or until the hip passes the fall limit or a step fails).
+        """Integrate for ``duration`` [s], judging the walk (:mod:`pasibot_pin.dynamics.verdict`).
 
         Args:
-            duration: simulated time [s].
+            duration: simulated time [s] (the longest run).
             q0: start configuration (with ``v0``); default by ``start``.
             v0: start velocity.
             start: ``consistent`` (:meth:`start_state`: at rest, the contact forces in their cones;
                 the cranks start turning at t = 0; where the robot cannot stand at theta0 at all,
                 the flat start, with the reason in ``start_note``) or ``flat`` (:meth:`initial_state`,
                 the geometric double support, whatever the springs' preload).
+            criteria: what counts as walking (default :class:`GaitCriteria`).
+            stop_on_verdict: stop as soon as the walk's outcome is decided (else at ``duration``,
+                or when the hip passes the fall limit, a foot rolls over or slips far, or a step fails).
+
+        Returns:
+            :class:`FloorResult`, with the :class:`~pasibot_pin.dynamics.verdict.Verdict` when the
+            cranks turn (omega > 0).
 
         """
         s = self.settings
-        _check("duration", duration, 0.0, 1e4, low_open=True)
+        _check("duration", duration, 0.0, 1e5, low_open=True)
+        n = max(1, math.ceil(duration / s.dt - 1e-9))
+        if n > MAX_STEPS:
+            raise ParameterError(
+                f"parameter 'duration' = {duration:g} s needs {n:.3g} steps of {s.dt:g} s; at most {MAX_STEPS:g}"
+            )
         if start not in STARTS:
-            raise ValueError(f"parameter 'start' must be one of {', '.join(STARTS)}, got {start!r}")
+            raise ParameterError(f"parameter 'start' must be one of {', '.join(STARTS)}, got {start!r}")
+        criteria = GaitCriteria() if criteria is None else criteria
+        q, v, begin, start_kind, note = self._begin(q0, v0, start)
+        h = duration / n
+        log = _RunLog(self, q)
+        judge = None
+        if s.omega > 0:
+            judge = GaitJudge(s.omega, self.robot.geometry.L, self.weight, criteria, self._sample(0.0, q, v, None))
+        t = 0.0
+        for _ in range(n):
+            try:
+                q, v, normal, tangential, bilateral = self.step(t, q, v, h)
+            except SimulationError as err:
+                log.stop_on(err, t)
+                if judge is not None:
+                    judge.diverged(t, str(err))
+                break
+            t += h
+            forces = (normal / h, tangential / h, bilateral[self._crank_rows] / h)
+            sample = self._sample(t, q, v, forces)
+            log.record(t, q, v, sample, forces)
+            if judge is not None and judge.update(sample) and stop_on_verdict:
+                break
+            if not stop_on_verdict and log.stopped(t, q):
+                break
+        verdict = None if judge is None else judge.verdict(t)
+        return log.result(verdict, begin, start_kind, note)
+
+    def _begin(self, q0, v0, start):
+        """(q, v, start state or None, start kind, note) of a run (see :meth:`run`)."""
         if (q0 is None) != (v0 is None):
-            raise ValueError("give both 'q0' and 'v0' or neither")
-        begin, start_kind, note = None, "given" if q0 is not None else start, ""
+            raise ParameterError("give both 'q0' and 'v0' or neither")
         if q0 is not None:
             q, v = np.array(q0, dtype=float), np.array(v0, dtype=float)
             nq = self.robot.model.nq
             for name, x in (("q0", q), ("v0", v)):
                 if x.shape != (nq,) or not np.all(np.isfinite(x)):
-                    raise ValueError(f"parameter {name!r} must be {nq} finite numbers")
-        elif start == "flat":
-            q, v = self.initial_state()
+                    raise ParameterError(f"parameter {name!r} must be {nq} finite numbers")
+            return q, v, None, "given", ""
+        if start == "flat":
+            return (*self.initial_state(), None, "flat", "")
+        try:
+            begin = self.start_state()
+        except SimulationError as err:  # the robot cannot stand at theta0: start from the flat double support
+            return (*self.initial_state(), None, "flat", str(err))
+        return begin.q, begin.v, begin, begin.kind, ""
+
+    def _sample(self, t: float, q: np.ndarray, v: np.ndarray, forces: tuple | None) -> GaitSample:
+        """The :class:`GaitSample` at ``t`` from the step's forces (normal, tangential [N], motor torques [N.m])."""
+        gap, along, _, jt = self._contact_at(q)
+        normal = np.zeros(len(gap)) if forces is None else forces[0]
+        f_n, slip, gaps, xs = normal.tolist(), (jt @ v).tolist(), gap.tolist(), along.tolist()
+        loaded = [f > LOAD_TOL for f in f_n]
+        if forces is None:  # the start: a point on the floor counts as loaded
+            loaded = [g < 1e-6 for g in gaps]
+        feet = []
+        for i in range(len(SIDES)):
+            heel, toe = 2 * i, 2 * i + 1
+            feet.append(
+                FootSample(
+                    loaded=loaded[heel] or loaded[toe],
+                    x=0.5 * (xs[heel] + xs[toe]),
+                    pitch=math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
+                    normal=f_n[heel] + f_n[toe],
+                    slip=max(abs(slip[k]) if loaded[k] else 0.0 for k in (heel, toe)),
+                    on_point=loaded[heel] != loaded[toe],
+                )
+            )
+        power = (0.0, 0.0)
+        if forces is not None:
+            power = tuple(float(tau * v[i]) for tau, i in zip(forces[2], self._motor_index))
+        return GaitSample(t, float(q[HIP_X]), float(q[HIP_PITCH]), (feet[0], feet[1]), power)
+
+
+class _RunLog:
+    """What a floor run records at each step, and when a run without a verdict stops.
+
+    The stops (the hip past the fall limit, a foot rolled over its heel or toe past
+    :data:`ROLL_LIMIT`, a weight-bearing foot slid :data:`SLIP_LIMIT`, a step that failed) end a
+    fixed-length run (``stop_on_verdict=False``); the walking verdict is the judge's.
+    """
+
+    def __init__(self, sim: FloorSimulator, q: np.ndarray) -> None:
+        self.sim = sim
+        self.rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
+        self.modes: dict[str, list[str]] = {side: [] for side in SIDES}
+        self.touchdowns: list[tuple[float, str, str]] = []
+        self.landings: list[tuple[float, str, float]] = []
+        self.loaded_before = [False] * (2 * len(SIDES))
+        self.air_before = [True] * len(SIDES)
+        self.slid = [0.0] * len(SIDES)
+        self.stop_reason = ""
+
+    def stop_on(self, err: SimulationError, t: float) -> None:
+        """A step failed at ``t`` [s]: the cause named by the error's type."""
+        if isinstance(err, ClosureError):
+            cause = "a loop cannot close"
+        elif isinstance(err, (DivergedError, SingularPoseError)):
+            cause = "the simulation diverged"
         else:
-            try:
-                begin = self.start_state()
-                q, v = begin.q, begin.v
-                start_kind = begin.kind
-            except SimulationError as err:  # the robot cannot stand at theta0: start from the flat double support
-                q, v = self.initial_state()
-                start_kind, note = "flat", str(err)
-        n = max(1, math.ceil(duration / s.dt - 1e-9))
-        h = duration / n
-        rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
-        modes: dict[str, list[str]] = {side: [] for side in SIDES}
-        touchdowns: list[tuple[float, str, str]] = []
-        steps: list[tuple[float, str, float, float]] = []
-        landings: list[tuple[float, str, float]] = []
-        along0 = self._contact_at(q)[1]
-        stand = {side: float(np.mean(along0[2 * i : 2 * i + 2])) for i, side in enumerate(SIDES)}
-        advance = STEP_ADVANCE * self.robot.geometry.L
-        loaded_before = [False] * (2 * len(SIDES))
-        slid = [0.0] * len(SIDES)
-        failure = ""
-        t = 0.0
-        for _ in range(n):
-            try:
-                q_new, v_new, normal, tangential, bilateral = self.step(t, q, v, h)
-            except SimulationError as err:
-                if isinstance(err, ClosureError):
-                    cause = "a loop cannot close"
-                elif isinstance(err, (DivergedError, SingularPoseError)):
-                    cause = "the simulation diverged"
-                else:
-                    cause = "the contact problem failed"
-                failure = f"{cause} at t = {t:.3f} s ({err})"
-                break
-            t += h
-            q, v = q_new, v_new
-            gap, along, _, jt = self._contact_at(q)
-            force = normal / h
-            # the bookkeeping in Python floats (a few scalars per foot: cheaper than numpy calls)
-            f_n, slip, gaps, xs = force.tolist(), (jt @ v).tolist(), gap.tolist(), along.tolist()
-            loaded = [f > LOAD_TOL for f in f_n]
-            mode = {side: _foot_mode(loaded, slip, i) for i, side in enumerate(SIDES)}
-            for k, now in enumerate(loaded):
-                if now and not loaded_before[k]:
-                    touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
-            for i, side in enumerate(SIDES):
-                heel, toe = 2 * i, 2 * i + 1
-                if (loaded[heel] or loaded[toe]) and not (loaded_before[heel] or loaded_before[toe]) and t > h:
-                    x = (xs[heel] + xs[toe]) / 2
-                    landings.append((t, side, x))
-                    if x > stand[side] + advance:
-                        steps.append((t, side, x, x - stand[SIDES[1 - i]]))
-                    stand[side] = x
-                if (normal[heel] + normal[toe]) / h > BEARING_SHARE * self.weight:
-                    speeds = [abs(slip[k]) if loaded[k] else 0.0 for k in (heel, toe)]
-                    slid[i] += h * max(speeds)
-                pitch = math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel])
-                if mode[side] in POINTS and abs(pitch) > ROLL_LIMIT:
-                    failure = f"the {side} foot rolled over its {mode[side]} at t = {t:.3f} s"
-                if slid[i] > SLIP_LIMIT:
-                    failure = f"the {side} foot slipped {1e3 * slid[i]:.0f} mm by t = {t:.3f} s"
-            loaded_before = loaded
-            rec["t"].append(t)
-            rec["q"].append(q)
-            rec["v"].append(v)
-            rec["normal"].append(force)
-            rec["tangential"].append(tangential / h)
-            rec["motor"].append(bilateral[self._crank_rows] / h)
-            for side in SIDES:
-                modes[side].append(mode[side])
-            if abs(q[2]) > s.fall_limit:
-                failure = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
-            if failure:
-                break
-        qs = np.array(rec["q"]).reshape(-1, self.robot.model.nq)
+            cause = "the contact problem failed"
+        self.stop_reason = f"{cause} at t = {t:.3f} s ({err})"
+
+    def record(self, t: float, q: np.ndarray, v: np.ndarray, sample: GaitSample, force: tuple) -> None:
+        """Keep the step's state, forces (normal, tangential, motor torques), modes, touchdowns and landings."""
+        sim = self.sim
+        h = t - (self.rec["t"][-1] if self.rec["t"] else 0.0)
+        jt = sim._contact_at(q)[3]
+        f_n, slip = force[0].tolist(), (jt @ v).tolist()
+        loaded = [f > LOAD_TOL for f in f_n]
+        for k, now in enumerate(loaded):
+            if now and not self.loaded_before[k]:
+                self.touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
+        for i, side in enumerate(SIDES):
+            foot = sample.feet[i]
+            mode = _foot_mode(loaded, slip, i)
+            self.modes[side].append(mode)
+            if foot.loaded and self.air_before[i] and t > h:
+                self.landings.append((t, side, foot.x))
+            self.air_before[i] = not foot.loaded
+            if foot.normal > BEARING_SHARE * sim.weight:
+                self.slid[i] += h * foot.slip
+            if mode in POINTS and abs(foot.pitch) > ROLL_LIMIT:
+                self.stop_reason = f"the {side} foot rolled over its {mode} at t = {t:.3f} s"
+            if self.slid[i] > SLIP_LIMIT:
+                self.stop_reason = f"the {side} foot slipped {1e3 * self.slid[i]:.0f} mm by t = {t:.3f} s"
+        self.loaded_before = loaded
+        for key, value in zip(("t", "q", "v", "normal", "tangential", "motor"), (t, q, v, *force)):
+            self.rec[key].append(value)
+
+    def stopped(self, t: float, q: np.ndarray) -> bool:
+        """True when a run without a verdict stops here (see the class docstring)."""
+        limit = self.sim.settings.fall_limit
+        if abs(q[HIP_PITCH]) > limit and not self.stop_reason:
+            self.stop_reason = f"fell: |hip pitch| passed {math.degrees(limit):.0f} deg at t = {t:.3f} s"
+        return bool(self.stop_reason)
+
+    def result(self, verdict: Verdict | None, begin, start_kind: str, note: str) -> FloorResult:
+        """The :class:`FloorResult` of the run."""
+        sim, rec = self.sim, self.rec
+        nq, n_motors = sim.robot.model.nq, len(sim._crank_rows)
+        qs = np.array(rec["q"]).reshape(-1, nq)
+        t_end = rec["t"][-1] if rec["t"] else 0.0
+        if verdict is not None:
+            outcome, failed = verdict.outcome, verdict.failed
+        else:  # cranks held: no walk to judge
+            outcome, failed = ("diverged" if self.stop_reason else "stood"), bool(self.stop_reason)
         return FloorResult(
             t=np.array(rec["t"]),
             q=qs,
             v=np.array(rec["v"]).reshape(qs.shape),
-            hip_pitch=qs[:, 2].copy(),
-            modes=modes,
+            hip_pitch=qs[:, HIP_PITCH].copy(),
+            modes=self.modes,
             normal=np.array(rec["normal"]).reshape(-1, 4),
             tangential=np.array(rec["tangential"]).reshape(-1, 4),
-            motor_torque=np.array(rec["motor"]).reshape(-1, 2),
-            touchdowns=touchdowns,
-            steps=steps,
-            landings=landings,
-            outcome=failure or f"walks {len(steps)} steps in {t:.3f} s",
-            failed=bool(failure),
+            motor_torque=np.array(rec["motor"]).reshape(-1, n_motors),
+            touchdowns=self.touchdowns,
+            landings=self.landings,
+            outcome=outcome,
+            failed=failed,
+            stop_reason=self.stop_reason or f"ran {t_end:.3f} s",
+            verdict=verdict,
             start=begin,
             start_kind=start_kind,
             start_note=note,

@@ -45,6 +45,8 @@ QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 10_000), (1e-9, 100_000), 
 """(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does)."""
 MAX_PASSES = 4
 """Active-set passes (one KKT solve each) before the step falls back to proxsuite."""
+MAX_CHOICES = 16
+"""Choices of the row each fully active redundant group leaves out (4 rows per flat foot, two feet)."""
 FEASIBILITY_TOL = 1e-11
 """A cone row outside the active set may miss its bound by this much [m/s] (a touchdown speed
 error of 1e-11 m/s, i.e. 1e-14 m of penetration per millisecond step)."""
@@ -119,48 +121,64 @@ class ContactQP:
         self.active = np.flatnonzero(z > 0.0).tolist()
         return x, y, z
 
-    def _independent(self, active: list[int], n_free: int) -> bool:
-        """Whether the active cone rows can be independent: at most ``n_free`` of them, no redundant group."""
-        if len(active) > n_free:
-            return False
-        rows = set(active)
-        return not any(group <= rows for group in self.redundant)
+    def _reduced(self, active: list[int], n_free: int, order: int) -> list[int] | None:
+        """``active`` with one row left out of each redundant group it holds whole, or ``None``.
+
+        A flat foot that sticks at heel and toe has four cone rows on a body of three freedoms:
+        the motion is unique, the split of its force between the rows is not. Any three rows
+        whose multipliers come out non-negative give the QP's solution (the fourth, inactive,
+        holds with equality). ``order`` picks which row each group leaves out (0, 1, ...).
+        """
+        rows = list(active)
+        for group in self.redundant:
+            if group <= set(rows):
+                members = sorted(group)
+                rows.remove(members[order % len(members)])
+                order //= len(members)
+        if len(rows) > n_free or order:
+            return None
+        return rows
 
     def _active_set(self, hessian, g, a_eq, b_eq, c_in, lower):
-        """The exact solve from the last active set, or ``None`` (redundant rows, no settling, a singular KKT)."""
-        model, data = self.model, self.data
+        """The exact solve from the last active set, or ``None`` (no active set found, a singular KKT)."""
         n, m = hessian.shape[0], len(b_eq)
-        data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
-        data.nle[:] = 0.0
-        tau = -g
-        active = list(self.active)
+        self.data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
+        self.data.nle[:] = 0.0
+        for order in range(MAX_CHOICES):
+            out = self._passes(list(self.active), order, n - m, g, a_eq, b_eq, c_in, lower)
+            if out is not None:
+                return out
+        return None
+
+    def _passes(self, active, order, n_free, g, a_eq, b_eq, c_in, lower):
+        """Active-set passes from ``active`` (redundant groups reduced by ``order``), or ``None``."""
+        m = len(b_eq)
         for _ in range(MAX_PASSES):
-            if not self._independent(active, n - m):
+            solved = self._reduced(active, n_free, order)
+            if solved is None:
                 return None
-            rows = np.concatenate((a_eq, c_in[active]))
-            rhs = np.concatenate((b_eq, lower[active]))
+            rows = np.concatenate((a_eq, c_in[solved]))
+            rhs = np.concatenate((b_eq, lower[solved]))
             try:  # H x - E^T lam = -g, E x = r
-                x, lam = kkt_solve(model, data, tau, rows, -rhs)
+                x, lam = kkt_solve(self.model, self.data, -g, rows, -rhs)
             except ValueError:  # singular, or not finite
                 return None
             z_active = lam[m:]
-            if active and z_active.min() < 0.0:
-                active.pop(int(np.argmin(z_active)))
+            if solved and z_active.min() < 0.0:
+                active.remove(solved[int(np.argmin(z_active))])
                 continue
             slack = c_in @ x - lower
-            slack[active] = np.inf
+            slack[solved] = np.inf
             worst = int(np.argmin(slack))
             if slack[worst] < -FEASIBILITY_TOL:
+                if worst in active:  # a row left out of its group is violated: another choice
+                    return None
                 active.append(worst)
                 continue
             if not np.abs(rows @ x - rhs).max() <= RESIDUAL_TOL:  # also catches NaN
                 return None
-            if self.redundant:  # a redundant group met with equality: the multipliers are not unique
-                touching = set(np.flatnonzero(slack <= TOUCH_TOL).tolist()) | set(active)
-                if any(group <= touching for group in self.redundant):
-                    return None
             z = np.zeros(len(lower))
-            z[active] = z_active
+            z[solved] = z_active
             self.active = active
             return x, lam[:m].copy(), z
         return None

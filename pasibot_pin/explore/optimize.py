@@ -112,7 +112,7 @@ class OptimizePlan:
         population: NSGA-II's population (designs per generation).
         seed: the sampler's seed.
         base: the design every other parameter is taken from.
-        floor: also simulate every design on the floor for this long [s] (``None``: no; slower).
+        floor: also walk every design this many steps on the floor (``None``: no; slower).
 
     """
 
@@ -123,7 +123,7 @@ class OptimizePlan:
     population: int = 20
     seed: int = 0
     base: Design = field(default_factory=Design)
-    floor: float | None = None
+    floor: int | None = None
 
     def __post_init__(self) -> None:
         check_floor(self.floor)

@@ -86,7 +86,7 @@ class SweepPlan:
         method: ``lhs`` or ``grid``.
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
-        floor: also simulate every design on the floor for this long [s] (``None``: no; slower).
+        floor: also walk every design this many steps on the floor (``None``: no; slower).
 
     """
 
@@ -95,7 +95,7 @@ class SweepPlan:
     method: str = "lhs"
     seed: int = 0
     base: Design = field(default_factory=Design)
-    floor: float | None = None
+    floor: int | None = None
 
     def __post_init__(self) -> None:
         check_floor(self.floor)
@@ -188,17 +188,11 @@ def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
     return name, sense
 
 
-def check_floor(floor: float | None) -> float | None:
-    """``floor`` if it is ``None`` or a duration in (0, 600] s, else a one-line ValueError naming ``--floor``."""
-    if floor is None:
-        return None
-    if (
-        isinstance(floor, bool)
-        or not isinstance(floor, (int, float))
-        or not (math.isfinite(floor) and 0 < floor <= 600)
-    ):
-        raise ValueError(f"--floor must be a duration in (0, 600] s, got {floor!r}")
-    return float(floor)
+def check_floor(floor: int | None) -> int | None:
+    """``floor`` if ``None`` or a step count to walk on the floor, else a one-line error naming ``--floor``."""
+    from pasibot_pin.studies.design_metrics import check_floor_steps
+
+    return check_floor_steps(floor, "--floor")
 
 
 def ranges_or_default(texts: Iterable[str] | None) -> tuple[Range, ...]:

@@ -54,8 +54,8 @@ FLOOR_RANGES: tuple[Range, ...] = (
 )
 """Question 2's varied parameters: the ankle spring [N.m/rad, rad, N.m.s/rad], the sole [L], K, the body COM [m]."""
 
-FLOOR_SECONDS: float = 4.0
-"""How long each design of question 2 walks on the floor [s] (about six steps at 5 rad/s)."""
+FLOOR_STEPS: int = 6
+"""How many steps each design of question 2 is asked to walk on the floor [-]."""
 
 RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
 """Where the answers of a source checkout are kept."""
@@ -97,7 +97,7 @@ def floor_plan(trials: int = 120, population: int = 24, seed: int = 0) -> Optimi
         population=population,
         seed=seed,
         base=Design(omega=run4.omega, body_mass=run4.body_mass),
-        floor=FLOOR_SECONDS,
+        floor=FLOOR_STEPS,
     )
 
 

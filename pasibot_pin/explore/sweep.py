@@ -28,12 +28,12 @@ CHUNK: int = 4
 
 
 def evaluate_designs(
-    base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float]]], floor: float | None = None
+    base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float]]], floor: int | None = None
 ) -> list[dict]:
     """Rows of ``items`` (index, values of ``names``) on the ``base`` design; runs in a worker.
 
     A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
-    ``floor``: also simulate each design on the floor for this long [s].
+    ``floor``: also walk each design this many steps on the floor.
     """
     from pasibot_pin.explore.store import design_row
     from pasibot_pin.model.design import Design
@@ -55,7 +55,7 @@ def evaluate_designs(
     return rows
 
 
-def floor_columns(floor: float | None) -> dict[str, str]:
+def floor_columns(floor: int | None) -> dict[str, str]:
     """The table's extra columns with a floor simulation (name -> kind), none without."""
     from pasibot_pin.studies.design_metrics import FLOOR_METRICS
 

@@ -153,8 +153,8 @@ def floor_answer() -> FloorAnswer:
 
 def floor_markdown(answer: FloorAnswer | None = None) -> str:
     """Question 2's verdict, one paragraph."""
-    from pasibot_pin.explore.questions import FLOOR_SECONDS, floor_plan
-    from pasibot_pin.studies.design_metrics import FLOOR_MU
+    from pasibot_pin.explore.questions import FLOOR_STEPS, floor_plan
+    from pasibot_pin.studies.walking import WALK_MU as FLOOR_MU
 
     a = answer or floor_answer()
     plan = floor_plan()
@@ -162,7 +162,7 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
     return (
         f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, {plan.base.omega:g} rad/s, "
         f"body {plan.base.body_mass:g} kg, "
-        f"{FLOOR_SECONDS:g} s per design), NSGA-II over {names} ({a.trials} designs) found no spring that walks: "
+        f"{FLOOR_STEPS} steps per design), NSGA-II over {names} ({a.trials} designs) found no spring that walks: "
         f"the longest run lasted {a.best_time:.2f} s ({a.best_steps} steps) and no design took more than "
         f"{a.most_steps} steps. {a.fell} designs fell (hip pitch past 60 deg), {a.slipped} slipped, {a.rolled} "
         f"rolled over a heel or toe, {a.other} other. With the crank speed imposed and no controller, a passive "

@@ -49,6 +49,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design
 from pasibot_pin.model.variants import get_variant
 
@@ -98,19 +99,24 @@ METRICS: Mapping[str, MetricSpec] = {
 FLOOR_METRICS: Mapping[str, MetricSpec] = {
     m.name: m
     for m in (
+        MetricSpec("floor_walks", "-", "1 when the walking verdict is walks, else 0", "max"),
         MetricSpec("floor_steps", "-", "steps walked on the floor (landings at least 2 L ahead)", "max"),
-        MetricSpec("floor_time_s", "s", "time on the floor before a failure (the whole run if none)", "max"),
+        MetricSpec("floor_time_s", "s", "time the walking verdict was decided (its failure, or its last step)", "max"),
+        MetricSpec("floor_advance_m", "m", "the hip's forward displacement on the floor", "max"),
         MetricSpec("floor_max_hip_pitch_deg", "deg", "largest |hip pitch| on the floor", "min"),
+        MetricSpec("floor_max_slip_mm", "mm", "largest slide of a weight-bearing foot in one stance", "min"),
+        MetricSpec("floor_cost_of_transport", "-", "motor positive work over weight x advance (whole strides)", "min"),
+        MetricSpec("floor_energy_per_m_J", "J/m", "motor positive work per metre (whole strides)", "min"),
     )
 }
-"""The optional floor-simulation metrics (``design_metrics(design, floor=DURATION)``), plus the
-outcome string ``floor_outcome``."""
+"""The optional floor-walk metrics (``design_metrics(design, floor=STEPS)``: the walking verdict of
+:func:`~pasibot_pin.studies.walking.walk_design`), plus the outcome string ``floor_outcome``."""
+
+MAX_FLOOR_STEPS = 1000
+"""Most steps a design may be asked to walk in a table [-]."""
 
 ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS}
 """Every metric a table may hold, an objective, a constraint or a ranking may name."""
-
-FLOOR_MU: float = 0.8
-"""Sole-floor friction of the floor metrics [-]."""
 
 FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "lift-off", "non-finite")
 """The kinds of infeasibility (``""``: feasible)."""
@@ -315,33 +321,44 @@ def warm_caches(design: Design) -> None:
     placement_map(get_variant(design.variant).name, 2)
 
 
-def floor_metrics(design: Design, duration: float, robot=None) -> tuple[dict[str, float], str]:
-    """The design walking on the floor for ``duration`` [s]: :data:`FLOOR_METRICS` and the outcome.
+def floor_metrics(design: Design, steps: int, robot=None) -> tuple[dict[str, float], str]:
+    """The design walking ``steps`` steps on the floor: :data:`FLOOR_METRICS` and the outcome.
 
-    Both feet on the floor (heel and toe contacts, friction :data:`FLOOR_MU`), from the consistent
-    start; the cranks at the design's speed; the ankle springs the design's (fitted where unset).
+    :func:`~pasibot_pin.studies.walking.walk_design`: both feet on the floor from a consistent
+    start, the cranks at the design's speed, stopped as soon as the verdict is decided.
     """
-    from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.studies.spring_fit import design_spring
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
 
-    robot = design_robot(design, 2, visuals=False) if robot is None else robot
-    spring = design_spring(design, robot)
-    result = FloorSimulator(robot, FloorSettings(omega=design.omega, spring=spring, mu=FLOOR_MU)).run(duration)
+    walk = walk_design(design, WalkSettings(steps=steps), robot)
+    v = walk.verdict
     values = {
-        "floor_steps": float(len(result.steps)),
-        "floor_time_s": float(result.t[-1]) if len(result.t) else 0.0,
-        "floor_max_hip_pitch_deg": math.degrees(float(np.max(np.abs(result.hip_pitch)))) if len(result.t) else 0.0,
+        "floor_walks": float(v.walks),
+        "floor_steps": float(v.steps),
+        "floor_time_s": float(v.decided_at),
+        "floor_advance_m": float(v.advance_m),
+        "floor_max_hip_pitch_deg": math.degrees(v.max_hip_pitch),
+        "floor_max_slip_mm": 1e3 * v.max_slip_m,
+        "floor_cost_of_transport": float(v.cost_of_transport),
+        "floor_energy_per_m_J": float(v.power_per_metre),
     }
-    return values, result.outcome
+    return values, v.outcome
 
 
-def design_metrics(design: Design, floor: float | None = None) -> DesignMetrics:
+def check_floor_steps(floor: int | None, name: str = "floor") -> int | None:
+    """``floor`` if ``None`` or a step count in [1, :data:`MAX_FLOOR_STEPS`], else a ParameterError naming ``name``."""
+    if floor is None:
+        return None
+    if isinstance(floor, bool) or not isinstance(floor, (int, np.integer)) or not 1 <= floor <= MAX_FLOOR_STEPS:
+        raise ParameterError(f"{name} must be a number of steps in [1, {MAX_FLOOR_STEPS}], got {floor!r}")
+    return int(floor)
+
+
+def design_metrics(design: Design, floor: int | None = None) -> DesignMetrics:
     """Every metric of :data:`METRICS` for one design; an infeasible design is recorded, not raised.
 
     Args:
         design: the design (:class:`~pasibot_pin.model.design.Design`).
-        floor: also simulate it on the floor for this long [s] (:func:`floor_metrics`; slower).
+        floor: also walk it this many steps on the floor (:func:`floor_metrics`; slower).
 
     Returns:
         :class:`DesignMetrics`: the values, or the failure kind and reason.
@@ -349,8 +366,7 @@ def design_metrics(design: Design, floor: float | None = None) -> DesignMetrics:
     """
     if not isinstance(design, Design):
         raise TypeError(f"parameter 'design' must be a Design, got {type(design).__name__}")
-    if floor is not None and not (math.isfinite(floor) and 0 < floor <= 600):
-        raise ValueError(f"parameter 'floor' must be a duration in (0, 600] s, got {floor!r}")
+    check_floor_steps(floor, "parameter 'floor'")
     outcome = None
     try:
         with warnings.catch_warnings():
@@ -364,7 +380,11 @@ def design_metrics(design: Design, floor: float | None = None) -> DesignMetrics:
         out = infeasible(err.kind, str(err))
         return out if floor is None else DesignMetrics(out.values, False, out.failure, out.reason, "")
     springless = not get_variant(design.variant).free_ankle  # K_e is NaN by definition
-    bad = [k for k, v in values.items() if not math.isfinite(v) and not (springless and k.startswith("K_e"))]
+    bad = [
+        k
+        for k, v in values.items()
+        if not math.isfinite(v) and not (springless and k.startswith("K_e")) and k not in FLOOR_METRICS
+    ]
     if bad:
         return infeasible("non-finite", f"non-finite {', '.join(bad)}")
     return DesignMetrics({k: values[k] for k in (*METRICS, *(FLOOR_METRICS if floor else ()))}, floor_outcome=outcome)

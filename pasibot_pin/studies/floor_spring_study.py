@@ -159,7 +159,7 @@ def compare_case(
         floor_start_pitch=start_pitch,
         floor_start_modes=modes,
         floor_max_pitch=float(np.max(np.abs(res.hip_pitch))) if len(res.t) else 0.0,
-        floor_outcome=res.outcome,
+        floor_outcome=res.verdict.short() if res.verdict is not None else res.outcome,
         floor_failed=res.failed,
         floor_end=float(res.t[-1]) if len(res.t) else 0.0,
         floor_landings=len(res.landings),

@@ -1,0 +1,103 @@
+"""``pasibot walk``: does a design walk? It is put on the floor and its walk is judged.
+
+The design (``--design FILE``, else the seed's; ``--variant`` and ``--omega`` override it)
+starts from a consistent state on the floor, its cranks turn at its speed after a smooth ramp,
+and the run stops as soon as the verdict is decided: ``walks`` after ``--steps`` steps, or a
+named failure (fell, rolled, slipped, stalled, hopped, diverged). It prints the outcome, the
+steps, the advance, the largest hip pitch, the slip, the motor torque and power and the cost of
+transport; ``--json`` prints one JSON object instead. ``--stability`` adds the Floquet
+multipliers of the gait (a fixed point of the step-to-step map, found by shooting).
+``--html``/``--gif`` write the walk on the floor with its contact forces.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+from pathlib import Path
+
+from pasibot_pin.cli.common import (
+    add_design_option,
+    add_force_option,
+    add_mu_option,
+    add_out_folder_option,
+    add_robot_options,
+    check_output_file,
+    check_output_folder,
+    design_of,
+    given,
+)
+
+MAX_STEPS = 1000
+"""Most steps ``--steps`` takes [-]."""
+
+
+def positive_steps(text: str) -> int:
+    """``--steps``: an integer in [1, MAX_STEPS]."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"must be an integer in [1, {MAX_STEPS}], got {text!r}") from None
+    if not 1 <= value <= MAX_STEPS:
+        raise argparse.ArgumentTypeError(f"must be an integer in [1, {MAX_STEPS}], got {text!r}")
+    return value
+
+
+def register(sub: argparse._SubParsersAction) -> None:
+    """Add the subcommand."""
+    p = sub.add_parser("walk", help="put a design on the floor: does it walk?", description=__doc__)
+    add_design_option(p)
+    add_robot_options(p, legs=False)  # --variant given overrides the design's variant
+    p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s]")
+    p.add_argument("--steps", type=positive_steps, default=20, help="steps to walk (default 20)")
+    add_mu_option(p)
+    p.add_argument("--stability", action="store_true", help="also the gait's Floquet multipliers (shooting)")
+    p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
+    p.add_argument("--html", action="store_true", help="also write the walk as a meshcat page (walk_NAME.html)")
+    p.add_argument("--gif", action="store_true", help="also write the walk as a stick GIF (walk_NAME.gif in --out)")
+    add_out_folder_option(p, Path("out"), "the animations (NAME: the design file's stem, else the variant)")
+    add_force_option(p, "overwrite existing animations")
+    p.set_defaults(func=run)
+
+
+def run(args: argparse.Namespace) -> int:
+    """Check the flags and files, walk the design, print the answer, write the files."""
+    from pasibot_pin.model.design import Design
+
+    if args.omega is not None and not (math.isfinite(args.omega) and 0.05 <= args.omega <= 20.0):
+        raise ValueError(f"--omega must be a crank speed in [0.05, 20] rad/s, got {args.omega!r}")
+    name = args.design.stem if args.design is not None else (args.variant if given(args, "variant") else "seed")
+    html = gif = None
+    if args.html or args.gif:
+        check_output_folder(args.out, "--out")
+        html = check_output_file(args.out / f"walk_{name}.html", "--out", args.force) if args.html else None
+        gif = check_output_file(args.out / f"walk_{name}.gif", "--out", args.force) if args.gif else None
+    design = design_of(args) or Design()
+    if given(args, "variant"):
+        design = design.with_(variant=args.variant)
+    if args.omega is not None:
+        design = design.with_(omega=args.omega)
+    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.report.walking import verdict_json, walk_lines, write_walk_animation
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+    settings = WalkSettings(steps=args.steps, mu=args.mu)
+    robot = design_robot(design, 2, visuals=html is not None)
+    walk = walk_design(design, settings, robot)
+    stability = None
+    if args.stability:
+        from pasibot_pin.studies.gait_stability import gait_stability
+
+        stability = gait_stability(design, walk, robot=robot)
+    if args.json:
+        print(json.dumps(verdict_json(walk, stability)), flush=True)
+    else:
+        for line in walk_lines(walk):
+            print(line, flush=True)
+        if stability is not None:
+            print(stability.summary(), flush=True)
+    for path in write_walk_animation(walk, robot, html, gif):
+        if not args.json:
+            print(f"wrote {path}")
+    return 0

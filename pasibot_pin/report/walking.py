@@ -1,0 +1,142 @@
+"""A design's walk on the floor as files: its animation (meshcat HTML page, stick GIF) and its JSON.
+
+The frames are the floor run's configurations resampled at ``fps`` frames per second of
+simulated time; each foot's floor force (heel plus toe, at their centre of pressure) is an arrow,
+each foot's contact mode the one the simulation found.
+
+Units: SI, angles [rad] (degrees in the printed and JSON figures, named ``_deg``).
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from pasibot_pin.dynamics.floor import SIDES
+
+FORCE_SCALE = 5e-4
+"""Arrow length per newton of floor force [m/N]."""
+
+
+def walk_frames(result, fps: float) -> np.ndarray:
+    """Indices of the run's samples nearest each frame at ``fps`` frames per second [1/s]."""
+    times = np.arange(0.0, result.t[-1] + 1e-12, 1.0 / fps) if len(result.t) else np.zeros(1)
+    return np.clip(np.searchsorted(result.t, times), 0, max(len(result.t) - 1, 0))
+
+
+def floor_force_tracks(sim, result, index: np.ndarray) -> dict:
+    """One :class:`~pasibot_pin.viz.viewer.ForceTrack` per foot: its floor force at its centre of pressure."""
+    from pasibot_pin.viz.viewer import ForceTrack
+
+    tracks = {}
+    for i, side in enumerate(SIDES):
+        points, forces = np.zeros((len(index), 3)), np.zeros((len(index), 3))
+        for row, k in enumerate(index):
+            gap, along, *_ = sim.contact_rows(result.q[k])
+            fn, ft = result.normal[k, 2 * i : 2 * i + 2], result.tangential[k, 2 * i : 2 * i + 2]
+            total = float(fn.sum())
+            weights = fn / total if total > 0 else np.array([0.5, 0.5])
+            points[row] = (float(weights @ along[2 * i : 2 * i + 2]), 0.0, float(weights @ gap[2 * i : 2 * i + 2]))
+            forces[row] = (float(ft.sum()), 0.0, total)
+        tracks[f"{side} foot"] = ForceTrack(points, forces, FORCE_SCALE)
+    return tracks
+
+
+def write_walk_animation(walk, robot, html: Path | None = None, gif: Path | None = None, fps: float = 20.0):
+    """Write the walk as a one-file meshcat page and/or a stick GIF (each to a temporary name, then renamed).
+
+    Args:
+        walk: a :class:`~pasibot_pin.studies.walking.DesignWalk`.
+        robot: its robot.
+        html: the HTML file (``None``: none).
+        gif: the GIF file (``None``: none).
+        fps: frames per second of simulated time [1/s].
+
+    Returns:
+        The files written.
+
+    """
+    from pasibot_pin.dynamics.floor import FloorSimulator
+    from pasibot_pin.files import atomic_path
+
+    result = walk.result
+    index = walk_frames(result, fps)
+    qs, times = result.q[index], result.t[index]
+    sim = FloorSimulator(robot, walk.settings)
+    forces = floor_force_tracks(sim, result, index)
+    modes = {side: [result.modes[side][k] for k in index] for side in SIDES}
+    title = f"{robot.variant} on the floor, {walk.omega:g} rad/s: {walk.verdict.short()}"
+    written = []
+    if gif is not None:
+        from pasibot_pin.viz.animation import save_gif
+
+        with atomic_path(gif) as temp:
+            save_gif(robot, qs, temp, fps=fps, force=True, title=title, forces=forces, modes=modes, times=times)
+        written.append(gif)
+    if html is not None:
+        from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene
+
+        viewer = WalkViewer(robot, offline=True)
+        try:
+            build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes)
+            text = viewer.static_html()
+        finally:
+            viewer.close()
+        with atomic_path(html) as temp:
+            temp.write_text(text, encoding="utf-8")
+        written.append(html)
+    return written
+
+
+def verdict_json(walk, multipliers=None) -> dict:
+    """The walk as a JSON-ready dict: the verdict's figures, the motor's, and the multipliers if given."""
+    v, result = walk.verdict, walk.result
+    torque = np.abs(result.motor_torque)
+    out = {
+        "outcome": v.outcome,
+        "detail": v.detail,
+        "decided_at_s": v.decided_at,
+        "steps": v.steps,
+        "advance_m": v.advance_m,
+        "advance_per_step": _finite(v.advance_per_step),
+        "max_hip_pitch_deg": math.degrees(v.max_hip_pitch),
+        "max_slip_m": v.max_slip_m,
+        "peak_motor_torque_Nm": float(torque.max()) if torque.size else 0.0,
+        "mean_motor_power_W": _finite(v.mean_motor_power_w),
+        "motor_energy_per_metre_J_per_m": _finite(v.power_per_metre),
+        "cost_of_transport": _finite(v.cost_of_transport),
+        "omega_rad_s": walk.omega,
+        "dt_s": walk.dt,
+        "simulated_s": v.simulated_s,
+    }
+    if multipliers is not None:
+        out["multipliers"] = [[float(z.real), float(z.imag)] for z in multipliers.multipliers]
+        out["stable"] = bool(multipliers.stable)
+    return out
+
+
+def _finite(x: float) -> float | None:
+    return float(x) if math.isfinite(x) else None
+
+
+def walk_lines(walk) -> list[str]:
+    """The printed answer: outcome, steps, advance, hip pitch, slip, the motor's torque and power, CoT."""
+    d = verdict_json(walk)
+    lines = [f"outcome: {d['outcome']}" + (f" at t = {d['decided_at_s']:.3f} s ({d['detail']})" if d["detail"] else "")]
+    lines.append(f"steps: {d['steps']} in {d['simulated_s']:.2f} s at {walk.omega:g} rad/s (time step {walk.dt:g} s)")
+    ratio = d["advance_per_step"]
+    per_step = f" ({100 * ratio:.1f} % of the linkage's 8 L per step)" if ratio is not None else ""
+    lines.append(f"advance: {d['advance_m']:.3f} m{per_step}")
+    slide = f"largest slide in one stance: {1e3 * d['max_slip_m']:.2f} mm"
+    lines.append(f"max |hip pitch|: {d['max_hip_pitch_deg']:.2f} deg; {slide}")
+    power = d["mean_motor_power_W"]
+    lines.append(
+        f"motor: peak torque {d['peak_motor_torque_Nm']:.2f} N.m"
+        + (f", mean positive power {power:.2f} W" if power is not None else "")
+    )
+    cot, per_m = d["cost_of_transport"], d["motor_energy_per_metre_J_per_m"]
+    if cot is not None:
+        lines.append(f"cost of transport: {cot:.4f} ({per_m:.2f} J/m over whole strides)")
+    return lines

@@ -1,0 +1,155 @@
+"""Does a design walk? Put it on the floor, turn its cranks, and judge the walk.
+
+:func:`walk_design` builds the design's two-legged robot (its variant, motor layout, sole,
+masses, ankle spring where it has one), starts it from a consistent state on the floor
+(:meth:`~pasibot_pin.dynamics.floor.FloorSimulator.start_state`), turns the cranks at the
+design's speed after a smooth ramp, and stops as soon as the walking verdict
+(:mod:`pasibot_pin.dynamics.verdict`) is decided: ``walks`` after its steps, or the first failure.
+A design that does not walk is an outcome, never an exception; a design whose linkage cannot
+be built at all raises :class:`~pasibot_pin.errors.DesignError` before any simulation.
+
+:data:`WALK_MU`, the crank ramp and the time step are the defaults of every walking answer (the
+``walk`` command, the floor metrics of a design, walking sweeps, the MuJoCo twin).
+
+Units: SI, angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from pasibot_pin.dynamics.floor import FloorResult, FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
+from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.params import SOLE_FLOOR_MU
+
+WALK_MU = SOLE_FLOOR_MU
+"""Sole-floor Coulomb friction of a walk [-] (the project's one sole-floor friction)."""
+RAMP_SHARE = 0.25
+"""The cranks reach their speed over this share of a step period (pi / omega) [-]..."""
+RAMP_MAX = 1.0
+"""... but over at most this long [s]."""
+MIN_OMEGA = 0.05
+"""The slowest crank speed a walk is simulated at [rad/s] (20 steps at 0.05 rad/s are 21 minutes)."""
+STEPS_PER_PERIOD = 1000
+"""The time step is at most a step period over this, ..."""
+DT_RANGE = (5e-4, 1e-3)
+"""... and within this range [s]."""
+
+
+def walk_dt(omega: float) -> float:
+    """The default time step of a walk at crank speed ``omega`` [rad/s]: [s].
+
+    A step period pi / omega over :data:`STEPS_PER_PERIOD`, within :data:`DT_RANGE`: slow walks
+    are quasi-static and take longer steps, fast ones shorter.
+    """
+    low, high = DT_RANGE
+    return min(high, max(low, math.pi / omega / STEPS_PER_PERIOD))
+
+
+@dataclass(frozen=True)
+class WalkSettings:
+    """How to put a design on the floor.
+
+    Attributes:
+        steps: steps to walk before the verdict is ``walks`` [-].
+        mu: sole-floor friction [-].
+        dt: time step [s] (``None``: :func:`walk_dt` of the design's speed).
+        criteria: the verdict's other thresholds (its ``steps`` is replaced by ``steps``).
+
+    """
+
+    steps: int = 20
+    mu: float = WALK_MU
+    dt: float | None = None
+    criteria: GaitCriteria = GaitCriteria()
+
+    def __post_init__(self) -> None:
+        integer = isinstance(self.steps, int) and not isinstance(self.steps, bool)
+        if not integer or not 1 <= self.steps <= 10_000:
+            raise ParameterError(f"parameter 'steps' must be an integer in [1, 10000], got {self.steps!r}")
+        if not (isinstance(self.mu, (int, float)) and math.isfinite(self.mu) and 0.0 <= self.mu <= 10.0):
+            raise ParameterError(f"parameter 'mu' must be a friction coefficient in [0, 10], got {self.mu!r}")
+        if self.dt is not None and not (
+            isinstance(self.dt, (int, float)) and math.isfinite(self.dt) and 1e-5 <= self.dt <= 1e-2
+        ):
+            raise ParameterError(f"parameter 'dt' must be a time step in [1e-05, 0.01] s, got {self.dt!r}")
+
+    def judged_by(self) -> GaitCriteria:
+        """The verdict's criteria with this walk's step count."""
+        from dataclasses import replace
+
+        return replace(self.criteria, steps=self.steps)
+
+
+@dataclass
+class DesignWalk:
+    """A design on the floor: its verdict and the run.
+
+    Attributes:
+        verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict`.
+        result: the floor run (every sample).
+        omega: crank speed [rad/s].
+        dt: the time step used [s].
+        settings: the :class:`FloorSettings` of the run.
+
+    """
+
+    verdict: Verdict
+    result: FloorResult
+    omega: float
+    dt: float
+    settings: FloorSettings
+
+    def __repr__(self) -> str:
+        return f"DesignWalk(omega={self.omega:g} rad/s, dt={self.dt:g} s: {self.verdict.summary()})"
+
+
+def walk_duration(omega: float, steps: int) -> float:
+    """The longest a walk of ``steps`` steps may need [s]: its steps, the ramp and two spare periods."""
+    return (steps + 3) * math.pi / omega + RAMP_MAX
+
+
+def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
+    """The :class:`FloorSettings` of ``design``'s walk: its speed, spring, motors; the ramp and step."""
+    from pasibot_pin.studies.spring_fit import design_spring
+
+    omega = design.omega
+    if not (math.isfinite(omega) and omega >= MIN_OMEGA):
+        raise ParameterError(f"parameter 'omega' must be at least {MIN_OMEGA:g} rad/s to walk, got {omega!r}")
+    spring = design_spring(design, robot)
+    dt = walk_dt(omega) if settings.dt is None else settings.dt
+    ramp = min(RAMP_MAX, RAMP_SHARE * math.pi / omega)
+    return FloorSettings(
+        omega=omega, spring=spring, crank_ramp=ramp, mu=settings.mu, dt=dt, motors=design.motors, fall_limit=math.pi / 2
+    )
+
+
+def walk_design(design, settings: WalkSettings | None = None, robot=None) -> DesignWalk:
+    """Put ``design`` on the floor and judge its walk (see the module docstring).
+
+    Args:
+        design: a :class:`~pasibot_pin.model.design.Design`.
+        settings: :class:`WalkSettings` (default: 20 steps).
+        robot: its two-legged robot, if already built.
+
+    Returns:
+        :class:`DesignWalk`; a walk that fails is its verdict, not an exception.
+
+    Raises:
+        ParameterError: bad settings or a crank speed below :data:`MIN_OMEGA`.
+        DesignError: the design cannot be built.
+
+    """
+    from pasibot_pin.model.design import design_robot
+
+    settings = WalkSettings() if settings is None else settings
+    robot = design_robot(design, 2, visuals=False) if robot is None else robot
+    floor = floor_settings(design, settings, robot)
+    sim = FloorSimulator(robot, floor)
+    result = sim.run(
+        walk_duration(design.omega, settings.steps), criteria=settings.judged_by(), stop_on_verdict=True
+    )
+    assert result.verdict is not None  # omega > 0
+    return DesignWalk(result.verdict, result, design.omega, floor.dt, floor)
