@@ -97,6 +97,12 @@ def _files(root: Path) -> set[Path]:
     return set(root.rglob("*"))
 
 
+def test_the_floor_bound_is_the_studys():
+    from pasibot_pin.studies.design_metrics import MAX_FLOOR_STEPS
+
+    assert BOUNDS["sweep"]["--floor"].high == BOUNDS["optimize"]["--floor"].high == MAX_FLOOR_STEPS
+
+
 def test_every_numeric_flag_has_a_bound():
     flags = {(command, action.option_strings[0]) for command, action in _numeric_actions()}
     bounded = {(command, flag) for command, table in BOUNDS.items() for flag in table}
@@ -127,7 +133,10 @@ CASES: list[tuple[str, str]] = [
     ("simulate --ground weld --no-cases --dt 1e-300", r"--dt must be in \[1e-05, 0.1\] s"),
     ("simulate --no-cases --duration 600 --dt 1e-5", r"--duration 600 s at --dt 1e-05 s gives 6e\+07 integration"),
     ("simulate --no-cases --dt 0.05", r"--dt must be in \[1e-05, 0.01\] s with --ground floor"),
-    ("sweep --n 2 --workers 1 --floor 1e-300 --out {tmp}/run", r"--floor must be in \[0.05, 600\] s"),
+    ("sweep --n 2 --workers 1 --floor 1e-300 --out {tmp}/run", r"--floor must be an integer in \[1, 1000\] steps"),
+    ("sweep --n 2 --workers 1 --floor 0 --out {tmp}/run", r"--floor must be an integer in \[1, 1000\] steps, got 0"),
+    ("walk --omega 1e300", r"--omega must be in \[0.05, 20\] rad/s"),
+    ("walk --mu nan", r"--mu must be in \[0, 10\], got nan"),
     ("energy --nodes 1000000000", r"--nodes must be an integer in \[2, 1000\]"),
     ("energy --nodes 1000 --omegas 1,2,3,4,5,6,7,8,9,10,11", r"= 22000 inverse-dynamics nodes; at most 20000"),
     ("view --steps 1000 --samples-per-step 1000", r"--steps 1000 x --samples-per-step 1000 = 1000000 frames; at"),

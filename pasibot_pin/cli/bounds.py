@@ -98,7 +98,7 @@ _SAMPLES_PER_STEP = Bound(2, 1000, integer=True)
 _EXPLORE = {
     "--workers": Bound(1, MAX_WORKERS, integer=True),
     "--best": Bound(0, 100, integer=True),
-    "--floor": Bound(0.05, 600.0, "s"),
+    "--floor": Bound(1, 1000, "steps", integer=True),  # studies.design_metrics.MAX_FLOOR_STEPS
     "--seed": Bound(0, 2**32 - 1, integer=True),
 }
 _WALK_VIEW = {
@@ -152,6 +152,7 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--nodes": Bound(2, 1000, integer=True),
         "--flywheel": Bound(0.0, 1000.0, "kg.m^2", low_open=True),
     },
+    "walk": {"--omega": Bound(0.05, 20.0, "rad/s"), "--mu": _MU},  # --steps: its own type, [1, 1000]
     "sweep": {"--n": Bound(1, 1_000_000, integer=True), **_EXPLORE},
     "optimize": {
         "--trials": Bound(1, 1_000_000, integer=True),
