@@ -63,14 +63,27 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run every step on one pool, longest pieces first, and write ``report.md``."""
     from pasibot_pin.cli.common import check_output_folder
+    from pasibot_pin.files import MARKER, OutputFolder
+
+    out_dir: Path = check_output_folder(args.out, "--out")
+    if out_dir.is_dir() and any(p.name != MARKER for p in out_dir.iterdir()) and not args.force:
+        raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
+    folder = OutputFolder(out_dir).claim(force=args.force)  # marked, locked; --force only in pasibot's folders
+    try:
+        _run(out_dir)
+    except BaseException:
+        folder.discard()  # a failed or stopped run leaves nothing it created
+        raise
+    folder.release()
+    return 0
+
+
+def _run(out_dir: Path) -> None:
+    """Every step into ``out_dir`` (claimed), then ``report.md``."""
     from pasibot_pin.jobs import WORKERS, Job, run_jobs
     from pasibot_pin.report.files import write_text_atomic
     from pasibot_pin.report.markdown import report_text
 
-    out_dir: Path = check_output_folder(args.out, "--out")
-    if out_dir.is_dir() and any(out_dir.iterdir()) and not args.force:
-        raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
-    out_dir.mkdir(parents=True, exist_ok=True)
     built: dict = {}  # step name -> its Section
     plans = {
         name: getattr(importlib.import_module(f"pasibot_pin.report.{dict(STEPS)[name]}"), cls)(out_dir)
@@ -96,4 +109,3 @@ def run(args: argparse.Namespace) -> int:
     text = report_text([built[name].markdown for name, _ in STEPS], {name: b.facts for name, b in built.items()})
     report = write_text_atomic(out_dir / "report.md", text)
     print(f"wrote {report}")
-    return 0

@@ -13,6 +13,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import CHOICES, SPECS, Design
 
 
@@ -80,7 +81,8 @@ class SweepPlan:
 
     Attributes:
         ranges: the varied parameters.
-        n: the number of designs (``grid``: levels per parameter = round(n ** (1 / d)), at least 2).
+        n: the number of designs (``grid``: levels ** d for d varied parameters, at least 2 levels each;
+            any other n is refused with the nearest grid sizes).
         method: ``lhs`` or ``grid``.
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
@@ -109,6 +111,18 @@ class SweepPlan:
                 f"--vary names a parameter twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}"
             )
         object.__setattr__(self, "ranges", tuple(self.ranges))
+        if self.method == "grid":
+            d = len(self.ranges)
+            levels = max(2, round(self.n ** (1.0 / d)))
+            if levels**d != self.n:  # n means the number of designs: a grid has levels**d of them
+                below, above = max(2, int(self.n ** (1.0 / d) + 1e-9)), None
+                above = below if below**d > self.n else below + 1
+                sizes = sorted({below**d, above**d} - {self.n})
+                offer = " or ".join(f"--n {size} ({round(size ** (1.0 / d))} levels)" for size in sizes)
+                raise ParameterError(
+                    f"--n {self.n} with --method grid over {d} varied parameter(s): a grid has levels^{d} designs; "
+                    f"take {offer}"
+                )
 
     @property
     def names(self) -> tuple[str, ...]:

@@ -88,7 +88,12 @@ def export_animation(robot, result, html: Path | None = None, gif: Path | None =
             text = viewer.static_html()
         finally:
             viewer.close()
-        html.write_text(text, encoding="utf-8")
+        from pasibot_pin.files import PART_MARKER, write_text_atomic
+
+        if PART_MARKER in Path(html).name:  # the caller writes to a temporary name already
+            Path(html).write_text(text, encoding="utf-8")
+        else:
+            write_text_atomic(html, text)
         written.append(html)
     return written
 

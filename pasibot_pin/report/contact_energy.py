@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, write_columns_csv
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, write_columns_csv, writing
 from pasibot_pin.report.markdown import Section, figure, figure_links
 from pasibot_pin.studies.contact import ContactResult
 from pasibot_pin.studies.contact_energy_study import (
@@ -83,9 +83,7 @@ def write_energy_csv(path: Path, rows: Sequence[StepEnergy]) -> None:
 
     table = [{with_unit(k): v for k, v in r.row().items()} for r in rows]  # omega_rad_s, W_crank_net_J, ...
     keys = list(dict.fromkeys(k for row in table for k in row))
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
+    with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=keys, restval="")
         writer.writeheader()
         writer.writerows(table)

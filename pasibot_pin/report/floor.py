@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from pasibot_pin.files import atomic_paths
+from pasibot_pin.files import atomic_paths, check_replaceable
 from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.report.floor_static import cases_markdown, floor_text, static_files, sweep_markdown, write_static_into
 from pasibot_pin.studies.floor_spring_study import CaseComparison, FloorSpringStudy
@@ -28,9 +29,11 @@ PLOT_NAME = "floor_{scenario}.png"
 def floor_files(out: Path, scenario: str, force: bool = False) -> tuple[Path, Path]:
     """(csv, png) of ``scenario`` in ``out``; FileExistsError if one exists and ``force`` is false."""
     files = (Path(out) / CSV_NAME.format(scenario=scenario), Path(out) / PLOT_NAME.format(scenario=scenario))
-    existing = [str(p) for p in files if p.exists()]
+    existing = [str(p) for p in files if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    for path in files:
+        check_replaceable(path, "--out")  # --force replaces regular files only
     return files
 
 
@@ -134,9 +137,11 @@ def floor_spring_files(out: Path, force: bool = False, sweep: bool = False) -> l
     paths = [Path(out) / f"{SPRINGS_NAME}{ext}" for ext in (".md", ".csv", ".png")]
     if sweep:
         paths += static_files(out, force=True)
-    existing = [str(p) for p in paths if p.exists()]
+    existing = [str(p) for p in paths if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    for path in paths:
+        check_replaceable(path, "--out")  # --force replaces regular files only
     return paths
 
 

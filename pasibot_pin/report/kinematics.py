@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import FIGURE_DPI, save_figure_file
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, writing
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
     KinematicsSurvey,
@@ -38,9 +38,7 @@ def write_rows_csv(path: Path, columns: list[str] | tuple[str, ...], rows: np.nd
     """
     from pasibot_pin.units import with_unit
 
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
+    with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow([with_unit(name) for name in columns])
         for row in rows:

@@ -12,11 +12,13 @@
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from pasibot_pin.files import check_replaceable
 from pasibot_pin.report.animation import export_animation
 from pasibot_pin.report.files import save_figure_file, write_columns_csv
 
@@ -59,7 +61,6 @@ def prepare_outputs(
 
     """
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     tag = str(scenario).replace(" ", "_")
     files = SimulateFiles(
         out / PLOT_NAME.format(scenario=tag),
@@ -67,9 +68,12 @@ def prepare_outputs(
         out / GIF_NAME.format(scenario=tag) if gif else None,
         out / HTML_NAME.format(scenario=tag) if html else None,
     )
-    existing = [str(p) for p in (files.plot, files.csv, files.gif, files.html) if p is not None and p.exists()]
+    paths = [p for p in (files.plot, files.csv, files.gif, files.html) if p is not None]
+    existing = [str(p) for p in paths if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    for path in paths:
+        check_replaceable(path, "--out")  # --force replaces regular files only
     return files
 
 

@@ -311,8 +311,14 @@ def save_gif(
         from PIL import Image
 
         images = [Image.fromarray(f, "RGBA") for f in frames]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    from pasibot_pin.files import PART_MARKER, atomic_path
+
+    duration = max(1, round(1000 / fps))  # [ms] per frame
+    if PART_MARKER in out.name:  # the caller writes to a temporary name already
+        images[0].save(out, format="gif", save_all=True, append_images=images[1:], duration=duration, loop=0)
+        return out
+    with atomic_path(out) as tmp:  # the GIF appears whole under its name, or not at all
+        images[0].save(tmp, format="gif", save_all=True, append_images=images[1:], duration=duration, loop=0)
     return out
 
 
