@@ -11,8 +11,8 @@ from pasibot_pin.dynamics.verdict import LINKAGE_ADVANCE_PER_STEP, OUTCOMES
 from pasibot_pin.model.design import Design
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
-WALKER = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=1.0)
-"""The parallel extension with 4.5 L soles each side: it walks at 1 rad/s (shared DESIGN.md §8b)."""
+WALKER = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
+"""The parallel extension with 4.5 L soles each side: it walks (at 1 rad/s in MuJoCo, shared DESIGN.md §8b)."""
 
 
 @pytest.fixture(scope="module")
@@ -32,6 +32,17 @@ def test_the_long_soled_parallel_design_walks_at_the_linkages_own_advance(walks)
     assert np.allclose(np.diff(v.step_times), math.pi / WALKER.omega, rtol=0.02)  # a step per half crank turn
     assert v.max_hip_pitch < math.radians(1.0) and v.max_slip_m < 0.005
     assert v.cost_of_transport > 0 and v.power_per_metre > 0
+
+
+def test_the_readme_quotes_the_walker(walks):
+    import re
+    from pathlib import Path
+
+    readme = (Path(__file__).resolve().parents[1] / "README.md").read_text(encoding="utf-8")
+    found = re.search(r"walks at\s+(\S+) rad/s, its hip at (\d+) % of the linkage's own 8 L per step", readme)
+    assert found, "the README's walker sentence changed shape"
+    v = walks["two"].verdict
+    assert float(found.group(1)) == WALKER.omega and int(found.group(2)) == round(100 * v.advance_per_step)
 
 
 def test_one_motor_moves_the_robot_as_two_and_carries_their_sum(walks):
