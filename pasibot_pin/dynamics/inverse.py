@@ -323,11 +323,6 @@ def ankle_angles(robot: PasibotRobot, q: np.ndarray, side: str) -> np.ndarray:
     return diff - 2 * math.pi * np.round(diff / (2 * math.pi))  # math.remainder, elementwise
 
 
-def ankle_angle(robot: PasibotRobot, q: np.ndarray, side: str) -> float:
-    """Beta of ``side`` at one configuration [rad] (:func:`ankle_angles`)."""
-    return float(ankle_angles(robot, q, side)[0])
-
-
 # --------------------------------------------------------------------------- one stance, set up once
 @dataclass
 class _StancePlan:

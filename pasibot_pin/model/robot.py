@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -28,8 +27,6 @@ from pasibot_pin.model.params import (
 )
 from pasibot_pin.model.paths import urdf_path
 from pasibot_pin.model.variants import Variant, get_variant
-
-"""The two-legged robot's floating hip: x, z translation and pitch in the sagittal plane."""
 
 INERTIA_MODES = ("point", "uniform")
 
@@ -348,8 +345,3 @@ def load(
         robot.stance = "right"
     robot.q0 = q0
     return robot
-
-
-def load_urdf_path(variant: str = "spring", legs: int = 2) -> Path:
-    """Path of the committed default URDF for ``variant`` and ``legs``."""
-    return urdf_path(variant, legs)

@@ -13,7 +13,6 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from pasibot_pin.files import atomic_paths
 from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.studies.floor_static import CAUSES, FloorStatic, FloorStaticSweep
 
@@ -172,10 +171,3 @@ def write_static_into(sweeps: Sequence[FloorStaticSweep], csv_path: Path, png_pa
         save_figure_file(fig, png_path, 100)
     finally:
         plt.close(fig)
-
-
-def write_floor_static(sweeps: Sequence[FloorStaticSweep], csv_path: Path, png_path: Path) -> list[Path]:
-    """Write the sweep's CSV and figure (temporary names, renamed together); returns the paths."""
-    with atomic_paths(csv_path, png_path) as (csv_tmp, png_tmp):
-        write_static_into(sweeps, csv_tmp, png_tmp)
-    return [csv_path, png_path]

@@ -17,11 +17,10 @@ the stance foot welded (DESIGN §5). Along it:
 * the cost of transport is a work per step over (total weight x distance walked in the step).
 
 The ``parallel`` variant (the seed's parallel extension) has 2 actuators for 2 degrees of
-freedom (cranks only; its foot is held parallel by the linkage). The team's inverse dynamics
-(:func:`pasibot_pin.dynamics.inverse_dynamics`) accepts only the ``spring`` biped, so its
-inverse dynamics is done here with the same recipe: ``closure.solve_configuration`` /
-``solve_velocity`` / ``solve_acceleration``, ``pin.rnea``, and one square split
-tau = S^T u + J_c^T lambda (29 x 29) by :func:`pasibot_pin.dynamics.inverse.split_torques`.
+freedom (cranks only; its foot is held parallel by the linkage). Its torques come from the same
+:func:`pasibot_pin.dynamics.inverse.inverse_dynamics` as every variant's (the variant's record
+says what is prescribed and actuated; the split tau = S^T u + J_c^T lambda is
+:func:`pasibot_pin.constraints.split_torques`).
 Its masses follow :func:`pasibot_pin.model.params.percentage_mass_model`: the extension links
 (L8, L9, L10, L11, the foot bar, a slider one crank long) get the thigh's mass per unit
 length (6.5 kg over 1.175 m = 5.53 kg/m), about 10 kg per leg; the body mass and COM are the
