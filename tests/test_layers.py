@@ -14,6 +14,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "pasibot_pin"
 LAYERS: dict[str, int] = {
     # the foundation: no physics, imported by anyone
     "errors": 0,
+    "caches": 0,
     "files": 0,
     "units": 0,
     "reprs": 0,

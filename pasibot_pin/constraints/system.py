@@ -40,25 +40,24 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarKinematics, PlanarRowBlocks
 from pasibot_pin.errors import ClosureError, ParameterError, SingularPoseError
 
-_PLANAR_CACHE: dict[int, tuple[pin.Model, PlanarKinematics | None]] = {}
+_PLANAR: PerObjectCache[PlanarKinematics | None] = PerObjectCache()
 
 
 def planar_kinematics(model: pin.Model) -> PlanarKinematics | None:
     """The exact planar kinematics of ``model`` (cached), or ``None`` when the model is not planar."""
-    entry = _PLANAR_CACHE.get(id(model))
-    if entry is None or entry[0] is not model:
-        try:
-            kin = PlanarKinematics(model)
-        except ValueError:
-            kin = None
-        if len(_PLANAR_CACHE) >= 16:
-            _PLANAR_CACHE.pop(next(iter(_PLANAR_CACHE)))
-        entry = _PLANAR_CACHE[id(model)] = (model, kin)  # the entry keeps the model alive: no id reuse
-    return entry[1]
+    return _PLANAR.get(model, lambda: _planar_or_none(model))
+
+
+def _planar_or_none(model: pin.Model) -> PlanarKinematics | None:
+    try:
+        return PlanarKinematics(model)
+    except ValueError:
+        return None
 
 
 RELATIVE_TOL = 2e-11

@@ -43,6 +43,7 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.constraints import ConstraintSystem, coupling, frame_rows, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.dynamics.newton_euler import TreeLayout, tree_layout
@@ -290,20 +291,17 @@ def _couplings(robot: PasibotRobot, layout: MotorLayout) -> list:
     return [coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings]
 
 
-_ANKLE_ENDS: dict[tuple[int, str], tuple[pin.Model, PlanarRowBlocks]] = {}
+_ANKLE_ENDS: PerObjectCache[PlanarRowBlocks] = PerObjectCache()
 
 
 def _ankle_ends(robot: PasibotRobot, side: str) -> PlanarRowBlocks:
     """The shank frame's pitch and the toe and heel positions of ``side``, as planar rows (cached)."""
-    cache = _ANKLE_ENDS
-    key = (id(robot.model), side)
-    if key not in cache or cache[key][0] is not robot.model:
-        model = robot.model
+
+    def build() -> PlanarRowBlocks:
         frames = [robot.frame_id(f"{side}_{name}") for name in ("l5_shank", "toe", "heel")]
-        if len(cache) >= 32:
-            cache.pop(next(iter(cache)))
-        cache[key] = (model, frame_rows(model, frames, [1, 2], [0]))  # keeps the model alive
-    return cache[key][1]
+        return frame_rows(robot.model, frames, [1, 2], [0])
+
+    return _ANKLE_ENDS.get(robot.model, build, side)
 
 
 def ankle_angles(robot: PasibotRobot, q: np.ndarray, side: str) -> np.ndarray:
@@ -358,16 +356,23 @@ class _StancePlan:
     model_copy: pin.Model
 
 
-_PLANS: dict[tuple, tuple[pin.Model, _StancePlan]] = {}
+_PLANS: PerObjectCache[_StancePlan] = PerObjectCache()
 
 
 def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorLayout, stance_x: float) -> _StancePlan:
     """The :class:`_StancePlan` of ``robot`` standing on ``side`` with its ankle at x = ``stance_x`` [m]."""
+    return _PLANS.get(
+        robot.model,
+        lambda: _make_stance_plan(robot, side, swing_foot, layout, stance_x),
+        (side, swing_foot, layout.name, float(stance_x)),
+        fresh=lambda plan: plan.model_copy == robot.model,  # a plan is stale once the model changed in place
+    )
+
+
+def _make_stance_plan(
+    robot: PasibotRobot, side: str, swing_foot: str, layout: MotorLayout, stance_x: float
+) -> _StancePlan:
     model = robot.model
-    key = (id(model), side, swing_foot, layout.name, float(stance_x))
-    cached = _PLANS.get(key)
-    if cached is not None and cached[0] is model and cached[1].model_copy == model:
-        return cached[1]
     rs = robot.with_weld(side, closure.stance_weld(robot, side, stance_x))
     rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
     coupling_rows = closure.system(rs, [], _couplings(rs, layout))
@@ -379,7 +384,7 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
             cut_rows[_generic(cm.name, side)] = rows_of
     tree = tree_layout(model, rs.constraint_models)
     s_matrix = _actuation(rs, side, layout)
-    entry = _StancePlan(
+    return _StancePlan(
         robot=rs,
         rows=rows,
         s_matrix=s_matrix,
@@ -394,10 +399,6 @@ def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorL
         joint_names={_generic(model.names[j], side): j for j in range(2, model.njoints)},
         model_copy=pin.Model(model),
     )
-    if len(_PLANS) >= 32:
-        _PLANS.pop(next(iter(_PLANS)))
-    _PLANS[key] = (model, entry)  # keeps the model alive: no id reuse
-    return entry
 
 
 def _split(tau: np.ndarray, jac_t: np.ndarray, actuated: np.ndarray, passive: np.ndarray):

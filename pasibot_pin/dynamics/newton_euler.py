@@ -26,6 +26,7 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.constraints import anchor_points, is_weld, model_key, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
@@ -67,7 +68,7 @@ class TreeLayout:
         return pos, acc, alpha
 
 
-_LAYOUTS: dict[tuple, tuple[object, TreeLayout]] = {}
+_LAYOUTS: PerObjectCache[TreeLayout] = PerObjectCache()
 
 
 def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
@@ -80,10 +81,12 @@ def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
     inertias = np.array([model.inertias[j].toDynamicParameters() for j in joints])
     # only the ends on moving bodies matter: a weld's world target (where the foot stands) does not
     ends_key = tuple(k[:4] + (k[4] if k[2] != 0 else b"",) for k in map(model_key, cmodels))
-    key = (id(model), ends_key, inertias.tobytes())
-    entry = _LAYOUTS.get(key)
-    if entry is not None:
-        return entry[1]
+    return _LAYOUTS.get(model, lambda: _build_tree_layout(model, cmodels), (ends_key, inertias.tobytes()))
+
+
+def _build_tree_layout(model: pin.Model, cmodels) -> TreeLayout:
+    """The :class:`TreeLayout` of ``model`` with ``cmodels``, built (see :func:`tree_layout`)."""
+    joints = list(range(1, model.njoints))
     kin = planar_kinematics(model)
     if kin is None:
         raise ValueError("the batched Newton-Euler needs a planar model (every rotation about y)")
@@ -116,7 +119,7 @@ def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
         ends = PlanarRowBlocks(end_points, [(e, -1) for e in range(len(ej))], [])
         ends_below = np.array([[1.0 if j in supports[int(e)] else 0.0 for e in ej] for j in joints])
     g = model.gravity.linear
-    layout = TreeLayout(
+    return TreeLayout(
         mass=mass,
         inertia_y=inertia_y,
         coms=coms,
@@ -130,7 +133,3 @@ def tree_layout(model: pin.Model, cmodels) -> TreeLayout:
         ends_below=ends_below,
         gravity=complex(g[0], g[2]),
     )
-    if len(_LAYOUTS) >= 64:
-        _LAYOUTS.pop(next(iter(_LAYOUTS)))
-    _LAYOUTS[key] = ((model, list(cmodels)), layout)  # the entry keeps its keys' objects alive
-    return layout

@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.model import jet
 from pasibot_pin.model.params import Geometry
 from pasibot_pin.model.variants import Variant, get_variant
@@ -159,19 +160,12 @@ def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | V
     return p
 
 
-_LENGTHS: dict[int, tuple[Geometry, list[float]]] = {}
+_LENGTHS: PerObjectCache[list[float]] = PerObjectCache()
 
 
 def _lengths(g: Geometry) -> list[float]:
     """L0 .. L13 [m] (cached per geometry object; a Geometry is frozen)."""
-    cached = _LENGTHS.get(id(g))
-    if cached is not None and cached[0] is g:
-        return cached[1]
-    lengths = [g.length(k) for k in range(14)]
-    if len(_LENGTHS) >= 64:
-        _LENGTHS.pop(next(iter(_LENGTHS)))
-    _LENGTHS[id(g)] = (g, lengths)  # keeps the geometry alive: no id reuse
-    return lengths
+    return _LENGTHS.get(g, lambda: [g.length(k) for k in range(14)])
 
 
 def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) -> None:

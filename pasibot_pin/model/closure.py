@@ -22,6 +22,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin import constraints
+from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
 from pasibot_pin.model import jet
 from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
@@ -59,9 +60,8 @@ def is_crank(robot, row: Prescribed) -> bool:
     return isinstance(row, CoordinateRow) and row.name in robot.actuated_joints
 
 
-_CACHE_SIZE = 64
-_SYSTEMS: dict[tuple, ConstraintSystem] = {}
-_ANGULAR: dict[int, tuple[pin.Model, np.ndarray]] = {}
+_SYSTEMS: PerObjectCache[ConstraintSystem] = PerObjectCache()
+_ANGULAR: PerObjectCache[np.ndarray] = PerObjectCache()
 
 
 def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> ConstraintSystem:
@@ -74,16 +74,12 @@ def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> Constr
 
     """
     cmodels = robot.constraint_models if cmodels is None else cmodels
-    cache = _SYSTEMS  # shared by the shallow copies of a robot (with_stance, with_weld): keyed by its model
-    # equal constraint models share an entry; the entry holds the Pinocchio model, so its id is not reused
-    key = (id(robot.model), id(robot.data), tuple(constraints.model_key(cm) for cm in cmodels), tuple(prescribed))
-    entry = cache.get(key)
-    if entry is None:
-        entry = ConstraintSystem(robot.model, robot.data, cmodels, prescribed, robot.geometry.L)
-        if len(cache) >= _CACHE_SIZE:
-            cache.pop(next(iter(cache)))
-        cache[key] = entry
-    return entry
+    # shared by the shallow copies of a robot (with_stance, with_weld): keyed by its model (and its data,
+    # which the system holds); equal constraint models share an entry
+    key = (id(robot.data), tuple(constraints.model_key(cm) for cm in cmodels), tuple(prescribed))
+    return _SYSTEMS.get(
+        robot.model, lambda: ConstraintSystem(robot.model, robot.data, cmodels, prescribed, robot.geometry.L), key
+    )
 
 
 def row_labels(robot, cmodels=None) -> list[str]:
@@ -188,10 +184,11 @@ def solve_acceleration(robot, q, v, prescribed, accelerations, cmodels=None) -> 
 
 # --------------------------------------------------------------------------- assembly
 def angular_coordinates(model: pin.Model) -> np.ndarray:
-    """Mask (nq,) of the coordinates that are angles (revolute joints, the hip pitch) [bool]."""
-    cached = _ANGULAR.get(id(model))
-    if cached is not None and cached[0] is model:
-        return cached[1]
+    """Mask (nq,) of the coordinates that are angles (revolute joints, the hip pitch) [bool] (cached)."""
+    return _ANGULAR.get(model, lambda: _angular_mask(model))
+
+
+def _angular_mask(model: pin.Model) -> np.ndarray:
     mask = np.ones(model.nq, dtype=bool)
     for joint in model.joints[1:]:
         subjoints = joint.extract().joints if joint.shortname() == "JointModelComposite" else [joint]
@@ -201,9 +198,6 @@ def angular_coordinates(model: pin.Model) -> np.ndarray:
             if "Prismatic" in name or name in ("JointModelPX", "JointModelPY", "JointModelPZ"):
                 mask[index] = False
             index += sub.nq
-    if len(_ANGULAR) >= _CACHE_SIZE:
-        _ANGULAR.pop(next(iter(_ANGULAR)))
-    _ANGULAR[id(model)] = (model, mask)  # keeps the model alive: no id reuse
     return mask
 
 
@@ -215,26 +209,23 @@ class _AssemblyPlan:
     columns: dict[str, dict[str, int]]  # side -> joint name without the side -> q column
 
 
-_PLANS: dict[int, tuple[pin.Model, _AssemblyPlan]] = {}
-_WELDS: dict[tuple, tuple[pin.Model, pin.RigidConstraintModel]] = {}
+_PLANS: PerObjectCache[_AssemblyPlan] = PerObjectCache()
+_WELDS: PerObjectCache[pin.RigidConstraintModel] = PerObjectCache()
 
 
 def _assembly_plan(robot) -> _AssemblyPlan:
     """The :class:`_AssemblyPlan` of ``robot``'s model (cached; the entry keeps the model alive)."""
+    return _PLANS.get(robot.model, lambda: _make_assembly_plan(robot))
+
+
+def _make_assembly_plan(robot) -> _AssemblyPlan:
     model = robot.model
-    cached = _PLANS.get(id(model))
-    if cached is not None and cached[0] is model:
-        return cached[1]
     columns: dict[str, dict[str, int]] = {side: {} for side in sides(robot.legs)}
     for j in range(1, model.njoints):
         side, _, rest = model.names[j].partition("_")
         if side in columns and model.joints[j].nq == 1:
             columns[side][rest] = model.joints[j].idx_q
-    plan = _AssemblyPlan(np.array(pin.neutral(model)), columns)
-    if len(_PLANS) >= _CACHE_SIZE:
-        _PLANS.pop(next(iter(_PLANS)))
-    _PLANS[id(model)] = (model, plan)
-    return plan
+    return _AssemblyPlan(np.array(pin.neutral(model)), columns)
 
 
 def stance_weld(robot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraintModel:
@@ -244,17 +235,13 @@ def stance_weld(robot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraint
     """
     model = robot.model
     y = robot.geometry.hip_half_width * (-1 if stance == "right" else 1)
-    key = (id(model), stance, float(ankle_x), float(y))
-    cached = _WELDS.get(key)
-    if cached is not None and cached[0] is model:
-        return cached[1]
-    weld = constraints.weld_constraint(
-        model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
+    return _WELDS.get(
+        model,
+        lambda: constraints.weld_constraint(
+            model, f"{stance}_foot", pin.SE3(np.eye(3), np.array([ankle_x, y, 0.0])), f"{stance}_foot_weld"
+        ),
+        (stance, float(ankle_x), float(y)),
     )
-    if len(_WELDS) >= _CACHE_SIZE:
-        _WELDS.pop(next(iter(_WELDS)))
-    _WELDS[key] = (model, weld)
-    return weld
 
 
 def analytic_configurations(
