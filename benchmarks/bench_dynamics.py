@@ -55,7 +55,9 @@ from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
 from pasibot_pin.dynamics import inverse as dynamics
 from pasibot_pin.dynamics import simulator as simulate
+from pasibot_pin.dynamics import stance_plan
 from pasibot_pin.model import closure, scenarios
+from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.studies import spring_study
 
 REPEAT = 200
@@ -298,7 +300,7 @@ class SeedFreeBodyBatch:
 def main() -> None:
     scenario = scenarios.SCENARIOS["run4"]
     choices = scenarios.PRESETS["default"]
-    robot = dynamics.scenario_robot(scenario, choices)
+    robot = scenario_robot(scenario, choices)
     thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, 41)
     res = dynamics.inverse_dynamics(robot, thetas, scenario.omega)
     model, data = robot.model, robot.data
@@ -306,8 +308,8 @@ def main() -> None:
     q, v, a = res.q[k], res.v[k], res.a[k]
 
     rs = robot.with_stance("right", q)
-    rows = closure.system(rs, rs.constraint_models, dynamics._prescriptions(rs, "right", "level"))
-    s_matrix = dynamics._actuation(rs, "right")
+    rows = closure.system(rs, rs.constraint_models, stance_plan.prescriptions(rs, "right", "level"))
+    s_matrix = stance_plan.actuation(rs, "right")
 
     def constrained_step():
         tau = pin.rnea(model, rs.data, q, v, a)

@@ -36,6 +36,7 @@ def _api():
     from pasibot_pin.kinematics import gait
     from pasibot_pin.kinematics import leg as kinematics
     from pasibot_pin.model import scenarios
+    from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.studies import contact, energy, single_motor, spring_study
     from pasibot_pin.studies import spring_fit as spring
 
@@ -43,7 +44,7 @@ def _api():
         return dynamics.run_scenario(scenarios.get_scenario(name), scenarios.get_preset(preset))
 
     def coupled_split(result):
-        robot = dynamics.scenario_robot(scenarios.get_scenario("run4"), scenarios.get_preset("default"))
+        robot = scenario_robot(scenarios.get_scenario("run4"), scenarios.get_preset("default"))
         return single_motor.coupled_split(robot, result)
 
     return SimpleNamespace(

@@ -15,7 +15,9 @@ import pytest
 
 import pasibot_pin as pp
 from pasibot_pin.dynamics import inverse as dynamics
+from pasibot_pin.dynamics import stance_plan
 from pasibot_pin.model import closure, jet, scenarios
+from pasibot_pin.model.scenario_robots import scenario_robot
 
 OMEGA = 5.0
 THETAS = np.linspace(math.pi / 2, 3 * math.pi / 2, 23)
@@ -75,7 +77,7 @@ def test_closed_form_motion_equals_finite_differences_and_the_constraint_core(va
     # the constraint core's exact projections at the same q
     rs = robot.with_weld("right", weld)
     swing_foot = "level" if swing_pitch is not None else "square"
-    rows = closure.system(rs, rs.constraint_models, dynamics._prescriptions(rs, "right", swing_foot))
+    rows = closure.system(rs, rs.constraint_models, stance_plan.prescriptions(rs, "right", swing_foot))
     free = [0.0, 0.0] if robot.spec.free_ankle else []
     rates = np.array([OMEGA, OMEGA, *free])
     v_core, a_core, _ = rows.motion_many(q, rates, np.zeros_like(rates))
@@ -95,7 +97,7 @@ def test_batched_rows_equal_the_one_sample_evaluation():
     robot = pp.load("spring", 2)
     q, v, _, weld = closure.analytic_motion(robot, THETAS, OMEGA)
     rs = robot.with_weld("right", weld)
-    rows = closure.system(rs, rs.constraint_models, dynamics._prescriptions(rs, "right", "level"))
+    rows = closure.system(rs, rs.constraint_models, stance_plan.prescriptions(rs, "right", "level"))
     rng = np.random.default_rng(3)
     q = q + 0.01 * rng.standard_normal(q.shape)  # off the manifold: every row is non-zero
     targets = rng.standard_normal((len(q), len(rows.scalars)))
@@ -112,11 +114,11 @@ def test_batched_rows_equal_the_one_sample_evaluation():
 @pytest.mark.parametrize("motors", ["two", "one"])
 def test_actuator_power_equals_the_power_of_the_rnea_torques(variant, motors):
     """Virtual power: v^T tau = u . (S v) + lambda_C (C v); the constraint forces do no work (J_c v = 0)."""
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"], variant)
+    robot = scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"], variant)
     res = dynamics.inverse_dynamics(robot, THETAS, OMEGA, stance="right", motors=motors)
     rs = robot.with_weld("right", closure.stance_weld(robot, "right"))
     layout = dynamics.get_motor_layout(motors)
-    joints = dynamics._actuated(rs, "right", layout)
+    joints = stance_plan.actuated_joints(rs, "right", layout)
     rate = {name: res.v[:, rs.idx_v(name)] for name in joints}
     n_motor = len(layout.motors)
     power = res.Ta * rate[joints[0]]
@@ -133,7 +135,7 @@ def test_actuator_power_equals_the_power_of_the_rnea_torques(variant, motors):
 
 def test_a_polished_closure_gives_the_same_torques(monkeypatch):
     """A guess 1e-9 off the manifold goes through Newton and the constraint core's v and a: same answer."""
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"])
+    robot = scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"])
     exact = dynamics.inverse_dynamics(robot, THETAS, OMEGA, stance="right")
     original = closure.analytic_motion
 

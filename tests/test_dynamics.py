@@ -11,6 +11,7 @@ from closed_form import leg
 
 from pasibot_pin.dynamics import inverse as dynamics
 from pasibot_pin.model import scenarios
+from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.studies import spring_fit as spring
 
 L = 0.05
@@ -23,7 +24,7 @@ def test_virtual_power_equals_rate_of_energy(swing_foot):
     """Sum of u * joint rate = d/dt (kinetic + potential energy), energies from Pinocchio."""
     scenario = scenarios.SCENARIOS["run4"]
     choices = scenarios.PRESETS["default"].with_(swing_foot=swing_foot)
-    robot = dynamics.scenario_robot(scenario, choices)
+    robot = scenario_robot(scenario, choices)
     omega, delta = scenario.omega, 1e-4
     for theta in (1.8, 2.7, 3.6, 4.5):
         res = dynamics.inverse_dynamics(robot, [theta - delta, theta, theta + delta], omega, swing_foot=swing_foot)
@@ -51,7 +52,7 @@ def test_one_inverse_dynamics_for_every_variant_and_motor_layout(variant, motors
     two motors' sum T_a + T_a' (both cranks turn at omega); the transmission carries T_a'.
     """
     scenario = scenarios.SCENARIOS["run4"]
-    robot = dynamics.scenario_robot(scenario, scenarios.PRESETS["default"], variant)
+    robot = scenario_robot(scenario, scenarios.PRESETS["default"], variant)
     omega, delta, theta = scenario.omega, 1e-4, 2.4
     thetas = [theta - delta, theta, theta + delta]
     res = dynamics.inverse_dynamics(robot, thetas, omega, stance="right", motors=motors)
@@ -137,7 +138,7 @@ def test_run4_fit_is_flagged_nonlinear():
 # --------------------------------------------------------------------------- stance swaps, rows
 def test_full_cycle_swaps_stance_and_repeats_each_step():
     """Over two turns the legs swap every half turn; every step gives the same torques."""
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
+    robot = scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
     thetas = math.pi / 2 + np.arange(0, 32) * (math.pi / 8)  # 4 steps, 8 samples each
     res = dynamics.inverse_dynamics(robot, thetas, 5.0)
     assert res.stance[:8] == ["right"] * 8 and res.stance[8:16] == ["left"] * 8
@@ -166,7 +167,7 @@ def test_uniform_rods_change_the_dynamic_torques_only():
 
 # --------------------------------------------------------------------------- bad input
 def test_bad_input_is_named():
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
+    robot = scenario_robot(scenarios.SCENARIOS["run1"], scenarios.PRESETS["default"])
     with pytest.raises(ValueError, match="omega"):
         dynamics.inverse_dynamics(robot, [2.0, 2.1], -1.0)
     with pytest.raises(ValueError, match="omega"):

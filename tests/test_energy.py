@@ -10,7 +10,8 @@ import pinocchio as pin
 import pytest
 from report_checks import assert_reads_like_a_report
 
-from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+from pasibot_pin.dynamics.inverse import inverse_dynamics
+from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import PRESETS, Scenario
 from pasibot_pin.studies import energy
 

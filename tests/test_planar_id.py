@@ -21,7 +21,9 @@ from pasibot_pin.constraints import is_weld
 from pasibot_pin.dynamics import inverse as dynamics
 from pasibot_pin.dynamics.newton_euler import tree_layout
 from pasibot_pin.dynamics.planar_id import planar_inverse_dynamics
+from pasibot_pin.dynamics.stance_plan import stance_plan
 from pasibot_pin.model import scenarios
+from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.variants import get_motor_layout
 
 RTOL = 1e-9
@@ -68,7 +70,7 @@ def test_torques_and_reactions_equal_pinocchio_at_random_states(variant, inertia
 def test_inverse_dynamics_equals_rnea_and_the_split_of_its_tau(variant, motors):
     """Along a prescribed motion: tau is rnea's, and u, lambda and every reaction follow from it."""
     rng = np.random.default_rng({"rigid": 1, "parallel": 2, "spring": 3}[variant] + (10 if motors == "one" else 0))
-    robot = dynamics.scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"], variant)
+    robot = scenario_robot(scenarios.SCENARIOS["run4"], scenarios.PRESETS["default"], variant)
     thetas = np.sort(rng.uniform(math.pi / 2, 3 * math.pi / 2, 5))
     omega = float(rng.uniform(1.0, 8.0))
     res = dynamics.inverse_dynamics(robot, thetas, omega, stance="right", motors=motors)
@@ -77,7 +79,7 @@ def test_inverse_dynamics_equals_rnea_and_the_split_of_its_tau(variant, motors):
     _close(res.tau, ref_tau)
     # the split of Pinocchio's tau on the same rows (the existing path), then the reactions by fext
     layout = get_motor_layout(motors)
-    plan = dynamics._stance_plan(robot, "right", "level", layout, 0.0)
+    plan = stance_plan(robot, "right", "level", layout, 0.0)
     jac = plan.rows.evaluate(res.q).jac
     nc = plan.rows.n_constraint_rows
     coupling = np.broadcast_to(plan.coupling, (len(thetas),) + plan.coupling.shape)

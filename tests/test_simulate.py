@@ -359,7 +359,8 @@ def test_forward_of_inverse_dynamics_is_the_identity():
     """Scenario 4 (omega = 5 rad/s): the inverse-dynamics crank and ankle torques, applied as pure
     feed-forward (no servo) with the hip pitch held level, reproduce the prescribed walk over one
     step to 1e-6 rad, and the hip needs no holding torque."""
-    from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+    from pasibot_pin.dynamics.inverse import inverse_dynamics
+    from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
 
     scenario = SCENARIOS["run4"]

@@ -9,7 +9,8 @@ from dataclasses import replace
 import numpy as np
 import pytest
 
-from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+from pasibot_pin.dynamics.inverse import inverse_dynamics
+from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import get_preset, get_scenario
 from pasibot_pin.studies import single_motor as sm
 

@@ -912,23 +912,43 @@ def kkt_solve(model: pin.Model, data: pin.Data, tau: np.ndarray, jac: np.ndarray
 
 
 def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Solve tau = S^T u + J^T lambda (square) for (u, lambda).
+    """Solve tau = S^T u + J^T lambda (square) for (u, lambda), one sample or a batch.
+
+    S selects the actuated coordinates (one 1 per row). The passive coordinates carry no actuator,
+    so J_P^T lambda = tau_P is square (nv - n_u unknowns, one solve per sample) and then
+    u = tau_A - J_A^T lambda.
+
+    Args:
+        tau: joint torques (nv,) or (N, nv) [N.m, N].
+        s_matrix: the actuation S (n_u, nv), a selection of coordinates.
+        jac: the constraint rows' Jacobian J (m, nv) or (N, m, nv), m = nv - n_u.
+
+    Returns:
+        (u (n_u,) or (N, n_u), lambda (m,) or (N, m)).
 
     Raises:
-        ValueError: when [S^T J^T] is not square or singular (the actuators cannot hold the motion).
+        ParameterError: S is not a selection of coordinates, or [S^T J^T] is not square.
+        SingularPoseError: J_P^T is singular (the actuators cannot hold the motion at this pose).
 
     """
-    mat = np.hstack((s_matrix.T, jac.T))
-    if mat.shape[0] != mat.shape[1]:
-        raise ValueError(f"split: {mat.shape[1]} unknowns for nv = {mat.shape[0]}; the system must be square")
+    actuated = np.argmax(s_matrix, axis=1)
+    if not np.array_equal(s_matrix, np.eye(s_matrix.shape[1])[actuated]):
+        raise ParameterError("split: S must select coordinates (one 1 per row, nothing else)")
+    passive = np.nonzero(~s_matrix.any(axis=0))[0]
+    single = np.ndim(tau) == 1
+    tau_b = np.atleast_2d(tau)
+    jac_t = np.swapaxes(jac[None] if single else jac, 1, 2)  # J^T (N, nv, m)
+    if jac_t.shape[2] != len(passive):
+        n_unknowns = jac_t.shape[2] + len(actuated)
+        raise ParameterError(f"split: {n_unknowns} unknowns for nv = {jac_t.shape[1]}; the system must be square")
     try:
-        x = np.linalg.solve(mat, tau)
+        lam = np.linalg.solve(jac_t[:, passive], tau_b[:, passive, None])
     except np.linalg.LinAlgError as err:
         raise SingularPoseError("split: [S^T J_c^T] is singular at this pose") from err
-    if not np.all(np.isfinite(x)):
+    if not np.all(np.isfinite(lam)):
         raise SingularPoseError("split: the actuator and constraint forces are not finite")
-    ns = s_matrix.shape[0]
-    return x[:ns], x[ns:]
+    u = tau_b[:, actuated] - (jac_t[:, actuated] @ lam)[:, :, 0]
+    return (u[0], lam[0, :, 0]) if single else (u, lam[:, :, 0])
 
 
 def _square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:

@@ -3,7 +3,7 @@
 The robot follows a prescribed motion (DESIGN §5, §6): the stance foot is welded flat to the
 ground, the hip stays level (pitch 0), the swing foot stays level (or rigid at 90 deg to its
 shank), and both cranks turn at constant omega, pi apart. Each stance of a sweep is done in
-one batch (its constant parts, :class:`_StancePlan`, are set up once and cached):
+one batch (its constant parts, :class:`~pasibot_pin.dynamics.stance_plan.StancePlan`, are set up once and cached):
 
 1. q, v and a of every sample from the closed form of the legs on second-order jets
    (:func:`pasibot_pin.model.closure.analytic_motion`: exact to round-off, no Jacobian solve),
@@ -37,30 +37,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
-from dataclasses import dataclass, field, replace
-from functools import lru_cache
+from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.caches import PerObjectCache
-from pasibot_pin.constraints import ConstraintSystem, coupling, frame_rows, is_weld, planar_rows
-from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.dynamics.newton_euler import TreeLayout, tree_layout
-from pasibot_pin.dynamics.planar_id import PlanarInverseDynamics, planar_inverse_dynamics
+from pasibot_pin.constraints import ConstraintSystem, split_torques
+from pasibot_pin.dynamics.stance_plan import StancePlan, ankle_angles, stance_plan, unwrap_angles
 from pasibot_pin.model import closure
-from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
 from pasibot_pin.model.coordinates import other
-from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
-from pasibot_pin.model.robot import PasibotRobot, apply_masses, load
-from pasibot_pin.model.scenarios import (
-    ACCELERATION_MODES,
-    SEED_ROUNDED_LINK_MASSES,
-    SWING_FOOT_MODES,
-    ModelChoices,
-    Scenario,
-    seed_foot_com,
-)
+from pasibot_pin.model.robot import PasibotRobot
+from pasibot_pin.model.scenario_robots import scenario_robot
+from pasibot_pin.model.scenarios import ACCELERATION_MODES, SWING_FOOT_MODES, ModelChoices, Scenario
 from pasibot_pin.model.variants import MotorLayout, get_motor_layout
 
 STANCE_RANGE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
@@ -121,50 +109,6 @@ def check_fit_window(thetas: Sequence[float]) -> np.ndarray:
             f"[{lo:.4f}, {hi:.4f}] rad (theta in [pi/2, 3 pi/2] +- {STANCE_MARGIN} rad)"
         )
     return arr
-
-
-# --------------------------------------------------------------------------- robots for scenarios
-@lru_cache(maxsize=4)
-def _base_robot(variant: str, inertia: str) -> PasibotRobot:
-    return load(variant, 2, inertia=inertia)
-
-
-def scenario_masses(
-    scenario: Scenario, choices: ModelChoices, geometry: Geometry | None = None, variant: str = "spring"
-) -> MassModel:
-    """The mass model of ``scenario`` under ``choices`` for ``variant`` [kg, m]."""
-    geometry = geometry or Geometry()
-    base = percentage_mass_model(geometry, variant)
-    links = dict(base.links)
-    hip = scenario.body_mass
-    foot = base.foot
-    if choices.masses == "rounded":
-        links.update(SEED_ROUNDED_LINK_MASSES)
-        hip = scenario.seed_body_mass
-        foot = 1.3
-    if choices.swap_l5_l6:
-        links["l5"], links["l6"] = links["l6"], links["l5"]
-    toe, heel = geometry.foot_extent(variant)
-    foot_com = seed_foot_com(toe, heel) if choices.seed_foot else base.foot_com
-    return MassModel(
-        hip=hip,
-        links=links,
-        foot=foot,
-        foot_com=foot_com,
-        hip_com=(scenario.body_com_dx, 0.0),
-        rule=f"scenario {scenario.name}, masses {choices.masses}" + (", L5/L6 swapped" if choices.swap_l5_l6 else ""),
-    )
-
-
-def scenario_robot(scenario: Scenario, choices: ModelChoices, variant: str = "spring") -> PasibotRobot:
-    """The default biped of ``variant`` with the masses of ``scenario`` under ``choices`` (a copy)."""
-    base = _base_robot(variant, choices.inertia)
-    masses = scenario_masses(scenario, choices, base.geometry, variant)
-    model = pin.Model(base.model)
-    apply_masses(model, masses, base.geometry, variant, 2, choices.inertia)
-    return replace(
-        base, model=model, data=model.createData(), masses=masses, constraint_models=list(base.constraint_models)
-    )
 
 
 # --------------------------------------------------------------------------- results
@@ -247,190 +191,6 @@ class TorqueResult:
         return cols
 
 
-# --------------------------------------------------------------------------- per-sample pieces
-def _generic(name: str, stance: str) -> str:
-    side, rest = name.split("_", 1)
-    return ("stance_" if side == stance else "swing_") + rest
-
-
-def _prescriptions(robot: PasibotRobot, stance: str, swing_foot: str) -> list[Prescribed]:
-    """Both cranks; with a free ankle (the variant's record) also the hip pitch and the swing foot."""
-    rows = [joint_coordinate(robot, j) for j in robot.actuated_joints]
-    if robot.spec.free_ankle:
-        swing = other(stance)
-        ankle = f"{swing}_{robot.spec.spring_joints[0]}"
-        last = frame_pitch(robot, f"{swing}_foot") if swing_foot == "level" else joint_coordinate(robot, ankle)
-        rows += [hip_pitch(robot), last]
-    return rows
-
-
-def _actuated(robot: PasibotRobot, stance: str, layout: MotorLayout) -> list[str]:
-    """The actuated joints, in the order of u: the motor(s), then the stance and swing spring joints.
-
-    Two motors: stance crank, swing crank. One motor: the layout's motor (the right crank).
-    """
-    swing = other(stance)
-    if len(layout.motors) == 2:
-        motors = [f"{stance}_j0_crank", f"{swing}_j0_crank"]
-    else:
-        motors = list(layout.motors)
-    return motors + [f"{side}_{j}" for side in (stance, swing) for j in robot.spec.spring_joints]
-
-
-def _actuation(robot: PasibotRobot, stance: str, layout: MotorLayout | str = "two") -> np.ndarray:
-    """S (n_u x nv): one row per actuated joint of :func:`_actuated`."""
-    joints = _actuated(robot, stance, get_motor_layout(layout))
-    s = np.zeros((len(joints), robot.model.nv))
-    for row, joint in enumerate(joints):
-        s[row, robot.idx_v(joint)] = 1.0
-    return s
-
-
-def _couplings(robot: PasibotRobot, layout: MotorLayout) -> list:
-    """The layout's coupling rows (one motor: q_L - q_R - pi = 0) on ``robot``."""
-    return [coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings]
-
-
-_ANKLE_ENDS: PerObjectCache[PlanarRowBlocks] = PerObjectCache()
-
-
-def _ankle_ends(robot: PasibotRobot, side: str) -> PlanarRowBlocks:
-    """The shank frame's pitch and the toe and heel positions of ``side``, as planar rows (cached)."""
-
-    def build() -> PlanarRowBlocks:
-        frames = [robot.frame_id(f"{side}_{name}") for name in ("l5_shank", "toe", "heel")]
-        return frame_rows(robot.model, frames, [1, 2], [0])
-
-    return _ANKLE_ENDS.get(robot.model, build, side)
-
-
-def ankle_angles(robot: PasibotRobot, q: np.ndarray, side: str) -> np.ndarray:
-    """Beta of ``side`` for configurations q (N, nq): from the forward foot (heel -> toe) to the shank [rad].
-
-    With a spring ankle it is pi/2 - q_ankle; otherwise it is read from the frames
-    (pi/2 for the rigid foot; the parallel extension's foot follows the stabiliser).
-    """
-    q = np.atleast_2d(q)
-    if robot.spec.free_ankle:
-        return math.pi / 2 - q[:, robot.idx_q(f"{side}_{robot.spec.spring_joints[0]}")]
-    ends = _ankle_ends(robot, side)
-    points, pitch = ends.positions(q), q @ ends.pitch_A.T + ends.pitch_a0
-    up = pitch[:, 0] + math.pi  # ankle -> knee is minus the shank's x axis
-    sole = np.angle(points[:, 0] - points[:, 1])
-    diff = up - sole
-    return diff - 2 * math.pi * np.round(diff / (2 * math.pi))  # math.remainder, elementwise
-
-
-# --------------------------------------------------------------------------- one stance, set up once
-@dataclass
-class _StancePlan:
-    """Everything of one stance of a sweep that does not change from sample to sample (cached).
-
-    Attributes:
-        robot: the robot standing on ``side`` with the stance weld.
-        rows: the square constraint system (loops, weld, prescribed coordinates).
-        s_matrix: the actuation S (n_u, nv).
-        actuated: the column of each row of S (S selects coordinates); passive: the other columns.
-        coupling: the motor-coupling rows C (n_c, nv) (constant).
-        tree: the batched Newton-Euler layout (COMs, joint origins, constraint ends).
-        planar: the batched planar inverse dynamics on ``tree`` (torques and reactions).
-        angular: mask of the angle coordinates (unwrapped along a sweep).
-        weld_rows: the weld's rows of lambda; cut_rows: generic name of every loop -> its rows.
-        joint_names: generic name of every tree joint 2 .. njoints - 1 -> its index.
-        model_copy: the model as the plan was made (a plan is stale once the model changes).
-
-    """
-
-    robot: PasibotRobot
-    rows: ConstraintSystem
-    s_matrix: np.ndarray
-    actuated: np.ndarray
-    passive: np.ndarray
-    coupling: np.ndarray
-    tree: TreeLayout
-    planar: PlanarInverseDynamics
-    angular: np.ndarray
-    weld_rows: slice
-    cut_rows: dict[str, slice]
-    joint_names: dict[str, int]
-    model_copy: pin.Model
-
-
-_PLANS: PerObjectCache[_StancePlan] = PerObjectCache()
-
-
-def _stance_plan(robot: PasibotRobot, side: str, swing_foot: str, layout: MotorLayout, stance_x: float) -> _StancePlan:
-    """The :class:`_StancePlan` of ``robot`` standing on ``side`` with its ankle at x = ``stance_x`` [m]."""
-    return _PLANS.get(
-        robot.model,
-        lambda: _make_stance_plan(robot, side, swing_foot, layout, stance_x),
-        (side, swing_foot, layout.name, float(stance_x)),
-        fresh=lambda plan: plan.model_copy == robot.model,  # a plan is stale once the model changed in place
-    )
-
-
-def _make_stance_plan(
-    robot: PasibotRobot, side: str, swing_foot: str, layout: MotorLayout, stance_x: float
-) -> _StancePlan:
-    model = robot.model
-    rs = robot.with_weld(side, closure.stance_weld(robot, side, stance_x))
-    rows = closure.system(rs, rs.constraint_models, _prescriptions(rs, side, swing_foot))
-    coupling_rows = closure.system(rs, [], _couplings(rs, layout))
-    weld_rows, cut_rows = slice(0, 0), {}
-    for cm, rows_of in zip(rs.constraint_models, planar_rows(rs.constraint_models)):
-        if is_weld(cm):
-            weld_rows = rows_of
-        else:
-            cut_rows[_generic(cm.name, side)] = rows_of
-    tree = tree_layout(model, rs.constraint_models)
-    s_matrix = _actuation(rs, side, layout)
-    return _StancePlan(
-        robot=rs,
-        rows=rows,
-        s_matrix=s_matrix,
-        actuated=np.argmax(s_matrix, axis=1),
-        passive=np.nonzero(~s_matrix.any(axis=0))[0],
-        coupling=coupling_rows.jacobian(pin.neutral(model)).reshape(-1, model.nv),
-        tree=tree,
-        planar=planar_inverse_dynamics(model, tree),
-        angular=closure.angular_coordinates(model),
-        weld_rows=weld_rows,
-        cut_rows=cut_rows,
-        joint_names={_generic(model.names[j], side): j for j in range(2, model.njoints)},
-        model_copy=pin.Model(model),
-    )
-
-
-def _split(tau: np.ndarray, jac_t: np.ndarray, actuated: np.ndarray, passive: np.ndarray):
-    """Solve tau = S^T u + J^T lambda for a batch, S selecting the ``actuated`` coordinates.
-
-    The passive coordinates carry no actuator: J_P^T lambda = tau_P is square (one solve per
-    sample, nv - n_u unknowns), then u = tau_A - J_A^T lambda.
-
-    Args:
-        tau: joint torques (N, nv) [N.m, N].
-        jac_t: J^T (N, nv, m) of the constraint rows (m = nv - n_u).
-        actuated: the coordinate of each actuator, in the order of u (n_u,).
-        passive: the other coordinates (nv - n_u,).
-
-    Returns:
-        (u (N, n_u), lambda (N, m)).
-
-    Raises:
-        ValueError: when J_P^T is not square or singular (the actuators cannot hold the motion).
-
-    """
-    if jac_t.shape[2] != len(passive):
-        n_unknowns = jac_t.shape[2] + len(actuated)
-        raise ValueError(f"split: {n_unknowns} unknowns for nv = {jac_t.shape[1]}; the system must be square")
-    try:
-        lam = np.linalg.solve(jac_t[:, passive], tau[:, passive, None])
-    except np.linalg.LinAlgError as err:
-        raise ValueError("split: [S^T J_c^T] is singular at this pose") from err
-    if not np.all(np.isfinite(lam)):
-        raise ValueError("split: the actuator and constraint forces are not finite")
-    return tau[:, actuated] - (jac_t[:, actuated] @ lam)[:, :, 0], lam[:, :, 0]
-
 
 # --------------------------------------------------------------------------- trajectory
 def _segments(sides: list[str]) -> list[tuple[int, int]]:
@@ -450,17 +210,8 @@ def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular) -> np.nda
     The angles are unwrapped along the sweep, as a continuation would carry them.
     """
     guess, _ = closure.analytic_configurations(robot, thetas, None, 0.0, swing_pitch, side, stance_x)
-    _unwrap(guess, angular)
+    unwrap_angles(guess, angular)
     return guess
-
-
-def _unwrap(q: np.ndarray, angular: np.ndarray) -> None:
-    """Unwrap the angle columns of q (N, nq) along the sweep, in place (as ``np.unwrap``: steps below pi)."""
-    if len(q) < 2:
-        return
-    turns = np.round(np.diff(q[:, angular], axis=0) * (0.5 / math.pi))  # whole turns between samples
-    if turns.any():
-        q[1:, angular] -= (2 * math.pi) * np.cumsum(turns, axis=0)
 
 
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
@@ -512,6 +263,41 @@ def inverse_dynamics(
     """
     omega = check_omega(omega)
     layout = get_motor_layout(motors)
+    thetas = _check_sweep(robot, thetas, omega, swing_foot, accelerations, stance, step)
+    mode = "none" if omega == 0.0 else accelerations  # quasi-static: v = a = 0
+    sides_used = sweep_stances(thetas, stance)
+    sweep = _Sweep(robot, thetas, omega, swing_foot, layout)
+    columns = _Columns(len(thetas), robot.model.nq, robot.model.nv, len(layout.motors))
+    stance_x, previous = 0.0, None  # previous: (rows, last q) of the previous stance
+    for i0, i1 in _segments(sides_used):
+        side, th = sides_used[i0], thetas[i0:i1]
+        if previous is not None:
+            stance_x = sweep.landing_x(previous, th[0], side)
+        plan = stance_plan(robot, side, swing_foot, layout, stance_x)
+        q, v, a, jac = sweep.stance_motion(plan, th, side, stance_x)
+        com_pos, com_acc, alpha = sweep.body_motion(plan, q, v, a, th, side, stance_x, mode, step)
+        # every sample's tau = rnea(q, v, a) from the bodies' wrenches, summed over each joint's subtree
+        wrench = plan.planar.wrenches(q, com_pos, com_acc, alpha)
+        tau = plan.planar.torques(q, wrench)
+        u, lam_all = _split_stance(plan, tau, jac)
+        columns.store(slice(i0, i1), plan, side, (q, v, a, tau), u, lam_all)
+        if reactions:
+            lam = lam_all[:, : plan.rows.n_constraint_rows]  # the constraint forces, without the coupling's
+            columns.store_reactions(slice(i0, i1), plan, plan.planar.reactions(q, wrench, lam))
+        previous = (plan.rows, q[-1])
+    return columns.result(thetas, sides_used, omega, mode, swing_foot, layout.name)
+
+
+def _check_sweep(
+    robot: PasibotRobot,
+    thetas: Sequence[float],
+    omega: float,
+    swing_foot: str,
+    accelerations: str,
+    stance: str,
+    step: float,
+) -> np.ndarray:
+    """The crank angles of a sweep as an array, once every argument of :func:`inverse_dynamics` is checked."""
     if robot.legs != 2:
         raise ValueError(f"inverse_dynamics needs a two-legged robot (load(..., legs=2)), got legs={robot.legs}")
     if swing_foot not in SWING_FOOT_MODES:
@@ -522,121 +308,144 @@ def inverse_dynamics(
         raise ValueError(f"unknown stance {stance!r}; valid: auto, right, left")
     if not (math.isfinite(step) and step > 0):
         raise ValueError(f"parameter 'step' must be a positive angle [rad], got {step!r}")
-    thetas = np.asarray(thetas, dtype=float).reshape(-1)
-    if thetas.size < 1 or not np.all(np.isfinite(thetas)):
+    arr = np.asarray(thetas, dtype=float).reshape(-1)
+    if arr.size < 1 or not np.all(np.isfinite(arr)):
         raise ValueError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
-    if thetas.size > 1 and np.any(np.diff(thetas) <= 0):
+    if arr.size > 1 and np.any(np.diff(arr) <= 0):
         raise ValueError("parameter 'thetas' must be strictly increasing")
     if accelerations != "exact" and robot.inertia != "point" and omega > 0:
         raise ValueError("difference accelerations need point masses (inertia='point')")
+    return arr
 
-    model = robot.model
-    n, nv = thetas.size, model.nv
-    quasi_static = omega == 0.0
-    mode = "none" if quasi_static else accelerations
-    out = {k: np.zeros(n) for k in ("beta", "beta_swing", "Ta", "Te", "Ta_swing", "Te_swing")}
-    qs, vs, accs, taus = np.zeros((n, model.nq)), np.zeros((n, nv)), np.zeros((n, nv)), np.zeros((n, nv))
-    ground = np.zeros((n, 3))
-    cut_names: list[str] = []  # in the first stance's order (the columns of the CSV)
-    joint_names: list[str] = []
-    cut_forces = joint_forces = np.zeros((n, 0, 3))
-    sides_used = sweep_stances(thetas, stance)
 
-    spec = robot.spec
-    free = [0.0, 0.0] if spec.free_ankle else []  # hip pitch and swing foot held (spring variant)
-    swing_pitch = 0.0 if swing_foot == "level" else None
-    n_motor = len(layout.motors)
-    transmission = np.zeros(n)
-    rates = np.array([omega, omega, *free])
-    stance_x = 0.0
-    previous = None  # (rows, last q) of the previous stance
-    for i0, i1 in _segments(sides_used):
-        side, th = sides_used[i0], thetas[i0:i1]
-        if previous is not None:  # the landing foot becomes the stance foot where it lands
-            switch = math.pi / 2 + math.pi * math.floor((th[0] - math.pi / 2) / math.pi)
-            q_land = previous[0].project(previous[1], targets=[switch, switch + math.pi, *free])
-            pin.framesForwardKinematics(model, robot.data, q_land)
-            stance_x = float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
-        plan = _stance_plan(robot, side, swing_foot, layout, stance_x)
-        rs, rows, tree = plan.robot, plan.rows, plan.tree
-        # q, v and a of the whole stance from the closed form and its exact time derivatives (jets);
-        # one batched evaluation of the rows checks the closure (Newton polishes only if it is open)
-        guess, v, a, _ = closure.analytic_motion(rs, th, omega, swing_pitch, side, stance_x)
-        _unwrap(guess, plan.angular)
-        targets = np.column_stack([th, th + math.pi] + [np.full(th.size, f) for f in free])
-        q, closed = rows.project_many(guess, targets)
-        if not np.array_equal(q, guess):  # polished: v and a by the constraint core at the new q
-            v, a, _ = rows.motion_many(q, rates, np.zeros_like(rates), closed.jac)
-        if mode in ("central", "lagged"):
-            offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
-            coms = []
-            for j in offsets:
-                shifted = th + j * step
-                if j == 0:
-                    qj = q
-                else:
-                    shifted_guess = _stance_guess(rs, shifted, swing_pitch, side, stance_x, plan.angular)
-                    qj = rows.project_many(shifted_guess, targets + _shift(j * step, free))[0]
-                coms.append(tree.coms.positions(qj))
-            com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / omega) ** 2
-            com_pos, alpha = coms[offsets.index(0)], None  # point masses: gravity and the inertial forces -m a
-        else:
-            com_pos, com_acc, alpha = tree.body_motion(q, v, a)
-        # every sample's tau = rnea(q, v, a) from the bodies' wrenches, summed over each joint's subtree
-        wrench = plan.planar.wrenches(q, com_pos, com_acc, alpha)
-        tau = plan.planar.torques(q, wrench)
-        # the split tau = S^T u + J_c^T lambda + C^T lambda_C: one square solve per sample
-        nc = rows.n_constraint_rows
-        jac_t = np.swapaxes(closed.jac, 1, 2)[:, :, :nc]  # J_c^T (N, nv, nc), contiguous in memory
-        if len(plan.coupling):
-            coupling_t = np.broadcast_to(plan.coupling.T, (th.size,) + plan.coupling.T.shape)
-            jac_t = np.concatenate((jac_t, coupling_t), 2)
-        u, lam_all = _split(tau, jac_t, plan.actuated, plan.passive)
-        lam = lam_all[:, :nc]
-        seg = slice(i0, i1)
+class _Sweep:
+    """What every stance of one sweep shares: the robot, crank speed, the held rows and their rates."""
+
+    def __init__(self, robot: PasibotRobot, thetas: np.ndarray, omega: float, swing_foot: str, layout: MotorLayout):
+        self.robot, self.omega = robot, omega
+        self.free = [0.0, 0.0] if robot.spec.free_ankle else []  # hip pitch and swing foot held (spring variant)
+        self.swing_pitch = 0.0 if swing_foot == "level" else None
+        self.rates = np.array([omega, omega, *self.free])
+
+    def targets(self, th: np.ndarray) -> np.ndarray:
+        """The prescribed rows' targets (N, n_s): both cranks, pi apart, then the held rows."""
+        return np.column_stack([th, th + math.pi] + [np.full(th.size, f) for f in self.free])
+
+    def landing_x(self, previous: tuple[ConstraintSystem, np.ndarray], theta: float, side: str) -> float:
+        """Where the landing foot (the new stance foot) stands: its ankle's x at the switch [m]."""
+        robot = self.robot
+        switch = math.pi / 2 + math.pi * math.floor((theta - math.pi / 2) / math.pi)
+        q_land = previous[0].project(previous[1], targets=[switch, switch + math.pi, *self.free])
+        pin.framesForwardKinematics(robot.model, robot.data, q_land)
+        return float(robot.data.oMf[robot.frame_id(f"{side}_foot")].translation[0])
+
+    def stance_motion(self, plan: StancePlan, th: np.ndarray, side: str, stance_x: float):
+        """q, v, a and the rows' Jacobian of a whole stance (N samples).
+
+        From the closed form and its exact time derivatives (jets); one batched evaluation of the
+        rows checks the closure, and only if it is open does Newton polish q (then v and a come
+        from the constraint core at the new q).
+        """
+        guess, v, a, _ = closure.analytic_motion(plan.robot, th, self.omega, self.swing_pitch, side, stance_x)
+        unwrap_angles(guess, plan.angular)
+        q, closed = plan.rows.project_many(guess, self.targets(th))
+        if not np.array_equal(q, guess):
+            v, a, _ = plan.rows.motion_many(q, self.rates, np.zeros_like(self.rates), closed.jac)
+        return q, v, a, closed.jac
+
+    def body_motion(self, plan, q, v, a, th, side, stance_x, mode: str, step: float):
+        """COM positions and accelerations, angular accelerations (``None``: point masses) of every body.
+
+        ``exact`` (and quasi-static): the tree's body motion at (q, v, a). ``central``/``lagged``: the
+        seed's second differences of the COM positions, crank step ``step`` (point masses: gravity and
+        the inertial forces -m a).
+        """
+        if mode not in ("central", "lagged"):
+            return plan.tree.body_motion(q, v, a)
+        offsets = (-1, 0, 1) if mode == "central" else (0, 1, 2)
+        coms = []
+        for j in offsets:
+            if j == 0:
+                qj = q
+            else:
+                guess = _stance_guess(plan.robot, th + j * step, self.swing_pitch, side, stance_x, plan.angular)
+                qj = plan.rows.project_many(guess, self.targets(th) + _shift(j * step, self.free))[0]
+            coms.append(plan.tree.coms.positions(qj))
+        com_acc = (coms[2] - 2 * coms[1] + coms[0]) / (step / self.omega) ** 2
+        return coms[offsets.index(0)], com_acc, None
+
+
+def _split_stance(plan: StancePlan, tau: np.ndarray, jac: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The split tau = S^T u + J_c^T lambda + C^T lambda_C of a stance: one square solve per sample."""
+    nc = plan.rows.n_constraint_rows
+    rows = jac[:, :nc]
+    if len(plan.coupling):
+        rows = np.concatenate((rows, np.broadcast_to(plan.coupling, (len(tau),) + plan.coupling.shape)), 1)
+    return split_torques(tau, plan.s_matrix, rows)
+
+
+class _Columns:
+    """The columns of a :class:`TorqueResult`, filled stance by stance."""
+
+    def __init__(self, n: int, nq: int, nv: int, n_motor: int):
+        self.n, self.n_motor = n, n_motor
+        self.out = {k: np.zeros(n) for k in ("beta", "beta_swing", "Ta", "Te", "Ta_swing", "Te_swing")}
+        self.q, self.v, self.a, self.tau = np.zeros((n, nq)), np.zeros((n, nv)), np.zeros((n, nv)), np.zeros((n, nv))
+        self.ground, self.transmission = np.zeros((n, 3)), np.zeros(n)
+        self.cut_names: list[str] = []  # in the first stance's order (the columns of the CSV)
+        self.joint_names: list[str] = []
+        self.cut_forces = self.joint_forces = np.zeros((n, 0, 3))
+
+    def store(self, seg: slice, plan: StancePlan, side: str, motion, u: np.ndarray, lam_all: np.ndarray) -> None:
+        """One stance's ankle angles, torques, motion, ground and cut-joint forces."""
+        out, rs, nc, n_motor = self.out, plan.robot, plan.rows.n_constraint_rows, self.n_motor
+        q = motion[0]
         out["beta"][seg], out["beta_swing"][seg] = ankle_angles(rs, q, side), ankle_angles(rs, q, other(side))
         out["Ta"][seg] = u[:, 0]
         if n_motor == 2:
             out["Ta_swing"][seg] = u[:, 1]
         else:
-            transmission[seg] = lam_all[:, nc]
-        if spec.free_ankle:
+            self.transmission[seg] = lam_all[:, nc]
+        if rs.spec.free_ankle:
             out["Te"][seg], out["Te_swing"][seg] = -u[:, n_motor], -u[:, n_motor + 1]
-        qs[seg], vs[seg], accs[seg], taus[seg] = q, v, a, tau
-        ground[seg] = lam[:, plan.weld_rows]
-        if i0 == 0:
-            cut_names, cut_forces = list(plan.cut_rows), np.zeros((n, len(plan.cut_rows), 2))
-        for k, name in enumerate(cut_names):
-            cut_forces[seg, k] = lam[:, plan.cut_rows[name]]
-        if reactions:
-            reac = plan.planar.reactions(q, wrench, lam)
-            if i0 == 0:
-                joint_names, joint_forces = list(plan.joint_names), np.zeros((n, len(plan.joint_names), 3))
-            joint_forces[seg] = reac[:, [plan.joint_names[name] for name in joint_names]]
-        previous = (rows, q[-1])
+        self.q[seg], self.v[seg], self.a[seg], self.tau[seg] = motion
+        lam = lam_all[:, :nc]
+        self.ground[seg] = lam[:, plan.weld_rows]
+        if seg.start == 0:
+            self.cut_names, self.cut_forces = list(plan.cut_rows), np.zeros((self.n, len(plan.cut_rows), 2))
+        for k, name in enumerate(self.cut_names):
+            self.cut_forces[seg, k] = lam[:, plan.cut_rows[name]]
 
-    stance_crank = np.where(np.array(sides_used) == "right", thetas, thetas + math.pi)
-    theta_stance = math.pi / 2 + np.remainder(stance_crank - math.pi / 2, 2 * math.pi)  # wrap_stance
-    t = (thetas - thetas[0]) / (omega if omega > 0 else 1.0)
-    return TorqueResult(
-        t=t,
-        theta_right=thetas,
-        theta=theta_stance,
-        stance=sides_used,
-        q=qs,
-        v=vs,
-        a=accs,
-        tau=taus,
-        ground=ground,
-        cuts={name: cut_forces[:, k] for k, name in enumerate(cut_names)},
-        joints={name: joint_forces[:, k] for k, name in enumerate(joint_names)},
-        omega=omega,
-        accelerations=mode,
-        swing_foot=swing_foot,
-        motors=layout.name,
-        transmission=transmission,
-        **out,
-    )
+    def store_reactions(self, seg: slice, plan: StancePlan, reac: np.ndarray) -> None:
+        """One stance's tree-joint reactions (N, njoints, 3), in the first stance's joint order."""
+        if seg.start == 0:
+            self.joint_names = list(plan.joint_names)
+            self.joint_forces = np.zeros((self.n, len(plan.joint_names), 3))
+        self.joint_forces[seg] = reac[:, [plan.joint_names[name] for name in self.joint_names]]
+
+    def result(self, thetas, sides_used, omega: float, mode: str, swing_foot: str, motors: str) -> TorqueResult:
+        """The :class:`TorqueResult` of the filled columns."""
+        stance_crank = np.where(np.array(sides_used) == "right", thetas, thetas + math.pi)
+        theta_stance = math.pi / 2 + np.remainder(stance_crank - math.pi / 2, 2 * math.pi)  # wrap_stance
+        return TorqueResult(
+            t=(thetas - thetas[0]) / (omega if omega > 0 else 1.0),
+            theta_right=thetas,
+            theta=theta_stance,
+            stance=sides_used,
+            q=self.q,
+            v=self.v,
+            a=self.a,
+            tau=self.tau,
+            ground=self.ground,
+            cuts={name: self.cut_forces[:, k] for k, name in enumerate(self.cut_names)},
+            joints={name: self.joint_forces[:, k] for k, name in enumerate(self.joint_names)},
+            omega=omega,
+            accelerations=mode,
+            swing_foot=swing_foot,
+            motors=motors,
+            transmission=self.transmission,
+            **self.out,
+        )
 
 
 # --------------------------------------------------------------------------- scenarios

@@ -50,7 +50,7 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, coordinate, symmetric_mass_matrix
-from pasibot_pin.errors import SimulationError
+from pasibot_pin.errors import ParameterError, SimulationError
 from pasibot_pin.model.closure import hip_pitch, joint_coordinate, solve_velocity
 from pasibot_pin.model.coordinates import HIP_PITCH, other
 
@@ -63,11 +63,12 @@ Feedforward = Callable[[float, np.ndarray, np.ndarray], np.ndarray]
 """tau_ff(t [s], q, v) -> generalised force vector (nv,) [N.m or N]."""
 
 
-def _check_finite(name: str, value: float, minimum: float | None = None) -> float:
+def check_finite(name: str, value: float, minimum: float | None = None) -> float:
+    """``value`` as a float if it is finite (and >= ``minimum`` when given), else ParameterError naming ``name``."""
     value = float(value)
     if not math.isfinite(value) or (minimum is not None and value < minimum):
         bound = "" if minimum is None else f" >= {minimum:g}"
-        raise ValueError(f"parameter {name!r} must be a finite number{bound}, got {value!r}")
+        raise ParameterError(f"parameter {name!r} must be a finite number{bound}, got {value!r}")
     return value
 
 
@@ -88,9 +89,9 @@ class AnkleSpring:
     damping: float = 0.0
 
     def __post_init__(self) -> None:
-        _check_finite("stiffness", self.stiffness, 0.0)
-        _check_finite("rest_angle", self.rest_angle)
-        _check_finite("damping", self.damping, 0.0)
+        check_finite("stiffness", self.stiffness, 0.0)
+        check_finite("rest_angle", self.rest_angle)
+        check_finite("damping", self.damping, 0.0)
 
     def torque(self, beta: float, beta_dot: float) -> float:
         """T = -K_e (beta - beta0) - c beta_dot [N.m], the generalised force on beta."""
@@ -102,7 +103,7 @@ class AnkleSpring:
 
     def scaled(self, factor: float) -> AnkleSpring:
         """The same spring with the stiffness times ``factor`` (damping and rest angle kept)."""
-        return replace(self, stiffness=self.stiffness * _check_finite("factor", factor, 0.0))
+        return replace(self, stiffness=self.stiffness * check_finite("factor", factor, 0.0))
 
 
 def foot_inertia_about_ankle(robot, side: str = "right") -> float:
@@ -115,7 +116,7 @@ def foot_inertia_about_ankle(robot, side: str = "right") -> float:
 
 def critical_foot_damping(robot, stiffness: float) -> float:
     """The ankle damping that critically damps the unloaded foot on its spring [N.m.s/rad]."""
-    return 2.0 * math.sqrt(_check_finite("stiffness", stiffness, 0.0) * foot_inertia_about_ankle(robot))
+    return 2.0 * math.sqrt(check_finite("stiffness", stiffness, 0.0) * foot_inertia_about_ankle(robot))
 
 
 # --------------------------------------------------------------------------- constraints
@@ -224,9 +225,9 @@ class SimulationSettings:
         ):
             if getattr(self, name) not in valid:
                 raise ValueError(f"unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")
-        _check_finite("omega", self.omega)
-        _check_finite("theta0", self.theta0)
-        _check_finite("initial_pitch", self.initial_pitch)
+        check_finite("omega", self.omega)
+        check_finite("theta0", self.theta0)
+        check_finite("initial_pitch", self.initial_pitch)
         if not (math.isfinite(self.dt) and self.dt > 0):
             raise ValueError(f"parameter 'dt' must be a positive finite step [s], got {self.dt!r}")
         if not (math.isfinite(self.fall_limit) and self.fall_limit > 0):
@@ -468,7 +469,7 @@ class BipedSimulator:
             k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
             ends = [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(int(steps))]
         else:
-            _check_finite("duration", duration, 0.0)
+            check_finite("duration", duration, 0.0)
             ends = [float(duration)]
         q_init, v_init, stance0 = self.initial_state(stance)
         stance = stance or stance0

@@ -51,6 +51,10 @@ SEED_ROUNDED_LINK_MASSES: Mapping[str, float] = {
 }
 """Seed Tab 7.1.2: the percentage-rule link masses rounded to 0.1 kg, as its code uses them [kg]."""
 
+SEED_ROUNDED_FOOT_MASS: float = 1.3
+"""The seed's foot mass as its code uses it [kg]: the percentage rule's foot rounded to 0.1 kg (the
+toe and heel parts of :data:`SEED_FOOT_PARTS` together)."""
+
 
 @dataclass(frozen=True)
 class Scenario:

@@ -475,7 +475,8 @@ def scenario_contact(
         (the inverse-dynamics result, :class:`ContactResult`).
 
     """
-    from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+    from pasibot_pin.dynamics.inverse import inverse_dynamics
+    from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.model.scenarios import get_preset, get_scenario
 
     if samples < 2:

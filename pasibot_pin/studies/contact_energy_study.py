@@ -257,7 +257,8 @@ def single_motor_study(settings: ContactEnergySettings | None = None) -> SingleM
 
     """
     settings = settings or ContactEnergySettings()
-    from pasibot_pin.dynamics.inverse import inverse_dynamics, scenario_robot
+    from pasibot_pin.dynamics.inverse import inverse_dynamics
+    from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.model.scenarios import get_preset, get_scenario
 
     scenario = get_scenario(settings.motor_scenario)

@@ -68,9 +68,9 @@ def variant_robot(variant: str, body_mass: float, body_com_dx: float = 0.0) -> P
     The rule is :func:`pasibot_pin.model.params.percentage_mass_model` (for ``parallel`` its
     extension links get the thigh's mass per unit length); the body (hip) mass and its COM
     offset ahead of joint 8 replace the rule's. The same robot as
-    :func:`pasibot_pin.dynamics.inverse.scenario_robot` with the default modelling choices.
+    :func:`pasibot_pin.model.scenario_robots.scenario_robot` with the default modelling choices.
     """
-    from pasibot_pin.dynamics.inverse import scenario_robot
+    from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.model.scenarios import PRESETS, Scenario
 
     if not (math.isfinite(body_mass) and body_mass > 0):

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pasibot_pin.constraints import split_torques
+from pasibot_pin.dynamics.stance_plan import actuation, couplings
 from pasibot_pin.model import closure
 from pasibot_pin.model.variants import get_motor_layout
 from pasibot_pin.reprs import short_repr
@@ -88,8 +89,6 @@ def coupled_split(robot, result) -> SingleMotorResult:
         ValueError: not a biped; cranks not pi apart; a singular split.
 
     """
-    from pasibot_pin.dynamics.inverse import _actuation, _couplings
-
     if robot.legs != 2:
         raise ValueError(f"coupled_split needs a two-legged robot, got legs={robot.legs}")
     layout = get_motor_layout("one")
@@ -105,7 +104,7 @@ def coupled_split(robot, result) -> SingleMotorResult:
         if side not in cache:
             rs = robot.with_stance(side, q)
             # the coupling q_L - q_R - pi = 0 is one more row of the constraint system
-            cache[side] = (closure.system(rs, None, _couplings(rs, layout)), _actuation(rs, side, layout))
+            cache[side] = (closure.system(rs, None, couplings(rs, layout)), actuation(rs, side, layout))
         rows, s_matrix = cache[side]
         try:
             u, lam = split_torques(tau, s_matrix, rows.jacobian(q))

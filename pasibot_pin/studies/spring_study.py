@@ -27,7 +27,7 @@ from pasibot_pin.dynamics.simulator import (
     AnkleSpring,
     SimulationResult,
     SimulationSettings,
-    _check_finite,
+    check_finite,
     critical_foot_damping,
     simulate,
 )
@@ -271,7 +271,7 @@ def spring_study(
         whose spring is one of the cases' is not computed again.
 
     """
-    _check_finite("omega", omega, 0.0)
+    check_finite("omega", omega, 0.0)
     dt = default_dt(swing_ankle) if dt is None else dt
     cache: dict = {}
     common = {"steps": steps, "swing_ankle": swing_ankle, "dt": dt, "static_samples": static_samples, "cache": cache}
@@ -334,7 +334,8 @@ def scenario_inputs(name: str, preset: str = "default", damping: float | None = 
         damping: ankle damping [N.m.s/rad] (default :func:`critical_foot_damping` of the fit).
 
     """
-    from pasibot_pin.dynamics.inverse import run_scenario, scenario_robot
+    from pasibot_pin.dynamics.inverse import run_scenario
+    from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.model.scenarios import get_preset, get_scenario
     from pasibot_pin.studies.spring_fit import fit_result
 
