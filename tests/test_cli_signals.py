@@ -109,7 +109,7 @@ def test_analyze_stops_its_pool_workers_and_leaves_no_half_file(tmp_path, sig, g
 
 def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):
     """A Ctrl-C that lands before the server reported its address still stops the server."""
-    from pasibot_pin.viz import viewer
+    from pasibot_pin.viz import meshcat_server
 
     started: list[subprocess.Popen] = []
     real_popen = subprocess.Popen
@@ -122,10 +122,10 @@ def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):
     def interrupt():
         raise KeyboardInterrupt
 
-    monkeypatch.setattr(viewer.subprocess, "Popen", Recording)
-    monkeypatch.setattr(viewer.time, "monotonic", interrupt)
+    monkeypatch.setattr(meshcat_server.subprocess, "Popen", Recording)
+    monkeypatch.setattr(meshcat_server.time, "monotonic", interrupt)
     with pytest.raises(KeyboardInterrupt):
-        viewer.start_server()
+        meshcat_server.start_server()
     assert len(started) == 1
     assert started[0].poll() is not None  # stopped, not left to the end of the interpreter
 

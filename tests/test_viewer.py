@@ -176,11 +176,11 @@ def test_command_type_read_from_the_first_bytes_is_msgpacks(exported):
     """The exported page's commands: the type read off each one's first bytes is the unpacked one's."""
     _, html = exported
     blobs = [base64.b64decode(b) for b in re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)", html)]
-    types = [viewer._command_type(b) for b in blobs]
+    types = [viewer.command_type(b) for b in blobs]
     assert types == [umsgpack.unpackb(b)["type"] for b in blobs]
     assert {"set_object", "set_transform", "set_property", "set_animation"} <= set(types)
     assert types[-1] == "set_animation"  # moved after the static poses
-    assert viewer._command_type(umsgpack.packb({"path": "/x", "type": "delete"})) == "delete"  # another key order
+    assert viewer.command_type(umsgpack.packb({"path": "/x", "type": "delete"})) == "delete"  # another key order
 
 
 def test_bad_zmq_url(robot):
