@@ -33,7 +33,7 @@ def _api():
     import pasibot_pin as pp
     from pasibot_pin.dynamics import inverse as dynamics
     from pasibot_pin.dynamics import simulator as simulate
-    from pasibot_pin.kinematics import gait
+    from pasibot_pin.kinematics import gait, path_metrics
     from pasibot_pin.kinematics import leg as kinematics
     from pasibot_pin.model import scenarios
     from pasibot_pin.model.scenario_robots import scenario_robot
@@ -52,7 +52,7 @@ def _api():
         run_scenario=run_scenario,
         preset=scenarios.get_preset,
         fit_result=spring.fit_result,
-        straight_line_metrics=kinematics.straight_line_metrics,
+        straight_line_metrics=path_metrics.straight_line_metrics,
         leg_cycle=kinematics.leg_cycle,
         crank_grid=kinematics.crank_grid,
         walk=gait.walk,

@@ -10,7 +10,8 @@ import pytest
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics, run_scenario
 from pasibot_pin.kinematics.leg import crank_grid as turn_grid
-from pasibot_pin.kinematics.leg import leg_cycle, straight_line_metrics
+from pasibot_pin.kinematics.leg import leg_cycle
+from pasibot_pin.kinematics.path_metrics import straight_line_metrics
 from pasibot_pin.model import design as design_module
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.robot import load

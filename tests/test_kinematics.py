@@ -16,6 +16,7 @@ import pytest
 
 import pasibot_pin as pp
 from pasibot_pin.kinematics import leg as kin
+from pasibot_pin.kinematics import path_metrics
 
 DEG = math.pi / 180
 
@@ -99,7 +100,7 @@ def test_paths_match_closed_form(robots, L, variant):
 @pytest.mark.parametrize("K", [1.8, 2.2])
 def test_k_sweep_paths_follow_closed_form(L, K):
     """Seed Fig 4.2.4: other frame ratios K give the closed-form path of that K."""
-    sweep = kin.k_sweep([K], variant="rigid", step=10 * DEG)
+    sweep = path_metrics.k_sweep([K], variant="rigid", step=10 * DEG)
     cycle = sweep.cycles[0]
     p = leg_closed_form(cycle.theta, k=K)
     assert np.max(np.abs(cycle.ankle - L * xz(p[13]))) < 1e-9
@@ -117,7 +118,7 @@ def dense_closed_form():
 
 @pytest.fixture(scope="module")
 def metrics(robots):
-    return {v: kin.straight_line_metrics(robots[(v, 1)]) for v in pp.VARIANTS}
+    return {v: path_metrics.straight_line_metrics(robots[(v, 1)]) for v in pp.VARIANTS}
 
 
 @pytest.mark.parametrize("variant", pp.VARIANTS)
@@ -148,12 +149,12 @@ def test_straight_line_metrics(metrics, L, dense_closed_form, variant):
 def test_ground_span_depends_on_tolerance(robots, L):
     """A looser tolerance widens the span; one below the stance band splits stance; bad ones fail."""
     robot = robots[("rigid", 1)]
-    tight = kin.straight_line_metrics(robot, tolerance=0.02 * L)
-    loose = kin.straight_line_metrics(robot, tolerance=0.2 * L)
-    split = kin.straight_line_metrics(robot, tolerance=0.01 * L)
+    tight = path_metrics.straight_line_metrics(robot, tolerance=0.02 * L)
+    loose = path_metrics.straight_line_metrics(robot, tolerance=0.2 * L)
+    split = path_metrics.straight_line_metrics(robot, tolerance=0.01 * L)
     assert loose.ground_span > tight.ground_span > math.pi > split.ground_span
     with pytest.raises(ValueError, match="tolerance"):
-        kin.straight_line_metrics(robot, tolerance=-1.0)
+        path_metrics.straight_line_metrics(robot, tolerance=-1.0)
 
 
 def test_foot_pitch_in_stance(metrics, dense_closed_form):
@@ -282,4 +283,4 @@ def test_bad_input(robots):
     with pytest.raises(ValueError, match="thetas"):
         kin.leg_cycle(robots[("rigid", 1)], [float("nan")])
     with pytest.raises(ValueError, match="K_values"):
-        kin.k_sweep([-1.0])
+        path_metrics.k_sweep([-1.0])

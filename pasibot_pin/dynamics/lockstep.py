@@ -202,113 +202,148 @@ def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> 
     s = _check(settings)
     if int(steps) != steps or steps < 1:
         raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
-    walks = _Walks(robot, settings)
-    n = walks.n
-    k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
-    ends = [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(int(steps))]
-    starts = [sim.initial_state() for sim in walks.sims]
-    stance = starts[0][2]
-    q = np.array([st[0] for st in starts])
-    v = np.array([st[1] for st in starts])
-    walks.stance(stance, [sim.ground_weld(stance, q[k]) for k, sim in enumerate(walks.sims)])
-    recs = [{key: [] for key in ("t", "q", "v", "lam", "stance", "drift", "swing")} for _ in range(n)]
-    impacts: list[list[Impact]] = [[] for _ in range(n)]
-    fell, message = [False] * n, [""] * n
-    soles = walks.sims[0]._soles
-    failed: dict = {}
-    everyone = np.arange(n)
-    q, rows, _ = walks.project(q, 0.0, everyone, failed)
-    v = walks.impulse(q, v, rows, everyone, failed)
-    if failed:  # the single walk raises here: so does the batch
-        raise SimulationError(next(iter(failed.values())))
-    last_drift = np.zeros(n)
+    run = _Lockstep(robot, settings, s)
+    t = 0.0
+    ends = run.phase_ends(int(steps))
+    for phase, t_end in enumerate(ends):
+        t = run.integrate_phase(t, t_end)
+        if not len(run.active) or phase == len(ends) - 1:
+            break
+        run.touchdown(t)
+    return run.results(t)
 
-    def record(k: int, t: float, qk: np.ndarray, vk: np.ndarray, lam: np.ndarray) -> None:
-        rec = recs[k]
+
+class _Lockstep:
+    """The walks of :func:`simulate_many` walked together: their states, records and the ones still going."""
+
+    def __init__(self, robot, settings: Sequence[SimulationSettings], s: SimulationSettings):
+        self.robot, self.s = robot, s
+        self.walks = walks = _Walks(robot, settings)
+        n = walks.n
+        starts = [sim.initial_state() for sim in walks.sims]
+        self.stance = starts[0][2]
+        q = np.array([st[0] for st in starts])
+        v = np.array([st[1] for st in starts])
+        walks.stance(self.stance, [sim.ground_weld(self.stance, q[k]) for k, sim in enumerate(walks.sims)])
+        self.recs = [{key: [] for key in ("t", "q", "v", "lam", "stance", "drift", "swing")} for _ in range(n)]
+        self.impacts: list[list[Impact]] = [[] for _ in range(n)]
+        self.fell, self.message = [False] * n, [""] * n
+        self.soles = walks.sims[0].soles
+        failed: dict = {}
+        everyone = np.arange(n)
+        self.q, rows, _ = walks.project(q, 0.0, everyone, failed)
+        self.v = walks.impulse(self.q, v, rows, everyone, failed)
+        if failed:  # the single walk raises here: so does the batch
+            raise SimulationError(next(iter(failed.values())))
+        self.last_drift = np.zeros(n)
+        self.active = np.arange(n)
+
+    def phase_ends(self, steps: int) -> list[float]:
+        """The end time of each stance phase: the next touchdown angle pi/2 + k pi of the right crank [s]."""
+        s = self.s
+        k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
+        return [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(steps)]
+
+    def record(self, k: int, t: float, qk: np.ndarray, vk: np.ndarray, lam: np.ndarray) -> None:
+        """One sample of walk ``k``."""
+        rec, walks = self.recs[k], self.walks
         rec["t"].append(t)
         rec["q"].append(qk.copy())
         rec["v"].append(vk.copy())
         rec["lam"].append(np.array([0.0 if i is None else lam[i] for i in walks.labels]))
-        rec["stance"].append(stance)
-        rec["drift"].append(last_drift[k])
-        rec["swing"].append(sole_height(robot, qk, walks.swing, soles[walks.swing]))
+        rec["stance"].append(self.stance)
+        rec["drift"].append(self.last_drift[k])
+        rec["swing"].append(sole_height(self.robot, qk, walks.swing, self.soles[walks.swing]))
 
-    def finish(k: int, t: float, qk: np.ndarray, vk: np.ndarray) -> None:
+    def finish(self, k: int, t: float, qk: np.ndarray, vk: np.ndarray) -> None:
         """A stopped walk's last sample (its multipliers at (t, q, v), zeros if they fail)."""
         done: dict = {}
-        lam = walks.accelerations(t, qk[None], vk[None], np.array([k]), done)[1][0]
-        record(k, t, qk, vk, np.zeros(walks.cset.nrows) if done else lam)
+        lam = self.walks.accelerations(t, qk[None], vk[None], np.array([k]), done)[1][0]
+        self.record(k, t, qk, vk, np.zeros(self.walks.cset.nrows) if done else lam)
 
-    active = np.arange(n)
-    t = 0.0
-    for phase, t_end in enumerate(ends):
-        steps_n = max(1, math.ceil((t_end - t) / s.dt - 1e-9))
+    def integrate_phase(self, t: float, t_end: float) -> float:
+        """RK4 steps of equal length from ``t`` to ``t_end`` (at most ``dt``) for every walk still going; the new t."""
+        steps_n = max(1, math.ceil((t_end - t) / self.s.dt - 1e-9))
         h = (t_end - t) / steps_n
-        half = h / 2
         for _ in range(steps_n):
-            if not len(active):
+            if not len(self.active):
                 break
-            qa, va = q[active], v[active]
-            failed = {}
-            a1, lam = walks.accelerations(t, qa, va, active, failed)
-            v2 = va + half * a1
-            a2 = walks.accelerations(t + half, qa + half * va, v2, active, failed)[0]
-            v3 = va + half * a2
-            a3 = walks.accelerations(t + half, qa + half * v2, v3, active, failed)[0]
-            v4 = va + h * a3
-            a4 = walks.accelerations(t + h, qa + h * v3, v4, active, failed)[0]
-            q_new = qa + h / 6 * ((va + v4) + 2 * (v2 + v3))
-            v_new = va + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
-            q_new, rows, drift = walks.project(q_new, t + h, active, failed)
-            v_new = walks.impulse(q_new, v_new, rows, active, failed)
-            keep = []
-            for j, k in enumerate(active):
-                if k in failed:
-                    fell[k], message[k] = True, f"stopped at t = {t:.3f} s: {failed[k]}"
-                    if not recs[k]["t"] or recs[k]["t"][-1] < t:  # as the single walk: no sample twice
-                        finish(k, t, qa[j], va[j])
-                    continue
-                record(k, t, qa[j], va[j], lam[j])
-                q[k], v[k], last_drift[k] = q_new[j], v_new[j], drift[j]
-                if abs(q[k, 2]) > s.fall_limit:
-                    fell[k] = True
-                    message[k] = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t + h:.3f} s"
-                    finish(k, t + h, q[k], v[k])
-                    continue
-                keep.append(k)
-            active = np.array(keep, dtype=int)
+            self.rk4_step(t, h)
             t += h
-        if not len(active) or phase == len(ends) - 1:
-            break
-        # touchdown of the swing foot
-        lam = walks.accelerations(t, q[active], v[active], active, {})[1]
-        side = other(stance)
-        welds: list = [None] * n
-        poses = {}
-        for j, k in enumerate(active):
-            record(k, t, q[k], v[k], lam[j])
-            poses[k] = foot_pose(robot, q[k], side)
-            welds[k] = walks.sims[k].ground_weld(side, q[k])
-        stance = side
-        walks.stance(stance, welds)
-        failed = {}
-        q_land, rows, _ = walks.project(q[active], t, active, failed)
+        return t
+
+    def rk4_step(self, t: float, h: float) -> None:
+        """One RK4 step of every active walk, projected onto its rows, then each walk's record and fall check."""
+        walks, active, half = self.walks, self.active, h / 2
+        qa, va = self.q[active], self.v[active]
+        failed: dict = {}
+        a1, lam = walks.accelerations(t, qa, va, active, failed)
+        v2 = va + half * a1
+        a2 = walks.accelerations(t + half, qa + half * va, v2, active, failed)[0]
+        v3 = va + half * a2
+        a3 = walks.accelerations(t + half, qa + half * v2, v3, active, failed)[0]
+        v4 = va + h * a3
+        a4 = walks.accelerations(t + h, qa + h * v3, v4, active, failed)[0]
+        q_new = qa + h / 6 * ((va + v4) + 2 * (v2 + v3))
+        v_new = va + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
+        q_new, rows, drift = walks.project(q_new, t + h, active, failed)
+        v_new = walks.impulse(q_new, v_new, rows, active, failed)
         keep = []
         for j, k in enumerate(active):
             if k in failed:
-                fell[k], message[k] = True, f"landing failed at t = {t:.3f} s: {failed[k]}"
+                self.fell[k], self.message[k] = True, f"stopped at t = {t:.3f} s: {failed[k]}"
+                if not self.recs[k]["t"] or self.recs[k]["t"][-1] < t:  # as the single walk: no sample twice
+                    self.finish(k, t, qa[j], va[j])
+                continue
+            self.record(k, t, qa[j], va[j], lam[j])
+            self.q[k], self.v[k], self.last_drift[k] = q_new[j], v_new[j], drift[j]
+            if abs(self.q[k, 2]) > self.s.fall_limit:
+                self.fell[k] = True
+                limit = math.degrees(self.s.fall_limit)
+                self.message[k] = f"fell: |hip pitch| passed {limit:.0f} deg at t = {t + h:.3f} s"
+                self.finish(k, t + h, self.q[k], self.v[k])
+                continue
+            keep.append(k)
+        self.active = np.array(keep, dtype=int)
+
+    def touchdown(self, t: float) -> None:
+        """The swing foot lands: weld it, project every walk onto the new rows, the inelastic impact."""
+        walks, robot, q, v = self.walks, self.robot, self.q, self.v
+        lam = walks.accelerations(t, q[self.active], v[self.active], self.active, {})[1]
+        side = other(self.stance)
+        welds: list = [None] * walks.n
+        poses = {}
+        for j, k in enumerate(self.active):
+            self.record(k, t, q[k], v[k], lam[j])
+            poses[k] = foot_pose(robot, q[k], side)
+            welds[k] = walks.sims[k].ground_weld(side, q[k])
+        self.stance = side
+        walks.stance(side, welds)
+        failed: dict = {}
+        q_land, rows, _ = walks.project(q[self.active], t, self.active, failed)
+        keep = []
+        for j, k in enumerate(self.active):
+            if k in failed:
+                self.fell[k], self.message[k] = True, f"landing failed at t = {t:.3f} s: {failed[k]}"
                 continue
             keep.append(j)
-        if len(keep) < len(active):
-            q_land, active = q_land[keep], active[keep]
+        if len(keep) < len(self.active):
+            q_land, self.active = q_land[keep], self.active[keep]
             rows.phi, rows.jac, rows.phi_t = rows.phi[keep], rows.jac[keep], rows.phi_t[keep]
+        active = self.active
         q[active] = q_land
         before = [total_energy(robot, q[k], v[k])["kinetic"] for k in active]
         v_land = walks.impulse(q[active], v[active], rows, active, failed)
         for j, k in enumerate(active):
             v[k] = v_land[j]
             _, z, pitch = poses[k]
-            impacts[k].append(Impact(t, side, z, pitch, before[j], total_energy(robot, q[k], v[k])["kinetic"]))
-    for k in active:
-        finish(k, t, q[k], v[k])
-    return [walks.sims[k].result(recs[k], impacts[k], fell[k], message[k]) for k in range(n)]
+            self.impacts[k].append(Impact(t, side, z, pitch, before[j], total_energy(robot, q[k], v[k])["kinetic"]))
+
+    def results(self, t: float) -> list[SimulationResult]:
+        """Every walk's :class:`SimulationResult`, the ones still going ended at ``t``."""
+        for k in self.active:
+            self.finish(k, t, self.q[k], self.v[k])
+        return [
+            sim.result(self.recs[k], self.impacts[k], self.fell[k], self.message[k])
+            for k, sim in enumerate(self.walks.sims)
+        ]

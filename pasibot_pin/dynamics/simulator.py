@@ -335,7 +335,7 @@ class BipedSimulator:
         self.settings = settings
         self.cranks = {side: robot.idx_v(f"{side}_j0_crank") for side in ("right", "left")}
         self.ankles = ankle_indices(robot)
-        self._soles = {side: (robot.frame_id(f"{side}_toe"), robot.frame_id(f"{side}_heel")) for side in self.ankles}
+        self.soles = {side: (robot.frame_id(f"{side}_toe"), robot.frame_id(f"{side}_heel")) for side in self.ankles}
 
     # ---- constraint sets
     def coordinate_rows(self, stance: str) -> list[CoordinateRow]:
@@ -457,105 +457,35 @@ class BipedSimulator:
             The recorded :class:`SimulationResult`.
 
         """
+        ends = self._phase_ends(steps, duration)
+        q_init, v_init, stance0 = self.initial_state(stance)
+        q = q_init if q0 is None else np.array(q0, dtype=float)
+        v = v_init if v0 is None else np.array(v0, dtype=float)
+        run = _Run(self, stance or stance0, q, v)
+        for phase, t_end in enumerate(ends):
+            run.integrate_phase(t_end)
+            if run.fell:
+                break
+            if phase < len(ends) - 1:  # touchdown of the swing foot
+                run.touchdown()
+                if run.fell:
+                    break
+        run.last_sample()
+        return self.result(run.rec, run.impacts, run.fell, run.message)
+
+    def _phase_ends(self, steps: int | None, duration: float | None) -> list[float]:
+        """The end of each stance phase [s]: touchdowns as the right crank reaches pi/2 + k pi, or ``duration``."""
         s = self.settings
         if (steps is None) == (duration is None):
             raise ValueError("give exactly one of 'steps' (walk) or 'duration' (one stance)")
-        if steps is not None:
-            if int(steps) != steps or steps < 1:
-                raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
-            if not s.omega > 0:
-                raise ValueError(f"walking needs a positive crank rate 'omega', got {s.omega!r}")
-            # touchdowns when the right crank reaches pi/2 + k pi
-            k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
-            ends = [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(int(steps))]
-        else:
-            check_finite("duration", duration, 0.0)
-            ends = [float(duration)]
-        q_init, v_init, stance0 = self.initial_state(stance)
-        stance = stance or stance0
-        q = q_init if q0 is None else np.array(q0, dtype=float)
-        v = v_init if v0 is None else np.array(v0, dtype=float)
-        weld = self.ground_weld(stance, q)
-        cset = self.constraint_set(stance, weld)
-        q = cset.project(q, 0.0, metric="mass", max_iter=20)
-        v, _ = cset.impulse(q, v, 0.0)
-        rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "lam", "stance", "drift", "swing")}
-        labels_index = self._multiplier_rows(cset)
-
-        def record(t, q, v, lam, drift, labels_index):
-            rec["t"].append(t)
-            rec["q"].append(q.copy())
-            rec["v"].append(v.copy())
-            tau_m = np.zeros(3)
-            for k, idx in enumerate(labels_index):
-                if idx is not None:
-                    tau_m[k] = lam[idx]
-            if s.motor == "free" and s.feedforward is not None:
-                ff = self.settings.feedforward(t, q, v)
-                tau_m[0], tau_m[1] = ff[self.cranks["right"]], ff[self.cranks["left"]]
-            rec["lam"].append(tau_m)
-            rec["stance"].append(stance)
-            rec["drift"].append(drift)
-            swing = other(stance)
-            rec["swing"].append(sole_height(self.robot, q, swing, self._soles[swing]))
-
-        t = 0.0
-        impacts: list[Impact] = []
-        fell, message = False, ""
-        count = 0
-        last_drift = 0.0
-        # M(q) of the last velocity projection stays in the data for the next step's first stage, unless a
-        # feed-forward (which might use the robot's data) runs in between
-        reuse = s.feedforward is None
-        for phase, t_end in enumerate(ends):
-            mass_ready = False
-            n = max(1, math.ceil((t_end - t) / s.dt - 1e-9))
-            h = (t_end - t) / n
-            for _ in range(n):
-                try:
-                    q_new, v_new, lam, drift = self.step(cset, t, q, v, h, mass_ready)
-                except SimulationError as err:
-                    fell, message = True, f"stopped at t = {t:.3f} s: {err}"
-                    break
-                if count % s.record_every == 0:
-                    record(t, q, v, lam, last_drift, labels_index)
-                count += 1
-                q, v, t, last_drift = q_new, v_new, t + h, drift
-                mass_ready = reuse
-                if abs(q[HIP_PITCH]) > s.fall_limit:
-                    fell = True
-                    message = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
-                    break
-            if fell:
-                break
-            if phase < len(ends) - 1:  # touchdown of the swing foot
-                lam = self.acceleration(cset, t, q, v)[1]
-                record(t, q, v, lam, last_drift, labels_index)
-                side = other(stance)
-                x, z, pitch = foot_pose(self.robot, q, side)
-                weld = self.ground_weld(side, q)
-                stance = side
-                cset = self.constraint_set(stance, weld)
-                labels_index = self._multiplier_rows(cset)
-                land = cset
-                if s.swing_ankle == "spring":  # the lifting foot keeps its ankle angle through the landing
-                    lifting = self.ankles[other(side)]
-                    land = cset.with_scalars([*cset.scalars, coordinate("lifting_ankle", lifting, q[lifting])])
-                try:
-                    q = land.project(q, t, metric="mass", max_iter=20)
-                except ValueError as err:
-                    fell, message = True, f"landing failed at t = {t:.3f} s: {err}"
-                    break
-                ke_before = total_energy(self.robot, q, v)["kinetic"]
-                v, _ = cset.impulse(q, v, t)
-                impacts.append(Impact(t, side, z, pitch, ke_before, total_energy(self.robot, q, v)["kinetic"]))
-        if not fell or not rec["t"] or rec["t"][-1] < t:
-            try:
-                lam = self.acceleration(cset, t, q, v)[1]
-            except ValueError:
-                lam = np.zeros(cset.nrows)
-            record(t, q, v, lam, last_drift, labels_index)
-        return self.result(rec, impacts, fell, message)
+        if steps is None:
+            return [check_finite("duration", duration, 0.0)]
+        if int(steps) != steps or steps < 1:
+            raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
+        if not s.omega > 0:
+            raise ValueError(f"walking needs a positive crank rate 'omega', got {s.omega!r}")
+        k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
+        return [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(int(steps))]
 
     def result(self, rec: dict[str, list], impacts: list[Impact], fell: bool, message: str) -> SimulationResult:
         """The :class:`SimulationResult` of recorded samples.
@@ -594,3 +524,94 @@ class BipedSimulator:
 def simulate(robot, settings: SimulationSettings, steps: int | None = None, duration: float | None = None, **kwargs):
     """Shortcut: ``BipedSimulator(robot, settings).run(steps, duration, **kwargs)``."""
     return BipedSimulator(robot, settings).run(steps=steps, duration=duration, **kwargs)
+
+
+class _Run:
+    """One run of :meth:`BipedSimulator.run`: the state, the current stance's rows and what is recorded."""
+
+    def __init__(self, sim: BipedSimulator, stance: str, q: np.ndarray, v: np.ndarray):
+        self.sim, self.s, self.stance = sim, sim.settings, stance
+        self.cset = sim.constraint_set(stance, sim.ground_weld(stance, q))
+        self.q = self.cset.project(q, 0.0, metric="mass", max_iter=20)
+        self.v, _ = self.cset.impulse(self.q, v, 0.0)
+        self.rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "lam", "stance", "drift", "swing")}
+        self.labels_index = sim._multiplier_rows(self.cset)
+        self.t, self.count, self.last_drift = 0.0, 0, 0.0
+        self.impacts: list[Impact] = []
+        self.fell, self.message = False, ""
+
+    def record(self, lam: np.ndarray) -> None:
+        """The sample at the current (t, q, v): the motor and hip-lock torques from ``lam``, the swing sole's height."""
+        sim, s, rec, q, v = self.sim, self.s, self.rec, self.q, self.v
+        rec["t"].append(self.t)
+        rec["q"].append(q.copy())
+        rec["v"].append(v.copy())
+        tau_m = np.zeros(3)
+        for k, idx in enumerate(self.labels_index):
+            if idx is not None:
+                tau_m[k] = lam[idx]
+        if s.motor == "free" and s.feedforward is not None:
+            ff = s.feedforward(self.t, q, v)
+            tau_m[0], tau_m[1] = ff[sim.cranks["right"]], ff[sim.cranks["left"]]
+        rec["lam"].append(tau_m)
+        rec["stance"].append(self.stance)
+        rec["drift"].append(self.last_drift)
+        swing = other(self.stance)
+        rec["swing"].append(sole_height(sim.robot, q, swing, sim.soles[swing]))
+
+    def integrate_phase(self, t_end: float) -> None:
+        """Steps of equal length (at most ``dt``) up to ``t_end``; stops at a failed step or a fall."""
+        s = self.s
+        # M(q) of the last velocity projection stays in the data for the next step's first stage, unless a
+        # feed-forward (which might use the robot's data) runs in between
+        reuse, mass_ready = s.feedforward is None, False
+        n = max(1, math.ceil((t_end - self.t) / s.dt - 1e-9))
+        h = (t_end - self.t) / n
+        for _ in range(n):
+            try:
+                q_new, v_new, lam, drift = self.sim.step(self.cset, self.t, self.q, self.v, h, mass_ready)
+            except SimulationError as err:
+                self.fell, self.message = True, f"stopped at t = {self.t:.3f} s: {err}"
+                return
+            if self.count % s.record_every == 0:
+                self.record(lam)
+            self.count += 1
+            self.q, self.v, self.t, self.last_drift = q_new, v_new, self.t + h, drift
+            mass_ready = reuse
+            if abs(self.q[HIP_PITCH]) > s.fall_limit:
+                self.fell = True
+                self.message = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {self.t:.3f} s"
+                return
+
+    def touchdown(self) -> None:
+        """The swing foot lands flat: the new stance's rows, a projection onto them, the inelastic impact."""
+        sim, t = self.sim, self.t
+        self.record(sim.acceleration(self.cset, t, self.q, self.v)[1])
+        side = other(self.stance)
+        x, z, pitch = foot_pose(sim.robot, self.q, side)
+        weld = sim.ground_weld(side, self.q)
+        self.stance = side
+        self.cset = cset = sim.constraint_set(side, weld)
+        self.labels_index = sim._multiplier_rows(cset)
+        land = cset
+        if self.s.swing_ankle == "spring":  # the lifting foot keeps its ankle angle through the landing
+            lifting = sim.ankles[other(side)]
+            land = cset.with_scalars([*cset.scalars, coordinate("lifting_ankle", lifting, self.q[lifting])])
+        try:
+            self.q = land.project(self.q, t, metric="mass", max_iter=20)
+        except ValueError as err:
+            self.fell, self.message = True, f"landing failed at t = {t:.3f} s: {err}"
+            return
+        ke_before = total_energy(sim.robot, self.q, self.v)["kinetic"]
+        self.v, _ = cset.impulse(self.q, self.v, t)
+        self.impacts.append(Impact(t, side, z, pitch, ke_before, total_energy(sim.robot, self.q, self.v)["kinetic"]))
+
+    def last_sample(self) -> None:
+        """The final sample (unless a failed step already recorded this time), its multipliers zero if they fail."""
+        if not self.fell or not self.rec["t"] or self.rec["t"][-1] < self.t:
+            try:
+                lam = self.sim.acceleration(self.cset, self.t, self.q, self.v)[1]
+            except ValueError:
+                lam = np.zeros(self.cset.nrows)
+            self.record(lam)
+

@@ -19,6 +19,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pasibot_pin.kinematics import leg as kin
+from pasibot_pin.kinematics import path_metrics
 from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
@@ -167,7 +168,7 @@ class LegRun:
     L: float
     omega: float
     cycle: kin.LegCycle
-    metrics: kin.StraightLineMetrics
+    metrics: path_metrics.StraightLineMetrics
     speed_ratios: np.ndarray
 
 
@@ -219,7 +220,7 @@ def leg_run(robot, step_deg: float = 5.0, omega: float = 0.1) -> LegRun:
     """
     n = samples(360.0, step_deg)
     cycle = kin.leg_cycle(robot, kin.crank_grid(2 * math.pi / n), omega=omega)
-    metrics = kin.straight_line_metrics(robot)
+    metrics = path_metrics.straight_line_metrics(robot)
     L = robot.geometry.L
     speeds = kin.leg_cycle(robot, np.radians(list(SPEED_ANGLES_DEG)), omega=omega).ankle_velocity[:, 0]
     return LegRun(robot.variant, L, omega, cycle, metrics, speeds / (L * omega))
@@ -390,7 +391,7 @@ class KinematicsSurvey:
 
     settings: KinematicsSettings
     legs: dict[str, LegRun]
-    sweep: kin.KSweep
+    sweep: path_metrics.KSweep
     jacobian: np.ndarray
     walks: list[WalkRun]
 
@@ -404,7 +405,7 @@ def kinematics_survey(settings: KinematicsSettings | None = None) -> KinematicsS
     """
     s = KinematicsSettings() if settings is None else settings
     legs = {v: leg_run(load(v, 1), s.leg_step_deg, s.omega) for v in s.variants}
-    sweep = kin.k_sweep(s.k_values, variant=s.k_variant)
+    sweep = path_metrics.k_sweep(s.k_values, variant=s.k_variant)
     robot = load(s.jacobian_variant, 1)
     jacobian = kin.open_chain_jacobian(robot, kin.configuration_at(robot, s.jacobian_theta))
     walks = [walk_run(load(v, 2), s.walk_steps, s.walk_step_deg, s.omega, foot) for v, foot in s.walk_cases]

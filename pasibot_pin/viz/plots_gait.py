@@ -10,7 +10,8 @@ import math
 
 import numpy as np
 
-from pasibot_pin.kinematics.leg import STANCE, KSweep, LegCycle
+from pasibot_pin.kinematics.leg import STANCE, LegCycle
+from pasibot_pin.kinematics.path_metrics import KSweep
 from pasibot_pin.viz.plots import GROUP_COLOURS, figure_axes, plot_robot
 
 POINT_COLOURS = {"ankle": "#2673d9", "toe": "#d62728", "heel": "#7f7f7f", "hip": "#000000"}
