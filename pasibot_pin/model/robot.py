@@ -9,7 +9,9 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin import constraints
+from pasibot_pin.model import placements
 from pasibot_pin.model.assembly import check_full_turn
+from pasibot_pin.model.closure import assemble
 from pasibot_pin.model.description import (  # noqa: F401 (planar_root_joint, ROOT_JOINT_NAME: re-exported)
     ROOT_JOINT_NAME,
     Loop,
@@ -283,8 +285,43 @@ def load(
 
     """
     spec = get_variant(variant)
-    variant = spec.name
     check_legs(legs)
+    geometry, masses = _geometry_and_masses(spec.name, geometry, masses, mass_rule, geometry_changes)
+    if inertia not in INERTIA_MODES:
+        raise ValueError(f"unknown inertia mode {inertia!r}; valid: {', '.join(INERTIA_MODES)}")
+    model, text = _build_tree(spec.name, legs, geometry, masses, inertia, visuals)
+    robot = PasibotRobot(
+        variant=spec.name,
+        legs=legs,
+        geometry=geometry,
+        masses=masses,
+        inertia=inertia,
+        model=model,
+        data=model.createData(),
+        visual_model=pin.buildGeomFromUrdfString(model, text, pin.GeometryType.VISUAL) if visuals else None,
+        collision_model=pin.buildGeomFromUrdfString(model, text, pin.GeometryType.COLLISION) if visuals else None,
+        loops=loop_table(spec.name, legs),
+        constraint_models=[],
+        spec=spec,
+        actuated_joints=[f"{s}_{j}" for s in sides(legs) for j in spec.actuated_joints],
+        spring_joints=[f"{s}_{j}" for s in sides(legs) for j in spec.spring_joints],
+        urdf=text,
+    )
+    robot.constraint_models = [
+        constraints.point_constraint(model, lp.frame_a, lp.frame_b, lp.name) for lp in robot.loops
+    ]
+    _assemble_at_start(robot)
+    return robot
+
+
+def _geometry_and_masses(
+    variant: str,
+    geometry: Geometry | None,
+    masses: MassModel | None,
+    mass_rule: str,
+    geometry_changes: dict[str, float],
+) -> tuple[Geometry, MassModel]:
+    """The geometry (with the shortcuts' changes) and the mass model of :func:`load`, checked."""
     geometry = geometry or Geometry()
     if geometry_changes:
         geometry = geometry.with_(**geometry_changes)
@@ -293,9 +330,13 @@ def load(
             raise ValueError(f"unknown mass_rule {mass_rule!r}; valid: {', '.join(MASS_RULES)}")
         masses = MASS_RULES[mass_rule](geometry, variant)
     masses.check_links(variant)
-    if inertia not in INERTIA_MODES:
-        raise ValueError(f"unknown inertia mode {inertia!r}; valid: {', '.join(INERTIA_MODES)}")
+    return geometry, masses
 
+
+def _build_tree(
+    variant: str, legs: int, geometry: Geometry, masses: MassModel, inertia: str, visuals: bool
+) -> tuple[pin.Model, str]:
+    """The Pinocchio tree with its masses, and the URDF text it came from (empty without visuals)."""
     text = ""
     if visuals:
         default = geometry == Geometry() and masses == MASS_RULES["seed"](Geometry(), variant)
@@ -303,9 +344,7 @@ def load(
         text = path.read_text() if default and path.is_file() else render_urdf(variant, legs, geometry, masses)
         model = build_tree(text, legs)
     else:
-        from pasibot_pin.model.placements import tree
-
-        model = tree(variant, legs, geometry)
+        model = placements.tree(variant, legs, geometry)
     model.name = f"pasibot_{variant}_{legs}leg"
     apply_masses(model, masses, geometry, variant, legs, inertia)
     for j in range(model.njoints):
@@ -314,34 +353,14 @@ def load(
                 f"the geometry and masses give a non-finite inertia on joint {model.names[j]!r}; "
                 "check the sizes (L, link ratios, sole) and masses"
             )
-    visual_model = pin.buildGeomFromUrdfString(model, text, pin.GeometryType.VISUAL) if visuals else None
-    collision_model = pin.buildGeomFromUrdfString(model, text, pin.GeometryType.COLLISION) if visuals else None
+    return model, text
 
-    loops = loop_table(variant, legs)
-    cmodels = [constraints.point_constraint(model, lp.frame_a, lp.frame_b, lp.name) for lp in loops]
-    robot = PasibotRobot(
-        variant=variant,
-        legs=legs,
-        geometry=geometry,
-        masses=masses,
-        inertia=inertia,
-        model=model,
-        data=model.createData(),
-        visual_model=visual_model,
-        collision_model=collision_model,
-        loops=loops,
-        constraint_models=cmodels,
-        spec=spec,
-        actuated_joints=[f"{s}_{j}" for s in sides(legs) for j in spec.actuated_joints],
-        spring_joints=[f"{s}_{j}" for s in sides(legs) for j in spec.spring_joints],
-        urdf=text,
-    )
-    from pasibot_pin.model.closure import assemble
 
+def _assemble_at_start(robot: PasibotRobot) -> None:
+    """Close the loops at theta = pi (``q0``), check a full turn assembles, weld a biped's right foot."""
     q0 = assemble(robot, math.pi)
-    check_full_turn(geometry, spec)
-    if legs == 2:
+    check_full_turn(robot.geometry, robot.spec)
+    if robot.legs == 2:
         robot.constraint_models.append(robot.weld_foot("right", q0))
         robot.stance = "right"
     robot.q0 = q0
-    return robot
