@@ -61,8 +61,10 @@ docs-figures: install
 timings: install
 	$(PY) benchmarks/bench_demo.py --write docs/timings.md
 
+# ruff, and mypy on the package with pyproject.toml's [tool.mypy] settings (zero errors; tests/test_typecheck.py too)
 lint: install
 	$(VENV)/bin/ruff check pasibot_pin tests benchmarks
+	$(VENV)/bin/mypy
 
 clean:
 	rm -rf $(VENV) $(OUT) .pytest_cache

@@ -55,7 +55,7 @@ class OneLineParser(argparse.ArgumentParser):
         text = re.sub(r"'([^']{40})[^']+'", r"'\1...'", " ".join(message.split()))  # a 5,000-digit value, cut
         named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: ", text)
         bound = BOUNDS.get(self.prog.split()[-1], {}).get(named.group(1)) if named else None
-        if bound is not None:
+        if named and bound is not None:
             text += f"; {named.group(1)} must be {bound.text()}"
         self.exit(2, f"{self.prog}: error: {text}\n")
 

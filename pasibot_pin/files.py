@@ -18,6 +18,7 @@ import shutil
 import stat
 from collections.abc import Iterator
 from pathlib import Path
+from typing import Any
 
 PART_MARKER = ".part-"
 """What the temporary names contain (``.gait.part-1a2b3c4d.png``)."""
@@ -72,11 +73,12 @@ def temporary_name(path: Path) -> Path:
 
 
 @contextlib.contextmanager
-def atomic_paths(*paths: Path | None) -> Iterator[list[Path | None]]:
+def atomic_paths(*paths: Path | None) -> Iterator[list[Any]]:
     """Temporary names for ``paths``, renamed over them together when the block ends without error.
 
-    ``None`` entries stay ``None``. Folders are created. On any exception (Ctrl-C included)
-    the temporary files are removed and the targets are left as they were.
+    ``None`` entries stay ``None`` (the list is typed ``Any``: a ``Path`` wherever a path was given).
+    Folders are created. On any exception (Ctrl-C included) the temporary files are removed and the
+    targets are left as they were.
 
     Example:
         >>> with atomic_paths(Path("a.png")) as (tmp,):  # doctest: +SKIP
@@ -94,18 +96,19 @@ def atomic_paths(*paths: Path | None) -> Iterator[list[Path | None]]:
     try:
         yield temps
         for tmp, target in zip(temps, targets):
-            if tmp is None:
+            if tmp is None or target is None:  # None in both lists at once
                 continue
             if not tmp.exists():
                 raise FileNotFoundError(f"nothing was written to {target}")
             check_replaceable(target, "file")  # nothing but a regular file appeared there meanwhile
         for tmp, target in zip(temps, targets):
-            if tmp is not None:
+            if tmp is not None and target is not None:
                 os.replace(tmp, target)
     except OSError as err:  # name the file the caller asked for, not its temporary name
         for tmp, target in zip(temps, targets):
-            if tmp is not None and err.filename is not None and os.fspath(err.filename) == os.fspath(tmp):
-                err.filename = os.fspath(target)
+            if tmp is not None and target is not None and err.filename is not None:
+                if os.fspath(err.filename) == os.fspath(tmp):
+                    err.filename = os.fspath(target)
         raise
     finally:
         for tmp in temps:
@@ -118,6 +121,8 @@ def atomic_paths(*paths: Path | None) -> Iterator[list[Path | None]]:
 def atomic_path(path: Path) -> Iterator[Path]:
     """One file of :func:`atomic_paths`: yields the temporary name to write to."""
     with atomic_paths(path) as (tmp,):
+        if tmp is None:  # never: a path was given
+            raise ValueError("atomic_path needs a path")
         yield tmp
 
 

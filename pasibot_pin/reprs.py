@@ -41,7 +41,7 @@ def _array(value: np.ndarray) -> str:
     if value.size == 0:
         return f"array({shape})"
     if value.size <= 4 and value.dtype.kind in "fiub":
-        return "[" + ", ".join(_scalar(v) for v in value.ravel()) + "]"
+        return "[" + ", ".join(str(_scalar(v)) for v in value.ravel()) + "]"  # numbers: never None
     if value.dtype.kind in "fiu" and np.all(np.isfinite(value)):
         return f"array({shape}, {_number(float(np.min(value)))}..{_number(float(np.max(value)))})"
     return f"array({shape}, {value.dtype})"
@@ -58,15 +58,17 @@ def short(value) -> str:
         return f"<robot {value.variant}, {value.legs} leg(s)>"
     if isinstance(value, Mapping):
         keys = [str(k) for k in value]
-        texts = [_scalar(v) for v in value.values()]
-        if len(keys) <= 4 and all(t is not None for t in texts):
+        items = [_scalar(v) for v in value.values()]
+        texts = [t for t in items if t is not None]
+        if len(keys) <= 4 and len(texts) == len(items):
             text = "{" + ", ".join(f"{k}: {t}" for k, t in zip(keys, texts)) + "}"
         else:
             text = f"dict[{len(keys)}: {', '.join(keys[:4])}{', ...' if len(keys) > 4 else ''}]"
         return text if len(text) <= FIELD_CHARS else f"dict[{len(keys)}]"
     if isinstance(value, (list, tuple)):
-        texts = [_scalar(v) for v in value]
-        if len(value) <= 4 and all(t is not None for t in texts):
+        items = [_scalar(v) for v in value]
+        texts = [t for t in items if t is not None]
+        if len(value) <= 4 and len(texts) == len(items):
             left, right = ("[", "]") if isinstance(value, list) else ("(", ")")
             text = left + ", ".join(texts) + right
             if len(text) <= FIELD_CHARS:

@@ -57,14 +57,19 @@ def run(args: argparse.Namespace) -> int:
     settings = GaitSettings(variant, args.legs, steps, args.step_deg, args.omega, args.foot, design)
     check_outputs(args, f"gait_{'design' if design is not None else variant}_{args.legs}leg")
     result = gait_run(settings)
-    one_leg = isinstance(result, LegRun)
-    print(rep.leg_summary(result) if one_leg else rep.walk_summary(result))
+    print(rep.leg_summary(result) if isinstance(result, LegRun) else rep.walk_summary(result))
     if args.csv is not None:
         with atomic_path(args.csv) as tmp:
-            (rep.write_leg_csv if one_leg else rep.write_walk_csv)(tmp, result)
+            if isinstance(result, LegRun):
+                rep.write_leg_csv(tmp, result)
+            else:
+                rep.write_walk_csv(tmp, result)
         print(f"wrote {args.csv}")
     if args.plot is not None:
         with atomic_path(args.plot) as tmp:
-            (rep.write_leg_plot if one_leg else rep.write_walk_plot)(tmp, result)
+            if isinstance(result, LegRun):
+                rep.write_leg_plot(tmp, result)
+            else:
+                rep.write_walk_plot(tmp, result)
         print(f"wrote {args.plot}")
     return 0

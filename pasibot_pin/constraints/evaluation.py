@@ -18,9 +18,10 @@ from typing import TypeVar
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld, planar_rows
-from pasibot_pin.constraints.planar import PlanarRowBlocks
+from pasibot_pin.constraints.planar import PlanarEnds, PlanarRowBlocks
 from pasibot_pin.constraints.rows import (
     ANGLE_TOL,
     RELATIVE_TOL,
@@ -97,9 +98,9 @@ class RowSystem:
         self._set_ends(self._lay_out_scalar_rows())
         self.tolerance = self._row_tolerances()
         self.labels = self._constraint_labels + [s.name for s in self.scalars]
-        self._coef = None
+        self._coef: np.ndarray | None = None  # the one-sample tables' coefficients (planar, no sliders)
         if self._planar_ends is not None:
-            self._planar_tables()
+            self._planar_tables(self._planar_ends)
 
     def _lay_out_scalar_rows(self) -> list[tuple[int, np.ndarray, np.ndarray]]:
         """The coordinate rows' coefficients and the pitch rows' frames; returns every end (joint, placement)."""
@@ -158,13 +159,13 @@ class RowSystem:
                 tol[self.n_constraint_rows + k] = ANGLE_TOL
         return tol
 
-    def _planar_tables(self) -> None:
+    def _planar_tables(self, ends: PlanarEnds) -> None:
         """The exact planar path's tables: the rows' blocks, the linear part of J and Phi, the picking matrix."""
         nv, row = self.model.nv, self.n_constraint_rows
         pairs = [(2 * c, 2 * c + 1) for c in range(len(self.cmodels))]
         pitch_pairs = [(int(a), int(b)) for a, b in zip(self._weld_a, self._weld_b)]
         pitch_pairs += [(int(e), -1) for e in self._pitch_ends]
-        self._blocks = PlanarRowBlocks(self._planar_ends, pairs, pitch_pairs)
+        self._blocks = PlanarRowBlocks(ends, pairs, pitch_pairs)
         template = np.zeros((self.nrows, nv))
         n_weld = len(self._weld_rows)
         template[self._weld_rows] = self._blocks.pitch_A[:n_weld]
@@ -255,7 +256,7 @@ class RowSystem:
         q: np.ndarray,
         v: np.ndarray | None = None,
         t: float = 0.0,
-        targets: Sequence[float] | None = None,
+        targets: ArrayLike | None = None,
     ) -> Rows:
         """Phi(q, t), J(q), J_dot v (with ``v``) and Phi_t, in one kinematic pass.
 
@@ -343,11 +344,12 @@ class RowSystem:
         The point rows come out in our order from one product with the picking matrix; the pitch
         and coordinate rows are linear in q.
         """
-        if self._coef is not None:
+        coef = self._coef
+        if coef is not None:
             if q.ndim == 1:
-                return self._evaluate_one(q, v, t, targets)
+                return self._evaluate_one(q, v, t, targets, coef)
             if q.ndim == 2:
-                return self._evaluate_batch(q, v, t, targets)
+                return self._evaluate_batch(q, v, t, targets, coef)
         value, jac_t, term_drift = self._blocks.terms(q, v)
         phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
         # J transposed in memory (a column-major view): what Pinocchio's Eigen takes without a copy
@@ -364,7 +366,7 @@ class RowSystem:
             phi[..., self._wrapped] = wrap_angle(phi[..., self._wrapped])
         return Rows(phi, jac, drift, np.broadcast_to(self._phi_t, phi.shape).copy())
 
-    def _evaluate_one(self, q, v, t, targets) -> Rows:
+    def _evaluate_one(self, q, v, t, targets, coef: np.ndarray) -> Rows:
         """:meth:`_evaluate_planar` for one sample in a dozen numpy calls (the simulator's inner loop).
 
         The terms' phases e = exp(i A q), times the rows of one coefficient array (i A^T for the
@@ -374,13 +376,12 @@ class RowSystem:
         """
         # ndarray.dot rather than @: the same product with less call overhead on these small arrays
         nv = self.model.nv
-        phase = np.exp(q.dot(self._coef[:nv]))  # exp(i A q); the real part of the exponent is exactly 0
+        phase = np.exp(q.dot(coef[:nv]))  # exp(i A q); the real part of the exponent is exactly 0
         if v is None:
-            out = (self._coef[: nv + 1] * phase).view(float).dot(self._weights_T) + self._constant[: nv + 1]
+            out = (coef[: nv + 1] * phase).view(float).dot(self._weights_T) + self._constant[: nv + 1]
             drift = np.zeros(self.nrows)
         else:
             w = v.dot(self._phase_T)
-            coef = self._coef
             np.multiply(w, w, out=coef[nv + 1])  # the drift of a term is -w^2 times its value
             out = (coef * phase).view(float).dot(self._weights_T) + self._constant
             drift = -out[nv + 1]
@@ -395,7 +396,7 @@ class RowSystem:
         # J transposed in memory (column-major): what Pinocchio's Eigen takes without a copy
         return Rows(phi, out[:nv].T, drift, self._phi_t.copy())
 
-    def _evaluate_batch(self, q, v, t, targets) -> Rows:
+    def _evaluate_batch(self, q, v, t, targets, coef: np.ndarray) -> Rows:
         """:meth:`_evaluate_planar` for a batch (N, nv) through the tables of :meth:`_evaluate_one`.
 
         The phases e = exp(i A q) (N, P) of the distinct body pitches, times i A^T, give J^T of every
@@ -409,7 +410,7 @@ class RowSystem:
         np.sin(angle, out=phase.imag)
         weights = self._weights_T
         n_phase = phase.shape[1]
-        jac_t = (self._coef[:nv] * phase[:, None, :]).view(float).reshape(n * nv, 2 * n_phase) @ weights
+        jac_t = (coef[:nv] * phase[:, None, :]).view(float).reshape(n * nv, 2 * n_phase) @ weights
         jac_t = jac_t.reshape(n, nv, self.nrows) + self._constant[:nv]
         phi = phase.view(float) @ weights + (q @ self._linear_T + self._constant[nv])
         if v is None:
@@ -429,7 +430,7 @@ class RowSystem:
         # J transposed in memory (a column-major view per sample)
         return Rows(phi, np.swapaxes(jac_t, 1, 2), drift, np.broadcast_to(self._phi_t, phi.shape).copy())
 
-    def residual(self, q: np.ndarray, t: float = 0.0, targets: Sequence[float] | None = None) -> np.ndarray:
+    def residual(self, q: np.ndarray, t: float = 0.0, targets: ArrayLike | None = None) -> np.ndarray:
         """Phi(q, t) (m,) [m, rad]."""
         return self.evaluate(q, None, t, targets).phi
 
@@ -444,4 +445,3 @@ class RowSystem:
     def drift(self, q: np.ndarray, v: np.ndarray) -> np.ndarray:
         """J_dot(q, v) v (m,): the rows' acceleration at zero joint acceleration [m/s^2, rad/s^2]."""
         return self.evaluate(q, v).drift
-

@@ -110,7 +110,10 @@ class PlanarEnds:
         nv = kin.nv
         n_ends = len(joints)
         used: dict[int, int] = {}
-        a0, A, c, slider = [], [], [], []
+        a0: list[float] = []
+        A: list[np.ndarray] = []
+        c: list[np.ndarray] = []
+        slider: list[int] = []
 
         def use(term: int) -> int:
             if term not in used:

@@ -29,13 +29,13 @@ body is along y: the point rows use that. Pitch is counter-clockwise seen from t
 (about -y). Units: SI, angles [rad].
 """
 
-
 from __future__ import annotations
 
 from collections.abc import Sequence
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints.evaluation import RowSystem
 from pasibot_pin.constraints.rows import (  # noqa: F401 (the rows' names, re-exported where they always were)
@@ -77,7 +77,7 @@ class ConstraintSystem(RowSystem):
         self,
         q: np.ndarray,
         t: float = 0.0,
-        targets: Sequence[float] | None = None,
+        targets: ArrayLike | None = None,
         metric: str = "euclidean",
         max_iter: int = 50,
     ) -> np.ndarray:
@@ -88,7 +88,7 @@ class ConstraintSystem(RowSystem):
         self,
         q: np.ndarray,
         t: float = 0.0,
-        targets: Sequence[float] | None = None,
+        targets: ArrayLike | None = None,
         metric: str = "euclidean",
         max_iter: int = 50,
     ) -> Projection:
@@ -115,7 +115,7 @@ class ConstraintSystem(RowSystem):
 
         """
         q = np.array(q, dtype=float)
-        rows = None
+        rows: Rows | None = None
         initial = 0.0
         for k in range(max_iter):
             rows = self.evaluate(q, None, t, targets)
@@ -129,6 +129,8 @@ class ConstraintSystem(RowSystem):
             if largest > STEP_LIMIT:
                 step *= STEP_LIMIT / largest
             q = pin.integrate(self.model, q, step)
+        if rows is None:
+            raise ValueError(f"parameter 'max_iter' must be >= 1, got {max_iter!r}")
         worst = int(np.argmax(np.abs(rows.phi) / self.tolerance))
         raise ClosureError(
             f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[worst]):.3e} "
@@ -220,7 +222,7 @@ class ConstraintSystem(RowSystem):
                 raise SingularPoseError("closure Newton: singular pose, the constraint Jacobian lost rank") from err
         return np.linalg.lstsq(jac, -rows.phi, rcond=None)[0]
 
-    def velocity(self, q: np.ndarray, t: float = 0.0, rates: Sequence[float] | None = None) -> np.ndarray:
+    def velocity(self, q: np.ndarray, t: float = 0.0, rates: ArrayLike | None = None) -> np.ndarray:
         """V on the manifold: J v = -Phi_t (square), i.e. [J_c; J_s] v = [0; s_dot*].
 
         Args:
@@ -233,13 +235,13 @@ class ConstraintSystem(RowSystem):
         rhs = -rows.phi_t if rates is None else self._rhs_rates(rates)
         return square_solve(rows.jac, rhs, "velocity")
 
-    def _rhs_rates(self, rates: Sequence[float]) -> np.ndarray:
+    def _rhs_rates(self, rates: ArrayLike) -> np.ndarray:
         rhs = np.zeros(self.nrows)
         rhs[self.n_constraint_rows :] = np.asarray(rates, dtype=float)
         return rhs
 
     def acceleration(
-        self, q: np.ndarray, v: np.ndarray, t: float = 0.0, accelerations: Sequence[float] | None = None
+        self, q: np.ndarray, v: np.ndarray, t: float = 0.0, accelerations: ArrayLike | None = None
     ) -> np.ndarray:
         """A on the manifold: J a = [0; s_ddot*] - J_dot v (square)."""
         rows = self.evaluate(q, v, t)
@@ -316,5 +318,3 @@ class ConstraintSystem(RowSystem):
         rows = self.evaluate(q, None, t) if rows is None else rows
         mass = self._mass_only(q)
         return self._kkt_solve(mass.dot(v_minus), rows.jac, rows.phi_t)
-
-

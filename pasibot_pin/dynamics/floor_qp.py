@@ -145,7 +145,7 @@ class ContactQP:
         self.data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
         self.data.nle[:] = 0.0
         for order in range(MAX_CHOICES):
-            out = self._passes(list(self.active), order, n - m, g, a_eq, b_eq, c_in, lower)
+            out = self._passes(list(self.active or []), order, n - m, g, a_eq, b_eq, c_in, lower)
             if out is not None:
                 return out
         return None

@@ -41,6 +41,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, split_torques
 from pasibot_pin.dynamics.stance_plan import StancePlan, ankle_angles, stance_plan, unwrap_angles
@@ -191,7 +192,6 @@ class TorqueResult:
         return cols
 
 
-
 # --------------------------------------------------------------------------- trajectory
 def _segments(sides: list[str]) -> list[tuple[int, int]]:
     """(start, stop) of each run of samples with the same stance side."""
@@ -204,7 +204,7 @@ def _shift(delta: float, free: list[float]) -> np.ndarray:
     return np.array([delta, delta] + [0.0] * len(free))
 
 
-def _stance_guess(robot, thetas, swing_pitch, side, stance_x, angular) -> np.ndarray:
+def _stance_guess(robot: PasibotRobot, thetas, swing_pitch, side, stance_x, angular) -> np.ndarray:
     """The analytic assembly along ``thetas``, q (N, nq), closed to round-off (a batched Newton checks it).
 
     The angles are unwrapped along the sweep, as a continuation would carry them.
@@ -223,7 +223,7 @@ def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
 
 def inverse_dynamics(
     robot: PasibotRobot,
-    thetas: Sequence[float],
+    thetas: ArrayLike,
     omega: float,
     *,
     swing_foot: str = "level",
@@ -290,7 +290,7 @@ def inverse_dynamics(
 
 def _check_sweep(
     robot: PasibotRobot,
-    thetas: Sequence[float],
+    thetas: ArrayLike,
     omega: float,
     swing_foot: str,
     accelerations: str,
@@ -459,7 +459,7 @@ def default_thetas(choices: ModelChoices, samples: int = 61) -> np.ndarray:
 def run_scenario(
     scenario: Scenario,
     choices: ModelChoices,
-    thetas: Sequence[float] | None = None,
+    thetas: ArrayLike | None = None,
     omega: float | None = None,
     reactions: bool = True,
 ) -> TorqueResult:

@@ -17,6 +17,7 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -33,6 +34,9 @@ from pasibot_pin.dynamics.simulator import (
 )
 from pasibot_pin.errors import SimulationError
 from pasibot_pin.model.coordinates import other
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 PROJECT_ITERATIONS = 20
 """Newton iterations of the projections (the simulator's)."""
@@ -60,11 +64,13 @@ def _check(settings: Sequence[SimulationSettings]) -> SimulationSettings:
 class _Walks:
     """The lockstep state: one shared constraint system per stance, per-walk targets and weld offsets."""
 
-    def __init__(self, robot, settings: Sequence[SimulationSettings]):
+    def __init__(self, robot: PasibotRobot, settings: Sequence[SimulationSettings]):
         self.model, self.data = robot.model, robot.data
         self.sims = [BipedSimulator(robot, s) for s in settings]
         self.n = len(settings)
-        springs = [s.spring for s in settings]
+        springs = [s.spring for s in settings if s.spring is not None]
+        if len(springs) != self.n:
+            raise ValueError("simulate_many needs a spring in every walk's settings")
         self.stiffness = np.array([sp.stiffness for sp in springs])
         self.rest = np.array([sp.rest_angle for sp in springs])
         self.damping = np.array([sp.damping for sp in springs])
@@ -185,7 +191,7 @@ class _Walks:
             raise _Failed(str(err)) from err
 
 
-def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> list[SimulationResult]:
+def simulate_many(robot: PasibotRobot, settings: Sequence[SimulationSettings], steps: int) -> list[SimulationResult]:
     """Walk ``steps`` stance phases with each of ``settings`` (see the module docstring).
 
     Args:
@@ -216,7 +222,7 @@ def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> 
 class _Lockstep:
     """The walks of :func:`simulate_many` walked together: their states, records and the ones still going."""
 
-    def __init__(self, robot, settings: Sequence[SimulationSettings], s: SimulationSettings):
+    def __init__(self, robot: PasibotRobot, settings: Sequence[SimulationSettings], s: SimulationSettings):
         self.robot, self.s = robot, s
         self.walks = walks = _Walks(robot, settings)
         n = walks.n
@@ -225,7 +231,8 @@ class _Lockstep:
         q = np.array([st[0] for st in starts])
         v = np.array([st[1] for st in starts])
         walks.stance(self.stance, [sim.ground_weld(self.stance, q[k]) for k, sim in enumerate(walks.sims)])
-        self.recs = [{key: [] for key in ("t", "q", "v", "lam", "stance", "drift", "swing")} for _ in range(n)]
+        keys = ("t", "q", "v", "lam", "stance", "drift", "swing")
+        self.recs: list[dict[str, list]] = [{key: [] for key in keys} for _ in range(n)]
         self.impacts: list[list[Impact]] = [[] for _ in range(n)]
         self.fell, self.message = [False] * n, [""] * n
         self.soles = walks.sims[0].soles
@@ -289,7 +296,7 @@ class _Lockstep:
         q_new, rows, drift = walks.project(q_new, t + h, active, failed)
         v_new = walks.impulse(q_new, v_new, rows, active, failed)
         keep = []
-        for j, k in enumerate(active):
+        for j, k in enumerate(active.tolist()):
             if k in failed:
                 self.fell[k], self.message[k] = True, f"stopped at t = {t:.3f} s: {failed[k]}"
                 if not self.recs[k]["t"] or self.recs[k]["t"][-1] < t:  # as the single walk: no sample twice
@@ -313,7 +320,7 @@ class _Lockstep:
         side = other(self.stance)
         welds: list = [None] * walks.n
         poses = {}
-        for j, k in enumerate(self.active):
+        for j, k in enumerate(self.active.tolist()):
             self.record(k, t, q[k], v[k], lam[j])
             poses[k] = foot_pose(robot, q[k], side)
             welds[k] = walks.sims[k].ground_weld(side, q[k])
@@ -322,7 +329,7 @@ class _Lockstep:
         failed: dict = {}
         q_land, rows, _ = walks.project(q[self.active], t, self.active, failed)
         keep = []
-        for j, k in enumerate(self.active):
+        for j, k in enumerate(self.active.tolist()):
             if k in failed:
                 self.fell[k], self.message[k] = True, f"landing failed at t = {t:.3f} s: {failed[k]}"
                 continue
@@ -334,14 +341,14 @@ class _Lockstep:
         q[active] = q_land
         before = [total_energy(robot, q[k], v[k])["kinetic"] for k in active]
         v_land = walks.impulse(q[active], v[active], rows, active, failed)
-        for j, k in enumerate(active):
+        for j, k in enumerate(active.tolist()):
             v[k] = v_land[j]
             _, z, pitch = poses[k]
             self.impacts[k].append(Impact(t, side, z, pitch, before[j], total_energy(robot, q[k], v[k])["kinetic"]))
 
     def results(self, t: float) -> list[SimulationResult]:
         """Every walk's :class:`SimulationResult`, the ones still going ended at ``t``."""
-        for k in self.active:
+        for k in self.active.tolist():
             self.finish(k, t, self.q[k], self.v[k])
         return [
             sim.result(self.recs[k], self.impacts[k], self.fell[k], self.message[k])

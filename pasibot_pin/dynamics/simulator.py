@@ -44,6 +44,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -66,6 +67,9 @@ from pasibot_pin.dynamics.spring_energy import (  # noqa: F401 (re-exported: sim
 from pasibot_pin.errors import SimulationError
 from pasibot_pin.model.closure import hip_pitch, joint_coordinate, solve_velocity
 from pasibot_pin.model.coordinates import HIP_PITCH, other
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 MOTOR_MODES: tuple[str, ...] = ("rheonomic", "free")
 HIP_MODES: tuple[str, ...] = ("free", "level")
@@ -220,7 +224,7 @@ class BipedSimulator:
 
     """
 
-    def __init__(self, robot, settings: SimulationSettings):
+    def __init__(self, robot: PasibotRobot, settings: SimulationSettings):
         if not robot.spec.free_ankle or robot.legs != 2:
             raise ValueError(
                 "the simulator needs a two-legged robot with spring ankles (variant 'spring'), "
@@ -246,7 +250,7 @@ class BipedSimulator:
             ]
         if s.hip == "level":
             rows.append(coordinate("hip_pitch", HIP_PITCH, 0.0, 0.0))
-        if s.swing_ankle == "rest":
+        if s.swing_ankle == "rest" and s.spring is not None:  # the settings' check: "rest" has a spring
             swing = other(stance)
             rows.append(coordinate(f"{swing}_j13_ankle", self.ankles[swing], math.pi / 2 - s.spring.rest_angle))
         return rows
@@ -375,8 +379,9 @@ class BipedSimulator:
         s = self.settings
         if (steps is None) == (duration is None):
             raise ValueError("give exactly one of 'steps' (walk) or 'duration' (one stance)")
-        if steps is None:
+        if duration is not None:
             return [check_finite("duration", duration, 0.0)]
+        assert steps is not None  # one of the two is given (checked above)
         if int(steps) != steps or steps < 1:
             raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
         if not s.omega > 0:
@@ -418,7 +423,9 @@ class BipedSimulator:
         return out
 
 
-def simulate(robot, settings: SimulationSettings, steps: int | None = None, duration: float | None = None, **kwargs):
+def simulate(
+    robot: PasibotRobot, settings: SimulationSettings, steps: int | None = None, duration: float | None = None, **kwargs
+):
     """Shortcut: ``BipedSimulator(robot, settings).run(steps, duration, **kwargs)``."""
     return BipedSimulator(robot, settings).run(steps=steps, duration=duration, **kwargs)
 
@@ -511,4 +518,3 @@ class _Run:
             except ValueError:
                 lam = np.zeros(self.cset.nrows)
             self.record(lam)
-

@@ -11,12 +11,16 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import symmetric_mass_matrix
 from pasibot_pin.errors import ParameterError
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 
 def check_finite(name: str, value: float, minimum: float | None = None) -> float:
@@ -62,7 +66,7 @@ class AnkleSpring:
         return replace(self, stiffness=self.stiffness * check_finite("factor", factor, 0.0))
 
 
-def foot_inertia_about_ankle(robot, side: str = "right") -> float:
+def foot_inertia_about_ankle(robot: PasibotRobot, side: str = "right") -> float:
     """Rotational inertia of a foot about its ankle axis [kg.m^2]."""
     joint = robot.model.getJointId(f"{side}_j13_ankle")
     inertia = robot.model.inertias[joint]
@@ -70,30 +74,30 @@ def foot_inertia_about_ankle(robot, side: str = "right") -> float:
     return float(inertia.inertia[1, 1] + inertia.mass * (c[0] ** 2 + c[2] ** 2))
 
 
-def critical_foot_damping(robot, stiffness: float) -> float:
+def critical_foot_damping(robot: PasibotRobot, stiffness: float) -> float:
     """The ankle damping that critically damps the unloaded foot on its spring [N.m.s/rad]."""
     return 2.0 * math.sqrt(check_finite("stiffness", stiffness, 0.0) * foot_inertia_about_ankle(robot))
 
 
 # --------------------------------------------------------------------------- constraints
-def mass_matrix(robot, q: np.ndarray) -> np.ndarray:
+def mass_matrix(robot: PasibotRobot, q: np.ndarray) -> np.ndarray:
     """Joint-space mass matrix M(q) (symmetric) [kg, kg.m, kg.m^2]."""
     return symmetric_mass_matrix(robot.model, robot.data, q)
 
 
 # --------------------------------------------------------------------------- forces and energy
-def ankle_indices(robot) -> dict[str, int]:
+def ankle_indices(robot: PasibotRobot) -> dict[str, int]:
     """Velocity index of each ankle joint, by side."""
     return {side: robot.idx_v(f"{side}_j13_ankle") for side in ("right", "left")}
 
 
-def ankle_beta(robot, q: np.ndarray) -> dict[str, float]:
+def ankle_beta(robot: PasibotRobot, q: np.ndarray) -> dict[str, float]:
     """Beta = pi/2 - q_ankle of each ankle [rad]: the angle from the forward foot to the shank."""
     return {side: math.pi / 2 - q[i] for side, i in ankle_indices(robot).items()}
 
 
 def spring_forces(
-    robot, spring: AnkleSpring | None, q: np.ndarray, v: np.ndarray, ankles: dict[str, int] | None = None
+    robot: PasibotRobot, spring: AnkleSpring | None, q: np.ndarray, v: np.ndarray, ankles: dict[str, int] | None = None
 ) -> np.ndarray:
     """Generalised force of the ankle springs (nv,) [N.m]: -T on each ankle coordinate.
 
@@ -107,7 +111,9 @@ def spring_forces(
     return tau
 
 
-def total_energy(robot, q: np.ndarray, v: np.ndarray, spring: AnkleSpring | None = None) -> dict[str, float]:
+def total_energy(
+    robot: PasibotRobot, q: np.ndarray, v: np.ndarray, spring: AnkleSpring | None = None
+) -> dict[str, float]:
     """Kinetic, gravity-potential (z = 0 reference) and spring energies [J], and their sum."""
     kinetic = float(pin.computeKineticEnergy(robot.model, robot.data, q, v))
     potential = float(pin.computePotentialEnergy(robot.model, robot.data, q))
@@ -115,7 +121,7 @@ def total_energy(robot, q: np.ndarray, v: np.ndarray, spring: AnkleSpring | None
     return {"kinetic": kinetic, "potential": potential, "spring": elastic, "total": kinetic + potential + elastic}
 
 
-def foot_pose(robot, q: np.ndarray, side: str) -> tuple[float, float, float]:
+def foot_pose(robot: PasibotRobot, q: np.ndarray, side: str) -> tuple[float, float, float]:
     """World x, z [m] of ``side``'s ankle frame and its sole pitch [rad]."""
     model, data = robot.model, robot.data
     pin.forwardKinematics(model, data, q)
@@ -124,12 +130,12 @@ def foot_pose(robot, q: np.ndarray, side: str) -> tuple[float, float, float]:
     return float(pose.translation[0]), float(pose.translation[2]), math.atan2(pose.rotation[2, 0], pose.rotation[0, 0])
 
 
-def sole_height(robot, q: np.ndarray, side: str, frames: tuple[int, int] | None = None) -> float:
+def sole_height(robot: PasibotRobot, q: np.ndarray, side: str, frames: tuple[int, int] | None = None) -> float:
     """Lowest z of ``side``'s toe and heel [m] (negative: below the ground).
 
     ``frames``: the toe and heel frame indices of ``side`` if already known.
     """
     model, data = robot.model, robot.data
     pin.forwardKinematics(model, data, q)
-    frames = frames or tuple(robot.frame_id(f"{side}_{p}") for p in ("toe", "heel"))
-    return float(min(pin.updateFramePlacement(model, data, f).translation[2] for f in frames))
+    ids = frames or (robot.frame_id(f"{side}_toe"), robot.frame_id(f"{side}_heel"))
+    return float(min(pin.updateFramePlacement(model, data, f).translation[2] for f in ids))

@@ -49,7 +49,7 @@ def _generic(name: str, stance: str) -> str:
 
 def prescriptions(robot: PasibotRobot, stance: str, swing_foot: str) -> list[Prescribed]:
     """Both cranks; with a free ankle (the variant's record) also the hip pitch and the swing foot."""
-    rows = [joint_coordinate(robot, j) for j in robot.actuated_joints]
+    rows: list[Prescribed] = [joint_coordinate(robot, j) for j in robot.actuated_joints]
     if robot.spec.free_ankle:
         swing = other(stance)
         ankle = f"{swing}_{robot.spec.spring_joints[0]}"
@@ -189,8 +189,6 @@ def _make_stance_plan(
     )
 
 
-
-
 def unwrap_angles(q: np.ndarray, angular: np.ndarray) -> None:
     """Unwrap the angle columns of q (N, nq) along the sweep, in place (as ``np.unwrap``: steps below pi)."""
     if len(q) < 2:
@@ -198,5 +196,3 @@ def unwrap_angles(q: np.ndarray, angular: np.ndarray) -> None:
     turns = np.round(np.diff(q[:, angular], axis=0) * (0.5 / math.pi))  # whole turns between samples
     if turns.any():
         q[1:, angular] -= (2 * math.pi) * np.cumsum(turns, axis=0)
-
-

@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -39,6 +40,9 @@ from pasibot_pin.model import closure
 from pasibot_pin.model.coordinates import SIDES, other
 from pasibot_pin.reprs import short_repr
 
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
+
 FOOT_MODES: tuple[str, ...] = ("flat", "point", "toe")
 """How the stance foot holds the ground (see the module docstring)."""
 
@@ -47,7 +51,6 @@ MAX_WALK_SAMPLES: int = 1_000_000
 
 CLOSURE_TOL: float = 1e-10
 """Largest closure residual accepted at any sample of a walk [m, rad]."""
-
 
 
 def body_pitch(rotation: np.ndarray) -> float:
@@ -92,7 +95,7 @@ class Walk:
 
     __repr__ = short_repr
 
-    robot: object
+    robot: PasibotRobot
     theta: np.ndarray
     t: np.ndarray
     q: np.ndarray
@@ -145,7 +148,7 @@ class Walk:
         return self.frames_xz(["hip"])["hip"]
 
 
-def _contact(robot, side: str, foot: str, q: np.ndarray) -> pin.RigidConstraintModel:
+def _contact(robot: PasibotRobot, side: str, foot: str, q: np.ndarray) -> pin.RigidConstraintModel:
     """The stance contact for ``side``: its x and y from ``q``, on the ground z = 0.
 
     ``flat`` welds the foot level (pitch 0); ``point`` and ``toe`` pin the ankle or the toe.
@@ -161,9 +164,9 @@ def _contact(robot, side: str, foot: str, q: np.ndarray) -> pin.RigidConstraintM
     return constraints.ground_point_constraint(robot.model, frame, position, f"{frame}_pin")
 
 
-def _prescriptions(robot, stance: str, foot: str) -> list[closure.Prescribed]:
+def _prescriptions(robot: PasibotRobot, stance: str, foot: str) -> list[closure.Prescribed]:
     """Both cranks, plus what the contact leaves free (hip pitch, spring foot pitches)."""
-    out = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
+    out: list[closure.Prescribed] = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
     if foot == "flat":
         if robot.spec.free_ankle:
             out += [closure.hip_pitch(robot), closure.frame_pitch(robot, f"{other(stance)}_foot")]
@@ -174,7 +177,7 @@ def _prescriptions(robot, stance: str, foot: str) -> list[closure.Prescribed]:
     return out
 
 
-def _targets(robot, prescribed, q_prev: np.ndarray, dtheta: float) -> np.ndarray:
+def _targets(robot: PasibotRobot, prescribed, q_prev: np.ndarray, dtheta: float) -> np.ndarray:
     """Crank targets moved by ``dtheta`` from ``q_prev`` (continuation); every pitch held at 0."""
     targets = np.zeros(len(prescribed))
     for row, p in enumerate(prescribed):
@@ -187,7 +190,7 @@ def _is_int(value) -> bool:
     return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
-def _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
+def _check_walk_args(robot: PasibotRobot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
     if getattr(robot, "legs", None) != 2:
         raise ValueError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) to walk")
     if not _is_int(steps) or steps < 1:
@@ -210,7 +213,7 @@ def _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, f
 
 
 def walk(
-    robot,
+    robot: PasibotRobot,
     steps: int = 2,
     samples_per_step: int = 40,
     theta_start: float = math.pi / 2,

@@ -22,6 +22,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -29,6 +30,9 @@ import pinocchio as pin
 from pasibot_pin.constraints import frame_jacobian, planar_pitch
 from pasibot_pin.model import closure
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 STANCE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 """Crank-angle window of the stance phase [rad] (DESIGN §4: 90 deg to 270 deg)."""
@@ -39,7 +43,7 @@ OPEN_CHAIN: tuple[str, ...] = ("j0_crank", "j1", "j4", "j6")
 LOCAL_WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
-def check_one_leg(robot) -> None:
+def check_one_leg(robot: PasibotRobot) -> None:
     """ValueError unless ``robot`` is a one-leg model (``load(variant, legs=1)``)."""
     if getattr(robot, "legs", None) != 1:
         raise ValueError("parameter 'robot' must be a one-leg robot (load(variant, legs=1)), the leg frame")
@@ -93,7 +97,7 @@ class LegCycle:
 
     __repr__ = short_repr
 
-    robot: object
+    robot: PasibotRobot
     theta: np.ndarray
     q: np.ndarray
     ankle: np.ndarray
@@ -123,7 +127,7 @@ def _xz(data: pin.Data, fid: int) -> np.ndarray:
 
 
 def leg_cycle(
-    robot,
+    robot: PasibotRobot,
     thetas: Sequence[float] | np.ndarray | None = None,
     omega: float | None = None,
 ) -> LegCycle:
@@ -168,23 +172,23 @@ def leg_cycle(
     return cycle
 
 
-def leg_prescriptions(robot) -> list[closure.Prescribed]:
+def leg_prescriptions(robot: PasibotRobot) -> list[closure.Prescribed]:
     """What fixes a one-leg pose besides the loops: the crank, and for ``spring`` the foot pitch.
 
     The ``spring`` foot hangs on a free ankle; here it is held level (pitch 0), as the
     biped holds both its stance and its swing foot.
     """
-    out = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
+    out: list[closure.Prescribed] = [closure.joint_coordinate(robot, j) for j in robot.actuated_joints]
     if robot.spec.free_ankle:
         out.append(closure.frame_pitch(robot, "right_foot"))
     return out
 
 
-def _leg_targets(robot, prescribed, theta: float) -> list[float]:
+def _leg_targets(robot: PasibotRobot, prescribed, theta: float) -> list[float]:
     return [float(theta) if p.name in robot.actuated_joints else 0.0 for p in prescribed]
 
 
-def configuration_at(robot, theta: float, q_guess: np.ndarray | None = None) -> np.ndarray:
+def configuration_at(robot: PasibotRobot, theta: float, q_guess: np.ndarray | None = None) -> np.ndarray:
     """Closed configuration of a one-leg robot at crank angle ``theta`` [rad].
 
     Warm-started from ``q_guess`` (default: the analytic assembly).
@@ -197,7 +201,7 @@ def configuration_at(robot, theta: float, q_guess: np.ndarray | None = None) -> 
     return closure.solve_configuration(robot, q_guess, prescribed, _leg_targets(robot, prescribed, theta))
 
 
-def sweep(robot, thetas: Sequence[float] | np.ndarray) -> np.ndarray:
+def sweep(robot: PasibotRobot, thetas: Sequence[float] | np.ndarray) -> np.ndarray:
     """Closed configurations of a one-leg robot at crank angles (N, nq).
 
     The closed form (:func:`~pasibot_pin.model.closure.analytic_configurations`, the assembly
@@ -222,19 +226,19 @@ def sweep(robot, thetas: Sequence[float] | np.ndarray) -> np.ndarray:
     return q
 
 
-def frame_xz(robot, q: np.ndarray, frame: str = "right_foot") -> np.ndarray:
+def frame_xz(robot: PasibotRobot, q: np.ndarray, frame: str = "right_foot") -> np.ndarray:
     """World (x, z) of a frame at ``q`` [m] (the leg frame for a one-leg robot)."""
     pin.framesForwardKinematics(robot.model, robot.data, q)
     return _xz(robot.data, robot.frame_id(frame))
 
 
 # --------------------------------------------------------------------------- Jacobians
-def open_chain_columns(robot, side: str = "right") -> list[int]:
+def open_chain_columns(robot: PasibotRobot, side: str = "right") -> list[int]:
     """Velocity indices of the open chain theta1, theta2, theta4, theta6 of one leg."""
     return [robot.idx_v(f"{side}_{j}") for j in OPEN_CHAIN]
 
 
-def ankle_on_chain(robot, side: str = "right") -> str:
+def ankle_on_chain(robot: PasibotRobot, side: str = "right") -> str:
     """Name of a frame at the ankle (joint 13) carried by the shank L5, the chain's end.
 
     ``rigid``: the foot (rigid to L5); ``spring``: the foot (at joint 13; its own ankle
@@ -243,7 +247,9 @@ def ankle_on_chain(robot, side: str = "right") -> str:
     return f"{side}_{robot.spec.ankle_frame}"
 
 
-def open_chain_jacobian(robot, q: np.ndarray, side: str = "right", frame: str | None = None) -> np.ndarray:
+def open_chain_jacobian(
+    robot: PasibotRobot, q: np.ndarray, side: str = "right", frame: str | None = None
+) -> np.ndarray:
     """The seed's 6x4 geometric Jacobian from joint 0 to the ankle (seed §5).
 
     Columns: the rates of ``j0_crank``, ``j1``, ``j4``, ``j6`` (seed theta1, theta2, theta4,
@@ -317,12 +323,12 @@ class AnkleMotion:
     chain_rates: np.ndarray
 
 
-def _crank_rates(robot, omega: float) -> np.ndarray:
+def _crank_rates(robot: PasibotRobot, omega: float) -> np.ndarray:
     """Rates of :func:`leg_prescriptions`: the crank at omega, the rest 0."""
     return np.array([omega if p.name in robot.actuated_joints else 0.0 for p in leg_prescriptions(robot)])
 
 
-def constrained_jacobian(robot, q: np.ndarray, frame: str = "right_foot") -> np.ndarray:
+def constrained_jacobian(robot: PasibotRobot, q: np.ndarray, frame: str = "right_foot") -> np.ndarray:
     """Velocity of a frame's origin per unit crank rate on the closure manifold (x, z) [m/rad].
 
     Solves [J_c; J_s] v = [0; e_crank] for the joint rates of a unit crank rate, then maps
@@ -335,7 +341,7 @@ def constrained_jacobian(robot, q: np.ndarray, frame: str = "right_foot") -> np.
     return (jac @ v)[[0, 2]]
 
 
-def ankle_motion(robot, q: np.ndarray, omega: float = 0.1, frame: str = "right_foot") -> AnkleMotion:
+def ankle_motion(robot: PasibotRobot, q: np.ndarray, omega: float = 0.1, frame: str = "right_foot") -> AnkleMotion:
     """Ankle velocity and acceleration at ``q`` for a crank turning at constant ``omega``.
 
     v solves [J_c; J_s] v = [0; omega]; a solves [J_c; J_s] a = [-Jdot_c v; 0]. The ankle

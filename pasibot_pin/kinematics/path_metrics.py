@@ -9,9 +9,11 @@ Points (x, z) [m]; angles [rad].
 
 from __future__ import annotations
 
+import functools
 import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -27,6 +29,9 @@ from pasibot_pin.kinematics.leg import (
     leg_cycle,
 )
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 __all__ = ["KSweep", "StraightLineMetrics", "k_sweep", "straight_line_metrics"]
 
@@ -124,7 +129,7 @@ def _bisect(func: Callable[[float], float], a: float, b: float, tol: float = 1e-
 class _AnkleProbe:
     """Ankle position and foot pitch at any crank angle, warm-started from the nearest sample."""
 
-    def __init__(self, robot, cycle: LegCycle):
+    def __init__(self, robot: PasibotRobot, cycle: LegCycle):
         self.robot, self.cycle = robot, cycle
         self.wrapped = np.mod(cycle.theta, 2 * math.pi)
 
@@ -148,7 +153,7 @@ def _wrap(angle: float) -> float:
 
 
 def straight_line_metrics(
-    robot, tolerance: float | None = None, step: float = math.radians(1.0)
+    robot: PasibotRobot, tolerance: float | None = None, step: float = math.radians(1.0)
 ) -> StraightLineMetrics:
     """Stroke, band, deviation, lift, ground span and foot pitch of a one-leg robot.
 
@@ -201,7 +206,9 @@ def straight_line_metrics(
     )
 
 
-def _deviation_peaks(robot, probe: _AnkleProbe, cycle: LegCycle, p90, p270, step: float) -> list[tuple[float, float]]:
+def _deviation_peaks(
+    robot: PasibotRobot, probe: _AnkleProbe, cycle: LegCycle, p90, p270, step: float
+) -> list[tuple[float, float]]:
     """(crank angle, distance) of the stance ankle's farthest point from the chord 90 -> 270 deg, each half."""
     chord = (p270 - p90) / np.linalg.norm(p270 - p90)
     normal = np.array([-chord[1], chord[0]])
@@ -274,6 +281,10 @@ def _ground_interval(
     return lowest, (start, end)
 
 
+def _signed_pitch(probe: _AnkleProbe, sign: float, theta: float) -> float:
+    return sign * probe.pitch(theta)
+
+
 def _stance_pitch_range(probe: _AnkleProbe, cycle: LegCycle, step: float) -> tuple[float, float]:
     """The lowest and highest foot pitch over stance, refined around the sampled extremes [rad]."""
     pitch_stance = cycle.foot_pitch[cycle.in_stance()]
@@ -281,7 +292,7 @@ def _stance_pitch_range(probe: _AnkleProbe, cycle: LegCycle, step: float) -> tup
     for sign in (1.0, -1.0):  # refine the highest and the lowest stance pitch
         k = int(np.argmax(sign * pitch_stance))
         lo, hi = _stance_window(cycle, k, step)
-        extremes.append(sign * _golden_max(lambda t, sg=sign: sg * probe.pitch(t), lo, hi)[1])
+        extremes.append(sign * _golden_max(functools.partial(_signed_pitch, probe, sign), lo, hi)[1])
     return min(extremes[1], float(pitch_stance.min())), max(extremes[0], float(pitch_stance.max()))
 
 

@@ -17,9 +17,11 @@ from __future__ import annotations
 import math
 from collections.abc import Iterable, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin import constraints
 from pasibot_pin.caches import PerObjectCache
@@ -28,6 +30,9 @@ from pasibot_pin.model import jet
 from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
 from pasibot_pin.model.coordinates import HIP_PITCH
 from pasibot_pin.model.description import sides
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 RESIDUAL_TOL = 1e-12
 """Largest constraint residual of a closed configuration at the default L = 0.05 m [m, rad]
@@ -38,24 +43,24 @@ Prescribed = ScalarRow
 (:class:`PitchRow`)."""
 
 
-def joint_coordinate(robot, joint: str) -> CoordinateRow:
+def joint_coordinate(robot: PasibotRobot, joint: str) -> CoordinateRow:
     """Prescribe the coordinate of a one-dof joint (``right_j0_crank``, ``right_j13_ankle`` ...)."""
     return constraints.coordinate(joint, robot.idx_v(joint))
 
 
-def hip_pitch(robot) -> CoordinateRow:
+def hip_pitch(robot: PasibotRobot) -> CoordinateRow:
     """Prescribe the hip pitch (third coordinate of the planar floating hip)."""
     if not robot.floating:
         raise ValueError("the one-leg model has a fixed hip: its pitch cannot be prescribed")
     return constraints.coordinate("hip_pitch", HIP_PITCH)
 
 
-def frame_pitch(robot, frame: str) -> PitchRow:
+def frame_pitch(robot: PasibotRobot, frame: str) -> PitchRow:
     """Prescribe the pitch of a frame in the world (e.g. ``left_foot``: the swing foot)."""
     return PitchRow(frame, robot.frame_id(frame))
 
 
-def is_crank(robot, row: Prescribed) -> bool:
+def is_crank(robot: PasibotRobot, row: Prescribed) -> bool:
     """True for the prescribed coordinate of an actuated crank."""
     return isinstance(row, CoordinateRow) and row.name in robot.actuated_joints
 
@@ -64,7 +69,7 @@ _SYSTEMS: PerObjectCache[ConstraintSystem] = PerObjectCache()
 _ANGULAR: PerObjectCache[np.ndarray] = PerObjectCache()
 
 
-def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> ConstraintSystem:
+def system(robot: PasibotRobot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> ConstraintSystem:
     """The :class:`~pasibot_pin.constraints.ConstraintSystem` of ``robot`` (cached per model and rows).
 
     Args:
@@ -82,34 +87,34 @@ def system(robot, cmodels=None, prescribed: Sequence[Prescribed] = ()) -> Constr
     )
 
 
-def row_labels(robot, cmodels=None) -> list[str]:
+def row_labels(robot: PasibotRobot, cmodels=None) -> list[str]:
     """Names of the in-plane constraint rows (``right_j2.x``, ..., ``right_foot_weld.pitch``)."""
     return system(robot, cmodels).labels
 
 
-def constraint_residual(robot, q: np.ndarray, cmodels=None) -> np.ndarray:
+def constraint_residual(robot: PasibotRobot, q: np.ndarray, cmodels=None) -> np.ndarray:
     """In-plane constraint residuals c(q) [m, rad], one row per label of :func:`row_labels`."""
     return system(robot, cmodels).residual(q)
 
 
-def constraint_jacobian(robot, q: np.ndarray, cmodels=None) -> np.ndarray:
+def constraint_jacobian(robot: PasibotRobot, q: np.ndarray, cmodels=None) -> np.ndarray:
     """Jacobian dc/dq of the in-plane constraint rows (rows x nv), world axes."""
     return system(robot, cmodels).jacobian(q)
 
 
-def constraint_drift(robot, q: np.ndarray, v: np.ndarray, cmodels=None) -> np.ndarray:
+def constraint_drift(robot: PasibotRobot, q: np.ndarray, v: np.ndarray, cmodels=None) -> np.ndarray:
     """Jdot_c(q, v) v: the constraint acceleration at zero joint acceleration [m/s^2, rad/s^2]."""
     return system(robot, cmodels).drift(q, v)
 
 
 # --------------------------------------------------------------------------- Newton
-def default_prescriptions(robot, stance: str | None = None) -> list[Prescribed]:
+def default_prescriptions(robot: PasibotRobot, stance: str | None = None) -> list[Prescribed]:
     """The coordinates that, with the constraints, fix the pose of ``robot``.
 
     One leg: the crank (and, for ``spring``, the ankle coordinate). Two legs: both cranks;
     for ``spring`` also the hip pitch and the swing foot's pitch.
     """
-    out = [joint_coordinate(robot, j) for j in robot.actuated_joints]
+    out: list[Prescribed] = [joint_coordinate(robot, j) for j in robot.actuated_joints]
     if robot.spec.free_ankle:
         if robot.floating:
             stance = stance or robot.stance or "right"
@@ -121,7 +126,7 @@ def default_prescriptions(robot, stance: str | None = None) -> list[Prescribed]:
 
 
 def solve_configuration(
-    robot,
+    robot: PasibotRobot,
     q_guess: np.ndarray,
     prescribed: Sequence[Prescribed] | None = None,
     targets: Iterable[float] | None = None,
@@ -166,18 +171,18 @@ def solve_configuration(
         raise ValueError(f"{err} ({cranks})") from None
 
 
-def prescribed_values(robot, q: np.ndarray, prescribed: Sequence[Prescribed]) -> np.ndarray:
+def prescribed_values(robot: PasibotRobot, q: np.ndarray, prescribed: Sequence[Prescribed]) -> np.ndarray:
     """The values s(q) of prescribed coordinates at ``q`` [rad, m]."""
     sys_ = system(robot, [], prescribed)
     return sys_.residual(q, targets=np.zeros(len(prescribed)))
 
 
-def solve_velocity(robot, q, prescribed, rates, cmodels=None) -> np.ndarray:
+def solve_velocity(robot: PasibotRobot, q, prescribed, rates, cmodels=None) -> np.ndarray:
     """V on the constraint manifold: [J_c; J_s] v = [0; s_dot*]."""
     return system(robot, cmodels, prescribed).velocity(q, rates=rates)
 
 
-def solve_acceleration(robot, q, v, prescribed, accelerations, cmodels=None) -> np.ndarray:
+def solve_acceleration(robot: PasibotRobot, q, v, prescribed, accelerations, cmodels=None) -> np.ndarray:
     """A on the manifold: [J_c; J_s] a = [-Jdot_c v; s_ddot* - Jdot_s v]."""
     return system(robot, cmodels, prescribed).acceleration(q, v, accelerations=accelerations)
 
@@ -213,12 +218,12 @@ _PLANS: PerObjectCache[_AssemblyPlan] = PerObjectCache()
 _WELDS: PerObjectCache[pin.RigidConstraintModel] = PerObjectCache()
 
 
-def _assembly_plan(robot) -> _AssemblyPlan:
+def _assembly_plan(robot: PasibotRobot) -> _AssemblyPlan:
     """The :class:`_AssemblyPlan` of ``robot``'s model (cached; the entry keeps the model alive)."""
     return _PLANS.get(robot.model, lambda: _make_assembly_plan(robot))
 
 
-def _make_assembly_plan(robot) -> _AssemblyPlan:
+def _make_assembly_plan(robot: PasibotRobot) -> _AssemblyPlan:
     model = robot.model
     columns: dict[str, dict[str, int]] = {side: {} for side in sides(robot.legs)}
     for j in range(1, model.njoints):
@@ -228,7 +233,7 @@ def _make_assembly_plan(robot) -> _AssemblyPlan:
     return _AssemblyPlan(np.array(pin.neutral(model)), columns)
 
 
-def stance_weld(robot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraintModel:
+def stance_weld(robot: PasibotRobot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraintModel:
     """The weld of ``stance``'s foot flat on the ground, its ankle at world x = ``ankle_x`` [m] (cached).
 
     The same object is returned for the same model, stance and ``ankle_x``: do not modify it.
@@ -245,7 +250,7 @@ def stance_weld(robot, stance: str, ankle_x: float = 0.0) -> pin.RigidConstraint
 
 
 def analytic_configurations(
-    robot,
+    robot: PasibotRobot,
     thetas,
     theta_left=None,
     hip_pitch_value: float = 0.0,
@@ -289,7 +294,7 @@ def analytic_configurations(
 
 
 def analytic_motion(
-    robot,
+    robot: PasibotRobot,
     thetas,
     omega: float,
     swing_foot_pitch: float | None = 0.0,
@@ -332,7 +337,7 @@ def analytic_motion(
     return q, v, a, weld
 
 
-def _column(robot, plan: _AssemblyPlan, side: str, joint: str) -> int:
+def _column(robot: PasibotRobot, plan: _AssemblyPlan, side: str, joint: str) -> int:
     """The q column of ``side``'s ``joint`` (a name without the side)."""
     columns = plan.columns[side]
     return columns[joint] if joint in columns else robot.idx_q(f"{side}_{joint}")
@@ -348,7 +353,7 @@ def _put(out: tuple[np.ndarray, ...], column: int, value) -> None:
         out[0][:, column] = value
 
 
-def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, stance, ankle_x):
+def _closed_form(robot: PasibotRobot, right, left, out, hip_pitch_value, swing_foot_pitch, stance, ankle_x):
     """Fill ``out`` = (q,) or (q, v, a) from the closed form at crank angles (arrays or jets); the weld.
 
     Every leg's samples go through one call of the closed form and one of the joint angles
@@ -360,6 +365,7 @@ def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, sta
     legs = sides(robot.legs)
     angles = {"right": right, "left": left}
     stance = stance or robot.stance or "right"
+    both: jet.Jet | np.ndarray
     if isinstance(right, jet.Jet):
         both = jet.Jet(np.concatenate([angles[side].v for side in legs]), right.d, right.dd)
     else:
@@ -373,7 +379,7 @@ def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, sta
         else:
             stance_points = {k: v[stance_part] if isinstance(v, jet.Jet) or np.ndim(v) else v for k, v in every.items()}
             pitch = -sole_angle_from_points(stance_points, variant)
-    foot_angle = None
+    foot_angle: float | np.ndarray | None = None
     if variant.free_ankle:
         if not robot.floating:
             foot_angle = 0.0
@@ -403,7 +409,7 @@ def _closed_form(robot, right, left, out, hip_pitch_value, swing_foot_pitch, sta
 
 
 def assemble(
-    robot,
+    robot: PasibotRobot,
     theta: float,
     theta_left: float | None = None,
     hip_pitch_value: float = 0.0,
@@ -472,7 +478,7 @@ class Mobility:
     leg_linkage: int
 
 
-def mobility(robot, q: np.ndarray | None = None) -> Mobility:
+def mobility(robot: PasibotRobot, q: np.ndarray | None = None) -> Mobility:
     """Grübler's DOF from the model's topology next to nv - rank(J_c) at ``q`` (default q0)."""
     model = robot.model
     q = robot.q0 if q is None or len(q) == 0 else q
@@ -496,7 +502,7 @@ def mobility(robot, q: np.ndarray | None = None) -> Mobility:
 
 
 # --------------------------------------------------------------------------- sweeps
-def crank_sweep(robot, thetas: Sequence[float], **assemble_kwargs) -> np.ndarray:
+def crank_sweep(robot: PasibotRobot, thetas: ArrayLike, **assemble_kwargs) -> np.ndarray:
     """Closed configurations along a sequence of right-crank angles, warm-started.
 
     The first sample comes from :func:`assemble`; each next one from Newton started at
@@ -534,7 +540,7 @@ BRANCH_TOL = 1e-6
 """Largest gap [rad] between a swept leg joint and the analytic assembly's branch (:func:`crank_sweep`)."""
 
 
-def _check_branch(robot, thetas: np.ndarray, qs: np.ndarray, theta_left: float | None) -> None:
+def _check_branch(robot: PasibotRobot, thetas: np.ndarray, qs: np.ndarray, theta_left: float | None) -> None:
     """Raise ``ValueError`` where a sweep left the analytic assembly's branch (knee forward, coupler below).
 
     The leg linkage has one degree of freedom per leg: every leg joint but the ankle spring is a

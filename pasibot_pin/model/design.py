@@ -23,6 +23,7 @@ import tempfile
 from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
+from typing import Any
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.params import (
@@ -241,8 +242,8 @@ class Design:
 
     def with_(self, **changes: float | str) -> Design:
         """A copy with parameters changed by flat name (``K=2.2``, ``r4=9.5``, ``variant="rigid"``)."""
-        ratios = {k: v for k, v in changes.items() if k in SEED_LINK_RATIOS}
-        other = {k: v for k, v in changes.items() if k not in SEED_LINK_RATIOS}
+        ratios: dict[str, Any] = {k: v for k, v in changes.items() if k in SEED_LINK_RATIOS}
+        other: dict[str, Any] = {k: v for k, v in changes.items() if k not in SEED_LINK_RATIOS}
         names = {f.name for f in fields(self)} - {"ratios"}
         for name in other:
             if name not in names:

@@ -12,6 +12,7 @@ import math
 import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
+from typing import Any
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
@@ -237,7 +238,7 @@ class MassModel:
             if not math.isfinite(float(value)):
                 raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
 
-    def with_(self, **changes: object) -> MassModel:
+    def with_(self, **changes: Any) -> MassModel:
         """Copy with some fields changed (``hip=30.0``, ``hip_com=(0.3, 0.0)``, ...)."""
         return replace(self, **changes)
 
@@ -349,7 +350,7 @@ def human_description_fractions() -> dict[str, float]:
     for link in root.findall("link"):
         mass = link.find("inertial/mass")
         if mass is not None:
-            masses[link.get("name")] = float(mass.get("value"))
+            masses[str(link.get("name"))] = float(mass.attrib["value"])
     total = sum(masses.values())
     return {
         "hip": masses["middle_pelvis"] / total,

@@ -162,14 +162,14 @@ def placement_map(variant: str, legs: int) -> PlacementMap:
         except (OSError, ValueError, KeyError):
             arrays = None
     fresh = arrays is None or arrays[1].shape != _translations(model).shape
-    if fresh:
+    if arrays is None or fresh:
         arrays = _measure(variant, legs, model)
     out = PlacementMap(model, *arrays)
     # check at an unrelated geometry (every length changed at once)
     x = out.x0 * (1.0 + 0.03 * np.cos(np.arange(len(out.x0))))
     err = np.max(np.abs(_translations(_tree(variant, legs, _geometry_of(x, variant))) - out.translations(x)))
     if err > CHECK_TOL * x[0] or not np.array_equal(out.t0, _translations(model)):
-        if not fresh:  # a stale or damaged cache: measure again
+        if not fresh and cache is not None:  # a stale or damaged cache: measure again
             cache.unlink(missing_ok=True)
             placement_map.cache_clear()
             return placement_map(variant, legs)

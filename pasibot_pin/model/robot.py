@@ -118,8 +118,9 @@ class PasibotRobot:
         inertia: ``point`` (the seed's point masses) or ``uniform`` (uniform rods).
         model: Pinocchio model of the open tree.
         data: its data.
-        visual_model: visual geometry (primitives coloured by group).
-        collision_model: collision geometry.
+        visual_model: visual geometry (primitives coloured by group); ``None`` when loaded
+            with ``visuals=False``.
+        collision_model: collision geometry (``None`` likewise).
         loops: the cut joints, one :class:`~pasibot_pin.model.description.Loop` each.
         constraint_models: one ``RigidConstraintModel`` per loop, then the stance-foot weld
             (two legs only).
@@ -139,16 +140,16 @@ class PasibotRobot:
     inertia: str
     model: pin.Model
     data: pin.Data
-    visual_model: pin.GeometryModel
-    collision_model: pin.GeometryModel
+    visual_model: pin.GeometryModel | None
+    collision_model: pin.GeometryModel | None
     loops: list[Loop]
+    spec: Variant
     constraint_models: list[pin.RigidConstraintModel] = field(default_factory=list)
     stance: str | None = None
     actuated_joints: list[str] = field(default_factory=list)
     spring_joints: list[str] = field(default_factory=list)
     q0: np.ndarray = field(default_factory=lambda: np.zeros(0))
     urdf: str = ""
-    spec: Variant | None = None
 
     @property
     def loop_constraints(self) -> list[pin.RigidConstraintModel]:

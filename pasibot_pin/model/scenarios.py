@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, replace
+from typing import Any
 
 SEED_STEP: float = 0.1
 """The seed's crank sample step [rad] (``Theta1 = 0:0.1:2*pi``)."""
@@ -146,7 +147,7 @@ class ModelChoices:
         if self.accelerations != "exact" and self.inertia != "point":
             raise ValueError("difference accelerations (the seed's) need point masses: set inertia='point'")
 
-    def with_(self, **changes: object) -> ModelChoices:
+    def with_(self, **changes: Any) -> ModelChoices:
         """Copy with some choices changed."""
         return replace(self, **changes)
 

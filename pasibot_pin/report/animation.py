@@ -10,6 +10,10 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 VARIANT = "spring"
 """Leg variant of the ``analyze`` animation."""
@@ -27,7 +31,7 @@ PLAYBACK_OMEGA = math.pi * FPS / SAMPLES_PER_STEP
 """The crank speed at which the animation plays [rad/s] (its arrows' inverse dynamics)."""
 
 
-def _gif(robot, q, ground, path: Path, dpi: int):
+def _gif(robot: PasibotRobot, q, ground, path: Path, dpi: int):
     """The stick GIF of the walk ``q`` with its ``ground`` reaction track (every :data:`GIF_STRIDE`-th frame); its q."""
     import numpy as np
 
@@ -52,7 +56,9 @@ def write_gait_gif(path: Path, dpi: int = GIF_DPI) -> Path:
     return Path(path)
 
 
-def export_animation(robot, result, html: Path | None = None, gif: Path | None = None, fps: float = 20.0) -> list[Path]:
+def export_animation(
+    robot: PasibotRobot, result, html: Path | None = None, gif: Path | None = None, fps: float = 20.0
+) -> list[Path]:
     """Write a simulated walk as a one-file meshcat HTML page and/or as a stick GIF.
 
     The frames are the simulated configurations resampled at ``fps`` (real time, see

@@ -114,7 +114,7 @@ def _contact_lines(sweep: ContactSweep, sub: Path) -> list[str]:
         res = case.contact
         heel, toe = res.sole_needed()
         crossings = "; ".join(
-            f"{e['direction']} at {e['edge']} {math.degrees(e['theta']):.1f} deg" for e in res.tip_events()
+            f"{e['direction']} at {e['edge']} {math.degrees(float(e['theta'])):.1f} deg" for e in res.tip_events()
         )
         lines.append(
             f"| {case.label} | {int(res.feasible.sum())}/{len(res)} | {format_first_failure(res)} | "

@@ -80,6 +80,8 @@ def write_simulation_figure(path: Path, scenario: str = "run1") -> Path:
     plot_hip_pitch(study.runs, ax=axes[0])
     axes[0].set_title(f"{scenario} ({study.omega:g} rad/s): hip pitch, hip free (x: fell)")
     fitted = (study.fitted.stiffness, study.fitted.rest_angle)
+    if study.sweep_stiffness is None or study.sweep_rest is None or study.sweep_excursion is None:
+        raise ValueError(f"the {scenario} study has no spring sweep to draw")
     plot_spring_sweep(
         study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best, ax=axes[1]
     )

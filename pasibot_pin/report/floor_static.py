@@ -67,7 +67,7 @@ def cell_rows(sweeps: Sequence[FloorStaticSweep]) -> list[dict[str, str]]:
     """The CSV: one row per run and (K_e, beta0) cell, weld beside floor, full precision."""
     rows = []
     for sweep in sweeps:
-        if sweep.stiffness is None:
+        if sweep.stiffness is None or sweep.rest is None:
             continue
         for i, beta0 in enumerate(sweep.rest):
             for j, k in enumerate(sweep.stiffness):
@@ -96,6 +96,8 @@ def _table(rows: list[dict[str, str]]) -> list[str]:
 
 def map_table(sweep: FloorStaticSweep) -> list[str]:
     """A run's K_e x beta0 map as a markdown table: ``weld / floor`` in each cell."""
+    if sweep.stiffness is None or sweep.rest is None:
+        raise ValueError(f"the {sweep.scenario} sweep has no K_e x beta0 grid")
     head = ["beta0 [deg] \\ K_e [N.m/rad]", *(f"{k:.0f}" for k in sweep.stiffness)]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for i, beta0 in enumerate(sweep.rest):

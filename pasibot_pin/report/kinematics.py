@@ -198,12 +198,12 @@ def _markdown(result: KinematicsSurvey) -> str:
         "[m] | pose jump at exchange [m or rad] |",
         "|---|---|---|---|---|---|---|",
     ]
-    for run in result.walks:
-        pitch = np.degrees(run.hip_pitch)
+    for walk in result.walks:
+        pitch = np.degrees(walk.hip_pitch)
         lines.append(
-            f"| {run.variant} | {run.foot} | {', '.join(f'{a:.4f}' for a in run.hip_advance / run.L)} "
-            f"| {run.hip_height_ptp / run.L:.5f} | {pitch.min():.3f} .. {pitch.max():.3f} "
-            f"| {run.max_residual:.1e} | {run.max_jump:.4f} |"
+            f"| {walk.variant} | {walk.foot} | {', '.join(f'{a:.4f}' for a in walk.hip_advance / walk.L)} "
+            f"| {walk.hip_height_ptp / walk.L:.5f} | {pitch.min():.3f} .. {pitch.max():.3f} "
+            f"| {walk.max_residual:.1e} | {walk.max_jump:.4f} |"
         )
     lines += [
         "",
@@ -258,9 +258,9 @@ def _write(out_dir: Path):
         write_leg_plot(out_dir / f"kinematics_leg_{variant}.png", run)
     _save(plot_foot_pitch({v: run.cycle for v, run in result.legs.items()}), out_dir / "foot_pitch.png")
     _save(plot_k_sweep(result.sweep), out_dir / "k_sweep.png")
-    for run in result.walks:
-        write_walk_csv(out_dir / f"{walk_name(run)}.csv", run)
-        write_walk_plot(out_dir / f"{walk_name(run)}.png", run, figsize=(12, 10))
+    for walk in result.walks:
+        write_walk_csv(out_dir / f"{walk_name(walk)}.csv", walk)
+        write_walk_plot(out_dir / f"{walk_name(walk)}.png", walk, figsize=(12, 10))
     return _markdown(result), result
 
 

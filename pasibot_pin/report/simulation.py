@@ -390,7 +390,7 @@ class SimulationPlan:
         studies = [self.studies[name] for name in self.settings.scenarios]
         figures = [f for name in self.settings.scenarios for f in self.figures[name]]
         check = None
-        if self.settings.check_scenario:
+        if self.settings.check_scenario and self.full is not None:
             name = self.settings.check_scenario
             base = self.studies[name].study.runs["fitted"]
             check = SwingFootCheck(None, base, self.full, hip_pitch_gap(base, self.full))
@@ -422,7 +422,7 @@ class SimulationPlan:
         return out if {"margin_run1", "fall_min"} <= set(out) else {}
 
 
-def section_markdown(settings, studies: Sequence, check, anim_note: str, figures: list[tuple[str, str]]) -> str:
+def section_markdown(settings, studies: Sequence, check, anim_note: str | None, figures: list[tuple[str, str]]) -> str:
     """The ``simulation`` section's Markdown; ``figures`` are (file, caption) pairs, the first one embedded."""
     from pasibot_pin.report.markdown import figure, figure_links
 
@@ -464,7 +464,7 @@ def section_markdown(settings, studies: Sequence, check, anim_note: str, figures
         "",
         "Animations:",
         "",
-        anim_note,
+        anim_note or "",
         "",
         *shown,
     ]

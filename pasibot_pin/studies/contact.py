@@ -28,6 +28,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -35,6 +36,9 @@ import proxsuite
 
 from pasibot_pin.model.params import SOLE_FLOOR_MU
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 QP_EPS: float = 1e-12
 """Absolute accuracy asked of proxsuite [N, N.m]."""
@@ -268,7 +272,7 @@ class ContactResult:
     margin: np.ndarray
     mu_needed: np.ndarray
     residual: np.ndarray
-    extra: dict[str, object] = field(default_factory=dict)
+    extra: dict[str, Any] = field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.t)
@@ -343,7 +347,7 @@ class ContactResult:
         for ev in self.tip_events():
             lines.append(
                 f"  CoP {ev['direction']} the sole at the {ev['edge']} at t = {ev['t']:.4f} s "
-                f"(stance crank {math.degrees(ev['theta']):.1f} deg, x = {ev['x']:.4f} m)"
+                f"(stance crank {math.degrees(float(ev['theta'])):.1f} deg, x = {ev['x']:.4f} m)"
             )
         return "\n".join(lines)
 
@@ -368,7 +372,7 @@ class ContactResult:
         }
 
 
-def sole_geometry(robot, q: np.ndarray, side: str) -> tuple[float, float, float, float, float]:
+def sole_geometry(robot: PasibotRobot, q: np.ndarray, side: str) -> tuple[float, float, float, float, float]:
     """(ankle x, ankle z, pitch, s_heel, s_toe) of ``side``'s sole at q [m, rad].
 
     Heel and toe come from the frames ``<side>_heel`` / ``<side>_toe``, projected on the
@@ -386,7 +390,7 @@ def sole_geometry(robot, q: np.ndarray, side: str) -> tuple[float, float, float,
     return float(foot.translation[0]), float(foot.translation[2]), pitch, s["heel"], s["toe"]
 
 
-def contact_along(robot, result, mu: float, sole: tuple[float, float] | None = None) -> ContactResult:
+def contact_along(robot: PasibotRobot, result, mu: float, sole: tuple[float, float] | None = None) -> ContactResult:
     """Heel/toe contact along an inverse-dynamics result.
 
     Args:
@@ -411,7 +415,9 @@ def contact_along(robot, result, mu: float, sole: tuple[float, float] | None = N
         raise ValueError("parameter 'result': t, q, stance and ground (N x 3) must have one row per sample")
     if sole is not None and not (len(sole) == 2 and sole[0] < 0 < sole[1]):
         raise ValueError(f"parameter 'sole' must be (s_heel < 0 < s_toe) [m], got {sole!r}")
-    arrays = {k: np.zeros(n) for k in ("s_cop", "cop_x", "ankle_x", "s_heel", "s_toe", "margin", "mu_needed")}
+    arrays: dict[str, Any] = {
+        k: np.zeros(n) for k in ("s_cop", "cop_x", "ankle_x", "s_heel", "s_toe", "margin", "mu_needed")
+    }
     heel_f, toe_f, resid = np.zeros((n, 2)), np.zeros((n, 2)), np.zeros((n, 3))
     feasible = np.zeros(n, dtype=bool)
     reasons, status = [], []

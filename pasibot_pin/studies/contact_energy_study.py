@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -20,6 +21,10 @@ from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies import energy, single_motor
 from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES, ContactResult, scenario_contact
+
+if TYPE_CHECKING:
+    from pasibot_pin.dynamics.inverse import TorqueResult
+    from pasibot_pin.model.design import Design
 
 
 @dataclass(frozen=True)
@@ -72,7 +77,7 @@ class ContactEnergySettings:
     nodes: int = energy.NODES
     power_variant: str = "spring"
     power_omega: float = 5.0
-    design: object | None = None
+    design: Design | None = None
 
 
 # --------------------------------------------------------------------------- contact
@@ -92,7 +97,7 @@ class ScenarioContact:
 
     scenario: str
     variant: str
-    torques: object
+    torques: TorqueResult
     contact: ContactResult
 
     @property
@@ -218,7 +223,7 @@ class SingleMotorStudy:
     scenario: str
     omega: float
     thetas: np.ndarray
-    torques: object
+    torques: TorqueResult
     single: single_motor.SingleMotorResult
     flywheels: list[FlywheelCase]
     fluctuation: float

@@ -46,12 +46,16 @@ import math
 import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design
 from pasibot_pin.model.variants import get_variant
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 PATH_SAMPLES: int = 1440
 """Crank angles per turn of the path metrics (every 0.25 deg)."""
@@ -211,7 +215,7 @@ def path_metrics(design: Design, samples: int = PATH_SAMPLES) -> dict[str, float
     }
 
 
-def _check_branch(robot, result) -> None:
+def _check_branch(robot: PasibotRobot, result) -> None:
     """Raise ``Infeasible('branch')`` if a solved knee angle differs from the analytic assembly's."""
     from pasibot_pin.model.assembly import leg_joint_angles
 
@@ -229,7 +233,7 @@ def _check_branch(robot, result) -> None:
             )
 
 
-def dynamic_metrics(design: Design, robot=None) -> dict[str, float]:
+def dynamic_metrics(design: Design, robot: PasibotRobot | None = None) -> dict[str, float]:
     """Torque, spring, contact and energy metrics of one design (see the module's notes).
 
     Args:
@@ -321,7 +325,7 @@ def warm_caches(design: Design) -> None:
     placement_map(get_variant(design.variant).name, 2)
 
 
-def floor_metrics(design: Design, steps: int, robot=None) -> tuple[dict[str, float], str]:
+def floor_metrics(design: Design, steps: int, robot: PasibotRobot | None = None) -> tuple[dict[str, float], str]:
     """The design walking ``steps`` steps on the floor: :data:`FLOOR_METRICS` and the outcome.
 
     :func:`~pasibot_pin.studies.walking.walk_design`: both feet on the floor from a consistent

@@ -34,6 +34,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -43,6 +44,10 @@ from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.dynamics.inverse import TorqueResult
+    from pasibot_pin.studies.spring_fit import SpringFit
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -190,7 +195,7 @@ def _split(values: np.ndarray, weights: np.ndarray, omega: float) -> tuple[float
     return float(dt @ values), float(dt @ np.maximum(values, 0.0)), float(dt @ np.minimum(values, 0.0))
 
 
-def _step_energy(robot, result, weights, omega, variant, fit=None) -> StepEnergy:
+def _step_energy(robot: PasibotRobot, result, weights, omega, variant, fit=None) -> StepEnergy:
     """Integrate the powers of ``result`` (rows 1..-2 are the nodes; rows 0 and -1 the step ends)."""
     powers = {k: p[1:-1] for k, p in actuator_powers(robot, result).items()}
     crank_each = [_split(powers[k], weights, omega) for k in ("crank_stance", "crank_swing")]
@@ -257,7 +262,7 @@ def step_energy(
     nodes: int = NODES,
     theta_end: float = STEP_END,
     fit: bool = True,
-) -> tuple[StepEnergy, object]:
+) -> tuple[StepEnergy, TorqueResult]:
     """Energy over one step of a biped of ``variant`` (default modelling choices).
 
     Args:
@@ -289,9 +294,9 @@ def robot_step_energy(
     omega: float,
     nodes: int = NODES,
     theta_end: float = STEP_END,
-    fit: bool | object = True,
+    fit: bool | SpringFit = True,
     motors: str = "two",
-) -> tuple[StepEnergy, object]:
+) -> tuple[StepEnergy, TorqueResult]:
     """Energy over one step of a given two-legged robot (the work of :func:`step_energy`).
 
     Args:
@@ -318,17 +323,17 @@ def robot_step_energy(
     if robot.spec.free_ankle and fit is True:  # K_e, beta0 on 61 uniform samples of the right stance, ends included
         uniform = inverse_dynamics(robot, np.linspace(STEP_START, STEP_END, 61), omega, stance="right", reactions=False)
         spring_fit = fit_spring(uniform.beta, uniform.Te, warn=False)
-    elif robot.spec.free_ankle and fit is not False:
+    elif robot.spec.free_ankle and not isinstance(fit, bool):
         spring_fit = fit
     return _step_energy(robot, result, w, omega, robot.variant, spring_fit), result
 
 
-def spring_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, object]:
+def spring_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, TorqueResult]:
     """:func:`step_energy` of the ``spring`` biped."""
     return step_energy("spring", omega, *args, **kwargs)
 
 
-def parallel_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, object]:
+def parallel_step_energy(omega: float, *args, **kwargs) -> tuple[StepEnergy, TorqueResult]:
     """:func:`step_energy` of the ``parallel`` biped (no spring to fit)."""
     return step_energy("parallel", omega, *args, **kwargs)
 

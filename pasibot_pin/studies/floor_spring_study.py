@@ -191,6 +191,8 @@ def quasi_static_of(study: FloorSpringStudy) -> list[FloorStaticSweep]:
     out: dict[str, FloorStaticSweep] = {}
     for row in study.rows:
         spring = row.floor_static.spring
+        if spring is None:
+            raise ValueError(f"{row.scenario} {row.case}: a floor-static answer without its spring")
         sweep = out.setdefault(row.scenario, FloorStaticSweep(row.scenario, spring))
         sweep.cases[row.case] = row.floor_static
     return list(out.values())

@@ -40,9 +40,11 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.floor import LOAD_TOL, FloorSettings, FloorSimulator
@@ -51,6 +53,9 @@ from pasibot_pin.model.coordinates import other
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs
 from pasibot_pin.studies.static_batch import static_equilibria
 from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem, static_equilibrium
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 STATUSES: tuple[str, ...] = ("flat", "heel", "toe", "none", "swing")
 """The floor's answer at one crank angle (see the module docstring)."""
@@ -149,7 +154,7 @@ class FloorStatic:
 class _FloorStatics:
     """The floor's heel/toe forces at a welded equilibrium of one robot (shared by every spring)."""
 
-    def __init__(self, robot):
+    def __init__(self, robot: PasibotRobot):
         self.robot = robot
         self.data = robot.model.createData()
         self.floor = FloorSimulator(robot, FloorSettings(omega=0.0))
@@ -187,9 +192,9 @@ class _FloorStatics:
 
 
 def floor_static_path(
-    robot,
+    robot: PasibotRobot,
     spring: AnkleSpring | None,
-    thetas: Sequence[float],
+    thetas: ArrayLike,
     mu: float = 0.8,
     cache: dict | None = None,
     weld: StaticEquilibrium | None = None,
@@ -301,9 +306,9 @@ def floor_static_sweep(
     """
     mu = _check_mu(mu)
     thetas = stance_thetas(static_samples)
-    for name, grid in (("sweep_stiffness", sweep_stiffness), ("sweep_rest", sweep_rest)):
-        if grid is not None and (np.ndim(grid) != 1 or not len(grid) or not np.all(np.isfinite(grid))):
-            raise ValueError(f"parameter {name!r} must be a non-empty list of finite numbers, got {grid!r}")
+    for name, values in (("sweep_stiffness", sweep_stiffness), ("sweep_rest", sweep_rest)):
+        if values is not None and (np.ndim(values) != 1 or not len(values) or not np.all(np.isfinite(values))):
+            raise ValueError(f"parameter {name!r} must be a non-empty list of finite numbers, got {values!r}")
     inputs = scenario_inputs(scenario)
     robot, fit = inputs.robot, inputs.fit
     cache: dict = {}
@@ -312,8 +317,9 @@ def floor_static_sweep(
     grid: list[list[AnkleSpring]] = []
     if sweep:
         ks, bs = sweep_springs(fit, sweep_stiffness, sweep_rest)
-        out.stiffness, out.rest = np.asarray(ks, dtype=float), np.asarray(bs, dtype=float)
-        grid = [[AnkleSpring(float(k), float(beta0), fit.damping) for k in out.stiffness] for beta0 in out.rest]
+        stiffness, rest = np.asarray(ks, dtype=float), np.asarray(bs, dtype=float)
+        out.stiffness, out.rest = stiffness, rest
+        grid = [[AnkleSpring(float(k), float(beta0), fit.damping) for k in stiffness] for beta0 in rest]
     # the weld's equilibria of every distinct spring in one batched secant search
     distinct = list(dict.fromkeys([*springs.values(), *(spring for row in grid for spring in row)]))
     welds = dict(zip(distinct, static_equilibria(robot, distinct, thetas, cache=cache)))

@@ -15,12 +15,16 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import AnkleSpring
 from pasibot_pin.studies.spring_study import SPRING_CASES, design_inputs, scenario_inputs
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.design import Design
 
 MAX_DURATION: float = 600.0
 """The longest floor run a study accepts [s] (10 minutes of simulated walking)."""
@@ -47,7 +51,7 @@ class FloorStudySettings:
     mu: float = 0.8
     dt: float = 1e-3
     cases: bool = True
-    design: object | None = None
+    design: Design | None = None
 
     def __post_init__(self) -> None:
         from pasibot_pin.model.scenarios import get_scenario

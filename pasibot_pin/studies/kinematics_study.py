@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -24,6 +25,10 @@ from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.design import Design
+    from pasibot_pin.model.robot import PasibotRobot
 
 LEG_COLUMNS: tuple[str, ...] = (
     "theta",
@@ -70,6 +75,9 @@ def leg_rows(cycle: kin.LegCycle) -> list[list]:
 
     """
     stance = cycle.in_stance()
+    velocity, acceleration = cycle.ankle_velocity, cycle.ankle_acceleration
+    if velocity is None or acceleration is None:
+        raise ValueError("the leg cycle was sampled without omega: no ankle velocity or acceleration")
     rows = []
     for k in range(len(cycle.theta)):
         rows.append(
@@ -79,8 +87,8 @@ def leg_rows(cycle: kin.LegCycle) -> list[list]:
                 *map(float, cycle.toe[k]),
                 *map(float, cycle.heel[k]),
                 float(cycle.foot_pitch[k]),
-                *map(float, cycle.ankle_velocity[k]),
-                *map(float, cycle.ankle_acceleration[k]),
+                *map(float, velocity[k]),
+                *map(float, acceleration[k]),
                 int(stance[k]),
             ]
         )
@@ -206,7 +214,7 @@ class WalkRun:
     max_jump: float
 
 
-def leg_run(robot, step_deg: float = 5.0, omega: float = 0.1) -> LegRun:
+def leg_run(robot: PasibotRobot, step_deg: float = 5.0, omega: float = 0.1) -> LegRun:
     """One crank turn of a one-leg robot, sampled every ``step_deg``.
 
     Args:
@@ -222,11 +230,15 @@ def leg_run(robot, step_deg: float = 5.0, omega: float = 0.1) -> LegRun:
     cycle = kin.leg_cycle(robot, kin.crank_grid(2 * math.pi / n), omega=omega)
     metrics = path_metrics.straight_line_metrics(robot)
     L = robot.geometry.L
-    speeds = kin.leg_cycle(robot, np.radians(list(SPEED_ANGLES_DEG)), omega=omega).ankle_velocity[:, 0]
+    speed_cycle = kin.leg_cycle(robot, np.radians(list(SPEED_ANGLES_DEG)), omega=omega)
+    assert speed_cycle.ankle_velocity is not None  # sampled with omega
+    speeds = speed_cycle.ankle_velocity[:, 0]
     return LegRun(robot.variant, L, omega, cycle, metrics, speeds / (L * omega))
 
 
-def walk_run(robot, steps: int = 2, step_deg: float = 5.0, omega: float = 0.1, foot: str = "flat") -> WalkRun:
+def walk_run(
+    robot: PasibotRobot, steps: int = 2, step_deg: float = 5.0, omega: float = 0.1, foot: str = "flat"
+) -> WalkRun:
     """The biped walking ``steps`` steps from right touch-down, sampled every ``step_deg``.
 
     Args:
@@ -288,7 +300,7 @@ class GaitSettings:
     step_deg: float = 5.0
     omega: float = 0.1
     foot: str | None = None
-    design: object | None = None
+    design: Design | None = None
 
     def __post_init__(self) -> None:
         if self.legs not in (1, 2):

@@ -416,7 +416,7 @@ def _direction(direction: int | Sequence[float] | np.ndarray, n: int) -> np.ndar
         e = np.zeros(n)
         e[direction] = 1.0
         return e
-    d = _state(direction, "direction")
+    d = _state(np.asarray(direction, dtype=float), "direction")
     if d.size != n or np.linalg.norm(d) == 0:
         raise ParameterError(f"direction must be an index or a non-zero vector of {n} components, got {direction!r}")
     return d / np.linalg.norm(d)

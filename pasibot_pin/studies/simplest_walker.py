@@ -159,8 +159,8 @@ class SimplestWalker:
         def fall(t: float, y: np.ndarray) -> float:
             return math.pi / 2.0 - abs(y[0])
 
-        collision.terminal, collision.direction = True, direction
-        fall.terminal = True
+        collision.terminal, collision.direction = True, direction  # type: ignore[attr-defined]  # scipy's events
+        fall.terminal = True  # type: ignore[attr-defined]
         sol = _solve_ivp()(
             self.rhs,
             (t0, t0 + self.max_time),

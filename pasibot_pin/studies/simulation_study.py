@@ -23,6 +23,7 @@ import math
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from functools import cache as _memo
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -53,6 +54,10 @@ from pasibot_pin.studies.spring_study import (
     toppling_stiffness,
 )
 from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
+    from pasibot_pin.studies.spring_fit import SpringFit
 
 MIN_STEPS_PER_STANCE: int = 20
 """Fewest integration steps per stance :class:`SimulateSettings` accepts (``dt`` <= stance / 20)."""
@@ -232,13 +237,16 @@ def run_simulation(setup: SimulationSetup, on_case: CaseCallback | None = None) 
     """
     result = SimulationRun(setup)
     for label, outcome in simulation_cases(setup):
-        (result.statics if setup.quasi_static else result.runs)[label] = outcome
+        if isinstance(outcome, StaticEquilibrium):
+            result.statics[label] = outcome
+        else:
+            result.runs[label] = outcome
         if on_case is not None:
             on_case(label, outcome)
     return result
 
 
-def simulation_columns(robot, result: SimulationResult) -> dict[str, np.ndarray]:
+def simulation_columns(robot: PasibotRobot, result: SimulationResult) -> dict[str, np.ndarray]:
     """A run's time series as CSV columns (SI units, angles [rad]).
 
     Columns: ``t`` [s], ``theta_right`` (right crank angle), ``hip_pitch``, ``beta_right``,
@@ -319,7 +327,7 @@ class ScenarioStudy:
 
     study: SpringStudy
     toppling: float
-    spring_fit: object
+    spring_fit: SpringFit
 
     @property
     def name(self) -> str:
@@ -341,7 +349,7 @@ class SwingFootCheck:
 
     __repr__ = short_repr
 
-    scenario: ScenarioInputs
+    scenario: ScenarioInputs | None
     base: SimulationResult
     full: SimulationResult
     gap: float
@@ -453,7 +461,7 @@ class ScenarioMeta:
     omega: float
     fit: AnkleSpring
     toppling: float
-    spring_fit: object
+    spring_fit: SpringFit
 
 
 def meta_task(name: str) -> ScenarioMeta:
@@ -540,6 +548,8 @@ def swing_foot_check(
     if base is None:
         raise ValueError(f"check scenario {settings.check_scenario!r} has no walk (omega = 0)")
     scen = cached_inputs(settings.check_scenario)
+    if base.settings is None:
+        raise ValueError(f"check scenario {settings.check_scenario!r}: its walk carries no settings")
     full_settings = base.settings.with_(swing_ankle="spring", dt=settings.check_dt)
     if full is None or full.settings != full_settings:
         full = simulate(scen.robot, full_settings, steps=settings.check_steps)

@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
@@ -35,6 +36,9 @@ from pasibot_pin.dynamics.stance_plan import actuation, couplings
 from pasibot_pin.model import closure
 from pasibot_pin.model.variants import get_motor_layout
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 
 @dataclass
@@ -78,7 +82,7 @@ def rms(t: np.ndarray, y: np.ndarray) -> float:
     return float(math.sqrt(np.trapezoid(y**2, t) / span))
 
 
-def coupled_split(robot, result) -> SingleMotorResult:
+def coupled_split(robot: PasibotRobot, result) -> SingleMotorResult:
     """Split the inverse-dynamics torques of ``result`` with one motor and the coupling row.
 
     Args:

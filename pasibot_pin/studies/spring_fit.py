@@ -11,10 +11,14 @@ from __future__ import annotations
 import math
 import warnings
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 LOW_R2: float = 0.9
 """Below this R^2 a single K_e does not describe T_e(beta) (seed run 4: R^2 ~ 0.58)."""
@@ -140,7 +144,7 @@ def fit_result(result, fit_thetas=None, warn: bool = True) -> SpringFit:
     return fit_spring(result.beta[mask], result.Te[mask], warn=warn)
 
 
-def design_spring(design, robot=None):
+def design_spring(design, robot: PasibotRobot | None = None):
     """The ankle spring of a design [N.m/rad, rad, N.m.s/rad], fitted where the design leaves it unset.
 
     K_e and beta0 come from the design if it sets them, otherwise from the stance fit of the

@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING, Any
 
 import numpy as np
 import pinocchio as pin
@@ -34,6 +35,10 @@ from pasibot_pin.dynamics.simulator import (
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.static_batch import static_equilibria
 from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
+    from pasibot_pin.studies.spring_fit import SpringFit
 
 # --------------------------------------------------------------------------- the spring study
 SPRING_CASES: tuple[tuple[str, float], ...] = (
@@ -55,7 +60,7 @@ def default_dt(swing_ankle: str) -> float:
     return 0.01 if swing_ankle == "rest" else 0.002
 
 
-def standing_pitch(robot, spring: AnkleSpring | None, theta0: float, cache: dict | None = None) -> float:
+def standing_pitch(robot: PasibotRobot, spring: AnkleSpring | None, theta0: float, cache: dict | None = None) -> float:
     """The hip pitch where the robot stands still at crank angle ``theta0`` [rad] (0 if none is stable).
 
     ``cache``: the static solves' assembly cache (see :func:`static_equilibrium`; the same answer).
@@ -120,7 +125,7 @@ def _static_thetas(static_samples: int) -> np.ndarray:
 
 
 def spring_case(
-    robot,
+    robot: PasibotRobot,
     omega: float,
     spring: AnkleSpring,
     steps: int = 2,
@@ -162,7 +167,7 @@ def sweep_method_for(omega: float, sweep_method: str | None = None) -> str:
 
 
 def sweep_cells(
-    robot,
+    robot: PasibotRobot,
     omega: float,
     springs: Sequence[AnkleSpring],
     method: str,
@@ -198,7 +203,7 @@ def sweep_cells(
 
 def case_excursion(omega: float, static: StaticEquilibrium, run: SimulationResult | None) -> float:
     """A spring case's excursion: its walk's (omega > 0) or its static path's (omega = 0) [rad]."""
-    return _run_excursion(run) if omega > 0 else static.max_excursion
+    return _run_excursion(run) if omega > 0 and run is not None else static.max_excursion
 
 
 def assemble_spring_study(
@@ -236,7 +241,7 @@ def case_of_cell(fitted: AnkleSpring, spring: AnkleSpring) -> str | None:
 
 
 def spring_study(
-    robot,
+    robot: PasibotRobot,
     omega: float,
     fitted: AnkleSpring,
     name: str = "",
@@ -274,7 +279,13 @@ def spring_study(
     check_finite("omega", omega, 0.0)
     dt = default_dt(swing_ankle) if dt is None else dt
     cache: dict = {}
-    common = {"steps": steps, "swing_ankle": swing_ankle, "dt": dt, "static_samples": static_samples, "cache": cache}
+    common: dict[str, Any] = {
+        "steps": steps,
+        "swing_ankle": swing_ankle,
+        "dt": dt,
+        "static_samples": static_samples,
+        "cache": cache,
+    }
     cases = {label: spring_case(robot, omega, fitted.scaled(f), **common) for label, f in SPRING_CASES}
     ks, bs = sweep_springs(fitted, sweep_stiffness, sweep_rest)
     grid, method = None, ""
@@ -313,9 +324,9 @@ class ScenarioInputs:
 
     name: str
     omega: float
-    robot: object
+    robot: PasibotRobot
     fit: AnkleSpring
-    spring_fit: object
+    spring_fit: SpringFit
 
 
 def scenario_key(name: str) -> str:
@@ -368,7 +379,7 @@ def design_inputs(design) -> ScenarioInputs:
     return ScenarioInputs("design", design.omega, robot, spring, fit)
 
 
-def toppling_stiffness(robot, theta: float = math.pi) -> float:
+def toppling_stiffness(robot: PasibotRobot, theta: float = math.pi) -> float:
     """Gravity's negative stiffness about the stance ankle, g sum m_i (z_i - z_ankle) [N.m/rad].
 
     Everything above the stance foot, rotated rigidly about the ankle by d(pitch), loses

@@ -17,13 +17,18 @@ from __future__ import annotations
 
 import math
 from collections.abc import Sequence
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints.system import STEP_LIMIT
 from pasibot_pin.dynamics.simulator import AnkleSpring
 from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 MAX_NEWTON = 20
 """Newton iterations of a closure (the one-angle path's)."""
@@ -37,7 +42,7 @@ several times the CPU of the product (measured: 80 pairs 3.9 ms with threads, 0.
 class _Pairs:
     """Every (spring, crank angle) pair's rows, as targets and weld offsets of one shared system."""
 
-    def __init__(self, robot, springs: Sequence[AnkleSpring], thetas: np.ndarray, cache: dict):
+    def __init__(self, robot: PasibotRobot, springs: Sequence[AnkleSpring], thetas: np.ndarray, cache: dict):
         self.robot = robot
         problems = [[StaticProblem(robot, sp, float(th), cache) for th in thetas] for sp in springs]
         flat = [p for row in problems for p in row]
@@ -125,9 +130,9 @@ def _solve(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray:
 
 
 def static_equilibria(
-    robot,
+    robot: PasibotRobot,
     springs: Sequence[AnkleSpring],
-    thetas: Sequence[float],
+    thetas: ArrayLike,
     search: float = math.radians(30.0),
     cache: dict | None = None,
 ) -> list:

@@ -13,16 +13,20 @@ Units: SI; angles [rad].
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings
 from pasibot_pin.model.coordinates import HIP_PITCH, other
 from pasibot_pin.reprs import short_repr
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 
 # --------------------------------------------------------------------------- statics (the omega -> 0 limit)
@@ -64,7 +68,10 @@ class StaticProblem:
     only the torque, from the spring forces, differs).
     """
 
-    def __init__(self, robot, spring: AnkleSpring | None, theta: float, cache: dict | None = None):
+    projections: dict
+    """Closed configurations already found, by hip pitch (shared through ``cache`` by the problems of one angle)."""
+
+    def __init__(self, robot: PasibotRobot, spring: AnkleSpring | None, theta: float, cache: dict | None = None):
         spring = spring if spring is not None else AnkleSpring(0.0, math.pi / 2)
         settings = SimulationSettings(omega=0.0, spring=spring, hip="level", swing_ankle="rest", theta0=theta)
         self.robot = robot
@@ -103,7 +110,7 @@ class StaticProblem:
             math.pi / 2 - spring.rest_angle
         )
         self.row = self.cset.nrows - 1
-        self.projections: dict = {}
+        self.projections = {}
         if cache is not None:
             cache[shared_key] = (self.q_level, self.cset, self.targets, self.projections)
 
@@ -128,6 +135,8 @@ class StaticProblem:
         q, x_gravity, x_ankles = entry
         # tau_spring on an ankle coordinate is -T = K_e (beta - beta0) (damping: no rate at rest)
         spring = self.sim.settings.spring
+        if spring is None:
+            raise ValueError("a static problem needs an ankle spring")
         hold = x_gravity
         for i, x_i in x_ankles:
             hold -= x_i * spring.stiffness * ((math.pi / 2 - q[i]) - spring.rest_angle)
@@ -143,7 +152,7 @@ class StaticProblem:
         return float(x.dot(gravity)), tuple((i, float(x[i])) for i in self.sim.ankles.values())
 
 
-def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
+def static_hip_torque(robot: PasibotRobot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
     """Torque needed on the hip pitch to hold the robot still at crank angle ``theta`` and ``pitch``.
 
     The cranks are locked (the motor holds them), the swing ankle sits at the spring's rest
@@ -157,9 +166,9 @@ def static_hip_torque(robot, spring: AnkleSpring | None, theta: float, pitch: fl
 
 
 def static_equilibrium(
-    robot,
+    robot: PasibotRobot,
     spring: AnkleSpring | None,
-    thetas: Sequence[float],
+    thetas: ArrayLike,
     search: float = math.radians(30.0),
     cache: dict | None = None,
 ) -> StaticEquilibrium:

@@ -16,6 +16,7 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, TorqueResult, crank_grid, run_scenario
 from pasibot_pin.model.scenarios import (
@@ -29,6 +30,9 @@ from pasibot_pin.model.scenarios import (
 )
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.spring_fit import SpringFit, fit_result
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.design import Design
 
 SURVEY_PRESETS: tuple[str, ...] = ("default", "seed")
 """The presets every scenario runs under in :func:`torque_survey`."""
@@ -82,7 +86,7 @@ class TorqueSettings:
     scenario: str = "run1"
     preset: str = "default"
     omega: float | None = None
-    design: object | None = None
+    design: Design | None = None
     samples: int | None = None
     steps: int = 1
     swing_foot: str | None = None
@@ -240,6 +244,8 @@ def design_torques(settings: TorqueSettings) -> ScenarioTorques:
     from pasibot_pin.model.design import design_robot
 
     design = settings.design
+    if design is None:
+        raise ValueError("design_torques needs settings.design")
     if settings.preset != "default" or settings.choices() != get_preset("default"):
         raise ValueError("a --design runs the default modelling choices: no --preset or choice overrides")
     omega = design.omega if settings.omega is None else settings.omega

@@ -14,11 +14,15 @@ from __future__ import annotations
 
 import math
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.viz.plots import GROUP_COLOURS, robot_segments
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad"}
 """Colours of the ankle paths (the same as the 3-D viewer's)."""
@@ -27,7 +31,7 @@ CONTACT_COLOUR = "#1a9e3a"
 """Colour of the sole points on the ground (the same as the 3-D viewer's)."""
 
 
-def _check(robot, qs) -> np.ndarray:
+def _check(robot: PasibotRobot, qs) -> np.ndarray:
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     if qs.ndim != 2 or qs.shape[1] != robot.model.nq or len(qs) < 2:
         raise ValueError(f"parameter 'qs' must have shape (N >= 2, {robot.model.nq}), got {np.shape(qs)}")
@@ -36,7 +40,7 @@ def _check(robot, qs) -> np.ndarray:
     return qs
 
 
-def ankle_paths_xz(robot, qs: np.ndarray) -> dict[str, np.ndarray]:
+def ankle_paths_xz(robot: PasibotRobot, qs: np.ndarray) -> dict[str, np.ndarray]:
     """World (x, z) of each leg's ankle (frame ``<side>_foot``) at every row of ``qs`` [m]."""
     qs = _check(robot, qs)
     sides = [s for s in ("right", "left") if robot.model.existFrame(f"{s}_foot")]
@@ -50,7 +54,14 @@ def ankle_paths_xz(robot, qs: np.ndarray) -> dict[str, np.ndarray]:
 
 
 def _stick_scene(
-    robot, qs: np.ndarray, fps: float, ax=None, title: str | None = None, forces=None, modes=None, times=None
+    robot: PasibotRobot,
+    qs: np.ndarray,
+    fps: float,
+    ax=None,
+    title: str | None = None,
+    forces=None,
+    modes=None,
+    times=None,
 ):
     """Draw the still part of the stick animation; return (figure, frame updater, moving artists).
 
@@ -95,7 +106,7 @@ def _stick_scene(
         lines += ax.plot(xz[:, 0], xz[:, 1], color=PATH_COLOURS[side], lw=0.8, alpha=0.35)
         (trails[side],) = ax.plot([], [], color=PATH_COLOURS[side], lw=1.6, label=f"{side} ankle path")
         lines.append(trails[side])
-    bars = LineCollection(segments[0], colors=colours, linewidths=widths, capstyle="round")
+    bars = LineCollection(list(segments[0]), colors=colours, linewidths=widths, capstyle="round")
     ax.add_collection(bars)
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
     marks, arrows, contacts = [], {}, None
@@ -133,7 +144,7 @@ def _stick_scene(
     )
 
     def update(k: int):
-        bars.set_segments(segments[k])
+        bars.set_segments(list(segments[k]))
         for side, line in trails.items():
             line.set_data(paths[side][: k + 1, 0], paths[side][: k + 1, 1])
         text = f"t = {times[k]:5.2f} s"
@@ -151,7 +162,7 @@ def _stick_scene(
     return fig, update, moving
 
 
-def stick_animation(robot, qs: np.ndarray, fps: float = 20.0, ax=None, title: str | None = None):
+def stick_animation(robot: PasibotRobot, qs: np.ndarray, fps: float = 20.0, ax=None, title: str | None = None):
     """A matplotlib ``FuncAnimation`` of the robot along ``qs``, one frame per row.
 
     Args:
@@ -198,7 +209,9 @@ def _clock_painter(fig, clock):
     return paint
 
 
-def _frame_arrays(robot, qs: np.ndarray, fps: float, dpi: int, title: str | None, **marks) -> list[np.ndarray]:
+def _frame_arrays(
+    robot: PasibotRobot, qs: np.ndarray, fps: float, dpi: int, title: str | None, **marks
+) -> list[np.ndarray]:
     """The frames of :func:`stick_animation` as RGBA arrays (height, width, 4) of ``dpi`` dots per inch.
 
     The still part (axes, ticks, labels, grid) is drawn once; each frame restores it and draws
@@ -244,7 +257,9 @@ def _frame_arrays(robot, qs: np.ndarray, fps: float, dpi: int, title: str | None
     return frames
 
 
-def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None, **marks) -> list:
+def stick_frames(
+    robot: PasibotRobot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title: str | None = None, **marks
+) -> list:
     """The frames of :func:`stick_animation` as Pillow images (RGB when opaque), ``dpi`` dots per inch.
 
     Drawn by blitting over the still part (see :func:`_frame_arrays`).
@@ -260,7 +275,7 @@ def stick_frames(robot, qs: np.ndarray, fps: float = 20.0, dpi: int = 80, title:
 
 
 def save_gif(
-    robot,
+    robot: PasibotRobot,
     qs: np.ndarray,
     out: Path | str,
     fps: float = 20.0,
@@ -349,6 +364,6 @@ def _shared_palette(frames: list[np.ndarray]) -> list:
     out = []
     for k in range(len(frames)):
         frame = Image.fromarray(index[k], "P")
-        frame.putpalette(palette)
+        frame.putpalette(palette or [])
         out.append(frame)
     return out

@@ -12,9 +12,13 @@ Lengths [m]; angles [rad].
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 CONTACT_TOLERANCE = 1e-3
 """A sole point this close to z = 0 [m] touches the ground."""
@@ -49,7 +53,7 @@ def mode_of(heel_z: float, toe_z: float, tol: float = CONTACT_TOLERANCE) -> str:
     return "flat" if heel and toe else "heel" if heel else "toe" if toe else "air"
 
 
-def foot_contacts(robot, qs: np.ndarray, tol: float = CONTACT_TOLERANCE) -> FootContacts:
+def foot_contacts(robot: PasibotRobot, qs: np.ndarray, tol: float = CONTACT_TOLERANCE) -> FootContacts:
     """Heel and toe of every foot, which of them touch the ground, and each foot's mode, per row of ``qs``."""
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     sides = [s for s in ("right", "left") if robot.model.existFrame(f"{s}_heel")]

@@ -148,7 +148,6 @@ class Hud:
         return HUD_SCRIPT.replace("HUD_INFO", json.dumps(info).replace("</", "<\\/"))  # no "</script>" inside
 
 
-
 def finish_page(page: str, hud: Hud | None) -> str:
     """The static page of meshcat with its animation last, the title bar (``hud``, if any) and the seek script."""
     page = animation_last(page)

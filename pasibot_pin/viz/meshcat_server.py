@@ -137,7 +137,7 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
     try:
         deadline = time.monotonic() + timeout
         while len(urls) < 2:
-            line = process.stdout.readline()
+            line = process.stdout.readline() if process.stdout is not None else ""  # piped: never None
             if not line:
                 process.wait(timeout=5)
                 raise RuntimeError(f"the meshcat server exited with code {process.returncode} before it was ready")
@@ -177,7 +177,7 @@ def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
             f"parameter 'zmq_url': no meshcat server answered at {zmq_url} ({refused}; start one with "
             "meshcat-server, or leave --zmq-url out to start our own)"
         )
-    context = zmq.Context.instance()
+    context: zmq.Context = zmq.Context.instance()
     socket = context.socket(zmq.REQ)
     socket.setsockopt(zmq.LINGER, 0)
     try:

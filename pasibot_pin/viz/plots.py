@@ -2,8 +2,13 @@
 
 from __future__ import annotations
 
+from typing import TYPE_CHECKING
+
 import numpy as np
 import pinocchio as pin
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 GROUP_COLOURS = {
     "hoeken": "#f28c1a",
@@ -42,7 +47,7 @@ def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
     return ax.figure, ax
 
 
-def robot_segments(robot, q: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
+def robot_segments(robot: PasibotRobot, q: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarray]]:
     """Bars of the robot at ``q`` as (group, start, end) in world x-z [m].
 
     A bar joins a link's origin to every joint or marker frame placed on that link.
@@ -68,7 +73,7 @@ def robot_segments(robot, q: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarr
     return segments
 
 
-def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True, alpha: float = 1.0):
+def plot_robot(robot: PasibotRobot, q: np.ndarray | None = None, ax=None, ground: bool = True, alpha: float = 1.0):
     """Side view (x forward, z up) of the robot at ``q`` (default ``robot.q0``).
 
     Args:

@@ -37,7 +37,7 @@ def _text_size(renderer, text: Text, s: str | None = None) -> tuple[float, float
     width = 0.0
     lines = s.split("\n")
     for line in lines:
-        body, ismath = text._preprocess_math(line)
+        body, ismath = text._preprocess_math(line)  # type: ignore[attr-defined]  # matplotlib's own splitting
         w, _, _ = renderer.get_text_width_height_descent(body, prop, ismath=ismath)
         width = max(width, w)
     height = len(lines) * LINE_HEIGHT * prop.get_size_in_points() / 72.0
@@ -163,7 +163,7 @@ class MarginLayout(LayoutEngine):
 
     def execute(self, fig) -> None:
         """Set ``fig``'s subplot parameters so that every axes' text fits (axes on one grid only)."""
-        for _ in range(self._params["passes"]):
+        for _ in range(int(self._params["passes"])):
             if not self._adjust(fig):
                 return
 
@@ -239,6 +239,8 @@ class InViewLocator(MaxNLocator):
 
     def __call__(self):
         """The tick locations inside the axis' view interval."""
+        if self.axis is None:
+            return []
         low, high = sorted(self.axis.get_view_interval())
         locs = self.tick_values(low, high)
         slack = 1e-10 * (high - low)

@@ -6,11 +6,17 @@ Angles are plotted in degrees, torques in N.m, time in s.
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
+from typing import TYPE_CHECKING
 
 import numpy as np
+from numpy.typing import ArrayLike
 
 from pasibot_pin.viz.plots import figure_axes
+
+if TYPE_CHECKING:
+    from pasibot_pin.dynamics.simulator import SimulationResult
+    from pasibot_pin.studies.statics import StaticEquilibrium
 
 
 def _axes(ax, figsize=(7, 3.5)):
@@ -22,7 +28,7 @@ def _impact_lines(ax, result) -> None:
         ax.axvline(imp.t, color="#bbbbbb", lw=0.8, ls=":")
 
 
-def plot_hip_pitch(results: Mapping[str, object], ax=None):
+def plot_hip_pitch(results: Mapping[str, SimulationResult], ax=None):
     """Hip pitch against time for several runs (label -> SimulationResult)."""
     fig, ax = _axes(ax)
     for label, res in results.items():
@@ -69,7 +75,9 @@ def plot_motor_torque(result, ax=None):
     return fig
 
 
-def plot_simulation(results: Mapping[str, object], main: str | None = None, rest_angle: float | None = None, axes=None):
+def plot_simulation(
+    results: Mapping[str, SimulationResult], main: str | None = None, rest_angle: float | None = None, axes=None
+):
     """Three panels: hip pitch of every run, ankle angles and motor torque of the ``main`` run.
 
     Args:
@@ -99,8 +107,8 @@ def plot_simulation(results: Mapping[str, object], main: str | None = None, rest
 
 
 def plot_spring_sweep(
-    stiffness: Sequence[float],
-    rest_angles: Sequence[float],
+    stiffness: ArrayLike,
+    rest_angles: ArrayLike,
     excursion: np.ndarray,
     fitted: tuple[float, float] | None = None,
     best: tuple[float, float] | None = None,
@@ -137,7 +145,7 @@ def plot_spring_sweep(
     return fig
 
 
-def plot_static_equilibrium(equilibria: Mapping[str, object], ax=None):
+def plot_static_equilibrium(equilibria: Mapping[str, StaticEquilibrium], ax=None):
     """Static-equilibrium hip pitch against the crank angle (label -> StaticEquilibrium)."""
     fig, ax = _axes(ax)
     missing = []

@@ -28,6 +28,7 @@ import time
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
@@ -59,6 +60,10 @@ from pasibot_pin.viz.viewer_scene import (
     reaction_forces,
     sole_depth,
 )
+
+if TYPE_CHECKING:
+    from pasibot_pin.kinematics.gait import Walk
+    from pasibot_pin.model.robot import PasibotRobot
 
 __all__ = [
     "CONTACT_COLOUR",
@@ -113,7 +118,7 @@ class WalkViewer:
 
     """
 
-    robot: object
+    robot: PasibotRobot
     zmq_url: str | None = None
     open: bool = False
     offline: bool = False
@@ -292,10 +297,10 @@ class WalkViewer:
 
         """
         qs = check_trajectory(self.robot, qs)
-        pts = []
+        corners = []
         for q in qs[:: max(1, len(qs) // 20)]:
-            pts += [T[:3, 3] for T in self.visual_poses(q).values()]
-        pts = np.array(pts)
+            corners += [T[:3, 3] for T in self.visual_poses(q).values()]
+        pts = np.array(corners)
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         lo[2] = min(lo[2], 0.0)
         centre = (lo + hi) / 2
@@ -400,7 +405,7 @@ class Export:
     path: Path
     q: np.ndarray
     fps: float
-    walk: object
+    walk: Walk
     paths: dict[str, np.ndarray]
     forces: dict = field(default_factory=dict)
 
@@ -464,7 +469,7 @@ def build_walk_scene(
 
 def export_html(
     out: Path | str,
-    robot=None,
+    robot: PasibotRobot | None = None,
     *,
     variant: str = "spring",
     steps: int = 2,

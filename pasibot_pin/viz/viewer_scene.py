@@ -13,11 +13,15 @@ from __future__ import annotations
 import math
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad", "hip": "#555555"}
 """Colours of the foot-path (ankle) and hip traces."""
@@ -47,15 +51,21 @@ def hex_int(colour: str) -> int:
     return int(colour.lstrip("#"), 16)
 
 
+def visuals_of(robot: PasibotRobot) -> pin.GeometryModel:
+    """The robot's visual model; ValueError for a robot loaded with ``visuals=False`` (nothing to draw)."""
+    if robot.visual_model is None:
+        raise ValueError("parameter 'robot' has no visuals: load it with visuals=True to draw it")
+    return robot.visual_model
 
-def coloured_visual_model(robot) -> pin.GeometryModel:
+
+def coloured_visual_model(robot: PasibotRobot) -> pin.GeometryModel:
     """A copy of the robot's visual model with every object coloured by its link's group.
 
     The group (hoeken, pantograph, extension, foot, hip) comes from
     :func:`pasibot_pin.viz.plots.link_group`, the colours from :data:`GROUP_COLOURS`, so the
     3-D view and the 2-D plots agree.
     """
-    visual = robot.visual_model.copy()
+    visual = visuals_of(robot).copy()
     for obj in visual.geometryObjects:
         group = link_group(robot.model.frames[obj.parentFrame].name)
         obj.meshColor = rgba(GROUP_COLOURS[group])
@@ -64,7 +74,7 @@ def coloured_visual_model(robot) -> pin.GeometryModel:
     return visual
 
 
-def marker_tracks(robot, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> dict:
+def marker_tracks(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> dict:
     """Positions of the joint and contact markers along a trajectory.
 
     Args:
@@ -111,10 +121,10 @@ def mark_transform(position: np.ndarray, shown: bool) -> np.ndarray:
     return T
 
 
-def sole_depth(robot) -> float:
+def sole_depth(robot: PasibotRobot) -> float:
     """How far the foot visuals reach below their sole plane (the foot frame's z = 0) [m]."""
     depth = 0.0
-    for obj in robot.visual_model.geometryObjects:
+    for obj in visuals_of(robot).geometryObjects:
         if not robot.model.frames[obj.parentFrame].name.endswith("_foot"):
             continue
         half = getattr(obj.geometry, "halfSide", None)
@@ -127,7 +137,7 @@ def sole_depth(robot) -> float:
     return depth
 
 
-def frame_paths(robot, qs: np.ndarray, frames: Sequence[str]) -> dict[str, np.ndarray]:
+def frame_paths(robot: PasibotRobot, qs: np.ndarray, frames: Sequence[str]) -> dict[str, np.ndarray]:
     """World positions of ``frames`` over a trajectory: ``{frame: (N, 3)}`` [m]."""
     qs = check_trajectory(robot, qs)
     ids = {name: robot.frame_id(name) for name in frames}
@@ -140,14 +150,14 @@ def frame_paths(robot, qs: np.ndarray, frames: Sequence[str]) -> dict[str, np.nd
     return out
 
 
-def foot_paths(robot, qs: np.ndarray) -> dict[str, np.ndarray]:
+def foot_paths(robot: PasibotRobot, qs: np.ndarray) -> dict[str, np.ndarray]:
     """Ankle paths of every leg over a trajectory: ``{'right': (N, 3), 'left': (N, 3)}`` [m]."""
     sides = [s for s in ("right", "left") if robot.model.existFrame(f"{s}_foot")]
     paths = frame_paths(robot, qs, [f"{s}_foot" for s in sides])
     return {s: paths[f"{s}_foot"] for s in sides}
 
 
-def check_trajectory(robot, qs) -> np.ndarray:
+def check_trajectory(robot: PasibotRobot, qs) -> np.ndarray:
     """``qs`` as an (N, nq) array of finite configurations of ``robot``, else ValueError naming it."""
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     if qs.ndim != 2 or qs.shape[1] != robot.model.nq or len(qs) == 0:
@@ -206,7 +216,9 @@ class ForceTrack:
             raise ValueError(f"ForceTrack: parameter 'scale' must be a positive [m/N], got {self.scale}")
 
 
-def quasi_static_ground_reaction(robot, qs: np.ndarray, stance: Sequence[str], scale: float = 5e-4) -> ForceTrack:
+def quasi_static_ground_reaction(
+    robot: PasibotRobot, qs: np.ndarray, stance: Sequence[str], scale: float = 5e-4
+) -> ForceTrack:
     """The arrow of the quasi-static ground force (:func:`pasibot_pin.studies.walk_forces.quasi_static_ground_force`).
 
     The ground pushes up with the whole weight, along the vertical through the centre of mass; the
@@ -218,7 +230,7 @@ def quasi_static_ground_reaction(robot, qs: np.ndarray, stance: Sequence[str], s
 
 
 def reaction_forces(
-    robot, walk, omega: float = 0.0, ground_scale: float = 5e-4, cut_scale: float | None = None
+    robot: PasibotRobot, walk, omega: float = 0.0, ground_scale: float = 5e-4, cut_scale: float | None = None
 ) -> dict[str, ForceTrack]:
     """Arrows of the ground reaction and the cut-joint forces along a walk, at crank speed ``omega`` [rad/s].
 
