@@ -251,22 +251,7 @@ def walk(
     dtheta = math.pi / samples_per_step
     theta = theta_start + dtheta * np.arange(n)
     stance_side = first_stance
-    # Start: the flat assembly, then the requested contact with the hip level.
-    q = closure.assemble(robot, theta_start, stance=stance_side, ankle_x=0.0)
-    contact = _contact(robot, stance_side, foot, q)
-    cmodels = list(robot.loop_constraints) + [contact]
-    prescribed = _prescriptions(robot, stance_side, foot)
-    if foot != "flat" or robot.spec.free_ankle:
-        q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, 0.0), cmodels)
-    # Put the starting contact point at the world origin (a rigid translation of the hip).
-    pin.framesForwardKinematics(robot.model, robot.data, q)
-    anchor = "foot" if foot in ("flat", "point") else "toe"
-    origin = robot.data.oMf[robot.frame_id(f"{stance_side}_{anchor}")].translation
-    q[0] -= origin[0]
-    q[1] -= origin[2]
-    contact = _contact(robot, stance_side, foot, q)
-    cmodels = list(robot.loop_constraints) + [contact]
-
+    q, cmodels, prescribed = _start_pose(robot, theta_start, stance_side, foot)
     qs = np.zeros((n, robot.model.nq))
     stance: list[str] = []
     step_index = np.zeros(n, dtype=int)
@@ -275,24 +260,13 @@ def walk(
     jumps: list[float] = []
     for i in range(n):
         k = min(i // samples_per_step, steps - 1)
-        if i > 0:
-            if i % samples_per_step == 0 and i // samples_per_step < steps:
-                # Exchange at the half turn: first reach the pose with the old contact ...
-                q_end = closure.solve_configuration(
-                    robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels
-                )
-                # ... then hold the new stance foot where it is (level for ``flat``).
-                stance_side = other(stance_side)
-                contact = _contact(robot, stance_side, foot, q_end)
-                cmodels = list(robot.loop_constraints) + [contact]
-                contacts.append(cmodels)
-                prescribed = _prescriptions(robot, stance_side, foot)
-                q = closure.solve_configuration(
-                    robot, q_end, prescribed, _targets(robot, prescribed, q_end, 0.0), cmodels
-                )
-                jumps.append(float(np.max(np.abs(pin.difference(robot.model, q_end, q)))))
-            else:
-                q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels)
+        if i > 0 and i % samples_per_step == 0 and i // samples_per_step < steps:
+            stance_side = other(stance_side)
+            q, cmodels, prescribed, jump = _exchange(robot, q, prescribed, cmodels, stance_side, foot, dtheta)
+            contacts.append(cmodels)
+            jumps.append(jump)
+        elif i > 0:
+            q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels)
         qs[i] = q
         stance.append(stance_side)
         step_index[i] = k
@@ -317,3 +291,38 @@ def walk(
         residual=residual,
         exchange_jump=jumps,
     )
+
+
+def _start_pose(robot: PasibotRobot, theta_start: float, stance_side: str, foot: str):
+    """The walk's first pose, its contact rows and prescriptions: the requested contact, hip level.
+
+    The flat assembly first, then (for a point or toe contact, or a free ankle) the closed pose
+    with that contact; the starting contact point moved to the world origin (a rigid translation).
+    """
+    q = closure.assemble(robot, theta_start, stance=stance_side, ankle_x=0.0)
+    contact = _contact(robot, stance_side, foot, q)
+    cmodels = list(robot.loop_constraints) + [contact]
+    prescribed = _prescriptions(robot, stance_side, foot)
+    if foot != "flat" or robot.spec.free_ankle:
+        q = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, 0.0), cmodels)
+    pin.framesForwardKinematics(robot.model, robot.data, q)
+    anchor = "foot" if foot in ("flat", "point") else "toe"
+    origin = robot.data.oMf[robot.frame_id(f"{stance_side}_{anchor}")].translation
+    q[0] -= origin[0]
+    q[1] -= origin[2]
+    contact = _contact(robot, stance_side, foot, q)
+    return q, list(robot.loop_constraints) + [contact], prescribed
+
+
+def _exchange(robot: PasibotRobot, q, prescribed, cmodels, new_stance: str, foot: str, dtheta: float):
+    """The stance exchange at a half turn: (q, contact rows, prescriptions, pose jump) of the new stance.
+
+    First the pose at the half turn with the old contact, then the new stance foot held where it
+    is (level for ``flat``); the jump is the largest coordinate change between the two poses.
+    """
+    q_end = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels)
+    contact = _contact(robot, new_stance, foot, q_end)
+    cmodels = list(robot.loop_constraints) + [contact]
+    prescribed = _prescriptions(robot, new_stance, foot)
+    q = closure.solve_configuration(robot, q_end, prescribed, _targets(robot, prescribed, q_end, 0.0), cmodels)
+    return q, cmodels, prescribed, float(np.max(np.abs(pin.difference(robot.model, q_end, q))))

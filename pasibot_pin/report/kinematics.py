@@ -138,6 +138,38 @@ def walk_name(run: WalkRun) -> str:
     return f"walk_{run.variant}" if run.foot == "flat" else f"walk_{run.variant}_{run.foot}"
 
 
+def _leg_rows(result: KinematicsSurvey) -> list[str]:
+    """The one-leg table's rows (one per variant), then the K sweep's table."""
+    s = result.settings
+    lines = []
+    for variant, run in result.legs.items():
+        m = run.metrics.in_L()
+        lines.append(
+            f"| {variant} | {m['stroke/L']:.6f} | {m['ankle_band/L']:.6f} | {m['lift/L']:.6f} "
+            f"| {m['ground_span_deg']:.3f} | {m['stance_pitch_max_deg']:.4f} | {m['pitch_at_zero_deg']:.3f} "
+            f"| {' / '.join(f'{v:.6f}' for v in run.speed_ratios)} |"
+        )
+    lines += ["", f"K sweep ({s.k_variant}; seed Fig 4.2.4):", "", "| K [-] | stroke [L] | ankle band [L] | lift [L] |"]
+    lines.append("|---|---|---|---|")
+    for K, met in zip(result.sweep.K, result.sweep.metrics):
+        d = met.in_L()
+        lines.append(f"| {K:g} | {d['stroke/L']:.4f} | {d['ankle_band/L']:.4f} | {d['lift/L']:.4f} |")
+    return lines
+
+
+def _walk_rows(result: KinematicsSurvey) -> list[str]:
+    """The biped walks' table rows: advance, hip height and pitch, closure residual, pose jump."""
+    lines = []
+    for walk in result.walks:
+        pitch = np.degrees(walk.hip_pitch)
+        lines.append(
+            f"| {walk.variant} | {walk.foot} | {', '.join(f'{a:.4f}' for a in walk.hip_advance / walk.L)} "
+            f"| {walk.hip_height_ptp / walk.L:.5f} | {pitch.min():.3f} .. {pitch.max():.3f} "
+            f"| {walk.max_residual:.1e} | {walk.max_jump:.4f} |"
+        )
+    return lines
+
+
 def _markdown(result: KinematicsSurvey) -> str:
     from pasibot_pin.report.markdown import figure, figure_links
 
@@ -154,18 +186,7 @@ def _markdown(result: KinematicsSurvey) -> str:
         "| foot pitch at θ=0 [deg] | v_x at 90/180/270 deg [Lω] |",
         "|---|---|---|---|---|---|---|---|",
     ]
-    for variant, run in result.legs.items():
-        m = run.metrics.in_L()
-        lines.append(
-            f"| {variant} | {m['stroke/L']:.6f} | {m['ankle_band/L']:.6f} | {m['lift/L']:.6f} "
-            f"| {m['ground_span_deg']:.3f} | {m['stance_pitch_max_deg']:.4f} | {m['pitch_at_zero_deg']:.3f} "
-            f"| {' / '.join(f'{v:.6f}' for v in run.speed_ratios)} |"
-        )
-    lines += ["", f"K sweep ({s.k_variant}; seed Fig 4.2.4):", "", "| K [-] | stroke [L] | ankle band [L] | lift [L] |"]
-    lines.append("|---|---|---|---|")
-    for K, met in zip(result.sweep.K, result.sweep.metrics):
-        d = met.in_L()
-        lines.append(f"| {K:g} | {d['stroke/L']:.4f} | {d['ankle_band/L']:.4f} | {d['lift/L']:.4f} |")
+    lines += _leg_rows(result)
     lines += [
         "",
         "6x4 geometric Jacobian of the open chain θ1, θ2, θ4, θ6 (joint 0 to the ankle) at "
@@ -198,13 +219,7 @@ def _markdown(result: KinematicsSurvey) -> str:
         "[m] | pose jump at exchange [m or rad] |",
         "|---|---|---|---|---|---|---|",
     ]
-    for walk in result.walks:
-        pitch = np.degrees(walk.hip_pitch)
-        lines.append(
-            f"| {walk.variant} | {walk.foot} | {', '.join(f'{a:.4f}' for a in walk.hip_advance / walk.L)} "
-            f"| {walk.hip_height_ptp / walk.L:.5f} | {pitch.min():.3f} .. {pitch.max():.3f} "
-            f"| {walk.max_residual:.1e} | {walk.max_jump:.4f} |"
-        )
+    lines += _walk_rows(result)
     lines += [
         "",
         "With a flat-welded rigid foot the hip must pitch with the shank and the pose jumps at every exchange "

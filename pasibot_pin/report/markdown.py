@@ -49,6 +49,146 @@ def _deg(rad: float) -> str:
     return f"{math.degrees(rad):.1f}°" if math.isfinite(rad) else "fell"
 
 
+def _kinematics_rows(kin: Mapping) -> list[tuple[str, str, str, str]]:
+    """The summary's rows of the kinematics section (the straight line, the level foot)."""
+    if not kin:  # the section did not run
+        return []
+    rows: list[tuple[str, str, str, str]] = []
+    rows += [
+        (
+            "Hoeken + pantograph: a straight stance line",
+            "the ankle moves on a nearly straight line in stance (§4)",
+            f"stroke {kin['stroke_L']:.3f} L, off the line by at most {kin['band_L']:.4f} L",
+            "agree",
+        ),
+        (
+            "the parallel extension keeps the foot level",
+            "the standing foot stays parallel to the ground (§4.3)",
+            f"within {kin['parallel_pitch_deg']:.3f}° in stance; the rigid foot tilts up to "
+            f"{kin['rigid_pitch_deg']:.1f}°",
+            "agree",
+        ),
+    ]
+    return rows
+
+
+def _torque_rows(tor: Mapping) -> list[tuple[str, str, str, str]]:
+    """The summary's rows of the torques section (the seed's K_e, run 4's fit)."""
+    if not tor:  # the section did not run
+        return []
+    rows: list[tuple[str, str, str, str]] = []
+    seed = ", ".join(f"{v:.0f}" for v in tor["seed_stored"])
+    preset = ", ".join(f"{v:.2f}" for v in tor["seed_preset"])
+    model = ", ".join(f"{v:.1f}" for v in tor["default"])
+    slow = [d for n, d in tor["window_delta"].items() if n != "run4"]
+    fast = tor["window_delta"]["run4"]
+    window = f"{min(slow):+.0f} to {max(slow):+.0f} N.m/rad in runs 1–3, {fast:+.0f} in run 4"
+    rows.append(
+        (
+            "the ankle spring K_e of runs 1–4 [N.m/rad]",
+            f"{seed} (§7)",
+            f"{preset} with the seed's modelling choices (reproduced); {model} with exact masses and the whole "
+            "stance as fit window",
+            f"differ: the seed's fit window adds {window}; its rounded masses add a little",
+        )
+    )
+    rows.append(
+        (
+            "run 4 (5 rad/s): one K_e",
+            "T_e is non-linear, K_e may be incorrect (§7.4)",
+            f"R² = {tor['run4_r2']:.2f}: a linear spring does not fit",
+            "agree",
+        )
+    )
+    return rows
+
+
+def _simulation_rows(sim: Mapping) -> list[tuple[str, str, str, str]]:
+    """The summary's row of the simulation section (does the spring keep the robot upright?)."""
+    if not sim:  # the section did not run
+        return []
+    rows: list[tuple[str, str, str, str]] = []
+    rows.append(
+        (
+            "the fitted spring keeps the walking robot upright",
+            "the spring avoids instability of the biped (§8)",
+            f"K_e exceeds gravity's toppling stiffness k_g by only {sim['margin_run1']:.1f} N.m/rad (run 1); "
+            f"with the hip free, the largest hip pitch is {_deg(sim['run1_fitted'])} in run 1 and "
+            f"{' and '.join(_deg(v) for v in sim['run23_fitted'])} in runs 2 and 3; without a spring the "
+            f"robot falls within {sim['fall_min']:.1f}–{sim['fall_max']:.1f} s",
+            "differ: neutral stability at best (welded stance foot)",
+        )
+    )
+    return rows
+
+
+def _contact_rows(con: Mapping) -> list[tuple[str, str, str, str]]:
+    """The summary's rows of the contact and energy section (the flat foot, one motor)."""
+    if not con:  # the section did not run
+        return []
+    rows: list[tuple[str, str, str, str]] = []
+    rows.append(
+        (
+            "the stance foot stays flat on the ground",
+            "assumed (the foot is welded to the ground in the dynamics)",
+            f"the centre of pressure is inside the sole ({1e3 * con['sole'][0]:+.0f} to "
+            f"{1e3 * con['sole'][1]:+.0f} mm from the ankle) for {con['run1_ok']} of {con['run1_n']} samples "
+            f"of run 1's stance; the motion asks for {1e3 * con['run1_cop'][0]:+.0f} to "
+            f"{1e3 * con['run1_cop'][1]:+.0f} mm",
+            "differ: the sole would roll over its heel or toe",
+        )
+    )
+    rows.append(
+        (
+            "one motor for both legs",
+            "future work (§8)",
+            f"feasible: peak {con['motor_peak']:.1f} N.m at 5 rad/s; a {con['flywheel']:.0f} kg.m² flywheel "
+            f"keeps the speed within {100 * con['fluctuation']:g} %",
+            "new",
+        )
+    )
+    return rows
+
+
+def _floor_rows(floor: Mapping) -> list[tuple[str, str, str, str]]:
+    """The summary's row of the floor section (the fitted spring on a real floor)."""
+    if not floor:  # the section did not run
+        return []
+    rows: list[tuple[str, str, str, str]] = []
+    rows.append(
+        (
+            "the fitted spring on a real floor (run 1)",
+            "not studied (the stance foot is welded)",
+            f"from a state it can hold ({floor['floor_start']}), the largest hip pitch over "
+            f"{floor['duration']:g} s is {_deg(floor['floor_max_pitch'])} against {_deg(floor['weld_max_pitch'])} "
+            f"welded; {floor['floor_outcome']}",
+            "new: the weld "
+            + ("overstates" if floor["floor_max_pitch"] < floor["weld_max_pitch"] else "understates")
+            + " the hip's swing (runs 2-4: docs/floor.md)",
+        )
+    )
+    return rows
+
+
+def _design_rows(design: Mapping) -> list[tuple[str, str, str, str]]:
+    """The summary's row of the design exploration (a better design)."""
+    if not design:  # the section did not run
+        return []
+    rows: list[tuple[str, str, str, str]] = []
+    rows.append(
+        (
+            "a better design: less crank torque at the same stride",
+            "future work: other geometries (§8)",
+            f"peak {design['seed_peak']:.2f} -> {design['free_peak']:.2f} N.m, but a "
+            f"{design['straightness_ratio']:.0f} times less straight path; {design['straight_peak']:.2f} N.m "
+            f"keeping it straight; on the floor no spring design of {design['floor_trials']} walks "
+            f"(best {design['floor_best_time']:.2f} s, {design['floor_most_steps']} steps)",
+            "new",
+        )
+    )
+    return rows
+
+
 def summary(facts: Mapping[str, Mapping]) -> str:
     """The report's opening section: the seed's claims against the model's findings.
 
@@ -59,107 +199,14 @@ def summary(facts: Mapping[str, Mapping]) -> str:
         The ``## Summary`` section.
 
     """
-    kin, tor, con, sim = (facts.get(k, {}) for k in ("kinematics", "dynamics", "contact_energy", "simulation"))
-    rows = []
-    if kin:
-        rows += [
-            (
-                "Hoeken + pantograph: a straight stance line",
-                "the ankle moves on a nearly straight line in stance (§4)",
-                f"stroke {kin['stroke_L']:.3f} L, off the line by at most {kin['band_L']:.4f} L",
-                "agree",
-            ),
-            (
-                "the parallel extension keeps the foot level",
-                "the standing foot stays parallel to the ground (§4.3)",
-                f"within {kin['parallel_pitch_deg']:.3f}° in stance; the rigid foot tilts up to "
-                f"{kin['rigid_pitch_deg']:.1f}°",
-                "agree",
-            ),
-        ]
-    if tor:
-        seed = ", ".join(f"{v:.0f}" for v in tor["seed_stored"])
-        preset = ", ".join(f"{v:.2f}" for v in tor["seed_preset"])
-        model = ", ".join(f"{v:.1f}" for v in tor["default"])
-        slow = [d for n, d in tor["window_delta"].items() if n != "run4"]
-        fast = tor["window_delta"]["run4"]
-        window = f"{min(slow):+.0f} to {max(slow):+.0f} N.m/rad in runs 1–3, {fast:+.0f} in run 4"
-        rows.append(
-            (
-                "the ankle spring K_e of runs 1–4 [N.m/rad]",
-                f"{seed} (§7)",
-                f"{preset} with the seed's modelling choices (reproduced); {model} with exact masses and the whole "
-                "stance as fit window",
-                f"differ: the seed's fit window adds {window}; its rounded masses add a little",
-            )
-        )
-        rows.append(
-            (
-                "run 4 (5 rad/s): one K_e",
-                "T_e is non-linear, K_e may be incorrect (§7.4)",
-                f"R² = {tor['run4_r2']:.2f}: a linear spring does not fit",
-                "agree",
-            )
-        )
-    if sim:
-        rows.append(
-            (
-                "the fitted spring keeps the walking robot upright",
-                "the spring avoids instability of the biped (§8)",
-                f"K_e exceeds gravity's toppling stiffness k_g by only {sim['margin_run1']:.1f} N.m/rad (run 1); "
-                f"with the hip free, the largest hip pitch is {_deg(sim['run1_fitted'])} in run 1 and "
-                f"{' and '.join(_deg(v) for v in sim['run23_fitted'])} in runs 2 and 3; without a spring the "
-                f"robot falls within {sim['fall_min']:.1f}–{sim['fall_max']:.1f} s",
-                "differ: neutral stability at best (welded stance foot)",
-            )
-        )
-    if con:
-        rows.append(
-            (
-                "the stance foot stays flat on the ground",
-                "assumed (the foot is welded to the ground in the dynamics)",
-                f"the centre of pressure is inside the sole ({1e3 * con['sole'][0]:+.0f} to "
-                f"{1e3 * con['sole'][1]:+.0f} mm from the ankle) for {con['run1_ok']} of {con['run1_n']} samples "
-                f"of run 1's stance; the motion asks for {1e3 * con['run1_cop'][0]:+.0f} to "
-                f"{1e3 * con['run1_cop'][1]:+.0f} mm",
-                "differ: the sole would roll over its heel or toe",
-            )
-        )
-        rows.append(
-            (
-                "one motor for both legs",
-                "future work (§8)",
-                f"feasible: peak {con['motor_peak']:.1f} N.m at 5 rad/s; a {con['flywheel']:.0f} kg.m² flywheel "
-                f"keeps the speed within {100 * con['fluctuation']:g} %",
-                "new",
-            )
-        )
-    floor, design = facts.get("floor", {}), facts.get("design_exploration", {})
-    if floor:
-        rows.append(
-            (
-                "the fitted spring on a real floor (run 1)",
-                "not studied (the stance foot is welded)",
-                f"from a state it can hold ({floor['floor_start']}), the largest hip pitch over "
-                f"{floor['duration']:g} s is {_deg(floor['floor_max_pitch'])} against {_deg(floor['weld_max_pitch'])} "
-                f"welded; {floor['floor_outcome']}",
-                "new: the weld "
-                + ("overstates" if floor["floor_max_pitch"] < floor["weld_max_pitch"] else "understates")
-                + " the hip's swing (runs 2-4: docs/floor.md)",
-            )
-        )
-    if design:
-        rows.append(
-            (
-                "a better design: less crank torque at the same stride",
-                "future work: other geometries (§8)",
-                f"peak {design['seed_peak']:.2f} -> {design['free_peak']:.2f} N.m, but a "
-                f"{design['straightness_ratio']:.0f} times less straight path; {design['straight_peak']:.2f} N.m "
-                f"keeping it straight; on the floor no spring design of {design['floor_trials']} walks "
-                f"(best {design['floor_best_time']:.2f} s, {design['floor_most_steps']} steps)",
-                "new",
-            )
-        )
+    rows = [
+        *_kinematics_rows(facts.get("kinematics", {})),
+        *_torque_rows(facts.get("dynamics", {})),
+        *_simulation_rows(facts.get("simulation", {})),
+        *_contact_rows(facts.get("contact_energy", {})),
+        *_floor_rows(facts.get("floor", {})),
+        *_design_rows(facts.get("design_exploration", {})),
+    ]
     lines = [
         "## Summary",
         "",

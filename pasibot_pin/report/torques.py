@@ -80,38 +80,22 @@ def section(out_dir: Path) -> str:
     return build(out_dir).markdown
 
 
-def build(out_dir: Path):
-    """:func:`section` with the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
-    import matplotlib
+def _stiffness_figures(survey, sub: Path) -> tuple[list[str], list[str]]:
+    """Each scenario's CSVs, torque-against-beta panels and K_e table row; the stiffness figure.
 
-    from pasibot_pin.report.markdown import Section, figure
+    Returns:
+        The table's rows (one per scenario) and the fits' warnings.
 
-    matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    """
+    import matplotlib.pyplot as plt  # with its backend set by build(); kept out of the CLI's start
 
-    from pasibot_pin.model.scenarios import SCENARIOS, SEED_CHOICE_NAMES
-    from pasibot_pin.studies.torques_study import SURVEY_PRESETS, torque_survey
-    from pasibot_pin.viz.plots_dynamics import plot_stiffness_table, plot_torques_vs_beta, plot_torques_vs_time
-
-    survey = torque_survey()
-    sub = out_dir / "dynamics"
-    sub.mkdir(parents=True, exist_ok=True)
-    lines = [
-        "## Torques and the ankle spring (constrained RNEA)",
-        "",
-        "Stance foot welded flat, hip level, cranks at constant omega pi apart; torques are generalised forces "
-        "of theta, beta, theta', beta' (beta = angle from the forward foot to the shank). "
-        "`default`: exact masses, swing foot level, exact accelerations, fit over the whole stance "
-        "theta in [90, 270] deg. `seed`: every choice of the seed's MATLAB code (DESIGN §5).",
-        "",
-        "| scenario | omega [rad/s] | body [kg] | K_e default [N.m/rad] | R^2 [-] | beta0 [deg] | "
-        "K_e seed preset [N.m/rad] | seed stored [N.m/rad] | seed without swap/lag [N.m/rad] |",
-        "|---|---|---|---|---|---|---|---|---|",
-    ]
-    table: dict[str, list] = {"default": [], "seed preset": [], "seed stored": []}
-    warnings_text = []
+    from pasibot_pin.model.scenarios import SCENARIOS
+    from pasibot_pin.studies.torques_study import SURVEY_PRESETS
+    from pasibot_pin.viz.plots_dynamics import plot_stiffness_table, plot_torques_vs_beta
     from pasibot_pin.viz.plots_layout import subplots
 
+    lines, warnings_text = [], []
+    table: dict[str, list] = {"default": [], "seed preset": [], "seed stored": []}
     grid, axes = subplots(len(SCENARIOS), 2, figsize=(13, 4 * len(SCENARIOS)))
     for row, (name, scenario) in enumerate(SCENARIOS.items()):
         for col, preset in enumerate(SURVEY_PRESETS):
@@ -135,6 +119,68 @@ def build(out_dir: Path):
     fig = plot_stiffness_table(list(SCENARIOS), table, title="ankle stiffness per scenario")
     save_figure_file(fig, sub / "stiffness.png")
     plt.close(fig)
+    return lines, warnings_text
+
+
+def _two_turns_figure(survey, sub: Path) -> None:
+    """Run 4's two crank turns as CSV; the torques over time of run 4 and run 2."""
+    import matplotlib.pyplot as plt  # with its backend set by build(); kept out of the CLI's start
+
+    from pasibot_pin.viz.plots_dynamics import plot_torques_vs_time
+    from pasibot_pin.viz.plots_layout import subplots
+
+    write_result_csv(sub / "torques_run4_two_turns.csv", survey.walk)
+    fig, (ax1, ax2) = subplots(2, 1, figsize=(10, 8))
+    plot_torques_vs_time(survey.walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
+    plot_torques_vs_time(survey.slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
+    save_figure_file(fig, sub / "torques_vs_time.png")
+    plt.close(fig)
+
+
+def _summary_facts(survey) -> dict:
+    """What the report's summary quotes: K_e of the dynamic runs, run 4's R^2, the fit window's share."""
+    from pasibot_pin.model.scenarios import SCENARIOS, SEED_CHOICE_NAMES
+
+    dynamic = [n for n in SCENARIOS if n in dict(survey.attribution)]
+    window = {
+        n: row.delta for n in dynamic for row in survey.attribution[n] if row.label == SEED_CHOICE_NAMES["fit_thetas"]
+    }
+    return {
+        "default": [survey.runs[(n, "default")].fit.K_e for n in dynamic],
+        "seed_preset": [survey.runs[(n, "seed")].fit.K_e for n in dynamic],
+        "seed_stored": [SCENARIOS[n].seed_K_e for n in dynamic],
+        "run4_r2": survey.runs[("run4", "default")].fit.r2,
+        "window_delta": window,
+    }
+
+
+def build(out_dir: Path):
+    """:func:`section` with the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
+    import matplotlib
+
+    from pasibot_pin.report.markdown import Section, figure
+
+    matplotlib.use("Agg")
+
+    from pasibot_pin.studies.torques_study import torque_survey
+
+    survey = torque_survey()
+    sub = out_dir / "dynamics"
+    sub.mkdir(parents=True, exist_ok=True)
+    lines = [
+        "## Torques and the ankle spring (constrained RNEA)",
+        "",
+        "Stance foot welded flat, hip level, cranks at constant omega pi apart; torques are generalised forces "
+        "of theta, beta, theta', beta' (beta = angle from the forward foot to the shank). "
+        "`default`: exact masses, swing foot level, exact accelerations, fit over the whole stance "
+        "theta in [90, 270] deg. `seed`: every choice of the seed's MATLAB code (DESIGN §5).",
+        "",
+        "| scenario | omega [rad/s] | body [kg] | K_e default [N.m/rad] | R^2 [-] | beta0 [deg] | "
+        "K_e seed preset [N.m/rad] | seed stored [N.m/rad] | seed without swap/lag [N.m/rad] |",
+        "|---|---|---|---|---|---|---|---|---|",
+    ]
+    scenario_lines, warnings_text = _stiffness_figures(survey, sub)
+    lines += scenario_lines
     lines += [
         "",
         "The seed's quasi-static script does not swap the L5/L6 masses (its dynamic script does): its model is the "
@@ -150,15 +196,8 @@ def build(out_dir: Path):
         lines += ["Fit warnings:", *warnings_text, ""]
     lines += _attribution_lines(dict(survey.attribution))
 
-    walk, slow = survey.walk, survey.slow
-    write_result_csv(sub / "torques_run4_two_turns.csv", walk)
-    from pasibot_pin.viz.plots_layout import subplots
-
-    fig, (ax1, ax2) = subplots(2, 1, figsize=(10, 8))
-    plot_torques_vs_time(walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
-    plot_torques_vs_time(slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
-    save_figure_file(fig, sub / "torques_vs_time.png")
-    plt.close(fig)
+    walk = survey.walk
+    _two_turns_figure(survey, sub)
     lines += [
         figure(
             "dynamics/torques_vs_beta.png",
@@ -174,15 +213,5 @@ def build(out_dir: Path):
         f"N.m, peak |T_e| = {float(np.max(np.abs(walk.Te))):.1f} N.m. CSVs: `dynamics/torques_<scenario>_<preset>.csv` "
         "(columns t, theta, beta, Ta, Te, Ta_swing, Te_swing, then reactions).",
     ]
-    dynamic = [n for n in SCENARIOS if n in dict(survey.attribution)]
-    window = {
-        n: row.delta for n in dynamic for row in survey.attribution[n] if row.label == SEED_CHOICE_NAMES["fit_thetas"]
-    }
-    facts = {
-        "default": [survey.runs[(n, "default")].fit.K_e for n in dynamic],
-        "seed_preset": [survey.runs[(n, "seed")].fit.K_e for n in dynamic],
-        "seed_stored": [SCENARIOS[n].seed_K_e for n in dynamic],
-        "run4_r2": survey.runs[("run4", "default")].fit.r2,
-        "window_delta": window,
-    }
+    facts = _summary_facts(survey)
     return Section("\n".join(lines), facts)

@@ -129,6 +129,59 @@ def cop_metrics(wrench, s_heel: float, s_toe: float, pitch=0.0) -> tuple[np.ndar
     return s_cop, margin, mu_needed
 
 
+def _check_distribute(wrench, s_heel: float, s_toe: float, mu: float, regularisation: float) -> np.ndarray:
+    """The wrench as a (3,) array once :func:`distribute`'s arguments are checked (ValueError naming one)."""
+    w = np.asarray(wrench, dtype=float).reshape(-1)
+    if w.shape != (3,) or not np.all(np.isfinite(w)):
+        raise ValueError(f"parameter 'wrench' must be 3 finite numbers (Fx, Fz, My), got {wrench!r}")
+    _check_mu(mu)
+    if not (math.isfinite(s_heel) and math.isfinite(s_toe) and s_heel < s_toe):
+        raise ValueError(f"parameters 's_heel' < 's_toe' must be finite [m], got {s_heel!r}, {s_toe!r}")
+    if not (math.isfinite(regularisation) and regularisation >= 0):
+        raise ValueError(f"parameter 'regularisation' must be >= 0, got {regularisation!r}")
+    return w
+
+
+def _heel_toe_rows(s_heel: float, s_toe: float, mu: float, t: np.ndarray, n: np.ndarray):
+    """The QP's rows on f = [fx_h, fz_h, fx_t, fz_t]: equalities (sum fx, sum fz, moment), cone inequalities."""
+    a_eq = np.array(
+        [
+            [1.0, 0.0, 1.0, 0.0],
+            [0.0, 1.0, 0.0, 1.0],
+            [s_heel * n[0], s_heel * n[1], s_toe * n[0], s_toe * n[1]],
+        ]
+    )
+    c_rows = []
+    for k in range(2):
+        for sign in (1.0, -1.0):  # sign * t.f - mu n.f <= 0
+            row = np.zeros(4)
+            row[2 * k : 2 * k + 2] = sign * t - mu * n
+            c_rows.append(row)
+        row = np.zeros(4)
+        row[2 * k : 2 * k + 2] = -n  # n.f >= 0
+        c_rows.append(row)
+    return a_eq, np.array(c_rows)
+
+
+def _failure_reasons(
+    f_n: float, s_cop: float, margin: float, mu_needed: float, s_heel: float, s_toe: float, mu: float, scale: float
+) -> list[str]:
+    """Why no heel/toe split holds the wrench: lift-off, tipping over the heel or toe, slipping."""
+    reasons: list[str] = []
+    if f_n <= FEASIBILITY_TOL * scale:
+        reasons.append("lift-off")
+    else:
+        if s_cop < s_heel:
+            reasons.append("tip-heel")
+        if s_cop > s_toe:
+            reasons.append("tip-toe")
+        if mu_needed > mu:
+            reasons.append("slip")
+    if not reasons:  # at the boundary within tolerance: name the binding condition
+        reasons.append("slip" if mu_needed >= mu * (1 - 1e-6) else ("tip-toe" if margin >= 0 else "tip-heel"))
+    return reasons
+
+
 def distribute(
     wrench: Sequence[float],
     s_heel: float,
@@ -154,38 +207,13 @@ def distribute(
         ValueError: a non-finite wrench, a sole whose heel is not behind its toe, a bad mu.
 
     """
-    w = np.asarray(wrench, dtype=float).reshape(-1)
-    if w.shape != (3,) or not np.all(np.isfinite(w)):
-        raise ValueError(f"parameter 'wrench' must be 3 finite numbers (Fx, Fz, My), got {wrench!r}")
-    mu = _check_mu(mu)
-    if not (math.isfinite(s_heel) and math.isfinite(s_toe) and s_heel < s_toe):
-        raise ValueError(f"parameters 's_heel' < 's_toe' must be finite [m], got {s_heel!r}, {s_toe!r}")
-    if not (math.isfinite(regularisation) and regularisation >= 0):
-        raise ValueError(f"parameter 'regularisation' must be >= 0, got {regularisation!r}")
+    w = _check_distribute(wrench, s_heel, s_toe, mu, regularisation)
+    mu = float(mu)
     t = np.array([math.cos(pitch), math.sin(pitch)])
     n = np.array([-math.sin(pitch), math.cos(pitch)])
-    # unknowns f = [fx_h, fz_h, fx_t, fz_t]; rows: sum fx, sum fz, sum s_i (n . f_i)
-    a_eq = np.array(
-        [
-            [1.0, 0.0, 1.0, 0.0],
-            [0.0, 1.0, 0.0, 1.0],
-            [s_heel * n[0], s_heel * n[1], s_toe * n[0], s_toe * n[1]],
-        ]
-    )
-    c_rows = []
-    for k in range(2):
-        for sign in (1.0, -1.0):  # sign * t.f - mu n.f <= 0
-            row = np.zeros(4)
-            row[2 * k : 2 * k + 2] = sign * t - mu * n
-            c_rows.append(row)
-        row = np.zeros(4)
-        row[2 * k : 2 * k + 2] = -n  # n.f >= 0
-        c_rows.append(row)
-    c_in = np.array(c_rows)
+    a_eq, c_in = _heel_toe_rows(s_heel, s_toe, mu, t, n)
     u_in = np.zeros(c_in.shape[0])
-    hess = (1.0 + regularisation) * np.eye(4)
-    x, status = _qp(hess, np.zeros(4), a_eq, w, c_in, u_in)
-
+    x, status = _qp((1.0 + regularisation) * np.eye(4), np.zeros(4), a_eq, w, c_in, u_in)
     scale = max(float(np.linalg.norm(w[:2])), abs(w[2]) / (s_toe - s_heel), 1.0)
     eq_ok = bool(np.all(np.isfinite(x))) and np.max(np.abs(a_eq @ x - w)) <= FEASIBILITY_TOL * scale * 10
     in_ok = bool(np.all(np.isfinite(x))) and np.max(c_in @ x) <= FEASIBILITY_TOL * scale * 10
@@ -199,23 +227,8 @@ def distribute(
         hess = aw.T @ aw + max(regularisation, 1e-12) * np.eye(4)
         x, _ = _qp(hess, -aw.T @ (weights @ w), None, None, c_in, u_in)
     forces = x.reshape(2, 2)
-
-    f_n = float(n @ w[:2])
     s_cop, margin, mu_needed = (float(x[0]) for x in cop_metrics(w[None, :], s_heel, s_toe, pitch))
-    reasons: list[str] = []
-    if not feasible:
-        tol = FEASIBILITY_TOL * scale
-        if f_n <= tol:
-            reasons.append("lift-off")
-        else:
-            if s_cop < s_heel:
-                reasons.append("tip-heel")
-            if s_cop > s_toe:
-                reasons.append("tip-toe")
-            if mu_needed > mu:
-                reasons.append("slip")
-        if not reasons:  # at the boundary within tolerance: name the binding condition
-            reasons.append("slip" if mu_needed >= mu * (1 - 1e-6) else ("tip-toe" if margin >= 0 else "tip-heel"))
+    reasons = [] if feasible else _failure_reasons(float(n @ w[:2]), s_cop, margin, mu_needed, s_heel, s_toe, mu, scale)
     return ContactPoint2D(
         forces=forces,
         feasible=bool(feasible),

@@ -53,6 +53,37 @@ def ankle_paths_xz(robot: PasibotRobot, qs: np.ndarray) -> dict[str, np.ndarray]
     return out
 
 
+def _bar_frames(robot: PasibotRobot, qs: np.ndarray) -> tuple[list[np.ndarray], list[str], list[float]]:
+    """Every frame's bars (n_bars, 2, 2) [m], and each bar's colour (by group) and line width."""
+    frames = [robot_segments(robot, q) for q in qs]
+    if len({len(f) for f in frames}) != 1:
+        raise ValueError("the robot's bar count changes along 'qs'; cannot animate")
+    colours = [GROUP_COLOURS[group] for group, _, _ in frames[0]]
+    widths = [4.0 if group == "foot" else 2.2 for group, _, _ in frames[0]]
+    return [np.array([[a, b] for _, a, b in f]) for f in frames], colours, widths
+
+
+def _frame_walk(ax, segments: list[np.ndarray]) -> None:
+    """Axes limits around every frame's bars (and the ground z = 0), equal scale, labels and grid."""
+    everything = np.concatenate([s.reshape(-1, 2) for s in segments])
+    lo, hi = everything.min(axis=0), everything.max(axis=0)
+    margin = 0.08 * float(max(hi - lo))
+    lo[1] = min(lo[1], 0.0)
+    ax.set_xlim(lo[0] - margin, hi[0] + margin)
+    ax.set_ylim(lo[1] - margin, hi[1] + margin)
+    ax.set_aspect("equal")
+    ax.set_xlabel("x [m]")
+    ax.set_ylabel("z [m]")
+    ax.grid(True, alpha=0.3)
+
+
+def _force_arrow(ax, colour: str):
+    """An empty quiver arrow in ``colour``, drawn in data units (set per frame)."""
+    return ax.quiver(
+        [0.0], [0.0], [0.0], [0.0], color=colour, angles="xy", scale_units="xy", scale=1.0, width=0.012, zorder=4
+    )
+
+
 def _stick_scene(
     robot: PasibotRobot,
     qs: np.ndarray,
@@ -79,23 +110,8 @@ def _stick_scene(
         fig, ax = plt.subplots(figsize=(6.4, 5.0))
     else:
         fig = ax.figure
-    frames = [robot_segments(robot, q) for q in qs]
-    counts = {len(f) for f in frames}
-    if len(counts) != 1:
-        raise ValueError("the robot's bar count changes along 'qs'; cannot animate")
-    colours = [GROUP_COLOURS[group] for group, _, _ in frames[0]]
-    widths = [4.0 if group == "foot" else 2.2 for group, _, _ in frames[0]]
-    segments = [np.array([[a, b] for _, a, b in f]) for f in frames]
-    everything = np.concatenate([s.reshape(-1, 2) for s in segments])
-    lo, hi = everything.min(axis=0), everything.max(axis=0)
-    margin = 0.08 * float(max(hi - lo))
-    lo[1] = min(lo[1], 0.0)
-    ax.set_xlim(lo[0] - margin, hi[0] + margin)
-    ax.set_ylim(lo[1] - margin, hi[1] + margin)
-    ax.set_aspect("equal")
-    ax.set_xlabel("x [m]")
-    ax.set_ylabel("z [m]")
-    ax.grid(True, alpha=0.3)
+    segments, colours, widths = _bar_frames(robot, qs)
+    _frame_walk(ax, segments)
     ax.set_title(title or f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
     lines = []
     if robot.floating:
@@ -118,21 +134,7 @@ def _stick_scene(
         (dots,) = ax.plot([], [], "o", color=CONTACT_COLOUR, ms=5, zorder=3, label="sole on the ground")
         marks.append(dots)
     for name, track in (forces or {}).items():
-        arrows[name] = (
-            track,
-            ax.quiver(
-                [0.0],
-                [0.0],
-                [0.0],
-                [0.0],
-                color=track.colour,
-                angles="xy",
-                scale_units="xy",
-                scale=1.0,
-                width=0.012,
-                zorder=4,
-            ),
-        )
+        arrows[name] = (track, _force_arrow(ax, track.colour))
     times = np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float)
     if paths:
         ax.legend(loc="upper right", fontsize=8)
