@@ -15,7 +15,9 @@ worker is left behind.
 
 from __future__ import annotations
 
+import ctypes
 import heapq
+import importlib
 import itertools
 import multiprocessing
 import os
@@ -23,6 +25,8 @@ import signal
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
+
+from pasibot_pin.files import remove_temporaries
 
 WORKERS = 2
 """Processes of the pool (the machine the goal was set on has 2 cores)."""
@@ -52,8 +56,6 @@ OnDone = Callable[[object, object], Iterable[Job] | None]
 
 def _die_clean(signum, frame) -> None:
     """A worker's SIGTERM: remove the files it is writing (never left under a .part name), then die of it."""
-    from pasibot_pin.files import remove_temporaries
-
     remove_temporaries()
     signal.signal(signum, signal.SIG_DFL)
     os.kill(os.getpid(), signum)
@@ -63,8 +65,6 @@ def _worker_init() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _die_clean)
     try:  # die with the parent, even if it is killed outright (Linux only)
-        import ctypes
-
         ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
     except (OSError, AttributeError):
         pass
@@ -78,8 +78,6 @@ def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS, prelo
     that most workers import (e.g. ``matplotlib.pyplot``): imported once here, before the workers
     fork, they cost their import time once instead of once per worker.
     """
-    import importlib
-
     for module in preload if workers > 1 else ():
         importlib.import_module(module)
     order = itertools.count()

@@ -6,6 +6,9 @@ that never comes; a closed port, though, refuses a plain TCP connection at once.
 
 from __future__ import annotations
 
+import socket
+from urllib.parse import urlsplit
+
 PROBE_TIMEOUT = 1.0
 """How long the plain TCP connection may take [s] before the address is left to the client library."""
 
@@ -23,9 +26,6 @@ def tcp_refused(address: str) -> str:
         own attempt decides.
 
     """
-    import socket
-    from urllib.parse import urlsplit
-
     try:
         parts = urlsplit(address)
         host, port = parts.hostname, parts.port

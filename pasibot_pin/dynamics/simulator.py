@@ -65,7 +65,7 @@ from pasibot_pin.dynamics.spring_energy import (  # noqa: F401 (re-exported: sim
     total_energy,
 )
 from pasibot_pin.errors import SimulationError
-from pasibot_pin.model.closure import hip_pitch, joint_coordinate, solve_velocity
+from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_velocity
 from pasibot_pin.model.coordinates import HIP_PITCH, other
 
 if TYPE_CHECKING:
@@ -319,8 +319,6 @@ class BipedSimulator:
         The swing ankle starts at the spring's rest angle (square to the shank without a
         spring); every free coordinate starts at rest except the cranks (rate omega).
         """
-        from pasibot_pin.model.closure import assemble
-
         s = self.settings
         if stance is None:
             phase = (s.theta0 - math.pi / 2) % (2 * math.pi)

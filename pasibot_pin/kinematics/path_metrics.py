@@ -28,6 +28,7 @@ from pasibot_pin.kinematics.leg import (
     frame_xz,
     leg_cycle,
 )
+from pasibot_pin.model.robot import load
 from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
@@ -336,8 +337,6 @@ def k_sweep(
             (named by the foundation's assembly).
 
     """
-    from pasibot_pin.model.robot import load
-
     ks = np.asarray(list(K_values), dtype=float)
     if ks.size == 0 or not np.all(np.isfinite(ks)) or np.any(ks <= 0):
         raise ValueError(f"parameter 'K_values' must be positive finite ratios, got {list(K_values)!r}")

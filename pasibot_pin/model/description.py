@@ -14,6 +14,8 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
+from pasibot_pin.files import write_text_atomic
 from pasibot_pin.model.params import Geometry, MassModel, check_legs, check_variant, percentage_mass_model
 from pasibot_pin.model.paths import URDF_DIR, XACRO_PATH, urdf_path
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
@@ -115,8 +117,6 @@ def xacro_arguments(
     ``inertia``: ``point`` (the seed's point masses, zero rotational inertia) or ``uniform``
     (rods, the hip a box: the inertias :func:`pasibot_pin.model.robot.load` gives).
     """
-    from pasibot_pin.errors import ParameterError
-
     if inertia not in ("point", "uniform"):
         raise ParameterError(f"parameter 'inertia' must be 'point' or 'uniform', got {inertia!r}")
     check_variant(variant)
@@ -178,7 +178,7 @@ RENDER_CACHE = 64
 @functools.lru_cache(maxsize=RENDER_CACHE)
 def _render(mappings: tuple[tuple[str, str], ...]) -> str:
     """The xacro source processed with ``mappings`` (sorted (name, value) pairs), as URDF text."""
-    import xacro
+    import xacro  # heavy (ROS xacro and its YAML): loaded on first render, not at the CLI's start
 
     document = xacro.process_file(str(XACRO_PATH), mappings=dict(mappings))
     text = document.toprettyxml(indent="  ")
@@ -187,8 +187,6 @@ def _render(mappings: tuple[tuple[str, str], ...]) -> str:
 
 def write_urdf(path: Path, text: str, force: bool = False) -> Path:
     """Write ``text`` to ``path`` (through a temporary file); refuse to overwrite a different file unless ``force``."""
-    from pasibot_pin.files import write_text_atomic
-
     path = Path(path)
     if path.is_dir():
         raise ValueError(f"{path} is a folder; give a file name")

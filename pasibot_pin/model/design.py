@@ -38,6 +38,7 @@ from pasibot_pin.model.params import (
     percentage_mass_model,
     short_repr,
 )
+from pasibot_pin.model.robot import load
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
@@ -315,8 +316,6 @@ def design_robot(design: Design, legs: int = 2, visuals: bool = True):
 
     ``visuals=False`` skips the URDF text and the geometry models (design sweeps).
     """
-    from pasibot_pin.model.robot import load
-
     return load(
         design.variant,
         legs,

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pasibot_pin.model.params import check_legs, check_variant
+
 PACKAGE_ROOT: Path = Path(__file__).resolve().parent.parent
 """The ``pasibot_pin`` package folder."""
 
@@ -38,8 +40,6 @@ def urdf_path(variant: str = "spring", legs: int = 2) -> Path:
         The path ``urdf/pasibot_<variant>_<legs>leg.urdf`` inside the package.
 
     """
-    from pasibot_pin.model.params import check_legs, check_variant
-
     return URDF_DIR / f"pasibot_{check_variant(variant)}_{check_legs(legs)}leg.urdf"
 
 

@@ -28,7 +28,9 @@ from pathlib import Path
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.model.description import build_tree, render_urdf
 from pasibot_pin.model.params import Geometry, percentage_mass_model
+from pasibot_pin.model.paths import XACRO_PATH, urdf_path
 from pasibot_pin.model.variants import get_variant
 
 STEP: float = 0.05
@@ -69,8 +71,6 @@ def _geometry_of(x: np.ndarray, variant: str) -> Geometry:
 
 
 def _tree(variant: str, legs: int, geometry: Geometry) -> pin.Model:
-    from pasibot_pin.model.description import build_tree, render_urdf
-
     return build_tree(render_urdf(variant, legs, geometry, percentage_mass_model(geometry, variant)), legs)
 
 
@@ -109,8 +109,6 @@ def _cache_file(variant: str, legs: int) -> Path | None:
     the seed geometry and the Pinocchio version. ``PASIBOT_CACHE`` (or ``XDG_CACHE_HOME``) moves
     the folder; ``PASIBOT_CACHE=off`` turns the cache off.
     """
-    from pasibot_pin.model.paths import XACRO_PATH
-
     root = os.environ.get("PASIBOT_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "pasibot_pin"
     )
@@ -149,9 +147,6 @@ def placement_map(variant: str, legs: int) -> PlacementMap:
             way this module does not support): the map disagrees with a direct rendering.
 
     """
-    from pasibot_pin.model.description import build_tree
-    from pasibot_pin.model.paths import urdf_path
-
     model = build_tree(urdf_path(variant, legs).read_text(), legs)
     cache = _cache_file(variant, legs)
     arrays = None

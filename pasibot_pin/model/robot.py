@@ -11,7 +11,7 @@ import pinocchio as pin
 from pasibot_pin import constraints
 from pasibot_pin.model import placements
 from pasibot_pin.model.assembly import check_full_turn
-from pasibot_pin.model.closure import assemble
+from pasibot_pin.model.closure import assemble, mobility
 from pasibot_pin.model.description import (  # noqa: F401 (planar_root_joint, ROOT_JOINT_NAME: re-exported)
     ROOT_JOINT_NAME,
     Loop,
@@ -220,8 +220,6 @@ class PasibotRobot:
 
     def summary(self) -> str:
         """A short human-readable description (nq, nv, loops, actuation, mobility)."""
-        from pasibot_pin.model.closure import mobility
-
         mob = mobility(self)
         lines = [
             f"PASIBOT variant={self.variant} legs={self.legs} L={self.geometry.L:g} m K={self.geometry.K:g}",
