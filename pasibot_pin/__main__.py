@@ -30,7 +30,7 @@ import pinocchio as pin  # noqa: E402
 
 from pasibot_pin import __version__  # noqa: E402
 from pasibot_pin.cli import COMMANDS  # noqa: E402
-from pasibot_pin.cli.bounds import check_flags  # noqa: E402
+from pasibot_pin.cli.bounds import BOUNDS, check_flags  # noqa: E402
 from pasibot_pin.files import remove_temporaries  # noqa: E402
 
 NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
@@ -50,8 +50,6 @@ class OneLineParser(argparse.ArgumentParser):
 
         A value argparse cannot read (``--samples 1e9``, ``--mu abc``) gets the flag's valid range too.
         """
-        from pasibot_pin.cli.bounds import BOUNDS
-
         text = re.sub(r"'([^']{40})[^']+'", r"'\1...'", " ".join(message.split()))  # a 5,000-digit value, cut
         named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: ", text)
         bound = BOUNDS.get(self.prog.split()[-1], {}).get(named.group(1)) if named else None

@@ -23,7 +23,9 @@ import os
 from pathlib import Path
 
 from pasibot_pin.files import check_replaceable, temporary_name
+from pasibot_pin.model.design import load_design
 from pasibot_pin.model.params import SOLE_FLOOR_MU, VARIANTS
+from pasibot_pin.model.scenarios import SCENARIOS
 from pasibot_pin.report.files import atomic_path, atomic_paths, write_columns_csv
 
 __all__ = [
@@ -109,8 +111,6 @@ def add_robot_options(parser: argparse.ArgumentParser, legs: bool = True) -> Non
 
 def add_scenario_option(parser: argparse.ArgumentParser) -> None:
     """``--scenario`` (a seed scenario: quasi-static, run1..run4 or 1..4)."""
-    from pasibot_pin.model.scenarios import SCENARIOS
-
     parser.add_argument(
         "--scenario",
         default=DEFAULTS["--scenario"],
@@ -161,8 +161,6 @@ def design_of(args: argparse.Namespace):
 
     ``--variant``, when given, replaces the design's variant. A bad file is a one-line ValueError.
     """
-    from pasibot_pin.model.design import load_design
-
     if getattr(args, "design", None) is None:
         return None
     design = load_design(args.design)
@@ -270,7 +268,7 @@ def check_output_folder(path: Path, option: str) -> Path:
 
 def plot_formats() -> dict[str, str]:
     """Figure formats matplotlib can write: extension (without dot) -> description."""
-    from matplotlib.backend_bases import FigureCanvasBase
+    from matplotlib.backend_bases import FigureCanvasBase  # heavy: loaded on use, not at the CLI's start
 
     return dict(FigureCanvasBase.get_supported_filetypes())
 

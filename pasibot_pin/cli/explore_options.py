@@ -5,7 +5,14 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_force_option
+import numpy as np
+
+from pasibot_pin.cli.common import add_force_option, check_output_folder
+from pasibot_pin.explore.executors import check_scheduler, check_workers
+from pasibot_pin.explore.plan import DEFAULT_RANGES, check_floor, parse_ranking, ranges_or_default
+from pasibot_pin.extras import require
+from pasibot_pin.files import OutputFolder
+from pasibot_pin.model.design import Design, load_design
 
 
 def add_explore_options(p: argparse.ArgumentParser) -> None:
@@ -13,8 +20,6 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--out", type=Path, required=True, metavar="DIR", help="folder of the run (created; resumed if it holds one)"
     )
-    from pasibot_pin.explore.plan import DEFAULT_RANGES
-
     p.add_argument(
         "--vary",
         action="append",
@@ -46,16 +51,9 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
 
 def start_run(args: argparse.Namespace):
     """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
-    from pasibot_pin.extras import require
-
     # the extra first: a plain install says so in one line and writes nothing
     needed = ["pyarrow", "scipy"] + (["optuna"] if args.command == "optimize" else [])
     require("sweep", needed + (["distributed"] if args.dask is not None else []), f"pasibot {args.command}")
-    from pasibot_pin.cli.common import check_output_folder
-    from pasibot_pin.explore.executors import check_scheduler, check_workers
-    from pasibot_pin.explore.plan import check_floor, parse_ranking, ranges_or_default
-    from pasibot_pin.model.design import Design, load_design
-
     check_output_folder(args.out, "--out")
     base = load_design(args.design) if args.design is not None else Design()
     ranges = ranges_or_default(args.vary)
@@ -75,9 +73,7 @@ def run_resumable(args: argparse.Namespace, runner, plan, what: str):
     finished removes what it created (its folder, or the files it added), so the same command
     can run again; the lock is held until :func:`finish_run` ends.
     """
-    from pasibot_pin.explore.store import OWNED, PARTS
-    from pasibot_pin.files import OutputFolder
-
+    from pasibot_pin.explore.store import OWNED, PARTS  # pyarrow: loaded on use, not at the CLI's start
     out = Path(args.out)
     folder = OutputFolder(out, ours=OWNED).claim(force=args.force)  # refused at once if another run writes there
     args.claimed = folder
@@ -109,9 +105,7 @@ def finish_run(
 
 
 def _finish(args, out: Path, table, varied, by, what: str, objectives, rows) -> None:
-    import numpy as np
-
-    from pasibot_pin.explore.sweep import best_rows, export_best, write_figures
+    from pasibot_pin.explore.sweep import best_rows, export_best, write_figures  # heavy: loaded on use
 
     figures = write_figures(table, out, varied, objectives)
     feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))

@@ -20,6 +20,7 @@ from pasibot_pin.cli.common import (
     design_of,
     file_path,
 )
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import VARIANTS
 
 
@@ -59,8 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Export the walk; refuses to overwrite without ``--force`` (FileExistsError, exit code 2)."""
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.viz.viewer import export_html
+    from pasibot_pin.viz.viewer import export_html  # meshcat: loaded on use, not at the CLI's start
 
     check_output_file(args.out, "--out", args.force)
     design = design_of(args)
