@@ -17,6 +17,7 @@ from pathlib import Path
 from pasibot_pin.cli.common import add_force_option, add_out_folder_option
 
 STEPS: list[tuple[str, str]] = [
+    ("answers", "answers"),
     ("model", "model"),
     ("kinematics", "kinematics"),
     ("animation", "animation"),
@@ -29,6 +30,7 @@ STEPS: list[tuple[str, str]] = [
 """(step name, report module) in report order."""
 
 ESTIMATES: dict[str, float] = {
+    "answers": 30.0,
     "kinematics": 6.7,
     "contact_energy": 6.7,
     "dynamics": 2.9,

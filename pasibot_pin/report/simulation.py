@@ -181,15 +181,16 @@ def study_table(studies: Sequence) -> list[str]:
 def run_table(studies: Sequence) -> list[str]:
     """Markdown table of every walk: excursion, duration, landing mismatch, swing sole, drift."""
     lines = [
-        "| scenario | spring | max abs hip pitch [deg] | simulated [s] | largest landing height mismatch [mm] | "
-        "lowest swing sole [mm] | largest drift per step before projection [m] |",
-        "|---|---|---|---|---|---|---|",
+        "| scenario | spring | time step [ms] | max abs hip pitch [deg] | simulated [s] | "
+        "largest landing height mismatch [mm] | lowest swing sole [mm] | largest drift per step before projection [m] |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for entry in studies:
         for label, res in entry.study.runs.items():
             landing = f"{1000 * max(abs(i.height) for i in res.impacts):.1f}" if res.impacts else "-"
+            pitch = "fell" if res.fell else _deg(res.max_hip_excursion)  # a fall's last pitch is where it was caught
             lines.append(
-                f"| {entry.name} | {label} | {_deg(res.max_hip_excursion)} | "
+                f"| {entry.name} | {label} | {1000 * res.settings.dt:g} | {pitch} | "
                 f"{res.t[-1]:.2f}{' (fell)' if res.fell else ''} | {landing} | "
                 f"{1000 * float(res.swing_height.min()):.1f} | {res.max_drift:.1e} |"
             )
