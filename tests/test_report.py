@@ -67,6 +67,25 @@ def test_report_order_summary_first():
     text = markdown.report_text(["## Model\n", "## Kinematics\n"], {})
     assert text.index("## Summary") < text.index("## Model") < text.index("## Kinematics")
     assert "| question | the seed claims | the model finds | verdict |" in text
+    assert "## Answers" not in text
+
+
+def test_the_answers_box_opens_the_report():
+    from pasibot_pin.report.answers import WALKING_SLOT, answer_lines
+
+    lines = answer_lines(["- a walks.", "- b fell."], "- **The motor**: m.", "- **The spring**: s.")
+    text = markdown.report_text(["", "## Model\n"], {"answers": {"lines": lines}})
+    assert text.index("# PASIBOT analysis") < text.index("## Answers") < text.index("## Summary")
+    box = text.split("## Answers", 1)[1].split("## Summary", 1)[0]
+    assert f"> {WALKING_SLOT}\n>   - a walks.\n>   - b fell.\n" in box  # the slot, marked, then its lines
+    assert box.count("> - **") == 3  # walking, motor, spring: one bullet each
+
+
+def test_the_summary_says_how_runs_fell():
+    assert markdown._runs_pitch(math.radians(41.3), [math.inf, math.inf]) == (
+        "the largest hip pitch is 41.3° in run 1; runs 2 and 3 fell"
+    )
+    assert markdown._runs_pitch(math.inf, [math.radians(10.0)]) == "the largest hip pitch is 10.0° in run 2; run 1 fell"
 
 
 def test_the_summary_with_every_section():
@@ -84,14 +103,18 @@ def test_the_summary_with_every_section():
             "run1_cop": (-0.166, 0.229),
             "sole": (-0.025, 0.075),
             "motor_peak": 39.1,
+            "motor_omega": 5.0,
+            "motor_scenario": "run4",
             "flywheel": 11.95,
             "fluctuation": 0.05,
         },
     }
     text = markdown.summary(facts)
-    assert "by only 4.8 N.m/rad" in text and "41.3° in run 1 and fell and fell" in text
+    assert "by only 4.8 N.m/rad" in text and "the largest hip pitch is 41.3° in run 1; runs 2 and 3 fell" in text
+    assert "fell and fell" not in text
     assert "13 of 60 samples" in text and "-25 to +75 mm" in text and "-166 to +229 mm" in text
-    assert "within 5 %" in text and "12 kg.m²" in text
+    assert "39.1 N.m at 5 rad/s (run4)" in text and "within 5 %" in text and "12 kg.m²" in text
+    assert "feasible" not in text  # a 12 kg.m² flywheel is no proof of feasibility
     assert text.count("\n| ") == 1 + 3  # header and three rows
 
 
