@@ -374,7 +374,7 @@ def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, ca
     from pasibot_pin.report.floor import outcome_text
 
     assert len(rows) == 1 and rows[0]["floor: outcome"] == outcome_text(study.rows[0])
-    assert rows[0]["floor: outcome"].startswith("undecided: 0.05 s is shorter than two steps of 31.4 s each")
+    assert rows[0]["floor: outcome"].startswith("undecided: the 0.05 s run is shorter than two steps (31.4 s each")
     assert (out / "floor_springs.png").stat().st_size > 10_000
     for argv, word in (
         (["--study", "--ground", "weld"], "--study"),

@@ -268,3 +268,42 @@ def test_margin_layout_keeps_every_text_inside_and_the_panels_apart():
                     assert not a.overlaps(b), (cell_a, cell_b)
     finally:
         plt.close(fig)
+
+
+def _floor_study(duration: float = 2.0):
+    from types import SimpleNamespace
+
+    def row(case, weld, fell, floor, failed=False):
+        return SimpleNamespace(
+            scenario="run1",
+            case=case,
+            weld_max_pitch=math.radians(weld),
+            weld_fell_at=fell,
+            floor_max_pitch=math.radians(floor),
+            floor_failed=failed,
+        )
+
+    rows = [row("fitted", 19.9, math.nan, 2.9), row("no spring", 61.2, 0.8, 0.0), row("half K_e", 60.3, 1.19, 2.7)]
+    return SimpleNamespace(rows=rows, settings=SimpleNamespace(duration=duration))
+
+
+def test_floor_springs_figure_has_a_legend_readable_ticks_and_a_visible_zero():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_floor import plot_weld_vs_floor
+
+    fig = plot_weld_vs_floor(_floor_study())
+    try:
+        ax = fig.axes[0]
+        assert not _sticks_out(fig)
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert labels == ["welded stance foot", "on the floor (heel and toe)", "fell or failed (bar: where it stopped)"]
+        ticks = ax.get_xticklabels()
+        assert [t.get_text() for t in ticks] == ["fitted", "no spring", "half K_e"]
+        assert all(t.get_fontsize() >= 8 and t.get_rotation() == 0 for t in ticks)
+        values = [t.get_text() for t in ax.texts]  # one label per bar: its value, or how it ended
+        assert values == ["19.9", "2.9", "fell", "0.0", "fell", "2.7"]
+        zero_marks = [ln for ln in ax.lines if list(ln.get_ydata()) == [0.0] and ln.get_marker() == "o"]
+        assert len(zero_marks) == 6  # a dot on the axis under every bar: a zero bar is not a gap
+    finally:
+        plt.close(fig)

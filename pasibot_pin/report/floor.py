@@ -72,8 +72,8 @@ def outcome_text(row: CaseComparison) -> str:
         return row.floor_outcome
     omega = get_scenario(row.scenario).omega
     return (
-        f"undecided: {row.floor_end:g} s is shorter than two steps of {math.pi / omega:.1f} s each at "
-        f"{omega:g} rad/s; it stood without falling ({row.floor_landings} landings)"
+        f"undecided: the {row.floor_end:g} s run is shorter than two steps ({math.pi / omega:.1f} s each at "
+        f"{omega:g} rad/s); it did not fall"
     )
 
 
@@ -87,7 +87,7 @@ def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
     A welded run that fell has no largest pitch (its last sample is where the fall was caught):
     the column says ``fell`` and the next one when.
     """
-    out = []
+    out, span = [], f"{study.settings.duration:g} s"
     for r in study.rows:
         fell = "" if math.isnan(r.weld_fell_at) else f"{r.weld_fell_at:.2f}"
         weld_pitch = "fell" if fell else f"{math.degrees(r.weld_max_pitch):.1f}"
@@ -99,13 +99,13 @@ def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
                 "K_e [N.m/rad]": f"{r.stiffness:.1f}",
                 "weld: quasi-static max pitch [deg]": _deg(r.weld_static),
                 "floor: quasi-static max pitch [deg]": floor_text(r.floor_static),
-                "weld: max pitch [deg]": weld_pitch,
+                f"weld: max pitch in {span} [deg]": weld_pitch,
                 f"weld: fell at, dt {WELD_DT_MS:g} ms [s]": fell,
                 "floor: start": "cannot stand" if r.floor_start == "none" else start,
                 "floor: start pitch [deg]": ""
                 if r.floor_start == "none"
                 else f"{math.degrees(r.floor_start_pitch):.2f}",
-                "floor: max pitch [deg]": f"{math.degrees(r.floor_max_pitch):.1f}",
+                f"floor: max pitch in {span} [deg]": f"{math.degrees(r.floor_max_pitch):.1f}",
                 "floor: landings [-]": str(r.floor_landings),
                 "floor: outcome": outcome_text(r),
             }
@@ -142,8 +142,9 @@ def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + 
         "",
         f"![Largest hip pitch of every run and spring case, weld beside floor]({figure})",
         "",
-        f"*Largest |hip pitch| over {study.settings.duration:g} s, weld (blue) beside floor (orange); hatched: the run "
-        "fell or failed.*",
+        f"*Largest |hip pitch| [deg] over {study.settings.duration:g} s of each spring case, welded stance foot (blue) "
+        "beside the floor (orange), each bar labelled with its value (a dot on the axis marks zero); hatched: the run "
+        "fell or failed, the bar where it stopped.*",
         "",
     ]
     if statics and any(s.stiffness is not None for s in statics):
