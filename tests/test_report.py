@@ -307,3 +307,64 @@ def test_floor_springs_figure_has_a_legend_readable_ticks_and_a_visible_zero():
         assert len(zero_marks) == 6  # a dot on the axis under every bar: a zero bar is not a gap
     finally:
         plt.close(fig)
+
+
+def _walk(t_end: float, fell: bool, dt: float = 0.05):
+    from types import SimpleNamespace
+
+    t = np.arange(0.0, t_end + 1e-9, dt)
+    pitch = np.radians(60.5) * (t / t_end) ** 2 if fell else 0.3 * np.sin(t)
+    n = len(t)
+    return SimpleNamespace(
+        t=t, hip_pitch=pitch, fell=fell, impacts=[], beta=np.full((n, 2), 1.3), motor_torque=np.zeros((n, 2))
+    )
+
+
+def test_simulation_figure_shows_early_falls_on_their_own_time_axis():
+    """Falls at 0.8 and 1.2 s of a 63 s walk: a panel of the first 1.8 s holds them (x at each fall, its time
+    written), the whole-run panels (shared axis up to 63 s) only the springs that held."""
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_simulation import fall_window, plot_simulation
+
+    runs = {"fitted": _walk(62.8, False), "no spring": _walk(0.8, True), "half K_e": _walk(1.2, True)}
+    assert fall_window(runs) == pytest.approx(1.8)
+    fig = plot_simulation(runs, main="fitted", rest_angle=1.3)
+    try:
+        assert not _sticks_out(fig)
+        first, whole, *rest = fig.axes
+        assert first.get_xlim() == pytest.approx((0.0, 1.8))
+        assert first.get_legend_handles_labels()[1] == ["fitted", "no spring", "half K_e"]
+        falls = [ln for ln in first.lines if ln.get_marker() == "x"]
+        assert sorted(float(ln.get_xdata()[0]) for ln in falls) == pytest.approx([0.8, 1.2])
+        assert sorted(t.get_text() for t in first.texts) == ["fell at 0.80 s", "fell at 1.20 s"]
+        assert max(np.max(ln.get_xdata()) for ln in first.lines if ln.get_label() == "fitted") <= 1.8
+        assert whole.get_legend_handles_labels()[1] == ["fitted"]
+        assert whole.get_xlim()[1] >= 62.8 and all(ax.get_xlim() == whole.get_xlim() for ax in rest)
+    finally:
+        plt.close(fig)
+    # no early fall: three panels, every run in the first
+    fig = plot_simulation({"fitted": _walk(62.8, False), "twice K_e": _walk(62.8, False)})
+    try:
+        assert len(fig.axes) == 3 and fig.axes[0].get_legend_handles_labels()[1] == ["fitted", "twice K_e"]
+    finally:
+        plt.close(fig)
+
+
+def test_robot_figure_names_every_symbol():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.model.robot import load
+    from pasibot_pin.viz.plots import GROUP_LABELS, plot_robot
+
+    fig = plot_robot(load("spring", 2), legend=True)
+    try:
+        assert not _sticks_out(fig)
+        labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        for group in ("hoeken", "pantograph", "foot"):
+            assert GROUP_LABELS[group] in labels
+        assert GROUP_LABELS["extension"] not in labels  # the spring variant has none
+        assert "fixed pivots on the hip (crank j0, j3, j8)" in labels and "hip frame (body origin)" in labels
+        assert "ground z = 0" in labels
+    finally:
+        plt.close(fig)

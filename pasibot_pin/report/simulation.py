@@ -181,8 +181,8 @@ def study_table(studies: Sequence) -> list[str]:
 def run_table(studies: Sequence) -> list[str]:
     """Markdown table of every walk: excursion, duration, landing mismatch, swing sole, drift."""
     lines = [
-        "| scenario | spring | time step [ms] | max abs hip pitch [deg] | simulated [s] | "
-        "largest landing height mismatch [mm] | lowest swing sole [mm] | largest drift per step before projection [m] |",
+        "| scenario | spring | time step [ms] | max abs hip pitch [deg] | simulated [s] | largest landing height "
+        "mismatch [mm] | lowest swing sole [mm] | largest drift per step before projection [m] |",
         "|---|---|---|---|---|---|---|---|",
     ]
     for entry in studies:
@@ -210,20 +210,35 @@ def write_scenario_figures(out_dir: Path, study) -> list[tuple[str, str]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from pasibot_pin.viz.plots_simulation import plot_simulation, plot_spring_sweep, plot_static_equilibrium
+    from pasibot_pin.viz.plots_simulation import (
+        fall_window,
+        plot_simulation,
+        plot_spring_sweep,
+        plot_static_equilibrium,
+    )
 
     figures = []
     name = study.name
     if study.runs:
         fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
-        fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
+        window = fall_window(study.runs)
+        if window is None:
+            fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
+        else:
+            fig.axes[0].set_title(f"{name}: the first {window:.2f} s, hip free: where the runs fell (x)")
         save_figure_file(fig, out_dir / f"simulation_{name}.png")
         plt.close(fig)
+        falls = (
+            ""
+            if window is None
+            else f"the first {window:.2f} s (top) with every run, each fall marked x at its time, then the whole run "
+            "of the springs that held; "
+        )
         figures.append(
             (
                 f"simulation_{name}.png",
-                f"{name}: hip pitch [deg] over time [s] with the fitted, no, half and twice the stiffness; ankle "
-                "angles [deg] and crank torques [N.m] of the fitted run.",
+                f"{name}: hip pitch [deg] over time [s] with the fitted, no, half and twice the stiffness: {falls}"
+                "ankle angles [deg] and crank torques [N.m] of the fitted run.",
             )
         )
     fig = plot_static_equilibrium(study.statics)

@@ -238,7 +238,8 @@ class SingleMotorStudy:
     def mean_torque(self) -> float:
         """The motor's mean torque over one step [N.m]: its constant torque with a flywheel of any size."""
         step = slice(0, len(self.thetas) // 2 + 1)
-        return float(np.trapezoid(self.single.motor[step], self.thetas[step]) / (self.thetas[step][-1] - self.thetas[0]))
+        theta = self.thetas[step]
+        return float(np.trapezoid(self.single.motor[step], theta) / (theta[-1] - theta[0]))
 
     @property
     def mean_power(self) -> float:
