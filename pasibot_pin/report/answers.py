@@ -70,7 +70,7 @@ def spring_answer_line(choice) -> str:
         f"crank angle of {choice.scenario}'s stance with the cranks held (quasi-static); its margin over "
         f"gravity's toppling stiffness k_g = {choice.toppling:.0f} N.m/rad is {choice.margin:.0f} N.m/rad, "
         f"against {choice.fitted_margin:.1f} for the fitted {choice.fitted_stiffness:.0f} N.m/rad. Walking, "
-        "the hip swings further (the simulation section)."
+        "the hip swings further (the report's simulation section)."
     )
 
 
