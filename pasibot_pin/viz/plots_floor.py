@@ -80,8 +80,8 @@ def plot_weld_vs_floor(study, ax=None):
     """
     from matplotlib.patches import Patch
 
-    fig, ax = figure_axes(ax, (9, 3.8))
     rows = study.rows
+    fig, ax = figure_axes(ax, (max(9.0, 2.5 + 1.0 * len(rows)), 3.8))  # about an inch per spring case
     x = np.arange(len(rows))
     several = len({r.scenario for r in rows}) > 1
     for k, r in enumerate(rows):
@@ -115,7 +115,7 @@ def plot_weld_vs_floor(study, ax=None):
         Patch(color=FLOOR_COLOUR, label="on the floor (heel and toe)"),
         Patch(facecolor="white", edgecolor="k", hatch="//", label="fell or failed (bar: where it stopped)"),
     ]
-    ax.legend(handles=handles, fontsize=8, loc="upper right")
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside: never on a bar
     ax.grid(alpha=0.3, axis="y")
     return fig
 
