@@ -25,7 +25,7 @@ Per foot, each sample: ``loaded`` when the sole's contacts push with more than
 :data:`~pasibot_pin.dynamics.floor.LOAD_TOL` on average over the last :data:`LOAD_WINDOW`
 (every MuJoCo step counted; ours reports each step's impulse over its length, an average over
 its ~1 ms); ``on_point`` when only the heel half or only the toe half of the sole carries load
-(where the contact points lie along heel -> toe); ``x`` the middle of the heel and toe sites,
+(where the contact points lie along heel -> toe, compared in x); ``x`` the middle of the heel and toe sites,
 ``pitch`` from their heights; ``normal`` the sole's average normal force; ``slip`` the largest
 |x velocity| of the heel or toe site whose half is loaded (the foot is rigid: its contact points
 move between them; the capsule's 2 mm radius changes that speed by |pitch rate| x 2 mm). The
@@ -184,8 +184,7 @@ class _Twin:
         self._edges = np.arange(4)  # condim 3, pyramidal: four edge rows per contact
         self._foot_of_geom = np.full(model.ngeom, -1)
         self._foot_of_geom[self.soles] = np.arange(len(SIDES))
-        self._heel_sites = np.array([heel for heel, _ in self.sites])
-        self._toe_sites = np.array([toe for _, toe in self.sites])
+        self._ends = np.array(self.sites).ravel()
         self._recent = np.zeros((max(1, round(LOAD_WINDOW / SAMPLE_DT)), 4))  # the last samples' forces [N]
         self._slot = 0
         self._reset_window()
@@ -226,10 +225,9 @@ class _Twin:
         if address.min() < 0 or foot.min() < 0:
             raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
         normal = efc_force[address[:, None] + self._edges].sum(axis=1)  # the pyramid's edges sum to the normal
-        xpos = data.site_xpos
-        heel, toe = xpos[self._heel_sites[foot]], xpos[self._toe_sites[foot]]
-        d = toe - heel
-        toe_half = np.einsum("ij,ij->i", contact.pos[:ncon] - heel, d) >= 0.5 * np.einsum("ij,ij->i", d, d)
+        ends = data.site_xpos[self._ends, 0]  # x of right heel, right toe, left heel, left toe
+        heel, toe = ends[2 * foot], ends[2 * foot + 1]
+        toe_half = (contact.pos[:ncon, 0] - 0.5 * (heel + toe)) * (toe - heel) >= 0.0  # along the sole, in x
         self._force += np.bincount(2 * foot + toe_half, normal, minlength=4)
 
     def sample(self, t: float) -> GaitSample:
