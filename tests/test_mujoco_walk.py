@@ -14,6 +14,7 @@ import numpy as np
 import pytest
 
 from pasibot_pin.errors import MissingExtraError
+from pasibot_pin.model.coordinates import HIP_Z
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
@@ -77,7 +78,7 @@ def _spring_run(options, steps: int = 2000) -> tuple[bool, int]:
     model = mujoco.MjModel.from_xml_string(to_mjcf(robot, options, q_weld=q0))
     data = mujoco.MjData(model)
     data.qpos[:] = q0
-    data.qpos[1] += options.sole_radius
+    data.qpos[HIP_Z] += options.sole_radius
     for _ in range(steps):
         mujoco.mj_step(model, data)
     finite = bool(np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel)))

@@ -63,9 +63,10 @@ from dataclasses import dataclass, field, replace
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor import LOAD_TOL, SIDES, SPEED_LIMIT, FloorSimulator, crank_advance
+from pasibot_pin.dynamics.floor import LOAD_TOL, SPEED_LIMIT, FloorSimulator, crank_advance
 from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
 from pasibot_pin.errors import MissingExtraError, SimulationError
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_duration
 
@@ -168,7 +169,7 @@ class _Twin:
         model.geom_solimp[floor_geom, :3] = options.contact_solimp
         self.model, self.data = model, mujoco.MjData(model)
         self.data.qpos[:], self.data.qvel[:] = q0, v0
-        self.data.qpos[1] += options.sole_radius - SINK  # the capsules' bottoms where our points are
+        self.data.qpos[HIP_Z] += options.sole_radius - SINK  # capsule bottoms where our points are
         motors = list(robot.actuated_joints)
         self.theta0 = np.array([q0[robot.idx_q(m)] for m in motors])
         self.qadr = [model.joint(m).qposadr[0] for m in motors]
@@ -262,7 +263,7 @@ class _Twin:
         if self.one_motor:
             power = [sum(power)]
         self._reset_window()
-        return GaitSample(t, float(data.qpos[0]), float(data.qpos[2]), (feet[0], feet[1]), tuple(power))
+        return GaitSample(t, float(data.qpos[HIP_X]), float(data.qpos[HIP_PITCH]), (feet[0], feet[1]), tuple(power))
 
     def start_sample(self) -> GaitSample:
         """The judge's first sample: a point within 1 um of the floor counts as loaded (as ours)."""
