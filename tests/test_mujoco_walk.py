@@ -32,8 +32,8 @@ a whole stride of judged steps), 10 s simulated at 1 rad/s: ~7 s CPU ours, ~15 s
 
 def test_the_long_soled_parallel_walker_walks_alike_in_both_engines():
     """Parallel variant, 4.5 L soles each side, 1 rad/s: both walk; steps within 1, advance
-    within 5 %, max hip pitch within 2 deg (measured: 3 and 3 steps, each landing 3 ms later in
-    MuJoCo, 1.1740 and 1.1736 m, 0.18 and 0.21 deg)."""
+    within 5 %, max hip pitch within 2 deg (measured: 3 and 3 steps, each landing within 3 ms of
+    the other engine's, 1.1740 and 1.1731 m, 0.18 and 0.21 deg)."""
     design = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=1.0)
     robot = design_robot(design, 2, visuals=False)
     settings = WalkSettings(steps=WALKER_STEPS)
