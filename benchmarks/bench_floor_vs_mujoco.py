@@ -72,9 +72,13 @@ def main() -> None:
     bare, h = mujoco_rate(robot, settings, judged=False)
     judged, _ = mujoco_rate(robot, settings, judged=True)
     print(f"walker: parallel, 4.5 L soles, omega = 1 rad/s; {DURATION:g} s simulated from the flat double support")
-    print(f"ours (FloorSimulator, dt {dt * 1e3:g} ms)           : {ours:7.3f} simulated s per CPU s")
-    print(f"MuJoCo bare (mj_step, dt {h * 1e3:g} ms)            : {bare:7.3f} simulated s per CPU s")
-    print(f"MuJoCo twin (walk_in_mujoco's loop, dt {h * 1e3:g} ms): {judged:7.3f} simulated s per CPU s")
+    rows = (
+        (f"ours (FloorSimulator, dt {dt * 1e3:g} ms)", ours),
+        (f"MuJoCo bare (mj_step, dt {h * 1e3:g} ms)", bare),
+        (f"MuJoCo twin (walk_in_mujoco's loop, dt {h * 1e3:g} ms)", judged),
+    )
+    for label, rate in rows:
+        print(f"{label:<46}: {rate:7.3f} simulated s per CPU s")
     print(f"ours / MuJoCo bare: {ours / bare:6.2f}   (goal >= 2)")
     print(f"ours / MuJoCo twin: {ours / judged:6.2f}")
 
