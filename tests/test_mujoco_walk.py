@@ -89,7 +89,7 @@ def _spring_run(options, steps: int = 2000) -> tuple[bool, int]:
     return finite, int(data.warning[mujoco.mjtWarning.mjWARN_BADQACC].number)
 
 
-def test_a_foot_mass_on_its_ankle_axis_runs_in_mujoco():
+def test_a_foot_mass_on_its_ankle_axis_runs_in_mujoco(monkeypatch, tmp_path):
     """toe = heel puts the foot's point mass on the ankle axis: no inertia about it. With the
     export's old fixed bound (1e-8 kg.m^2) MuJoCo breaks at once (a bad acceleration, reset);
     with the default (:func:`~pasibot_pin.model.mjcf.stable_boundinertia`) 0.2 s run clean, and
@@ -97,6 +97,7 @@ def test_a_foot_mass_on_its_ankle_axis_runs_in_mujoco():
     13 deg), never ``diverged``."""
     from dataclasses import replace
 
+    monkeypatch.chdir(tmp_path)  # MuJoCo logs its warning to MUJOCO_LOG.TXT in the working directory
     assert _spring_run(replace(MJ_WALK, boundinertia=1e-8))[1] > 0
     assert _spring_run(MJ_WALK) == (True, 0)
     settings = WalkSettings(steps=STEPS)
