@@ -2,8 +2,9 @@
 
 Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str`` (or ``build(out_dir)``, which
 also hands back the numbers the summary quotes): it runs its studies, writes its files into
-``out_dir`` and returns its Markdown. ``report.md`` opens with a summary of verdicts and holds no
-wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
+``out_dir`` and returns its Markdown. ``report.md`` opens with the answers box (the ``answers`` step,
+:mod:`pasibot_pin.report.answers`: no files, its facts carry the box's lines), then a summary of
+verdicts, and holds no wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
 :data:`pasibot_pin.jobs.WORKERS` processes, longest first. ``report.md`` keeps the order of :data:`STEPS`.
 """
 
