@@ -138,10 +138,9 @@ def summary(facts: Mapping[str, Mapping]) -> str:
             (
                 "one motor for both legs",
                 "future work (§8)",
-                f"one motor can drive both cranks at the cost of its peak: {con['motor_peak']:.1f} N.m at "
-                f"{con['motor_omega']:g} rad/s ({con['motor_scenario']}); running at its mean torque instead needs a "
-                f"{con['flywheel']:.0f} kg.m² flywheel to hold the speed within {100 * con['fluctuation']:g} %",
-                "new (see the answers)",
+                f"one motor can drive both cranks ({con['motor_scenario']}, {con['motor_omega']:g} rad/s); its peak "
+                "torque and power, and the flywheel a constant torque would need, are in the answers above",
+                "new",
             )
         )
     floor, design = facts.get("floor", {}), facts.get("design_exploration", {})
