@@ -111,3 +111,16 @@ def test_walk_bad_flags_are_one_line_before_any_work(argv, names, capsys):
     assert main(["walk", *argv]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and names in err and "Traceback" not in err
+
+
+def test_simulate_on_the_floor_takes_every_variant_and_motor_layout(tmp_path, capsys):
+    """``simulate --ground floor --design F`` runs a design without ankle springs as itself, one motor or two."""
+    for variant, motors in (("parallel", "one"), ("rigid", "two")):
+        design = tmp_path / f"{variant}.toml"
+        Design(variant=variant, omega=2.0, motors=motors).save(design)
+        argv = ["simulate", "--ground", "floor", "--design", str(design), "--duration", "0.5", "--no-cases"]
+        assert main([*argv, "--out", str(tmp_path / variant)]) == 0
+        out = capsys.readouterr().out
+        assert "floor, design" in out and "steps" in out
+        header = (tmp_path / variant / "floor_design.csv").read_text().splitlines()[0]
+        assert ("motor_crank_torque" in header) == (motors == "one")

@@ -2,8 +2,9 @@
 
 Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str`` (or ``build(out_dir)``, which
 also hands back the numbers the summary quotes): it runs its studies, writes its files into
-``out_dir`` and returns its Markdown. ``report.md`` opens with a summary of verdicts and holds no
-wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
+``out_dir`` and returns its Markdown. ``report.md`` opens with the answers box (the ``answers`` step,
+:mod:`pasibot_pin.report.answers`: no files, its facts carry the box's lines), then a summary of
+verdicts, and holds no wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
 :data:`pasibot_pin.jobs.WORKERS` processes, longest first. ``report.md`` keeps the order of :data:`STEPS`.
 """
 
@@ -17,6 +18,7 @@ from pathlib import Path
 from pasibot_pin.cli.common import add_force_option, add_out_folder_option
 
 STEPS: list[tuple[str, str]] = [
+    ("answers", "answers"),
     ("model", "model"),
     ("kinematics", "kinematics"),
     ("animation", "animation"),
@@ -29,6 +31,7 @@ STEPS: list[tuple[str, str]] = [
 """(step name, report module) in report order."""
 
 ESTIMATES: dict[str, float] = {
+    "answers": 30.0,
     "kinematics": 6.7,
     "contact_energy": 6.7,
     "dynamics": 2.9,

@@ -92,22 +92,25 @@ def run_resumable(args: argparse.Namespace, runner, plan, what: str):
 
 
 def finish_run(
-    args: argparse.Namespace, table, varied, by: tuple[str, str], what: str, objectives=None, rows=None
+    args: argparse.Namespace, table, varied, by: tuple[str, str], what: str, objectives=None, rows=None, constraints=()
 ) -> None:
-    """Figures, the best designs (``rows``, or the ``--best`` by ``--by``), a summary line."""
+    """Figures, the best designs (``rows``, or the ``--best`` by ``--by``), a summary line.
+
+    ``constraints``: the ``--constraint``s; the Pareto figure greys the designs that violate one.
+    """
     out = Path(args.out)
     try:
-        _finish(args, out, table, varied, by, what, objectives, rows)
+        _finish(args, out, table, varied, by, what, objectives, rows, constraints)
     finally:
         claimed = getattr(args, "claimed", None)
         if claimed is not None:
             claimed.release()
 
 
-def _finish(args, out: Path, table, varied, by, what: str, objectives, rows) -> None:
+def _finish(args, out: Path, table, varied, by, what: str, objectives, rows, constraints=()) -> None:
     from pasibot_pin.explore.sweep import best_rows, export_best, write_figures  # heavy: loaded on use
 
-    figures = write_figures(table, out, varied, objectives)
+    figures = write_figures(table, out, varied, objectives, constraints)
     feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))
     print(f"{what}; {table.num_rows} in {out / 'results.parquet'}, {feasible} feasible")
     print(f"figures: {', '.join(str(f) for f in figures)}")

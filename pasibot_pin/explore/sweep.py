@@ -182,8 +182,13 @@ def _progress(total: int, done: int, enabled: bool):
 
 
 # --------------------------------------------------------------------------- after the run
-def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[str, str] | None = None) -> list[Path]:
-    """``pareto.png`` and ``sensitivity.png`` of a results table into ``folder``."""
+def write_figures(
+    table, folder: Path, varied: Sequence[str], objectives: tuple[str, str] | None = None, constraints: Sequence = ()
+) -> list[Path]:
+    """``pareto.png`` and ``sensitivity.png`` of a results table into ``folder``.
+
+    ``constraints``: an optimisation's ``--constraint``s; designs that violate one are greyed, off the front.
+    """
     import matplotlib
 
     matplotlib.use("Agg")
@@ -193,7 +198,12 @@ def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[
 
     written = []
     figures = (
-        ("pareto.png", lambda: plot_pareto(table, *(objectives or ("peak_crank_torque_Nm", "stride_m")))),
+        (
+            "pareto.png",
+            lambda: plot_pareto(
+                table, *(objectives or ("peak_crank_torque_Nm", "stride_m")), constraints=tuple(constraints)
+            ),
+        ),
         ("sensitivity.png", lambda: plot_sensitivity(table, varied)),
     )
     for name, draw in figures:

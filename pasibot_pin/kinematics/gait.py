@@ -326,3 +326,28 @@ def _exchange(robot: PasibotRobot, q, prescribed, cmodels, new_stance: str, foot
     prescribed = _prescriptions(robot, new_stance, foot)
     q = closure.solve_configuration(robot, q_end, prescribed, _targets(robot, prescribed, q_end, 0.0), cmodels)
     return q, cmodels, prescribed, float(np.max(np.abs(pin.difference(robot.model, q_end, q))))
+
+
+def step_advances(
+    robot: PasibotRobot, steps: int = 2, samples_per_step: int = 12, foot: str = "flat", omega=None
+) -> np.ndarray:
+    """The hip's advance in each of ``steps`` steps, from the start of a step to the start of the next [m].
+
+    Both ends are the same phase of the gait: just after an exchange (the first, the start). The
+    last sample of a walk is the *end* of its last step, before the exchange: for the ``rigid``
+    foot, square to its shank, the body is pitched ~30 deg there, and the exchange that puts the
+    new stance foot flat turns the whole robot back, so the hip's travel to that sample is not a
+    step's advance. A walk of one step more gives the next start.
+    """
+    w = walk(robot, steps + 1, samples_per_step, foot=foot, omega=omega)
+    starts = w.hip_path()[::samples_per_step, 0][: steps + 1]
+    return np.diff(starts)
+
+
+def stride_advance(robot: PasibotRobot, samples_per_step: int = 12, foot: str = "flat") -> float:
+    """The hip's advance per step over a whole stride (two steps, from one step start to the same phase) [m].
+
+    One definition for every variant (:func:`step_advances`): 8 L with a level hip (the linkage's
+    stroke); 6.9 L for the ``rigid`` variant with flat feet, whose body pitches with its shank.
+    """
+    return float(np.mean(step_advances(robot, 2, samples_per_step, foot)))

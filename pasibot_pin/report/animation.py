@@ -56,6 +56,10 @@ def write_gait_gif(path: Path, dpi: int = GIF_DPI) -> Path:
     return Path(path)
 
 
+SIMULATION_TITLE = "simulated walk, hip pitch free, stance foot welded"
+"""The title of a simulated walk's GIF and of its page's title bar."""
+
+
 def export_animation(
     robot: PasibotRobot, result, html: Path | None = None, gif: Path | None = None, fps: float = 20.0
 ) -> list[Path]:
@@ -79,7 +83,7 @@ def export_animation(
     from pasibot_pin.studies.simulation_study import animation_frames
 
     frames = animation_frames(result, fps)
-    title = "simulated walk, hip pitch free, stance foot welded"
+    title = SIMULATION_TITLE
     written = []
     if gif is not None:
         from pasibot_pin.viz.animation import save_gif

@@ -155,10 +155,10 @@ def _motor_lines(motor: SingleMotorStudy, sub: Path) -> list[str]:
     for case in motor.flywheels:
         fw = case.flywheel
         if fw is None:
-            rows.append(f"| {case.inertia:g} | - | too small: {case.error} |")
+            rows.append(f"| {case.inertia:g} | too small: {case.error} |")
         else:
             rows.append(
-                f"| {case.inertia:g} | {fw.mean_torque:.2f} | {fw.speed_fluctuation * 100:.2f} "
+                f"| {case.inertia:g} | {fw.speed_fluctuation * 100:.2f} "
                 f"({fw.speed_fluctuation_linear * 100:.2f} first order) |"
             )
     write_columns_csv(sub / f"single_motor_{motor.scenario}.csv", motor.columns())
@@ -172,13 +172,17 @@ def _motor_lines(motor: SingleMotorStudy, sub: Path) -> list[str]:
         "the coupling carries the left crank's torque. Its torque equals T_a + T_a' of the two-motor "
         f"solution to {motor.max_deviation:.1e} N.m (tested).",
         "",
-        f"- peak {single.peak():.2f} N.m, RMS {single.rms():.2f} N.m (two motors: peaks "
+        f"- without a flywheel (the crank speed held at {motor.omega:g} rad/s): peak {single.peak():.2f} N.m and "
+        f"{motor.peak_power:.1f} W, RMS {single.rms():.2f} N.m (two motors: peaks "
         f"{np.max(np.abs(torques.Ta)):.2f} and {np.max(np.abs(torques.Ta_swing)):.2f} N.m)",
+        f"- with a flywheel of any size the motor gives a constant torque, its mean over a step: "
+        f"{motor.mean_torque:.2f} N.m, {motor.mean_power:.1f} W; the flywheel's inertia only sets how much the "
+        "crank speed varies (the table)",
         f"- flywheel for a {motor.fluctuation * 100:g} % speed fluctuation: {motor.inertia_for_target:.2f} kg.m^2 "
-        "on the crank shaft",
+        "on the crank shaft (a large wheel)",
         "",
-        "| flywheel [kg.m^2] | motor torque with it [N.m] | crank speed fluctuation [%] |",
-        "|---|---|---|",
+        "| flywheel [kg.m^2] | crank speed fluctuation [%] |",
+        "|---|---|",
         *rows,
         "",
         figure(
@@ -251,6 +255,8 @@ def build(out_dir: Path) -> Section:
         "sole": (float(np.min(run1.s_heel)), float(np.max(run1.s_toe))),
         "fluctuation": float(result.motor.fluctuation),
         "motor_peak": float(result.motor.single.peak()),
+        "motor_omega": float(result.motor.omega),
+        "motor_scenario": result.motor.scenario,
         "flywheel": float(result.motor.inertia_for_target),
     }
     return Section("\n".join(lines), facts)

@@ -235,6 +235,23 @@ class SingleMotorStudy:
         return self.torques.Ta + self.torques.Ta_swing
 
     @property
+    def peak_power(self) -> float:
+        """Largest |motor power| u omega over the turn, with no flywheel [W] (the crank speed is held)."""
+        return float(np.max(np.abs(self.single.motor))) * self.omega
+
+    @property
+    def mean_torque(self) -> float:
+        """The motor's mean torque over one step [N.m]: its constant torque with a flywheel of any size."""
+        step = slice(0, len(self.thetas) // 2 + 1)
+        theta = self.thetas[step]
+        return float(np.trapezoid(self.single.motor[step], theta) / (theta[-1] - theta[0]))
+
+    @property
+    def mean_power(self) -> float:
+        """The motor's mean power, its mean torque times omega [W]."""
+        return self.mean_torque * self.omega
+
+    @property
     def max_deviation(self) -> float:
         """Largest |single motor - (T_a + T_a')| over the turn [N.m]."""
         return float(np.max(np.abs(self.single.motor - self.two_motor_sum)))

@@ -14,7 +14,8 @@ the stance foot welded (DESIGN §5). Along it:
   the residual ankle work,
 * a single motor for both cranks (:mod:`pasibot_pin.studies.single_motor`) gives T_a + T_a'; its
   positive work is below the two motors' sum when one crank brakes while the other drives,
-* the cost of transport is a work per step over (total weight x distance walked in the step).
+* the cost of transport is a work per step over (total weight x the advance per step over a whole
+  stride, :func:`~pasibot_pin.kinematics.gait.stride_advance`: for every variant, a positive distance).
 
 The ``parallel`` variant (the seed's parallel extension) has 2 actuators for 2 degrees of
 freedom (cranks only; its foot is held parallel by the linkage). Its torques come from the same
@@ -39,6 +40,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.kinematics.gait import stride_advance
 from pasibot_pin.model.coordinates import other
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
@@ -124,7 +126,8 @@ class StepEnergy:
         variant: ``spring`` or ``parallel``.
         omega: crank speed [rad/s].
         total_mass: robot mass [kg].
-        distance: hip advance over the step [m].
+        distance: the hip's advance per step over a whole stride [m]
+            (:func:`~pasibot_pin.kinematics.gait.stride_advance`; 8 L with a level hip).
         duration: step time (pi / omega) [s].
         crank: net, positive and negative work of the two crank motors (each counted alone) [J].
         single: net, positive and negative work of one motor driving both cranks [J].
@@ -227,7 +230,7 @@ def _step_energy(robot: PasibotRobot, result, weights, omega, variant, fit=None)
             }
     energies = [sum(mechanical_energy(robot, result.q[i], result.v[i])) for i in (0, -1)]
     mass = total_mass(robot)
-    distance = float(result.q[-1][0] - result.q[0][0])
+    distance = stride_advance(robot)  # per step, over a whole stride: the body's rocking cancels
     weight_distance = mass * GRAVITY * distance
     cot = {
         "motors": crank[1] / weight_distance,

@@ -53,6 +53,10 @@ def ankle_paths_xz(robot: PasibotRobot, qs: np.ndarray) -> dict[str, np.ndarray]
     return out
 
 
+LEGEND_BAND = 0.2
+"""The figure's bottom share left under the axes of a new stick animation: ticks, the x label, the legend [-]."""
+
+
 def _bar_frames(robot: PasibotRobot, qs: np.ndarray) -> tuple[list[np.ndarray], list[str], list[float]]:
     """Every frame's bars (n_bars, 2, 2) [m], and each bar's colour (by group) and line width."""
     frames = [robot_segments(robot, q) for q in qs]
@@ -84,6 +88,14 @@ def _force_arrow(ax, colour: str):
     )
 
 
+def _place_legend(ax, fig, own: bool) -> None:
+    """The legend below the axes across a figure of our own (away from the clock), else upper right."""
+    if own:
+        ax.legend(loc="lower center", bbox_to_anchor=(0.5, 0.01), bbox_transform=fig.transFigure, ncol=3, fontsize=8)
+    else:
+        ax.legend(loc="upper right", fontsize=8)
+
+
 def _stick_scene(
     robot: PasibotRobot,
     qs: np.ndarray,
@@ -106,8 +118,10 @@ def _stick_scene(
     qs = _check(robot, qs)
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
         raise ValueError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
-    if ax is None:
+    own = ax is None
+    if own:
         fig, ax = plt.subplots(figsize=(6.4, 5.0))
+        fig.subplots_adjust(bottom=LEGEND_BAND)  # the legend's band under the x label, apart from the clock
     else:
         fig = ax.figure
     segments, colours, widths = _bar_frames(robot, qs)
@@ -137,7 +151,7 @@ def _stick_scene(
         arrows[name] = (track, _force_arrow(ax, track.colour))
     times = np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float)
     if paths:
-        ax.legend(loc="upper right", fontsize=8)
+        _place_legend(ax, fig, own)
     # everything but the axes frame, ticks and grid moves; drawn in the axes' own order
     children = ax.get_children()
     moving = sorted(
