@@ -556,4 +556,4 @@ def test_gif_frames_draw_the_contacts_and_the_ground_reaction(robot):
     )
     assert sum(foot_contacts(robot, walk.q[:1]).touching["right"][0]) == 2
     assert colour_pixels(plain[0], stick.CONTACT_COLOUR) > 20  # the two sole points
-    assert colour_pixels(marked[0], viewer.FORCE_COLOUR) > colour_pixels(plain[0], viewer.FORCE_COLOUR) + 10
+    assert colour_pixels(marked[0], viewer.FORCE_COLOUR) > colour_pixels(plain[0], viewer.FORCE_COLOUR) + 5  # the arrow
