@@ -20,6 +20,7 @@ import yourdfpy
 from pasibot_pin.__main__ import main
 from pasibot_pin.model.description import build_tree
 from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.model.mjcf import SPRING_STEP_RATIO
 from pasibot_pin.model.paths import URDF_DIR
 
 COMMITTED = sorted(URDF_DIR.glob("pasibot_*.urdf"))
@@ -117,6 +118,11 @@ def _lumped(model, b: int) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 @pytest.mark.parametrize("inertia", ["uniform", "point"])
+def _spring_stiffness(model) -> float:
+    """The stiffest joint spring of a MuJoCo model [N.m/rad] (0 without springs)."""
+    return float(np.max(model.jnt_stiffness)) if model.njnt else 0.0
+
+
 @pytest.mark.parametrize("variant", ["spring", "rigid", "parallel"])
 def test_urdf_and_mjcf_of_one_design_agree_on_every_body(variant, inertia, tmp_path, capsys):
     design = Design(variant=variant, inertia=inertia, K=2.2, body_com_dx=0.02)
@@ -151,7 +157,10 @@ def test_urdf_and_mjcf_of_one_design_agree_on_every_body(variant, inertia, tmp_p
         m_m, c_m, i_m = _body_inertia(from_mjcf, b)
         assert m_u == pytest.approx(m_m, rel=1e-12), joint
         np.testing.assert_allclose(c_u, c_m, atol=1e-12, err_msg=joint)
-        np.testing.assert_allclose(i_u, i_m, atol=10 * BOUND, err_msg=joint)  # MuJoCo bounds point masses
+        # MuJoCo bounds point masses: the URDF at BOUND, the MJCF at what its stiffest spring needs to stay
+        # stable at its time step (mjcf.stable_boundinertia): the bodies agree above the larger bound
+        bound = max(BOUND, float(from_mjcf.opt.timestep) ** 2 * _spring_stiffness(from_mjcf) / SPRING_STEP_RATIO)
+        np.testing.assert_allclose(np.maximum(i_u, bound), np.maximum(i_m, bound), atol=10 * BOUND, err_msg=joint)
         if inertia == "uniform" and m_m > 0 and from_urdf.body(k).name.rsplit("_", 1)[-1] != "slider":
             assert np.max(i_m) > 100 * BOUND  # rods and the hip box: real inertias (the slider is a point mass)
         compared += 1
