@@ -31,43 +31,37 @@ Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field, replace
+from dataclasses import dataclass, replace
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, frame_rows, symmetric_mass_matrix
 from pasibot_pin.dynamics.floor_qp import ContactQP
+from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_runs: re-exported)
+    LOAD_TOL,
+    MODES,
+    POINTS,
+    FloorResult,
+    RunLog,
+    StartState,
+    foot_mode,
+    mode_runs,
+)
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
-from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample, Verdict
+from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample
 from pasibot_pin.errors import (
-    ClosureError,
     DivergedError,
     NoRestError,
     ParameterError,
     SimulationError,
-    SingularPoseError,
 )
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, SIDES
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 MAX_STEPS = 20_000_000
 """Most time steps one run takes (a bound on its time and memory)."""
-POINTS = ("heel", "toe")
-MODES = ("flat", "heel", "toe", "sliding", "air")
 STARTS = ("consistent", "flat")
-LOAD_TOL = 1e-3
-"""A contact point carries load when its normal force exceeds this [N] (the QP's impulses are
-accurate to about 1e-8 N.s)."""
-SLIP_TOL = 1e-4
-"""A loaded point slides when its tangential speed exceeds this [m/s]."""
-ROLL_LIMIT = math.radians(60.0)
-"""A foot standing on its heel or toe alone has rolled over it past this sole pitch [rad]."""
-SLIP_LIMIT = 0.02
-"""A foot has slipped when its loaded points have slid this far in all while it bore weight [m]."""
-STEP_ADVANCE = 2.0
-"""A landing is a step when the foot lands at least this many crank lengths L ahead of where it
-last stood (a foot that lands where it stood has hopped, not stepped) [-]."""
 SETTLE_RAMP = 1.0
 """The settled start engages the ankle springs over this long (a smooth ramp from zero) [s]."""
 SETTLE_DT = 2e-3
@@ -83,9 +77,6 @@ REST_SPEED = 1e-7
 projection leave about 5e-9)."""
 SPEED_LIMIT = 1e3
 """A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
-BEARING_SHARE = 0.25
-"""A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
-swing toe does not count as a slip) [-]."""
 
 
 def crank_advance(t: float, ramp: float) -> tuple[float, float]:
@@ -107,33 +98,6 @@ def crank_advance(t: float, ramp: float) -> tuple[float, float]:
     return ramp * x**3 * (1.0 - 0.5 * x), x * x * (3.0 - 2.0 * x)
 
 
-def mode_runs(modes: list[str] | tuple[str, ...], dt: float, dwell: float = 0.0) -> list[tuple[str, float]]:
-    """A foot's mode sequence, run-length encoded: (mode, start time [s]) of each run.
-
-    Mode samples every ``dt`` [s] (the first at t = dt). A run shorter than ``dwell`` [s] (a
-    blip) is merged into the run before it (a blip at the very start, into the run after it),
-    then equal neighbours are joined, so a sequence compares by its lasting modes only.
-    """
-    runs: list[list] = []  # [mode, first sample, samples]
-    for k, mode in enumerate(modes):
-        if runs and runs[-1][0] == mode:
-            runs[-1][2] += 1
-        else:
-            runs.append([mode, k, 1])
-    short = max(1, round(dwell / dt)) if dwell > 0 else 0
-    kept: list[list] = []
-    for run in runs:
-        if kept and run[2] < short:
-            kept[-1][2] += run[2]  # a blip: the mode before it goes on
-        elif kept and kept[-1][0] == run[0]:
-            kept[-1][2] += run[2]
-        elif not kept or kept[-1][2] >= short or kept[-1][1] > 0:
-            kept.append(list(run))
-        else:  # the first run was a blip: the run after it starts at the beginning
-            kept[-1] = [run[0], 0, kept[-1][2] + run[2]]
-    return [(mode, (first + 1) * dt) for mode, first, _ in kept]
-
-
 def _check(name: str, value: float, low: float, high: float = math.inf, low_open: bool = False) -> float:
     value = float(value)
     ok = math.isfinite(value) and (value > low if low_open else value >= low) and value <= high
@@ -141,18 +105,6 @@ def _check(name: str, value: float, low: float, high: float = math.inf, low_open
         bound = f"> {low:g}" if low_open else f">= {low:g}"
         raise ParameterError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
     return value
-
-
-def _foot_mode(loaded: list[bool], slip: list[float], foot: int) -> str:
-    """The contact mode of foot ``foot`` (0 right, 1 left) from every point's load flag and tangential speed [m/s]."""
-    heel, toe = 2 * foot, 2 * foot + 1
-    if not (loaded[heel] or loaded[toe]):
-        return "air"
-    if (loaded[heel] and abs(slip[heel]) > SLIP_TOL) or (loaded[toe] and abs(slip[toe]) > SLIP_TOL):
-        return "sliding"
-    if loaded[heel] and loaded[toe]:
-        return "flat"
-    return POINTS[0] if loaded[heel] else POINTS[1]
 
 
 @dataclass(frozen=True)
@@ -195,109 +147,6 @@ class FloorSettings:
             raise ParameterError(f"parameter 'hip' must be free or level, got {self.hip!r}")
         if self.motors not in MOTOR_LAYOUTS:
             raise ParameterError(f"parameter 'motors' must be one of {', '.join(MOTOR_LAYOUTS)}, got {self.motors!r}")
-
-
-@dataclass
-class FloorResult:
-    """Samples of a floor run, one per step, and its walking verdict.
-
-    Attributes:
-        t: times [s].
-        q, v: configurations and velocities.
-        hip_pitch: [rad].
-        modes: contact mode of each foot per sample, ``{"right": [...], "left": [...]}`` (:data:`MODES`).
-        normal, tangential: contact forces (n, 4) [N], columns right heel, right toe, left heel, left toe.
-        motor_torque: torque of each motor (n, motors) [N.m]: right and left crank, or the one motor.
-        touchdowns: (t, side, point) of every point that starts to carry load after carrying none.
-        landings: (t, side, x) of every landing of a foot from the air, steps and hops alike [m].
-        outcome: the verdict's outcome (:data:`~pasibot_pin.dynamics.verdict.OUTCOMES`); ``stood``
-            with the cranks held (no walk to judge) and ``diverged`` if a held run broke.
-        failed: True when the outcome is a failure (:data:`~pasibot_pin.dynamics.verdict.FAILURES`).
-        stop_reason: why the run ended, in words (a failure and its time, or the run's length).
-        verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict` (``None`` with the cranks held).
-        start: the consistent start it began from (``None`` for a given or ``flat`` start).
-        start_kind: ``flat`` (geometric double support), ``settled`` (:meth:`FloorSimulator.start_state`)
-            or ``given``.
-        start_note: why a ``consistent`` start fell back to ``flat`` (the robot cannot stand at
-            theta0: no static state holds it), else ``""``.
-
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    v: np.ndarray
-    hip_pitch: np.ndarray
-    modes: dict[str, list[str]]
-    normal: np.ndarray
-    tangential: np.ndarray
-    motor_torque: np.ndarray
-    touchdowns: list[tuple[float, str, str]] = field(default_factory=list)
-    landings: list[tuple[float, str, float]] = field(default_factory=list)
-    outcome: str = ""
-    failed: bool = False
-    stop_reason: str = ""
-    verdict: Verdict | None = None
-    start: StartState | None = None
-    start_kind: str = ""
-    start_note: str = ""
-
-    def __repr__(self) -> str:
-        head = self.verdict.summary() if self.verdict is not None else f"{self.outcome}: {self.stop_reason}"
-        return f"FloorResult({len(self.t)} samples, start {self.start_kind}: {head})"
-
-    @property
-    def steps(self) -> list[tuple[float, str, float]]:
-        """(t, side, x) of every step the verdict counted [s, -, m]."""
-        v = self.verdict
-        return [] if v is None else list(zip(v.step_times, v.step_sides, v.step_x))
-
-    def step_lengths(self) -> np.ndarray:
-        """The distance from each step's landing to the one before [m]."""
-        return np.diff([x for *_, x in self.steps])
-
-    def step_durations(self) -> np.ndarray:
-        """Time from one step to the next [s]."""
-        return np.diff([t for t, *_ in self.steps])
-
-    def friction_use(self) -> np.ndarray:
-        """|F_t| / F_n of each point (n, 4) [-] (0 where the point carries no load)."""
-        with np.errstate(invalid="ignore", divide="ignore"):
-            use = np.abs(self.tangential) / self.normal
-        return np.where(self.normal > 0, use, 0.0)
-
-
-@dataclass
-class StartState:
-    """A consistent start (:meth:`FloorSimulator.start_state`).
-
-    Attributes:
-        q, v: configuration and velocity (v = 0: at rest).
-        kind: ``flat`` (the geometric double support holds) or ``settled`` (the springs engaged).
-        settle_time: how long the settling took [s] (0 for ``flat``).
-        normal, tangential: contact forces holding it (4,) [N]: right heel, right toe, left heel, left toe.
-        modes: each foot's contact mode.
-        loop_residual: largest loop-closure residual [m].
-        gaps: heights of the four points above the floor [m].
-        along: their x [m].
-
-    """
-
-    q: np.ndarray
-    v: np.ndarray
-    kind: str
-    settle_time: float
-    normal: np.ndarray
-    tangential: np.ndarray
-    modes: dict[str, str]
-    loop_residual: float
-    gaps: np.ndarray
-    along: np.ndarray
-
-    @property
-    def friction_use(self) -> float:
-        """The largest |F_t| / F_n of a loaded point [-]."""
-        loaded = self.normal > LOAD_TOL
-        return float(np.max(np.abs(self.tangential[loaded]) / self.normal[loaded])) if loaded.any() else 0.0
 
 
 class FloorSimulator:
@@ -434,7 +283,7 @@ class FloorSimulator:
     def modes(self, normal: np.ndarray, slip: np.ndarray) -> dict[str, str]:
         """Contact mode of each foot from its heel and toe normal forces [N] and tangential speeds [m/s]."""
         loaded = [float(f) > LOAD_TOL for f in normal]
-        return {side: _foot_mode(loaded, [float(x) for x in slip], i) for i, side in enumerate(SIDES)}
+        return {side: foot_mode(loaded, [float(x) for x in slip], i) for i, side in enumerate(SIDES)}
 
     # ---- the start
     def initial_state(self, swing_pitch: float | None = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -574,7 +423,7 @@ class FloorSimulator:
         criteria = GaitCriteria() if criteria is None else criteria
         q, v, begin, start_kind, note = self._begin(q0, v0, start)
         h = duration / n
-        log = _RunLog(self, q)
+        log = RunLog(self._contact_at, self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows))
         judge = None
         if s.omega > 0:
             judge = GaitJudge(s.omega, self.robot.geometry.L, self.weight, criteria, self._sample(0.0, q, v, None))
@@ -642,97 +491,3 @@ class FloorSimulator:
         if forces is not None:
             power = tuple(float(tau * v[i]) for tau, i in zip(forces[2], self._motor_index))
         return GaitSample(t, float(q[HIP_X]), float(q[HIP_PITCH]), (feet[0], feet[1]), power)
-
-
-class _RunLog:
-    """What a floor run records at each step, and when a run without a verdict stops.
-
-    The stops (the hip past the fall limit, a foot rolled over its heel or toe past
-    :data:`ROLL_LIMIT`, a weight-bearing foot slid :data:`SLIP_LIMIT`, a step that failed) end a
-    fixed-length run (``stop_on_verdict=False``); the walking verdict is the judge's.
-    """
-
-    def __init__(self, sim: FloorSimulator, q: np.ndarray) -> None:
-        self.sim = sim
-        self.rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
-        self.modes: dict[str, list[str]] = {side: [] for side in SIDES}
-        self.touchdowns: list[tuple[float, str, str]] = []
-        self.landings: list[tuple[float, str, float]] = []
-        self.loaded_before = [False] * (2 * len(SIDES))
-        self.air_before = [True] * len(SIDES)
-        self.slid = [0.0] * len(SIDES)
-        self.stop_reason = ""
-
-    def stop_on(self, err: SimulationError, t: float) -> None:
-        """A step failed at ``t`` [s]: the cause named by the error's type."""
-        if isinstance(err, ClosureError):
-            cause = "a loop cannot close"
-        elif isinstance(err, (DivergedError, SingularPoseError)):
-            cause = "the simulation diverged"
-        else:
-            cause = "the contact problem failed"
-        self.stop_reason = f"{cause} at t = {t:.3f} s ({err})"
-
-    def record(self, t: float, q: np.ndarray, v: np.ndarray, sample: GaitSample, force: tuple) -> None:
-        """Keep the step's state, forces (normal, tangential, motor torques), modes, touchdowns and landings."""
-        sim = self.sim
-        h = t - (self.rec["t"][-1] if self.rec["t"] else 0.0)
-        jt = sim._contact_at(q)[3]
-        f_n, slip = force[0].tolist(), (jt @ v).tolist()
-        loaded = [f > LOAD_TOL for f in f_n]
-        for k, now in enumerate(loaded):
-            if now and not self.loaded_before[k]:
-                self.touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
-        for i, side in enumerate(SIDES):
-            foot = sample.feet[i]
-            mode = _foot_mode(loaded, slip, i)
-            self.modes[side].append(mode)
-            if foot.loaded and self.air_before[i] and t > h:
-                self.landings.append((t, side, foot.x))
-            self.air_before[i] = not foot.loaded
-            if foot.normal > BEARING_SHARE * sim.weight:
-                self.slid[i] += h * foot.slip
-            if mode in POINTS and abs(foot.pitch) > ROLL_LIMIT:
-                self.stop_reason = f"the {side} foot rolled over its {mode} at t = {t:.3f} s"
-            if self.slid[i] > SLIP_LIMIT:
-                self.stop_reason = f"the {side} foot slipped {1e3 * self.slid[i]:.0f} mm by t = {t:.3f} s"
-        self.loaded_before = loaded
-        for key, value in zip(("t", "q", "v", "normal", "tangential", "motor"), (t, q, v, *force)):
-            self.rec[key].append(value)
-
-    def stopped(self, t: float, q: np.ndarray) -> bool:
-        """True when a run without a verdict stops here (see the class docstring)."""
-        limit = self.sim.settings.fall_limit
-        if abs(q[HIP_PITCH]) > limit and not self.stop_reason:
-            self.stop_reason = f"fell: |hip pitch| passed {math.degrees(limit):.0f} deg at t = {t:.3f} s"
-        return bool(self.stop_reason)
-
-    def result(self, verdict: Verdict | None, begin, start_kind: str, note: str) -> FloorResult:
-        """The :class:`FloorResult` of the run."""
-        sim, rec = self.sim, self.rec
-        nq, n_motors = sim.robot.model.nq, len(sim._crank_rows)
-        qs = np.array(rec["q"]).reshape(-1, nq)
-        t_end = rec["t"][-1] if rec["t"] else 0.0
-        if verdict is not None:
-            outcome, failed = verdict.outcome, verdict.failed
-        else:  # cranks held: no walk to judge
-            outcome, failed = ("diverged" if self.stop_reason else "stood"), bool(self.stop_reason)
-        return FloorResult(
-            t=np.array(rec["t"]),
-            q=qs,
-            v=np.array(rec["v"]).reshape(qs.shape),
-            hip_pitch=qs[:, HIP_PITCH].copy(),
-            modes=self.modes,
-            normal=np.array(rec["normal"]).reshape(-1, 4),
-            tangential=np.array(rec["tangential"]).reshape(-1, 4),
-            motor_torque=np.array(rec["motor"]).reshape(-1, n_motors),
-            touchdowns=self.touchdowns,
-            landings=self.landings,
-            outcome=outcome,
-            failed=failed,
-            stop_reason=self.stop_reason or f"ran {t_end:.3f} s",
-            verdict=verdict,
-            start=begin,
-            start_kind=start_kind,
-            start_note=note,
-        )
