@@ -67,6 +67,7 @@ from pasibot_pin.dynamics.spring_energy import (  # noqa: F401 (re-exported: sim
 from pasibot_pin.errors import SimulationError
 from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_velocity
 from pasibot_pin.model.coordinates import HIP_PITCH, other
+from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -202,6 +203,8 @@ class SimulationResult:
     fell: bool = False
     message: str = ""
     settings: SimulationSettings | None = None
+
+    __repr__ = short_repr
 
     @property
     def max_hip_excursion(self) -> float:

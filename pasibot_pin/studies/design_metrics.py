@@ -53,6 +53,7 @@ import numpy as np
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design
 from pasibot_pin.model.variants import get_variant
+from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -143,6 +144,8 @@ class DesignMetrics:
     failure: str = ""
     reason: str = ""
     floor_outcome: str | None = None
+
+    __repr__ = short_repr
 
     def row(self) -> dict[str, float | str | bool]:
         """The metrics (and the floor's, when simulated), then ``feasible``, ``failure`` and ``reason``."""
