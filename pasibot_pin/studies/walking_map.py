@@ -1,4 +1,4 @@
-"""The walking map: does a design walk, over sole length x crank speed, for every variant?
+"""The walking map: the walking verdict over sole length x crank speed, for every variant.
 
 Each cell is one design: the seed design with its variant set, its sole made ``sole`` L long
 on *each* side of the ankle (toe = heel; for ``parallel`` the ``parallel_toe`` /

@@ -84,7 +84,8 @@ def walking_map_figure(wmap):
     handles = [Patch(facecolor=OUTCOME_COLOURS[o], label=o) for o in seen]
     axes[0][-1].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
     twin = "dot: MuJoCo twin" if not wmap.twin_note else "MuJoCo twin: not run"
-    fig.suptitle(f"Does it walk {wmap.steps} steps? (cell: our verdict, W walks, else steps taken; {twin})", fontsize=10)
+    head = f"Does it walk {wmap.steps} steps? (cell: our verdict, W walks, else steps taken; {twin})"
+    fig.suptitle(head, fontsize=10)
     return fig
 
 
