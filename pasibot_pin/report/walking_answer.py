@@ -1,0 +1,179 @@
+"""Does it walk? The answer of the walking map (docs/results/walking_map.csv) in numbers and words.
+
+:func:`walking_answer` reads the figures off a :class:`~pasibot_pin.studies.walking_map.WalkingMap`
+(which variants walk, the smallest walking sole at each speed, the fastest walker, the spring
+designs' failures, the least motor energy per metre); :func:`walking_paragraph` says them in one
+paragraph, the one ``docs/walking.md``, the README and the report quote (``tests/test_walking_map.py``
+checks the quotes); :func:`walking_markdown` is the rest of ``docs/walking.md``.
+
+Units: SI; soles over the crank length L; crank speed [rad/s].
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import dataclass, field
+
+from pasibot_pin.studies.walking_map import MapCell, WalkingMap
+
+
+@dataclass(frozen=True)
+class WalkingAnswer:
+    """The walking map's answer.
+
+    Attributes:
+        cells: designs in the map [-].
+        steps: steps each was asked to walk [-].
+        walkers: walkers per variant [-] (every variant, 0 included).
+        smallest_sole: per crank speed [rad/s], the smallest walking sole [L] and its variants
+            (speeds without a walker are absent).
+        fastest: the walker of the highest crank speed (then the smallest sole), or ``None``.
+        least_energy: the walker of the least motor energy per metre, or ``None``.
+        failures: per variant, the count of each failure outcome.
+        spring_details: the spring cells' failure details and their counts, most common first.
+        soles: the map's soles [L]; omegas: its crank speeds [rad/s].
+
+    """
+
+    cells: int
+    steps: int
+    walkers: dict[str, int]
+    smallest_sole: dict[float, tuple[float, tuple[str, ...]]]
+    fastest: MapCell | None
+    least_energy: MapCell | None
+    failures: dict[str, dict[str, int]]
+    spring_details: list[tuple[str, int]] = field(default_factory=list)
+    soles: tuple[float, ...] = ()
+    omegas: tuple[float, ...] = ()
+
+
+def _detail_kind(detail: str) -> str:
+    """A failure detail without its numbers and side (``the left foot slid 5.6 mm`` -> ``a foot slid``)."""
+    words = [w for w in detail.replace("right", "").replace("left", "").split() if not any(c.isdigit() for c in w)]
+    return " ".join(words).replace("the foot", "a foot").replace("  ", " ")
+
+
+def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
+    """The figures of the answer, read off ``wmap``."""
+    walkers = wmap.walkers()
+    smallest: dict[float, tuple[float, tuple[str, ...]]] = {}
+    for omega in wmap.omegas:
+        here = [c for c in walkers if c.omega == omega]
+        if here:
+            sole = min(c.sole for c in here)
+            smallest[omega] = (sole, tuple(c.variant for c in here if c.sole == sole))
+    fastest = max(walkers, key=lambda c: (c.omega, -c.sole), default=None)
+    with_energy = [c for c in walkers if math.isfinite(c.energy_per_m_J)]
+    least = min(with_energy, key=lambda c: c.energy_per_m_J, default=None)
+    failed = [c for c in wmap.cells if not c.walks]
+    failures = {v: dict(Counter(c.outcome for c in failed if c.variant == v)) for v in wmap.variants}
+    spring = [c for c in wmap.cells if c.variant == "spring" and not c.walks]
+    details = Counter(f"{c.outcome}: {_detail_kind(c.detail)}" for c in spring).most_common()
+    return WalkingAnswer(
+        cells=len(wmap.cells),
+        steps=wmap.steps,
+        walkers={v: sum(c.variant == v for c in walkers) for v in wmap.variants},
+        smallest_sole=smallest,
+        fastest=fastest,
+        least_energy=least,
+        failures=failures,
+        spring_details=details,
+        soles=tuple(wmap.soles),
+        omegas=tuple(wmap.omegas),
+    )
+
+
+def _cell_text(c: MapCell) -> str:
+    return f"{c.variant}, sole {c.sole:g} L each side, {c.omega:g} rad/s"
+
+
+def _list(parts: list[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+def _counts(counts: dict[str, int]) -> str:
+    return _list([f"{n} {o}" for o, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))])
+
+
+def _spring_sentence(a: WalkingAnswer) -> str:
+    """Whether a spring design walks and, if none does, how they fail and why."""
+    n_spring = a.walkers.get("spring", 0)
+    if "spring" not in a.walkers:
+        return ""
+    if n_spring:
+        return f"{n_spring} spring designs walk."
+    fails = a.failures.get("spring", {})
+    total = sum(fails.values())
+    return (
+        f"No spring design walks: of its {total} cells, {_counts(fails)}. The spring is fitted to the "
+        "ankle torque of a stance with the hip held level, so it is preloaded (it holds the body up at "
+        "its rest angle); on the floor nothing holds the hip level, and the passive ankle cannot keep the "
+        "foot flat under the body: the pitch runs away (falls), the preloaded foot pushes the floor "
+        "back or lifts (slips and hops), and the centre of pressure leaves the sole."
+    )
+
+
+def walking_paragraph(a: WalkingAnswer) -> str:
+    """The answer in one paragraph (quoted by docs/walking.md, the README and the report)."""
+    soles = f"{min(a.soles):g}-{max(a.soles):g} L"
+    omegas = f"{min(a.omegas):g}-{max(a.omegas):g} rad/s"
+    total = sum(a.walkers.values())
+    head = (
+        f"Walking map ({a.cells} designs: a symmetric sole of {soles} each side of the ankle x cranks at {omegas} x "
+        f"the {_list(list(a.walkers))} variants, {a.steps} steps each on the floor, the walking verdict): "
+        f"{total} designs walk ({_list([f'{n} {v}' for v, n in a.walkers.items()])})."
+    )
+    if not total:
+        return " ".join([head, _spring_sentence(a)]).strip()
+    by_speed = _list([f"{s:g} L at {w:g} rad/s ({'/'.join(vs)})" for w, (s, vs) in a.smallest_sole.items()])
+    f, e = a.fastest, a.least_energy
+    assert f is not None
+    speed = 8.0 * f.advance_per_step * f.omega / math.pi  # L/s: 8 L a step, a step every pi/omega
+    parts = [
+        head,
+        f"The smallest sole that walks: {by_speed}; no design walks at "
+        f"{_list([f'{w:g}' for w in a.omegas if w not in a.smallest_sole]) or 'no'} rad/s."
+        if len(a.smallest_sole) < len(a.omegas)
+        else f"The smallest sole that walks: {by_speed}.",
+        f"The fastest walker is {_cell_text(f)} ({speed:.1f} L/s of hip advance, "
+        f"max |hip pitch| {f.max_hip_pitch_deg:.1f} deg).",
+    ]
+    if e is not None:
+        parts.append(
+            f"The least motor energy per metre among walkers: {e.energy_per_m_J:.1f} J/m "
+            f"(cost of transport {e.cost_of_transport:.2f}), {_cell_text(e)}."
+        )
+    parts.append(_spring_sentence(a))
+    return " ".join(p for p in parts if p)
+
+
+def _grid_table(wmap: WalkingMap, variant: str) -> list[str]:
+    """One variant's outcomes as a Markdown table: rows crank speed, columns sole."""
+    head = "| omega [rad/s] \\ sole [L] | " + " | ".join(f"{s:g}" for s in wmap.soles) + " |"
+    lines = [head, "|" + "---|" * (len(wmap.soles) + 1)]
+    for w in wmap.omegas:
+        cells = []
+        for s in wmap.soles:
+            c = wmap.cell(variant, s, w)
+            cells.append("**walks**" if c.walks else f"{c.outcome} ({c.steps}, {c.decided_at_s:.1f} s)")
+        lines.append(f"| {w:g} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def walking_markdown(wmap: WalkingMap) -> str:
+    """The map's tables (one per variant: the outcome, steps taken and when it was decided) and the walkers."""
+    lines: list[str] = []
+    for variant in wmap.variants:
+        lines += [f"#### {variant}", "", *_grid_table(wmap, variant), ""]
+    lines += [
+        "| walker | advance per step [% of 8 L] | max hip pitch [deg] | max slide [mm] | "
+        "cost of transport [-] | motor energy [J/m] |",
+        "|---|---|---|---|---|---|",
+    ]
+    for c in sorted(wmap.walkers(), key=lambda c: (c.variant, c.sole, c.omega)):
+        lines.append(
+            f"| {_cell_text(c)} | {100 * c.advance_per_step:.1f} | {c.max_hip_pitch_deg:.2f} | "
+            f"{c.max_slip_mm:.2f} | {c.cost_of_transport:.2f} | {c.energy_per_m_J:.1f} |"
+        )
+    return "\n".join(lines)
