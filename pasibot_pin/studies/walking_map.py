@@ -318,7 +318,7 @@ def main(argv: Sequence[str] | None = None) -> None:
         print(f"{MAP_CSV}: {len(wmap.cells)} cells, {time.monotonic() - start:.0f} s wall, {cpu:.0f} s CPU of walks")
     from pasibot_pin.viz.plots_walking import save_walking_map_figure
 
-    print(save_walking_map_figure(load_map(), MAP_PNG))
+    print(save_walking_map_figure(load_map(), MAP_PNG, dpi=100))  # the README's resolution (docs_figures)
 
 
 if __name__ == "__main__":
