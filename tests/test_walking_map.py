@@ -162,3 +162,17 @@ def test_walking_map_figure_has_a_panel_per_variant_with_units(wmap):
     one = plot_walking_map(wmap, wmap.variants[0])
     assert one.axes[0].get_title().startswith(wmap.variants[0])
     plt.close(one)
+
+
+def test_an_interrupted_map_resumes_from_its_partial_file(tmp_path, monkeypatch):
+    """A one-cell map streams its cell to the partial CSV; run again, it walks nothing and gives the same cell."""
+    from pasibot_pin.studies import walking_map
+
+    partial = tmp_path / "partial.csv"
+    grid = {"soles": (1.5,), "omegas": (8.0,), "variants": ("rigid",), "workers": 1, "progress": False}
+    first = walking_map.compute_walking_map(**grid, partial=partial)
+    assert len(partial.read_text().splitlines()) == 2  # header, one cell
+    monkeypatch.setattr(walking_map, "walk_cell", lambda *a: pytest.fail("walked again"))
+    again = walking_map.compute_walking_map(**grid, partial=partial)
+    assert [c.outcome for c in again.cells] == [c.outcome for c in first.cells]
+    assert again.cells[0].decided_at_s == first.cells[0].decided_at_s

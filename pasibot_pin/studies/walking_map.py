@@ -233,6 +233,7 @@ def compute_walking_map(
     workers: int | None = 2,
     twin: bool = True,
     progress: bool = True,
+    partial: Path | None = None,
 ) -> WalkingMap:
     """Walk every (variant, sole, omega) cell on the local process pool.
 
@@ -244,6 +245,8 @@ def compute_walking_map(
         workers: worker processes (:func:`~pasibot_pin.explore.executors.run_tasks`).
         twin: also walk each cell in MuJoCo when the twin is installed.
         progress: show a progress bar.
+        partial: a CSV each finished cell is appended to at once; the cells already in it are not
+            walked again (an interrupted map resumes; remove the file to start over).
 
     Returns:
         :class:`WalkingMap`, cells in (variant, sole, omega) order.
@@ -254,12 +257,17 @@ def compute_walking_map(
     from pasibot_pin.explore.executors import run_tasks
 
     keys = [(v, float(s), float(w)) for v in variants for s in soles for w in omegas]
-    tasks = sorted(((*k, steps, twin) for k in keys), key=lambda t: -_estimate(t[2], steps))
     done: dict[tuple, MapCell] = {}
-    bar = tqdm(total=len(tasks), unit="walk", disable=not progress, dynamic_ncols=True)
+    if partial is not None and Path(partial).is_file():
+        done = {(c.variant, c.sole, c.omega): c for c in _read_cells(Path(partial).read_text().splitlines())}
+    todo = [k for k in keys if k not in done]
+    tasks = sorted(((*k, steps, twin) for k in todo), key=lambda t: -_estimate(t[2], steps))
+    bar = tqdm(total=len(keys), initial=len(keys) - len(todo), unit="walk", disable=not progress, dynamic_ncols=True)
 
     def on_result(cell: MapCell) -> None:
         done[(cell.variant, cell.sole, cell.omega)] = cell
+        if partial is not None:
+            _append_cell(Path(partial), cell)
         bar.update(1)
 
     try:
@@ -282,8 +290,35 @@ def save_map(wmap: WalkingMap, path: Path = MAP_CSV) -> Path:
         writer = csv.DictWriter(handle, fieldnames=names, lineterminator="\n")
         writer.writeheader()
         for cell in wmap.cells:
-            writer.writerow({k: (repr(v) if isinstance(v, float) else v) for k, v in asdict(cell).items()})
+            writer.writerow(_row(cell))
     return path
+
+
+def _row(cell: MapCell) -> dict:
+    return {k: (repr(v) if isinstance(v, float) else v) for k, v in asdict(cell).items()}
+
+
+def _read_cells(lines: Sequence[str]) -> list[MapCell]:
+    """The cells of CSV lines (a header, then rows)."""
+    types = {f.name: f.type for f in fields(MapCell)}
+    cells = []
+    for row in csv.DictReader(lines):
+        values = {}
+        for k, text in row.items():
+            kind = types[k]
+            values[k] = text if kind == "str" else int(text) if kind == "int" else float(text)
+        cells.append(MapCell(**values))
+    return cells
+
+
+def _append_cell(path: Path, cell: MapCell) -> None:
+    """Append one finished cell to a partial map (its header first when the file is new)."""
+    new = not path.is_file()
+    with open(path, "a", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=[f.name for f in fields(MapCell)], lineterminator="\n")
+        if new:
+            writer.writeheader()
+        writer.writerow(_row(cell))
 
 
 def load_map(path: Path = MAP_CSV) -> WalkingMap:
@@ -291,15 +326,7 @@ def load_map(path: Path = MAP_CSV) -> WalkingMap:
     lines = Path(path).read_text().splitlines()
     steps = int(lines[0].split("=")[1])
     twin = lines[1].split(":", 1)[1].strip()
-    types = {f.name: f.type for f in fields(MapCell)}
-    cells = []
-    for row in csv.DictReader(lines[2:]):
-        values = {}
-        for k, text in row.items():
-            kind = types[k]
-            values[k] = text if kind == "str" else int(text) if kind == "int" else float(text)
-        cells.append(MapCell(**values))
-    return WalkingMap(cells, steps, "" if twin == "walk_in_mujoco" else twin)
+    return WalkingMap(_read_cells(lines[2:]), steps, "" if twin == "walk_in_mujoco" else twin)
 
 
 def main(argv: Sequence[str] | None = None) -> None:
@@ -312,8 +339,10 @@ def main(argv: Sequence[str] | None = None) -> None:
     args = parser.parse_args(argv)
     if not args.draw_only:
         start = time.monotonic()
-        wmap = compute_walking_map(workers=args.workers)
+        partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
+        wmap = compute_walking_map(workers=args.workers, partial=partial)
         save_map(wmap)
+        partial.unlink()
         cpu = sum(c.cpu_s for c in wmap.cells)
         print(f"{MAP_CSV}: {len(wmap.cells)} cells, {time.monotonic() - start:.0f} s wall, {cpu:.0f} s CPU of walks")
     from pasibot_pin.viz.plots_walking import save_walking_map_figure
