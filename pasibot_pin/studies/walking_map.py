@@ -76,6 +76,9 @@ class MapCell:
         twin_outcome: the MuJoCo twin's outcome (``""``: not run).
         twin_steps: its steps (nan: not run) [-].
         twin_detail: what decided it.
+        start: how our run started (:attr:`~pasibot_pin.dynamics.floor.FloorResult.start_kind`:
+            ``settled``, or ``flat`` when no consistent start was found; ``""``: not recorded).
+        start_note: why a consistent start fell back to ``flat`` (``""``: it did not).
 
     """
 
@@ -98,6 +101,8 @@ class MapCell:
     twin_outcome: str = ""
     twin_steps: float = math.nan
     twin_detail: str = ""
+    start: str = ""
+    start_note: str = ""
 
     @property
     def walks(self) -> bool:
@@ -203,7 +208,9 @@ def walk_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS, t
         fitted = design_spring(design, robot)
         if fitted is not None:
             spring = (float(fitted.stiffness), float(fitted.rest_angle))
-        values = _verdict_values(walk_design(design, settings, robot).verdict)
+        walk = walk_design(design, settings, robot)
+        values = _verdict_values(walk.verdict)
+        values.update(start=walk.result.start_kind, start_note=walk.result.start_note)
     except (DesignError, ValueError) as err:
         values = dict(outcome="infeasible", detail=str(err).splitlines()[0], decided_at_s=nan, steps=0)
         values.update(dict.fromkeys(("advance_m", "advance_per_step", "max_hip_pitch_deg", "max_slip_mm"), nan))
@@ -304,7 +311,7 @@ def _read_cells(lines: Sequence[str]) -> list[MapCell]:
     cells = []
     for row in csv.DictReader(lines):
         values = {}
-        for k, text in row.items():
+        for k, text in row.items():  # a column absent from an older file keeps its default
             kind = types[k]
             values[k] = text if kind == "str" else int(text) if kind == "int" else float(text)
         cells.append(MapCell(**values))
