@@ -34,6 +34,8 @@ class WalkingAnswer:
         failures: per variant, the count of each failure outcome.
         spring_details: the spring cells' failure details and their counts, most common first.
         soles: the map's soles [L]; omegas: its crank speeds [rad/s].
+        spring_range: the fitted springs of the spring cells, in words (K_e [N.m/rad], beta0 [deg]).
+        spring_median_s: the median time the spring cells' failures were decided [s].
 
     """
 
@@ -47,6 +49,8 @@ class WalkingAnswer:
     spring_details: list[tuple[str, int]] = field(default_factory=list)
     soles: tuple[float, ...] = ()
     omegas: tuple[float, ...] = ()
+    spring_range: str = ""
+    spring_median_s: float = math.nan
 
 
 def _detail_kind(detail: str) -> str:
@@ -71,6 +75,11 @@ def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
     failures = {v: dict(Counter(c.outcome for c in failed if c.variant == v)) for v in wmap.variants}
     spring = [c for c in wmap.cells if c.variant == "spring" and not c.walks]
     details = Counter(f"{c.outcome}: {_detail_kind(c.detail)}" for c in spring).most_common()
+    k = [c.spring_stiffness for c in spring if math.isfinite(c.spring_stiffness)]
+    beta = [math.degrees(c.spring_rest_angle) for c in spring if math.isfinite(c.spring_rest_angle)]
+    spring_range = f"K_e {min(k):.0f}-{max(k):.0f} N.m/rad, beta0 {min(beta):.0f}-{max(beta):.0f} deg" if k else ""
+    times = sorted(c.decided_at_s for c in spring if math.isfinite(c.decided_at_s))
+    median = (times[(len(times) - 1) // 2] + times[len(times) // 2]) / 2 if times else math.nan
     return WalkingAnswer(
         cells=len(wmap.cells),
         steps=wmap.steps,
@@ -82,6 +91,8 @@ def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
         spring_details=details,
         soles=tuple(wmap.soles),
         omegas=tuple(wmap.omegas),
+        spring_range=spring_range,
+        spring_median_s=median,
     )
 
 
@@ -97,21 +108,36 @@ def _counts(counts: dict[str, int]) -> str:
     return _list([f"{n} {o}" for o, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))])
 
 
+WHY: dict[str, str] = {
+    "fell": (
+        "the body tips over the stance ankle: a linear spring balances gravity's toppling moment at the one "
+        "posture it was fitted to, the linkage turns the ankle through the stance, and nothing brings the hip back"
+    ),
+    "rolled": (
+        "the ankle torque tips the foot onto its heel or toe: the centre of pressure it needs leaves the sole, "
+        "and the foot pivots"
+    ),
+    "hopped": "the preloaded spring pushes the robot off the floor: the feet lift instead of stepping",
+    "slipped": "the preloaded spring pushes the stance foot along the floor: it slides",
+    "stalled": "the feet scuff in place: the hip does not advance",
+}
+"""Why a spring design fails, by its failure outcome (the physics of a passive ankle on a floor)."""
+
+
 def _spring_sentence(a: WalkingAnswer) -> str:
     """Whether a spring design walks and, if none does, how they fail and why."""
-    n_spring = a.walkers.get("spring", 0)
     if "spring" not in a.walkers:
         return ""
+    n_spring = a.walkers["spring"]
     if n_spring:
         return f"{n_spring} spring designs walk."
     fails = a.failures.get("spring", {})
     total = sum(fails.values())
+    ranked = sorted(fails.items(), key=lambda kv: (-kv[1], kv[0]))
+    why = "; ".join(f"{o}: {WHY[o]}" for o, _n in ranked if o in WHY)
     return (
-        f"No spring design walks: of its {total} cells, {_counts(fails)}. The spring is fitted to the "
-        "ankle torque of a stance with the hip held level, so it is preloaded (it holds the body up at "
-        "its rest angle); on the floor nothing holds the hip level, and the passive ankle cannot keep the "
-        "foot flat under the body: the pitch runs away (falls), the preloaded foot pushes the floor "
-        "back or lifts (slips and hops), and the centre of pressure leaves the sole."
+        f"No spring design walks (with its fitted spring, {a.spring_range}): of its {total} cells, {_counts(fails)}, "
+        f"decided after {a.spring_median_s:.2f} s (median). Why: {why}."
     )
 
 
