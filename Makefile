@@ -31,7 +31,8 @@ demo: install
 urdf: install
 	$(VENV)/bin/pasibot build-urdf --defaults --force
 
-# the design-exploration answers quoted in the README (docs/results/): two NSGA-II runs, about 2 minutes
+# the design-exploration answers quoted in the README (docs/results/): three NSGA-II runs, about 2 minutes for
+# question 1 and 3 minutes of CPU for question 2 (the spring designs walked 6 steps on the floor)
 answers: install
 	$(PY) -m pasibot_pin.explore.questions
 

@@ -170,7 +170,10 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
 
     a = answer or floor_answer()
     plan = floor_plan()
-    names = ", ".join(f"{r.name} {r.low:g}-{r.high:g}" for r in plan.ranges)
+    from pasibot_pin.model.design import SPECS
+
+    units = {r.name: "" if SPECS[r.name].unit == "-" else f" {SPECS[r.name].unit}" for r in plan.ranges}
+    names = ", ".join(f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges)
     counts = ", ".join(f"{n} {o}" for o, n in a.outcomes.items())
     pitch = math.degrees(GaitCriteria().max_hip_pitch)
     head = (
