@@ -36,6 +36,7 @@ class WalkingAnswer:
         soles: the map's soles [L]; omegas: its crank speeds [rad/s].
         spring_range: the fitted springs of the spring cells, in words (K_e [N.m/rad], beta0 [deg]).
         spring_median_s: the median time the spring cells' failures were decided [s].
+        spring_by_speed: per crank speed, the spring cells' mean fitted K_e [N.m/rad] and commonest outcome.
 
     """
 
@@ -51,6 +52,7 @@ class WalkingAnswer:
     omegas: tuple[float, ...] = ()
     spring_range: str = ""
     spring_median_s: float = math.nan
+    spring_by_speed: dict[float, tuple[float, str]] = field(default_factory=dict)
 
 
 def _detail_kind(detail: str) -> str:
@@ -80,6 +82,12 @@ def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
     spring_range = f"K_e {min(k):.0f}-{max(k):.0f} N.m/rad, beta0 {min(beta):.0f}-{max(beta):.0f} deg" if k else ""
     times = sorted(c.decided_at_s for c in spring if math.isfinite(c.decided_at_s))
     median = (times[(len(times) - 1) // 2] + times[len(times) // 2]) / 2 if times else math.nan
+    by_speed = {}
+    for omega in wmap.omegas:
+        here = [c for c in spring if c.omega == omega and math.isfinite(c.spring_stiffness)]
+        if here:
+            common = Counter(c.outcome for c in here).most_common(1)[0][0]
+            by_speed[omega] = (sum(c.spring_stiffness for c in here) / len(here), common)
     return WalkingAnswer(
         cells=len(wmap.cells),
         steps=wmap.steps,
@@ -93,6 +101,7 @@ def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
         omegas=tuple(wmap.omegas),
         spring_range=spring_range,
         spring_median_s=median,
+        spring_by_speed=by_speed,
     )
 
 
@@ -109,19 +118,21 @@ def _counts(counts: dict[str, int]) -> str:
 
 
 WHY: dict[str, str] = {
-    "fell": (
-        "the body tips over the stance ankle: a linear spring balances gravity's toppling moment at the one "
-        "posture it was fitted to, the linkage turns the ankle through the stance, and nothing brings the hip back"
-    ),
-    "rolled": (
-        "the ankle torque tips the foot onto its heel or toe: the centre of pressure it needs leaves the sole, "
-        "and the foot pivots"
-    ),
-    "hopped": "the preloaded spring pushes the robot off the floor: the feet lift instead of stepping",
-    "slipped": "the preloaded spring pushes the stance foot along the floor: it slides",
+    "fell": "the body tips over the stance ankle and nothing brings it back",
+    "rolled": "the ankle torque tips the foot onto its heel or toe: the centre of pressure leaves the sole",
+    "hopped": "the stiff, preloaded spring kicks the robot off the floor",
+    "slipped": "the stance foot slides more than the limit as the body pitches on the spring",
     "stalled": "the feet scuff in place: the hip does not advance",
 }
-"""Why a spring design fails, by its failure outcome (the physics of a passive ankle on a floor)."""
+"""What each failure outcome of a spring design is, physically."""
+
+
+def toppling_stiffness_seed() -> float:
+    """Gravity's toppling stiffness about the stance ankle of the seed spring design, hip level [N.m/rad]."""
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.studies.spring_study import toppling_stiffness
+
+    return float(toppling_stiffness(design_robot(Design(), 2, visuals=False)))
 
 
 def _spring_sentence(a: WalkingAnswer) -> str:
@@ -133,12 +144,25 @@ def _spring_sentence(a: WalkingAnswer) -> str:
         return f"{n_spring} spring designs walk."
     fails = a.failures.get("spring", {})
     total = sum(fails.values())
+    k_g = toppling_stiffness_seed()
     ranked = sorted(fails.items(), key=lambda kv: (-kv[1], kv[0]))
     why = "; ".join(f"{o}: {WHY[o]}" for o, _n in ranked if o in WHY)
     return (
-        f"No spring design walks (with its fitted spring, {a.spring_range}): of its {total} cells, {_counts(fails)}, "
-        f"decided after {a.spring_median_s:.2f} s (median). Why: {why}."
+        f"No spring design walks (each with its fitted spring, {a.spring_range}): of its {total} cells, "
+        f"{_counts(fails)}, decided after {a.spring_median_s:.2f} s (median). Gravity's toppling stiffness about "
+        f"the stance ankle is {k_g:.0f} N.m/rad: the spring fitted with the hip held level is "
+        f"{_ends(a, k_g)} ({why}). A passive ankle spring holds the hip only at the posture it was fitted to, "
+        "while the linkage turns the ankle through the stance."
     )
+
+
+def _ends(a: WalkingAnswer, k_g: float) -> str:
+    """The fitted spring over k_g at the slowest and fastest speeds, with the spring cells' commonest outcome there."""
+    parts = []
+    for omega in (min(a.omegas), max(a.omegas)):
+        k_e, outcome = a.spring_by_speed[omega]
+        parts.append(f"{k_e / k_g:.2f} times it at {omega:g} rad/s (mostly {outcome})")
+    return " and ".join(parts)
 
 
 def walking_paragraph(a: WalkingAnswer) -> str:
