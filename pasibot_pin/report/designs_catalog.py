@@ -139,18 +139,24 @@ def draw_design(e: Entry, path: Path, steps: int = PICTURE_STEPS) -> Path:
     robot = design_robot(e.design, 2, visuals=False)
     walk = walk_design(e.design, WalkSettings(steps=steps), robot)
     res = walk.result
-    fig, ax = subplots(figsize=(9.0, 3.6))
-    times = np.linspace(0.0, res.t[-1], 7)
-    for k, t in enumerate(times):
-        plot_robot(robot, res.q[min(np.searchsorted(res.t, t), len(res.t) - 1)], ax=ax, alpha=0.25 + 0.75 * k / 6)
-    hip = robot.model.getFrameId("hip")
     import pinocchio as pin
 
+    from pasibot_pin.viz.plots import robot_segments
+
+    fig, ax = subplots(figsize=(7.5, 5.0))
+    snapshots = [res.q[min(np.searchsorted(res.t, t), len(res.t) - 1)] for t in np.linspace(0.0, res.t[-1], 7)]
+    points = [p for q in snapshots for _g, a, b in robot_segments(robot, q) for p in (a, b)]
+    for k, q in enumerate(snapshots):
+        plot_robot(robot, q, ax=ax, alpha=0.25 + 0.75 * k / 6)
+    hip = robot.model.getFrameId("hip")
     path_xz = []
     for q in res.q[:: max(1, len(res.q) // 400)]:
         pin.framesForwardKinematics(robot.model, robot.data, q)
         path_xz.append(robot.data.oMf[hip].translation[[0, 2]])
     ax.plot(*np.array(path_xz).T, color="black", lw=0.8, label="hip path")
+    xz = np.array(points + path_xz)
+    ax.set_xlim(xz[:, 0].min() - 0.05, xz[:, 0].max() + 0.05)  # every snapshot in view [m]
+    ax.set_ylim(min(-0.05, xz[:, 1].min() - 0.05), xz[:, 1].max() + 0.1)
     ax.legend(loc="upper left", fontsize=8, frameon=False)
     ax.set_title(f"{e.name}: {walk.verdict.short()} ({walk.verdict.steps} of {steps} steps simulated here)")
     with atomic_path(Path(path)) as tmp:
