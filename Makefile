@@ -39,9 +39,7 @@ answers: install
 # the walking map (docs/results/walking_map.csv, docs/walking_map.png): 108 designs walked 20 steps on 2 workers
 # (about 30 minutes of CPU); then the found designs (designs/) and the quoted answer (docs/walking.md, README.md)
 walking-map: install
-	$(PY) -m pasibot_pin.studies.walking_map --workers 2
-	$(PY) -m pasibot_pin.report.designs_catalog
-	$(PY) -m pasibot_pin.report.walking_answer
+	$(PY) -m pasibot_pin.report.walking_answer --compute --workers 2
 
 # docs/floor_springs.{md,csv,png}: weld against floor for runs 1-4 and the four springs (about a minute);
 # docs/floor_quasi_static.{csv,png}: the quasi-static K_e x beta0 sweep, weld beside floor

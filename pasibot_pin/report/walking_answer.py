@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import math
 from collections import Counter
+from collections.abc import Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -263,6 +264,32 @@ def update_docs(wmap: WalkingMap | None = None) -> list[Path]:
     return [doc, readme]
 
 
-if __name__ == "__main__":
-    for written in update_docs():
+def main(argv: Sequence[str] | None = None) -> None:
+    """``make walking-map``: (``--compute``: the map on 2 workers, saved as CSV) the picture, designs/, the quotes."""
+    import argparse
+    import time
+
+    from pasibot_pin.report.designs_catalog import write_catalog
+    from pasibot_pin.studies.walking_map import MAP_CSV, MAP_PNG, compute_walking_map, load_map, save_map
+    from pasibot_pin.viz.plots_walking import save_walking_map_figure
+
+    parser = argparse.ArgumentParser(description="the walking map's files: CSV, picture, designs/, quoted answer")
+    parser.add_argument("--compute", action="store_true", help="walk every cell again first (about 30 min CPU)")
+    parser.add_argument("--workers", type=int, default=2, help="worker processes of --compute (default 2)")
+    args = parser.parse_args(argv)
+    if args.compute:
+        start = time.monotonic()
+        partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
+        wmap = compute_walking_map(workers=args.workers, partial=partial)
+        save_map(wmap)
+        partial.unlink()
+        cpu = sum(c.cpu_s for c in wmap.cells)
+        print(f"{MAP_CSV}: {len(wmap.cells)} cells, {time.monotonic() - start:.0f} s wall, {cpu:.0f} s CPU of walks")
+    wmap = load_map()
+    print(save_walking_map_figure(wmap, MAP_PNG, dpi=100))  # the README's resolution (report/docs_figures)
+    for written in [*write_catalog(wmap), *update_docs(wmap)]:
         print(written)
+
+
+if __name__ == "__main__":
+    main()

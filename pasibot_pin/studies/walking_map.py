@@ -14,8 +14,8 @@ each cell is walked there too; without it the twin's columns are empty and
 
 The map is saved as CSV (:func:`save_map`, read back by :func:`load_map` with the standard
 library only: no pyarrow needed to read the committed answer) in ``docs/results/walking_map.csv``;
-``make walking-map`` (``python -m pasibot_pin.studies.walking_map``) computes it again and draws
-``docs/walking_map.png``.
+``make walking-map`` (``python -m pasibot_pin.report.walking_answer --compute``) computes it again,
+draws ``docs/walking_map.png`` and writes what quotes it.
 
 Units: SI; soles over the crank length L; crank speed [rad/s]; angles in degrees where named ``_deg``.
 """
@@ -227,6 +227,23 @@ def walk_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS, t
     return replace(cell, twin_outcome=mujoco.outcome, twin_steps=float(mujoco.steps), twin_detail=mujoco.detail)
 
 
+class _NoBar:
+    def update(self, n: int = 1) -> None:
+        pass
+
+    def close(self) -> None:
+        pass
+
+
+def _progress_bar(total: int, done: int, enabled: bool):
+    """A progress bar over ``total`` walks (``done`` already): tqdm's, or none without tqdm."""
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return _NoBar()
+    return tqdm(total=total, initial=done, unit="walk", disable=not enabled, dynamic_ncols=True)
+
+
 def _estimate(omega: float, steps: int) -> float:
     """A walk's CPU time if it walks, for ordering only (slow walks first) [s]."""
     return steps * math.pi / omega
@@ -249,7 +266,7 @@ def compute_walking_map(
         omegas: crank speeds [rad/s].
         variants: variants.
         steps: steps each cell is asked to walk [-].
-        workers: worker processes (:func:`~pasibot_pin.explore.executors.run_tasks`).
+        workers: worker processes (:func:`pasibot_pin.jobs.run_jobs`, the process pool of sweeps).
         twin: also walk each cell in MuJoCo when the twin is installed.
         progress: show a progress bar.
         partial: a CSV each finished cell is appended to at once; the cells already in it are not
@@ -259,26 +276,24 @@ def compute_walking_map(
         :class:`WalkingMap`, cells in (variant, sole, omega) order.
 
     """
-    from tqdm.auto import tqdm
-
-    from pasibot_pin.explore.executors import run_tasks
+    from pasibot_pin.jobs import Job, run_jobs
 
     keys = [(v, float(s), float(w)) for v in variants for s in soles for w in omegas]
     done: dict[tuple, MapCell] = {}
     if partial is not None and Path(partial).is_file():
         done = {(c.variant, c.sole, c.omega): c for c in _read_cells(Path(partial).read_text().splitlines())}
     todo = [k for k in keys if k not in done]
-    tasks = sorted(((*k, steps, twin) for k in todo), key=lambda t: -_estimate(t[2], steps))
-    bar = tqdm(total=len(keys), initial=len(keys) - len(todo), unit="walk", disable=not progress, dynamic_ncols=True)
+    jobs = [Job(_estimate(k[2], steps), k, walk_cell, (*k, steps, twin)) for k in todo]  # slow walks first
+    bar = _progress_bar(len(keys), len(keys) - len(todo), progress)
 
-    def on_result(cell: MapCell) -> None:
+    def on_result(_key, cell: MapCell) -> None:
         done[(cell.variant, cell.sole, cell.omega)] = cell
         if partial is not None:
             _append_cell(Path(partial), cell)
         bar.update(1)
 
     try:
-        run_tasks(walk_cell, tasks, on_result, workers=workers)
+        run_jobs(jobs, on_result, workers=max(1, workers or 1))
     finally:
         bar.close()
     note = "" if (twin and twin_walker() is not None) else NO_TWIN
@@ -334,28 +349,3 @@ def load_map(path: Path = MAP_CSV) -> WalkingMap:
     steps = int(lines[0].split("=")[1])
     twin = lines[1].split(":", 1)[1].strip()
     return WalkingMap(_read_cells(lines[2:]), steps, "" if twin == "walk_in_mujoco" else twin)
-
-
-def main(argv: Sequence[str] | None = None) -> None:
-    """``make walking-map``: compute the map (2 workers), save the CSV, draw the picture."""
-    import argparse
-
-    parser = argparse.ArgumentParser(description="compute docs/results/walking_map.csv and docs/walking_map.png")
-    parser.add_argument("--workers", type=int, default=2)
-    parser.add_argument("--draw-only", action="store_true", help="only redraw the picture from the CSV")
-    args = parser.parse_args(argv)
-    if not args.draw_only:
-        start = time.monotonic()
-        partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
-        wmap = compute_walking_map(workers=args.workers, partial=partial)
-        save_map(wmap)
-        partial.unlink()
-        cpu = sum(c.cpu_s for c in wmap.cells)
-        print(f"{MAP_CSV}: {len(wmap.cells)} cells, {time.monotonic() - start:.0f} s wall, {cpu:.0f} s CPU of walks")
-    from pasibot_pin.viz.plots_walking import save_walking_map_figure
-
-    print(save_walking_map_figure(load_map(), MAP_PNG, dpi=100))  # the README's resolution (docs_figures)
-
-
-if __name__ == "__main__":
-    main()
