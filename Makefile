@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps test demo urdf bench timings lint clean answers floor-springs docs-figures walking-map
+.PHONY: install browser-deps urdf-tools test demo urdf bench timings lint clean answers floor-springs docs-figures walking-map
 
 $(VENV)/.installed: pyproject.toml
 	$(PYTHON) -m venv $(VENV)
@@ -22,7 +22,14 @@ browser-deps:
 	  $$SUDO apt-get update && \
 	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y --no-install-recommends chromium; }
 
-test: install browser-deps
+# Debian's urdfdom tools (check_urdf) for tests/test_urdf_tools.py, the same way: it never skips.
+urdf-tools:
+	@command -v check_urdf >/dev/null 2>&1 || [ -x /usr/bin/check_urdf ] || { \
+	  SUDO=$$([ "$$(id -u)" = 0 ] || echo sudo); \
+	  $$SUDO apt-get update && \
+	  DEBIAN_FRONTEND=noninteractive $$SUDO apt-get install -y --no-install-recommends liburdfdom-tools; }
+
+test: install browser-deps urdf-tools
 	$(PY) -m pytest -q
 
 demo: install

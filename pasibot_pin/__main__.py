@@ -4,7 +4,9 @@ Each subcommand lives in its own module of :mod:`pasibot_pin.cli` and registers
 itself with ``register(subparsers)``. Everything runs headless and writes files.
 
 Errors: bad input (``ValueError``, ``FileExistsError``) and a file the system refuses
-(``OSError``) are one line ``pasibot CMD: error: ...`` with exit code 2, never a traceback.
+(``OSError``) are one line ``pasibot CMD: error: ...`` with exit code 2, never a traceback; so are
+argparse's own errors (no usage block). Every numeric flag is checked against its range
+(:mod:`pasibot_pin.cli.bounds`) before the command runs; ``-2e-1`` is a number, not an option.
 SIGTERM and Ctrl-C stop the command, its child processes (process-pool workers, the meshcat
 server) and their children; files being written are left under no name (exit code 143 / 130).
 """
@@ -28,6 +30,34 @@ import pinocchio as pin  # noqa: E402
 
 from pasibot_pin import __version__  # noqa: E402
 from pasibot_pin.cli import COMMANDS  # noqa: E402
+from pasibot_pin.cli.bounds import check_flags  # noqa: E402
+from pasibot_pin.files import remove_temporaries  # noqa: E402
+
+NEGATIVE_NUMBER = re.compile(r"^-(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?$|^-(?:inf|infinity|nan)$", re.IGNORECASE)
+"""What argparse reads as a negative number, not an option: ``-2``, ``-.5``, ``-2e-1``, ``-5E-2``, ``-inf``
+(argparse's own pattern misses exponents, so ``--com-dx -5e-2`` was read as an unknown option)."""
+
+
+class OneLineParser(argparse.ArgumentParser):
+    """An argument parser whose errors are one line, ``pasibot CMD: error: ...`` (exit code 2), like the commands'."""
+
+    def __init__(self, *args, **kwargs):
+        super().__init__(*args, **kwargs)
+        self._negative_number_matcher = NEGATIVE_NUMBER
+
+    def error(self, message: str):
+        """Print ``PROG: error: MESSAGE`` on one line and exit with code 2 (no usage block).
+
+        A value argparse cannot read (``--samples 1e9``, ``--mu abc``) gets the flag's valid range too.
+        """
+        from pasibot_pin.cli.bounds import BOUNDS
+
+        text = re.sub(r"'([^']{40})[^']+'", r"'\1...'", " ".join(message.split()))  # a 5,000-digit value, cut
+        named = re.match(r"argument (--[\w-]+)(?:/[\w-]+)?: ", text)
+        bound = BOUNDS.get(self.prog.split()[-1], {}).get(named.group(1)) if named else None
+        if bound is not None:
+            text += f"; {named.group(1)} must be {bound.text()}"
+        self.exit(2, f"{self.prog}: error: {text}\n")
 
 
 class Terminated(BaseException):
@@ -36,9 +66,9 @@ class Terminated(BaseException):
 
 def build_parser() -> argparse.ArgumentParser:
     """The argument parser with every subcommand registered."""
-    parser = argparse.ArgumentParser(prog="pasibot", description="PASIBOT closed-loop biped in Pinocchio")
+    parser = OneLineParser(prog="pasibot", description="PASIBOT closed-loop biped in Pinocchio")
     parser.add_argument("--version", action="version", version=f"pasibot {__version__} (pin {pin.__version__})")
-    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND", parser_class=OneLineParser)
     for name in COMMANDS:
         importlib.import_module(f"pasibot_pin.cli.{name}").register(sub)
     for command in sub.choices.values():  # --help is plain text: no docstring markup
@@ -126,6 +156,7 @@ def _install_signal_handlers() -> None:
     main_pid = os.getpid()
 
     def handler(signum, frame):
+        remove_temporaries()  # the files this process is writing, never left under a .part name
         if os.getpid() != main_pid:  # a forked worker inherited this handler: die as by default
             signal.signal(signum, signal.SIG_DFL)
             os.kill(os.getpid(), signum)
@@ -153,6 +184,7 @@ def main(argv: list[str] | None = None) -> int:
     if is_entry_point:
         _install_signal_handlers()
     try:
+        check_flags(args.command, args)  # every numeric flag within its range, before any work
         return int(args.func(args) or 0)
     except (ValueError, FileExistsError) as err:
         print(f"pasibot {args.command}: error: {err}", file=sys.stderr)

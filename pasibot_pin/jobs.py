@@ -18,6 +18,7 @@ from __future__ import annotations
 import heapq
 import itertools
 import multiprocessing
+import os
 import signal
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
@@ -49,9 +50,18 @@ OnDone = Callable[[object, object], Iterable[Job] | None]
 """``on_done(key, result)``, called in the main process; returns the jobs it releases (or None)."""
 
 
+def _die_clean(signum, frame) -> None:
+    """A worker's SIGTERM: remove the files it is writing (never left under a .part name), then die of it."""
+    from pasibot_pin.files import remove_temporaries
+
+    remove_temporaries()
+    signal.signal(signum, signal.SIG_DFL)
+    os.kill(os.getpid(), signum)
+
+
 def _worker_init() -> None:
     signal.signal(signal.SIGINT, signal.SIG_IGN)
-    signal.signal(signal.SIGTERM, signal.SIG_DFL)
+    signal.signal(signal.SIGTERM, _die_clean)
     try:  # die with the parent, even if it is killed outright (Linux only)
         import ctypes
 

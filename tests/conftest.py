@@ -47,13 +47,20 @@ WHOLE_MODULES = frozenset(
         "test_questions.py",
         "test_single_motor.py",
         "test_sweep.py",
+        "test_wheel_install.py",  # one venv per run; analyze runs in the background meanwhile
+        "test_walking.py",
+        "test_gait_stability.py",
     }
 )
 # Longest units first (a longest-processing-time-first schedule: no long test starts last and
 # keeps one worker busy alone), from the durations of a run on two workers (`--durations`).
 # A nodeid prefix each; the other units follow in collection order.
 LONGEST_FIRST = (
+    "tests/test_wheel_install.py",  # ~60 s: a wheel in a clean venv, every command, analyze behind them
     "tests/test_browser.py",  # ~13 s of Chromium, two browsers at once
+    "tests/test_gait_stability.py",  # the shot gait: a warm-up walk and seven step-map runs
+    "tests/test_walking.py",  # the walker with one motor and with two, every variant on the floor
+    "tests/test_mujoco_walk.py",  # the twin: three steps in each engine
     "tests/test_floor_static.py",  # its module fixtures: the quasi-static study of runs 1-4
     "tests/test_energy.py::test_analyze_step_contact_energy",
     "tests/test_floor.py::test_analyze_floor_section",

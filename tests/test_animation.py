@@ -74,3 +74,27 @@ def test_save_gif_refuses_to_overwrite_and_bad_input(walk, tmp_path):
         animation.save_gif(walk.robot, walk.q, tmp_path / "a.gif", fps=-1.0)
     with pytest.raises(ValueError, match="out"):
         animation.save_gif(walk.robot, walk.q, tmp_path / "a.png")
+
+
+def test_the_caption_and_the_legend_do_not_overlap(walk):
+    """The clock (top left, inside the axes) and the legend (a band under the x label) keep apart, and
+    both stay inside the figure, at every frame's text (checked on the artists' extents, not pixels)."""
+    import matplotlib.pyplot as plt
+    from matplotlib.text import Text
+
+    for qs in (walk.q, walk.q[:3]):  # a narrow scene (a walk) and a narrower one (three frames)
+        fig, update, moving = animation._stick_scene(walk.robot, qs, FPS)
+        try:
+            ax = fig.axes[0]
+            legend, clock = ax.get_legend(), next(a for a in moving if isinstance(a, Text))
+            fig.canvas.draw()
+            renderer = fig.canvas.get_renderer()
+            for k in range(len(qs)):
+                update(k)
+                box, key = clock.get_window_extent(renderer), legend.get_window_extent(renderer)
+                assert clock.get_text() and not box.overlaps(key)
+                assert key.y1 < ax.get_window_extent(renderer).y0  # the legend is under the axes
+                assert key.y1 < ax.xaxis.label.get_window_extent(renderer).y0  # and under the x label
+                assert fig.bbox.contains(key.x0, key.y0) and fig.bbox.contains(key.x1, key.y1)
+        finally:
+            plt.close(fig)

@@ -7,12 +7,18 @@ The page is loaded from the filesystem, with the network-quieting flags, and scr
 - once with no ``#t=``: the page plays by itself (the robot has left its pose at ``#t=0``,
   where a page that does not play would keep it).
 
+Every kind of exported page (``export_html``'s kinematic walk, the report's simulated walk
+``simulation_<run>.html``, ``pasibot walk``'s floor walk) is also loaded and its DOM dumped: its
+title bar (``#pasibot-hud``) reads the page's title, then the time it was paused at, the crank
+angle and each foot's mode.
+
 Chromium must be installed (``make browser-deps``, run by ``make test``). A missing browser is
 a failure, never a skip. Screenshots are kept in tests/artifacts/browser/.
 """
 
 from __future__ import annotations
 
+import math
 import os
 import shutil
 import subprocess
@@ -211,3 +217,96 @@ def test_the_page_plays_by_itself(shots):
     assert changed(images["autoplay"], images["empty_early"]).sum() > 1500, "autoplay: no robot"
     assert changed(images["robot_start"], images["empty_early"]).sum() > 1500, "#t=0: no robot"
     assert changed(images["autoplay"], images["robot_start"]).sum() > 500
+
+
+# --------------------------------------------------------------------------- every exported page's title bar
+def dump_dom(html: Path, budget_ms: int = SEEK_BUDGET_MS) -> str:
+    """The page's DOM after its scripts ran (headless Chromium's ``--dump-dom``), paused at t = 0.5 s."""
+    with tempfile.TemporaryDirectory(prefix="chromium-profile-") as profile:
+        cmd = [
+            chromium(),
+            *FLAGS,
+            f"--window-size={WIDTH},{HEIGHT}",
+            f"--user-data-dir={profile}",
+            f"--virtual-time-budget={budget_ms}",
+            "--dump-dom",
+            html.resolve().as_uri() + "#t=0.5",
+        ]
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=90)
+    assert proc.returncode == 0 and "<html" in proc.stdout, (
+        f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
+    )
+    return proc.stdout
+
+
+def title_bar(dom: str) -> list[str]:
+    """The lines of the title bar's text (``#pasibot-hud``) in a dumped DOM, read by the HTML parser."""
+    from html.parser import HTMLParser
+
+    class Hud(HTMLParser):
+        def __init__(self):
+            super().__init__()
+            self.depth, self.text = 0, []
+
+        def handle_starttag(self, tag, attrs):
+            if self.depth or dict(attrs).get("id") == "pasibot-hud":
+                self.depth += 1
+
+        def handle_endtag(self, tag):
+            self.depth = max(0, self.depth - 1)
+
+        def handle_data(self, data):
+            if self.depth:
+                self.text.append(data)
+
+    parser = Hud()
+    parser.feed(dom)
+    return "".join(parser.text).splitlines()
+
+
+@pytest.fixture(scope="module")
+def exported_pages(tmp_path_factory):
+    """One page of each kind the package exports: (file, the title its bar must show)."""
+    import pasibot_pin as pp
+    from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.report.animation import SIMULATION_TITLE, export_animation
+    from pasibot_pin.report.walking import write_walk_animation
+    from pasibot_pin.studies.spring_study import scenario_inputs, standing_pitch
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+    folder = tmp_path_factory.mktemp("pages")
+    robot = pp.load("spring", legs=2)
+    pages = {}
+    viewer.export_html(folder / "gait.html", robot, steps=1, samples_per_step=20, fps=30.0)
+    pages["gait"] = (folder / "gait.html", "PASIBOT spring biped, 1 steps (kinematic walk, stance sole welded flat)")
+    run4 = scenario_inputs("run4")  # the report's simulation page: pasibot analyze's simulation_run4.html
+    pitch = standing_pitch(run4.robot, run4.fit, math.pi / 2)  # started where it stands, as the report starts it
+    settings = SimulationSettings(omega=run4.omega, spring=run4.fit, swing_ankle="rest", dt=0.01, initial_pitch=pitch)
+    result = simulate(run4.robot, settings, duration=1.0)
+    assert not result.fell
+    export_animation(run4.robot, result, html=folder / "simulation_run4.html", fps=20.0)
+    pages["simulation"] = (folder / "simulation_run4.html", SIMULATION_TITLE)
+    design = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
+    walker = design_robot(design, 2)  # with its visuals: the page draws them
+    walk = walk_design(design, WalkSettings(steps=1), walker)  # pasibot walk's page
+    write_walk_animation(walk, walker, html=folder / "walk.html", fps=20.0)
+    pages["walk"] = (folder / "walk.html", f"parallel on the floor, 2 rad/s: {walk.verdict.short()}")
+    return pages
+
+
+def test_every_exported_page_shows_its_title_bar(exported_pages):
+    """Each page type, loaded in Chromium: the title bar (#pasibot-hud) holds the page's title, then the time,
+    the crank angle and each foot's contact mode; the document's title is the same title."""
+    import re
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        doms = dict(zip(exported_pages, pool.map(lambda item: dump_dom(item[0]), exported_pages.values())))
+    for kind, (_, title) in exported_pages.items():
+        lines = title_bar(doms[kind])
+        assert lines and lines[0] == title, (kind, lines)
+        clock = re.fullmatch(
+            r"t = (\d+\.\d\d) s   crank angle = -?\d+\.\d deg   right: [\w ]+   left: [\w ]+", lines[1]
+        )
+        assert clock and abs(float(clock.group(1)) - 0.5) <= 0.05, (kind, lines)  # the frame #t=0.5 paused at
+        assert re.search(r"<title>([^<]*)</title>", doms[kind]).group(1) in (title, "pasibot t=0.5"), kind

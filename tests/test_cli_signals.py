@@ -104,6 +104,7 @@ def test_analyze_stops_its_pool_workers_and_leaves_no_half_file(tmp_path, sig, g
     assert len(children) >= 2
     _stop_and_check(proc, sig, children, group)
     assert not [p for p in out.rglob("*") if ".part-" in p.name]  # no temporary file left
+    assert not out.exists()  # a stopped run leaves nothing it created (no half figure under its name either)
 
 
 def test_ctrl_c_while_the_server_starts_stops_it(monkeypatch):
@@ -143,7 +144,7 @@ def test_sweep_stops_its_workers_and_keeps_its_rows(tmp_path, sig, group, capsys
     assert _wait_for(lambda: parts.is_dir() and any(parts.glob("part-*.parquet")), 120), "no design finished"
     children = descendants(proc.pid)
     _stop_and_check(proc, sig, children, group)
-    assert not list(out.rglob("*.tmp"))
+    assert not list(out.rglob("*.tmp")) and not [p for p in out.rglob("*") if ".part-" in p.name]
     kept = sum(pq.read_table(p).num_rows for p in parts.glob("part-*.parquet"))
     assert 0 < kept < 400
     capsys.readouterr()

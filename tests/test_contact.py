@@ -173,14 +173,16 @@ def test_contact_cli_writes_csv_and_plot_and_keeps_files(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "samples feasible" in text and "first failure" in text
     rows = list(csv_mod.DictReader(out_csv.open()))
-    assert len(rows) == 20 and {"heel_Fz", "toe_Fz", "s_cop", "mu_needed", "feasible"} <= set(rows[0])
+    assert len(rows) == 20 and {"t_s", "theta_rad", "heel_Fz_N", "toe_Fz_N", "My_Nm", "s_cop_m"} <= set(rows[0])
+    assert {"mu_needed", "feasible"} <= set(rows[0])  # dimensionless: no unit
     # where feasible, heel + toe carry the demanded Fz
     for row in rows:
         if float(row["feasible"]):
-            assert float(row["heel_Fz"]) + float(row["toe_Fz"]) == pytest.approx(float(row["Fz"]), rel=1e-9)
+            assert float(row["heel_Fz_N"]) + float(row["toe_Fz_N"]) == pytest.approx(float(row["Fz_N"]), rel=1e-9)
     assert out_png.stat().st_size > 10_000
     assert main(args) == 2 and "--force" in capsys.readouterr().err
-    assert main(["contact", "--mu", "-1", "--samples", "5"]) == 2 and "'mu'" in capsys.readouterr().err
+    assert main(["contact", "--mu", "-1", "--samples", "5"]) == 2
+    assert "--mu must be in [0, 10]" in capsys.readouterr().err
 
 
 def test_energy_cli_table(tmp_path, capsys):
@@ -191,6 +193,8 @@ def test_energy_cli_table(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "| spring | 5 |" in text and "| parallel | 5 |" in text and "speed fluctuation" in text
     assert out_csv.read_text().count("\n") == 3
+    header = out_csv.read_text().splitlines()[0].split(",")
+    assert {"omega_rad_s", "mass_kg", "W_crank_pos_J", "single_peak_Nm", "cot_motors"} <= set(header)
     assert main(["energy", "--variants", "wheel"]) == 2 and "wheel" in capsys.readouterr().err
 
 

@@ -92,3 +92,20 @@ def test_bad_files_are_named(tmp_path):
         load_design(unknown)
     with pytest.raises(ValueError, match=r"\.toml or \.json"):
         Design().save(tmp_path / "d.yaml")
+
+
+@pytest.mark.parametrize("suffix", [".toml", ".json"])
+def test_saved_file_has_the_mode_open_gives(tmp_path, suffix):
+    """A design file is readable by others as any file the user writes (0644 under umask 022), not mkstemp's 0600."""
+    import os
+    import stat
+
+    old = os.umask(0o022)
+    try:
+        path = Design().save(tmp_path / f"d{suffix}")
+        plain = tmp_path / "plain.txt"
+        plain.write_text("x")
+    finally:
+        os.umask(old)
+    assert stat.S_IMODE(path.stat().st_mode) == stat.S_IMODE(plain.stat().st_mode) == 0o644
+    assert not list(tmp_path.glob(".*.tmp"))

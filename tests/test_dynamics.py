@@ -198,9 +198,10 @@ def test_torques_cli_prints_stiffness_and_writes_csv(tmp_path, capsys):
     with out.open() as handle:
         rows = list(csv.DictReader(handle))
     assert len(rows) == 23
-    for column in ("t", "theta", "beta", "Ta", "Te", "Ta_swing", "Te_swing"):
+    for column in ("t_s", "theta_rad", "beta_rad", "Ta_Nm", "Te_Nm", "Ta_swing_Nm", "Te_swing_Nm", "ground_Fx_N"):
         assert column in rows[0]
-    assert float(rows[0]["theta"]) == pytest.approx(2.6) and float(rows[1]["t"]) == pytest.approx(1.0)
+    assert float(rows[0]["theta_rad"]) == pytest.approx(2.6) and float(rows[1]["t_s"]) == pytest.approx(1.0)
+    assert all(name == "stance_right" or name.rsplit("_", 1)[-1] in ("s", "rad", "Nm", "N") for name in rows[0])
     assert main(["torques", "--scenario", "run3", "--csv", str(out)]) == 2  # no overwrite without --force
     assert main(["torques", "--scenario", "run9"]) == 2
     assert "unknown scenario" in capsys.readouterr().err

@@ -146,8 +146,26 @@ def test_analyze_step_contact_energy(tmp_path):
     assert {r["variant"] for r in rows} == {"spring", "parallel"} and len(rows) == 10
     for r in rows:  # the table's CoT is its positive work over weight x distance
         assert float(r["cot_motors"]) == pytest.approx(
-            float(r["W_crank_pos"]) / (float(r["mass"]) * G * float(r["distance"])), rel=1e-9
+            float(r["W_crank_pos_J"]) / (float(r["mass_kg"]) * G * float(r["distance_m"])), rel=1e-9
         )
     for name in ("single_motor_run4.png", "cost_of_transport.png", "power_spring_5.png", "single_motor_run4.csv"):
         assert (tmp_path / "contact_energy" / name).exists()
     assert_reads_like_a_report(tmp_path, text, 13)  # every figure linked with a caption, units on every column
+
+
+def test_the_rigid_variant_advances_over_a_stride_and_its_cost_of_transport_is_positive():
+    """The rigid variant's last sample of a walk is pitched ~30 deg (before the exchange): measured
+    start to start, its hip advances every step, and the cost of transport is positive."""
+    import pasibot_pin as pp
+    from pasibot_pin.kinematics.gait import stride_advance, walk
+
+    robot = pp.load("rigid", 2)
+    w = walk(robot, 5, 30)  # an independent sampling, two strides, start to start
+    hip = w.hip_path()
+    per_step = (hip[4 * 30, 0] - hip[0, 0]) / 4
+    assert stride_advance(robot) == pytest.approx(per_step, rel=1e-9) and per_step > 0
+    step, _ = energy.robot_step_energy(robot, 1.0, nodes=12)
+    assert step.distance == pytest.approx(per_step, rel=1e-9)
+    assert step.cot["motors"] > 0 and step.cot["single"] > 0
+    for variant in ("spring", "parallel"):  # a level hip: the linkage's stroke, 8 L
+        assert stride_advance(pp.load(variant, 2)) == pytest.approx(8 * 0.05, abs=1e-9)

@@ -166,8 +166,9 @@ def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsy
     assert text.count("floor, ") == 4 and "wrote" in text
     with (out / "floor_run4.csv").open() as handle:
         rows = list(csv.DictReader(handle))
-    assert {"t", "hip_pitch_deg", "right_mode", "left_mode", "right_heel_Fn", "left_toe_friction_use"} <= set(rows[0])
-    assert {r["right_mode"] for r in rows} <= set(MODES) and float(rows[-1]["t"]) <= 0.3 + 1e-9
+    assert {"t_s", "hip_pitch_deg", "right_mode", "left_mode", "right_heel_Fn_N"} <= set(rows[0])
+    assert {"left_toe_friction_use", "right_crank_torque_Nm", "hip_z_m"} <= set(rows[0])
+    assert {r["right_mode"] for r in rows} <= set(MODES) and float(rows[-1]["t_s"]) <= 0.3 + 1e-9
     assert (out / "floor_run4.png").stat().st_size > 10_000
     assert main(["simulate", "--scenario", "4", "--duration", "0.3", "--out", str(out)]) == 2
     assert "exists" in capsys.readouterr().err
@@ -370,7 +371,10 @@ def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, ca
     with (out / "floor_springs.csv").open() as handle:
         rows = list(csv.DictReader(handle))
     study = floor_spring_study(FloorSpringSettings(("run2",), 0.05), [("fitted", 1.0)])
-    assert len(rows) == 1 and rows[0]["floor: outcome"] == study.rows[0].floor_outcome
+    from pasibot_pin.report.floor import outcome_text
+
+    assert len(rows) == 1 and rows[0]["floor: outcome"] == outcome_text(study.rows[0])
+    assert rows[0]["floor: outcome"].startswith("undecided: the 0.05 s run is shorter than two steps (31.4 s each")
     assert (out / "floor_springs.png").stat().st_size > 10_000
     for argv, word in (
         (["--study", "--ground", "weld"], "--study"),

@@ -61,19 +61,21 @@ def test_a_wrong_guess_is_corrected_or_left_to_proxsuite(robot):
         np.testing.assert_allclose(got[0], x, atol=1e-8)
         np.testing.assert_allclose(got[2], z, atol=1e-8)
         assert qp.fast + qp.fallback == 1
-    qp = ContactQP(robot.model, redundant=[[0, 2]])  # a redundant group active: proxsuite decides
-    qp.active = [0, 2]
+    qp = ContactQP(robot.model, redundant=[[0, 2]])  # a declared group that is not redundant here:
+    qp.active = [0, 2]  # leaving either row out violates it, so proxsuite decides
     qp.solve(*args)
     assert (qp.fast, qp.fallback) == (0, 1)
-    assert qp._independent([0, 1], 2) and not qp._independent([0, 1, 3], 2)  # more rows than freedoms
+    assert qp._reduced([0, 1], 2, 0) == [0, 1] and qp._reduced([0, 1, 3], 2, 0) is None  # more rows than freedoms
+    assert qp._reduced([0, 2, 3], 3, 0) == [2, 3] and qp._reduced([0, 2, 3], 3, 1) == [0, 3]  # one row of the group out
+    assert qp._reduced([0, 2, 3], 3, 2) is None  # no third choice in a group of two
     lower = args[5].copy()
     lower[1] = -args[1][2]  # row 1 met with equality at the answer, its multiplier zero
     touching = (*args[:5], lower)
-    for redundant, path in (([[0, 1]], (0, 1)), ([], (1, 0))):  # a redundant group met: proxsuite's split
+    for redundant in ([[0, 1]], []):  # a group met with equality: the motion is the same exact step
         qp = ContactQP(robot.model, redundant=redundant)
         qp.active = [0, 2]
-        np.testing.assert_allclose(qp.solve(*touching)[0], x, atol=1e-8)
-        assert (qp.fast, qp.fallback) == path
+        np.testing.assert_allclose(qp.solve(*touching)[0], x, atol=1e-12)
+        assert (qp.fast, qp.fallback) == (1, 0)
 
 
 def _kkt_error(args, out) -> dict[str, float]:

@@ -52,7 +52,10 @@ def test_walk_structure(walks, robots):
         assert walk.residual.max() < 1e-10
         assert np.all(np.isfinite(walk.q))
     # the viewer's call: positional steps and samples_per_step, default foot
-    assert gait.walk(robots[("spring", 2)], 1, 4).t is None
+    default = gait.walk(robots[("spring", 2)], 1, 4)
+    assert default.omega > 0 and default.t is not None  # always time-stamped (the README tour prints .t)
+    assert default.t == pytest.approx((default.theta - default.theta[0]) / default.omega)
+    assert default.t[0] == 0 and np.all(np.diff(default.t) > 0)
 
 
 @pytest.mark.parametrize("case", [("rigid", "flat"), ("parallel", "flat"), ("spring", "flat"), ("rigid", "point")])
@@ -169,18 +172,18 @@ def test_cli_one_leg(tmp_path, monkeypatch, L):
     )
     header, rows = _read(tmp_path / "leg.csv")
     expected = [
-        "theta",
-        "ankle_x",
-        "ankle_z",
-        "toe_x",
-        "toe_z",
-        "heel_x",
-        "heel_z",
-        "foot_pitch",
-        "ankle_vx",
-        "ankle_vz",
-        "ankle_ax",
-        "ankle_az",
+        "theta_rad",
+        "ankle_x_m",
+        "ankle_z_m",
+        "toe_x_m",
+        "toe_z_m",
+        "heel_x_m",
+        "heel_z_m",
+        "foot_pitch_rad",
+        "ankle_vx_m_s",
+        "ankle_vz_m_s",
+        "ankle_ax_m_s2",
+        "ankle_az_m_s2",
     ]
     assert header[: len(expected)] == expected
     assert len(rows) == 37
@@ -222,26 +225,26 @@ def test_cli_two_legs(tmp_path, monkeypatch, L):
     )
     header, rows = _read(tmp_path / "walk.csv")
     for col in (
-        "theta",
-        "t",
+        "theta_rad",
+        "t_s",
         "step",
         "stance",
-        "hip_x",
-        "hip_z",
-        "hip_pitch",
-        "right_ankle_x",
-        "right_ankle_z",
-        "left_ankle_x",
-        "left_ankle_z",
-        "right_toe_x",
-        "left_heel_z",
+        "hip_x_m",
+        "hip_z_m",
+        "hip_pitch_rad",
+        "right_ankle_x_m",
+        "right_ankle_z_m",
+        "left_ankle_x_m",
+        "left_ankle_z_m",
+        "right_toe_x_m",
+        "left_heel_z_m",
     ):
         assert col in header
     assert len(rows) == 2 * 12 + 1
     col = {name: i for i, name in enumerate(header)}
-    hip_x = np.array([float(r[col["hip_x"]]) for r in rows])
+    hip_x = np.array([float(r[col["hip_x_m"]]) for r in rows])
     assert hip_x[-1] - hip_x[0] == pytest.approx(16 * L, abs=1e-9)
-    assert float(rows[-1][col["t"]]) == pytest.approx(2 * math.pi / 0.5)
+    assert float(rows[-1][col["t_s"]]) == pytest.approx(2 * math.pi / 0.5)
     assert {r[col["stance"]] for r in rows} == {"right", "left"}
     assert (tmp_path / "walk.png").stat().st_size > 10_000
 

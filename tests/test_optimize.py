@@ -110,3 +110,39 @@ def test_objectives_take_the_metric_usual_sense():
 
 def test_pareto_rows_of_a_table(reference):
     assert pareto_rows(reference.table, PLAN) == reference.pareto
+
+
+def test_the_pareto_figure_draws_only_constraint_satisfying_designs_on_its_front():
+    """A design that violates ``--constraint`` is greyed and never on the drawn front, even where it would
+    dominate; the drawn front is the optimiser's own (``pareto_rows``) on the same objectives."""
+    import matplotlib.pyplot as plt
+    import numpy as np
+    import pyarrow as pa
+
+    from pasibot_pin.viz.plots_sweep import pareto_masks, plot_pareto
+
+    torque = [1.0, 2.0, 3.0, 4.0, 2.5, 0.5]
+    margin = [0.9, 0.5, 0.8, 0.1, 0.2, 0.95]  # rows 0 and 5 would be best, but violate the constraint
+    stride = [0.40, 0.46, 0.47, 0.50, 0.46, 0.30]
+    feasible = [True, True, True, True, True, False]
+    table = pa.table(
+        {"peak_crank_torque_Nm": torque, "cop_margin_m": margin, "stride_m": stride, "feasible": feasible}
+    )
+    plan = OptimizePlan(
+        ranges=PLAN.ranges, objectives=PLAN.objectives, constraints=PLAN.constraints, trials=1, population=2, seed=1
+    )
+    ok, good, front = pareto_masks(table, "peak_crank_torque_Nm", "cop_margin_m", plan.constraints)
+    assert ok.tolist() == feasible and good.tolist() == [False, True, True, True, True, False]
+    assert np.flatnonzero(front).tolist() == sorted(pareto_rows(table, plan)) == [1, 2]
+    fig = plot_pareto(table, "peak_crank_torque_Nm", "cop_margin_m", constraints=plan.constraints)
+    try:
+        ax = fig.axes[0]
+        line = next(ln for ln in ax.lines if ln.get_label() == "Pareto front")
+        assert sorted(line.get_xdata().tolist()) == [2.0, 3.0]
+        labels = ax.get_legend_handles_labels()[1]
+        assert labels[0] == "violate stride_m>=0.45 (1)"  # row 0; row 5 is not even feasible
+        assert labels[1] == "feasible designs within the constraints (4 of 6)"
+        grey = ax.collections[0].get_offsets()
+        assert grey.tolist() == [[1.0, 0.9]]
+    finally:
+        plt.close(fig)

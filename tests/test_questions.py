@@ -92,3 +92,20 @@ def test_readme_quotes_the_verdicts(rows):
     for line in design_exploration.markdown(rows).splitlines():
         if line.startswith("* "):
             assert line in readme
+
+
+def test_summary_the_report_reads_is_the_tables_summary():
+    """``analyze`` reads docs/results/answers_summary.json (no pyarrow); it must say what the Parquet tables say."""
+    import json
+
+    from pasibot_pin.explore.questions import RESULTS_DIR, SUMMARY, summarize_tables
+
+    stored = json.loads((RESULTS_DIR / SUMMARY).read_text())  # stale: run `make answers`
+    assert stored == summarize_tables()
+    floor = pq.read_table(RESULTS_DIR / "floor_springs.parquet")
+    assert stored["floor"]["trials"] == floor.num_rows
+    rows = [r for r in floor.to_pylist() if r["feasible"]]
+    most = max(r["floor_steps"] for r in rows)  # the best: the most steps, then the longest run
+    assert stored["floor"]["best_steps"] == most
+    assert stored["floor"]["best_time"] == max(r["floor_time_s"] for r in rows if r["floor_steps"] == most)
+    assert stored["designs_explored"] == sum(pq.read_table(answer_path(s, ".parquet")).num_rows for s in (False, True))

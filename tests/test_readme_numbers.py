@@ -125,3 +125,13 @@ def test_spring_study_bullets():
         pitch[name] = math.degrees(float(np.max(np.abs(run.runs["fitted"].hip_pitch))))
     assert f"Run 1 swings up to {round(pitch['run1'])}° over two steps" in readme
     assert f"holds the hip\n  within about {round(pitch['run4'])}°" in readme
+
+
+def test_readme_answers_are_the_report_answers_box():
+    """The README's answers (between its markers) are the lines the report's answers box opens with, computed
+    again: the walks on the floor, the single motor's peak and mean, the recommended spring and its margin."""
+    from pasibot_pin.report.answers import WALKING_SLOT, answers
+
+    block = _once(r"<!-- answers: begin -->\n(.*?)\n<!-- answers: end -->", re.S).group(1).splitlines()
+    assert WALKING_SLOT in block  # the walking answer's slot is marked where another study fills it
+    assert block == answers()

@@ -67,6 +67,25 @@ def test_report_order_summary_first():
     text = markdown.report_text(["## Model\n", "## Kinematics\n"], {})
     assert text.index("## Summary") < text.index("## Model") < text.index("## Kinematics")
     assert "| question | the seed claims | the model finds | verdict |" in text
+    assert "## Answers" not in text
+
+
+def test_the_answers_box_opens_the_report():
+    from pasibot_pin.report.answers import WALKING_SLOT, answer_lines
+
+    lines = answer_lines(["- a walks.", "- b fell."], "- **The motor**: m.", "- **The spring**: s.")
+    text = markdown.report_text(["", "## Model\n"], {"answers": {"lines": lines}})
+    assert text.index("# PASIBOT analysis") < text.index("## Answers") < text.index("## Summary")
+    box = text.split("## Answers", 1)[1].split("## Summary", 1)[0]
+    assert f"> {WALKING_SLOT}\n>   - a walks.\n>   - b fell.\n" in box  # the slot, marked, then its lines
+    assert box.count("> - **") == 3  # walking, motor, spring: one bullet each
+
+
+def test_the_summary_says_how_runs_fell():
+    assert markdown._runs_pitch(math.radians(41.3), [math.inf, math.inf]) == (
+        "the largest hip pitch is 41.3° in run 1; runs 2 and 3 fell"
+    )
+    assert markdown._runs_pitch(math.inf, [math.radians(10.0)]) == "the largest hip pitch is 10.0° in run 2; run 1 fell"
 
 
 def test_the_summary_with_every_section():
@@ -84,14 +103,19 @@ def test_the_summary_with_every_section():
             "run1_cop": (-0.166, 0.229),
             "sole": (-0.025, 0.075),
             "motor_peak": 39.1,
+            "motor_omega": 5.0,
+            "motor_scenario": "run4",
             "flywheel": 11.95,
             "fluctuation": 0.05,
         },
     }
     text = markdown.summary(facts)
-    assert "by only 4.8 N.m/rad" in text and "41.3° in run 1 and fell and fell" in text
+    assert "by only 4.8 N.m/rad" in text and "the largest hip pitch is 41.3° in run 1; runs 2 and 3 fell" in text
+    assert "fell and fell" not in text
     assert "13 of 60 samples" in text and "-25 to +75 mm" in text and "-166 to +229 mm" in text
-    assert "within 5 %" in text and "12 kg.m²" in text
+    assert "one motor can drive both cranks (run4, 5 rad/s)" in text
+    assert "39.1" not in text and "12 kg.m²" not in text  # stated once, in the answers box
+    assert "feasible" not in text  # a 12 kg.m² flywheel is no proof of feasibility
     assert text.count("\n| ") == 1 + 3  # header and three rows
 
 
@@ -243,5 +267,105 @@ def test_margin_layout_keeps_every_text_inside_and_the_panels_apart():
             for cell_b, b in boxes[i + 1 :]:
                 if cell_a != cell_b:  # twins and colour bars share their parent's cell
                     assert not a.overlaps(b), (cell_a, cell_b)
+    finally:
+        plt.close(fig)
+
+
+def _floor_study(duration: float = 2.0):
+    from types import SimpleNamespace
+
+    def row(case, weld, fell, floor, failed=False):
+        return SimpleNamespace(
+            scenario="run1",
+            case=case,
+            weld_max_pitch=math.radians(weld),
+            weld_fell_at=fell,
+            floor_max_pitch=math.radians(floor),
+            floor_failed=failed,
+        )
+
+    rows = [row("fitted", 19.9, math.nan, 2.9), row("no spring", 61.2, 0.8, 0.0), row("half K_e", 60.3, 1.19, 2.7)]
+    return SimpleNamespace(rows=rows, settings=SimpleNamespace(duration=duration))
+
+
+def test_floor_springs_figure_has_a_legend_readable_ticks_and_a_visible_zero():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_floor import plot_weld_vs_floor
+
+    fig = plot_weld_vs_floor(_floor_study())
+    try:
+        ax = fig.axes[0]
+        assert not _sticks_out(fig)
+        labels = [t.get_text() for t in ax.get_legend().get_texts()]
+        assert labels == ["welded stance foot", "on the floor (heel and toe)", "fell or failed (bar: where it stopped)"]
+        ticks = ax.get_xticklabels()
+        assert [t.get_text() for t in ticks] == ["fitted", "no spring", "half K_e"]
+        assert all(t.get_fontsize() >= 8 and t.get_rotation() == 0 for t in ticks)
+        values = [t.get_text() for t in ax.texts]  # one label per bar: its value, or how it ended
+        assert values == ["19.9", "2.9", "fell", "0.0", "fell", "2.7"]
+        zero_marks = [ln for ln in ax.lines if list(ln.get_ydata()) == [0.0] and ln.get_marker() == "o"]
+        assert len(zero_marks) == 6  # a dot on the axis under every bar: a zero bar is not a gap
+    finally:
+        plt.close(fig)
+
+
+def _walk(t_end: float, fell: bool, dt: float = 0.05):
+    from types import SimpleNamespace
+
+    t = np.arange(0.0, t_end + 1e-9, dt)
+    pitch = np.radians(60.5) * (t / t_end) ** 2 if fell else 0.3 * np.sin(t)
+    n = len(t)
+    return SimpleNamespace(
+        t=t, hip_pitch=pitch, fell=fell, impacts=[], beta=np.full((n, 2), 1.3), motor_torque=np.zeros((n, 2))
+    )
+
+
+def test_simulation_figure_shows_early_falls_on_their_own_time_axis():
+    """Falls at 0.8 and 1.2 s of a 63 s walk: a panel of the first 1.8 s holds them (x at each fall, its time
+    written), the whole-run panels (shared axis up to 63 s) only the springs that held."""
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_simulation import fall_window, plot_simulation
+
+    runs = {"fitted": _walk(62.8, False), "no spring": _walk(0.8, True), "half K_e": _walk(1.2, True)}
+    assert fall_window(runs) == pytest.approx(1.8)
+    fig = plot_simulation(runs, main="fitted", rest_angle=1.3)
+    try:
+        assert not _sticks_out(fig)
+        first, whole, *rest = fig.axes
+        assert first.get_xlim() == pytest.approx((0.0, 1.8))
+        assert first.get_legend_handles_labels()[1] == ["fitted", "no spring", "half K_e"]
+        falls = [ln for ln in first.lines if ln.get_marker() == "x"]
+        assert sorted(float(ln.get_xdata()[0]) for ln in falls) == pytest.approx([0.8, 1.2])
+        assert sorted(t.get_text() for t in first.texts) == ["fell at 0.80 s", "fell at 1.20 s"]
+        assert max(np.max(ln.get_xdata()) for ln in first.lines if ln.get_label() == "fitted") <= 1.8
+        assert whole.get_legend_handles_labels()[1] == ["fitted"]
+        assert whole.get_xlim()[1] >= 62.8 and all(ax.get_xlim() == whole.get_xlim() for ax in rest)
+    finally:
+        plt.close(fig)
+    # no early fall: three panels, every run in the first
+    fig = plot_simulation({"fitted": _walk(62.8, False), "twice K_e": _walk(62.8, False)})
+    try:
+        assert len(fig.axes) == 3 and fig.axes[0].get_legend_handles_labels()[1] == ["fitted", "twice K_e"]
+    finally:
+        plt.close(fig)
+
+
+def test_robot_figure_names_every_symbol():
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.model.robot import load
+    from pasibot_pin.viz.plots import GROUP_LABELS, plot_robot
+
+    fig = plot_robot(load("spring", 2), legend=True)
+    try:
+        assert not _sticks_out(fig)
+        labels = [t.get_text() for t in fig.axes[0].get_legend().get_texts()]
+        for group in ("hoeken", "pantograph", "foot"):
+            assert GROUP_LABELS[group] in labels
+        assert GROUP_LABELS["extension"] not in labels  # the spring variant has none
+        assert "fixed pivots on the hip (crank j0, j3, j8)" in labels and "hip frame (body origin)" in labels
+        assert "ground z = 0" in labels
     finally:
         plt.close(fig)

@@ -453,9 +453,10 @@ def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
     for name in ("simulation_run4.png", "simulation_run4.csv", "simulation_run4.gif"):
         assert (out / name).stat().st_size > 1000, name
     table = np.genfromtxt(out / "simulation_run4.csv", delimiter=",", names=True)
-    assert "hip_pitch" in table.dtype.names and "Ta_right" in table.dtype.names
-    assert table["t"][-1] == pytest.approx(math.pi / 5.0)
-    assert np.all(np.abs(table["theta_right"] - (math.pi / 2 + 5.0 * table["t"])) < 1e-9)
+    assert "hip_pitch_rad" in table.dtype.names and "Ta_right_Nm" in table.dtype.names
+    assert "swing_sole_height_m" in table.dtype.names
+    assert table["t_s"][-1] == pytest.approx(math.pi / 5.0)
+    assert np.all(np.abs(table["theta_right_rad"] - (math.pi / 2 + 5.0 * table["t_s"])) < 1e-9)
     assert main(argv) == 2, "existing files are kept without --force"
     assert "--force" in capsys.readouterr().err
     assert main(argv + ["--force"]) == 0

@@ -74,3 +74,16 @@ def test_flywheel_against_sinusoidal_load():
         sm.flywheel(theta, torque, omega, 0.01)
     with pytest.raises(ValueError, match="omega"):
         sm.flywheel(theta, torque, 0.0, 1.0)
+
+
+def test_the_motor_operating_point_of_the_study():
+    """Peak power = peak torque x omega (speed held); the mean torque is every flywheel's constant torque."""
+    from pasibot_pin.studies.contact_energy_study import ContactEnergySettings, single_motor_study
+
+    motor = single_motor_study(ContactEnergySettings(motor_samples=96, flywheels=(5.0, 20.0)))
+    assert motor.peak_power == pytest.approx(motor.single.peak() * motor.omega, rel=1e-12)
+    for case in motor.flywheels:
+        assert case.flywheel.mean_torque == pytest.approx(motor.mean_torque, rel=1e-9)
+    assert motor.mean_power == pytest.approx(motor.mean_torque * motor.omega, rel=1e-12)
+    # the mean over a step is the motor's net work over that step's crank angle (virtual power)
+    assert 0.0 < motor.mean_torque < motor.single.peak()

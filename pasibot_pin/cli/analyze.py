@@ -2,8 +2,9 @@
 
 Each section is ``pasibot_pin.report.<name>.section(out_dir) -> str`` (or ``build(out_dir)``, which
 also hands back the numbers the summary quotes): it runs its studies, writes its files into
-``out_dir`` and returns its Markdown. ``report.md`` opens with a summary of verdicts and holds no
-wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
+``out_dir`` and returns its Markdown. ``report.md`` opens with the answers box (the ``answers`` step,
+:mod:`pasibot_pin.report.answers`: no files, its facts carry the box's lines), then a summary of
+verdicts, and holds no wall-clock time. The longest sections run in pieces (:data:`PLANS`); all share one pool of
 :data:`pasibot_pin.jobs.WORKERS` processes, longest first. ``report.md`` keeps the order of :data:`STEPS`.
 """
 
@@ -17,6 +18,7 @@ from pathlib import Path
 from pasibot_pin.cli.common import add_force_option, add_out_folder_option
 
 STEPS: list[tuple[str, str]] = [
+    ("answers", "answers"),
     ("model", "model"),
     ("kinematics", "kinematics"),
     ("animation", "animation"),
@@ -29,6 +31,7 @@ STEPS: list[tuple[str, str]] = [
 """(step name, report module) in report order."""
 
 ESTIMATES: dict[str, float] = {
+    "answers": 30.0,
     "kinematics": 6.7,
     "contact_energy": 6.7,
     "dynamics": 2.9,
@@ -63,14 +66,27 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Run every step on one pool, longest pieces first, and write ``report.md``."""
     from pasibot_pin.cli.common import check_output_folder
+    from pasibot_pin.files import MARKER, OutputFolder
+
+    out_dir: Path = check_output_folder(args.out, "--out")
+    if out_dir.is_dir() and any(p.name != MARKER for p in out_dir.iterdir()) and not args.force:
+        raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
+    folder = OutputFolder(out_dir).claim(force=args.force)  # marked, locked; --force only in pasibot's folders
+    try:
+        _run(out_dir)
+    except BaseException:
+        folder.discard()  # a failed or stopped run leaves nothing it created
+        raise
+    folder.release()
+    return 0
+
+
+def _run(out_dir: Path) -> None:
+    """Every step into ``out_dir`` (claimed), then ``report.md``."""
     from pasibot_pin.jobs import WORKERS, Job, run_jobs
     from pasibot_pin.report.files import write_text_atomic
     from pasibot_pin.report.markdown import report_text
 
-    out_dir: Path = check_output_folder(args.out, "--out")
-    if out_dir.is_dir() and any(out_dir.iterdir()) and not args.force:
-        raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
-    out_dir.mkdir(parents=True, exist_ok=True)
     built: dict = {}  # step name -> its Section
     plans = {
         name: getattr(importlib.import_module(f"pasibot_pin.report.{dict(STEPS)[name]}"), cls)(out_dir)
@@ -96,4 +112,3 @@ def run(args: argparse.Namespace) -> int:
     text = report_text([built[name].markdown for name, _ in STEPS], {name: b.facts for name, b in built.items()})
     report = write_text_atomic(out_dir / "report.md", text)
     print(f"wrote {report}")
-    return 0

@@ -75,13 +75,13 @@ def run(args: argparse.Namespace) -> int:
         changes["K"] = args.K
     design = design_of(args)
     if design is None:
-        variant, geometry = args.variant, Geometry().with_(**changes)
+        variant, geometry, inertia = args.variant, Geometry().with_(**changes), "point"
         masses = percentage_mass_model(geometry, variant)
-    else:  # the design's geometry and masses; --L, --K, --ratio change it
+    else:  # the design's geometry, masses and inertia; --L, --K, --ratio change it
         design = design.with_(**changes)
-        variant, geometry, masses = design.variant, design.geometry(), design.masses()
+        variant, geometry, masses, inertia = design.variant, design.geometry(), design.masses(), design.inertia
     check_full_turn(geometry, variant)
-    text = render_urdf(variant, args.legs, geometry, masses)
+    text = render_urdf(variant, args.legs, geometry, masses, inertia)
     if args.out is None:
         print(text, end="")
     else:

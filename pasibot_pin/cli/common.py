@@ -9,8 +9,11 @@ one leg is refused) asks :func:`given`, so the default itself stays the same eve
 Every output path is checked before any work starts (:func:`check_output_file`,
 :func:`check_output_folder`, :func:`check_plot_file`): not a folder, not an existing file
 without ``--force``, a folder that exists and is writable or can be created, and for figures
-an extension matplotlib can write. The checks raise ``ValueError`` or ``FileExistsError``,
-which ``pasibot`` prints as one line with exit code 2.
+an extension matplotlib can write. ``--force`` replaces regular files only: a symbolic link is
+refused (naming the file it points to, so the user can name that file; the link is kept), and so
+are devices, pipes and sockets. The checks raise ``ValueError`` or ``FileExistsError``, which
+``pasibot`` prints as one line with exit code 2. A FILE option ending in ``/`` is refused (it names
+a folder). The numeric flags' ranges are in :mod:`pasibot_pin.cli.bounds`.
 """
 
 from __future__ import annotations
@@ -19,6 +22,7 @@ import argparse
 import os
 from pathlib import Path
 
+from pasibot_pin.files import check_replaceable, temporary_name
 from pasibot_pin.model.params import SOLE_FLOOR_MU, VARIANTS
 from pasibot_pin.report.files import atomic_path, atomic_paths, write_columns_csv
 
@@ -75,6 +79,13 @@ def float_list(text: str) -> list[float]:
     if not values:
         raise argparse.ArgumentTypeError("expected at least one number")
     return values
+
+
+def file_path(text: str) -> Path:
+    """An argparse type for a FILE option: a path that does not end in a separator (``out/new/`` is a folder)."""
+    if text.endswith(("/", os.sep)):
+        raise argparse.ArgumentTypeError(f"{text} ends in {os.sep}, so it names a folder; give a file name")
+    return Path(text)
 
 
 def given(args: argparse.Namespace, dest: str) -> bool:
@@ -167,10 +178,10 @@ def add_force_option(parser: argparse.ArgumentParser, what: str = "overwrite exi
 
 def add_output_options(parser: argparse.ArgumentParser, csv_help: str, plot_help: str) -> None:
     """``--csv FILE``, ``--plot FILE``, ``--out DIR`` (both under their default names) and ``--force``."""
-    parser.add_argument("--csv", type=Path, default=None, metavar="FILE", help=csv_help)
+    parser.add_argument("--csv", type=file_path, default=None, metavar="FILE", help=csv_help)
     parser.add_argument(
         "--plot",
-        type=Path,
+        type=file_path,
         default=None,
         metavar="FILE",
         help=f"{plot_help} (.png, .pdf, .svg, ...; no extension: .png)",
@@ -217,10 +228,30 @@ def check_output_file(path: Path | None, option: str, force: bool = False) -> Pa
     path = Path(path)
     if not path.name or path.is_dir() or str(path).endswith(os.sep):
         raise ValueError(f"{option} {path} is a folder; give a file name")
-    if path.exists() and not force:
-        raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
+    if os.path.lexists(path):
+        if not force:
+            raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
+        check_replaceable(path, option)  # --force replaces a regular file, never a device or a link
     _check_writable_folder(path.parent, option, path)
+    _probe_folder(path.parent, option, path)
     return path
+
+
+def _probe_folder(folder: Path, option: str, path: Path) -> None:
+    """Create and remove a temporary file in ``folder`` when it exists.
+
+    A folder that refuses files even to root (``/sys``, a read-only mount) is refused before any work.
+    """
+    folder = Path(folder) if str(folder) else Path(".")
+    if not folder.is_dir():
+        return  # created later, under a writable ancestor (checked)
+    probe = temporary_name(folder / "probe")
+    try:
+        fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
+    except OSError as err:
+        raise ValueError(f"{option} {path}: cannot write in folder {folder} ({err.strerror})") from None
+    os.close(fd)
+    os.unlink(probe)
 
 
 def check_output_folder(path: Path, option: str) -> Path:
@@ -275,12 +306,15 @@ def check_outputs(args: argparse.Namespace, stem: str | None = None) -> None:
     written (``.png`` added when it has no extension).
     """
     out = getattr(args, "out", None)
+    csv_option, plot_option = "--csv", "--plot"
     if out is not None and stem is not None:
         check_output_folder(out, "--out")
-        args.csv = Path(out) / f"{stem}.csv" if args.csv is None else args.csv
-        args.plot = Path(out) / f"{stem}.png" if args.plot is None else args.plot
-    csv_path = check_output_file(args.csv, "--csv", args.force)
-    plot_path = check_plot_file(args.plot, "--plot", args.force)
+        if args.csv is None:  # a file the user named by --out DIR: the messages name --out
+            args.csv, csv_option = Path(out) / f"{stem}.csv", "--out"
+        if args.plot is None:
+            args.plot, plot_option = Path(out) / f"{stem}.png", "--out"
+    csv_path = check_output_file(args.csv, csv_option, args.force)
+    plot_path = check_plot_file(args.plot, plot_option, args.force)
     if csv_path is not None and plot_path is not None and csv_path.resolve() == plot_path.resolve():
         raise ValueError(f"--csv and --plot name the same file {csv_path}")
     args.csv, args.plot = csv_path, plot_path

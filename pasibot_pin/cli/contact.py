@@ -20,6 +20,9 @@ from pasibot_pin.cli.common import (
     design_of,
 )
 
+CONTACT_VARIANTS: tuple[str, ...] = ("spring", "parallel")
+"""The variants the contact study takes (the seed's scenarios and presets are for these two designs)."""
+
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
@@ -33,7 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     )
     add_scenario_option(p)
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
-    p.add_argument("--variant", default="spring", help="spring or parallel (default spring)")
+    p.add_argument("--variant", default="spring", choices=CONTACT_VARIANTS, help="spring or parallel (default spring)")
     add_mu_option(p)
     p.add_argument(
         "--samples", type=int, default=CONTACT_SAMPLES, help=f"samples over one stance (default {CONTACT_SAMPLES})"

@@ -20,8 +20,16 @@ from pasibot_pin.cli.common import (
     design_of,
     float_list,
 )
-from pasibot_pin.model.params import VARIANTS
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+
+ENERGY_VARIANTS: tuple[str, ...] = ("spring", "parallel")
+"""The variants the energy study compares (the rigid leg is the seed's kinematic model, not one of the two
+designs whose motors and ankles the study sizes)."""
+
+
+MAX_ENERGY_NODES: int = 20_000
+"""The most inverse-dynamics nodes one ``energy`` run solves (about 4 ms each: a minute and a half)."""
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -58,10 +66,22 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args, "energy")
     if args.flywheel is not None:
         check_flywheel_inertia(args.flywheel)
-    variants = tuple(v.strip() for v in args.variants.split(",") if v.strip())
+    variants = tuple(v.strip() for v in args.variants.split(","))
+    if not any(variants) or not all(variants):
+        raise ParameterError(
+            f"--variants must be a comma-separated list of {', '.join(ENERGY_VARIANTS)}, got {args.variants!r}"
+        )
     for v in variants:
-        if v not in VARIANTS:
-            raise ValueError(f"parameter '--variants': unknown variant {v!r}; valid: {', '.join(VARIANTS)}")
+        if v not in ENERGY_VARIANTS:
+            raise ParameterError(f"--variants: unknown variant {v!r}; valid: {', '.join(ENERGY_VARIANTS)}")
+    if len(set(variants)) != len(variants):
+        raise ParameterError(f"--variants names a variant twice: {args.variants!r}")
+    work = len(args.omegas) * len(variants) * args.nodes
+    if work > MAX_ENERGY_NODES:
+        raise ParameterError(
+            f"--omegas ({len(args.omegas)} speeds) x --variants ({len(variants)}) x --nodes ({args.nodes}) = {work} "
+            f"inverse-dynamics nodes; at most {MAX_ENERGY_NODES} (fewer speeds or nodes)"
+        )
     design = design_of(args)
     if design is not None and args.flywheel is not None:
         raise ValueError("--flywheel sizes the variants' motors; it takes no --design")

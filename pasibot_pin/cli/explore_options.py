@@ -49,6 +49,11 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
 
 def start_run(args: argparse.Namespace):
     """Check the shared inputs before any work: (base design, ranges, (metric, sense))."""
+    from pasibot_pin.extras import require
+
+    # the extra first: a plain install says so in one line and writes nothing
+    needed = ["pyarrow", "scipy"] + (["optuna"] if args.command == "optimize" else [])
+    require("sweep", needed + (["distributed"] if args.dask is not None else []), f"pasibot {args.command}")
     from pasibot_pin.cli.common import check_output_folder
     from pasibot_pin.explore.executors import check_scheduler, check_workers
     from pasibot_pin.explore.plan import check_floor, parse_ranking, ranges_or_default
@@ -67,26 +72,54 @@ def start_run(args: argparse.Namespace):
 
 
 def run_resumable(args: argparse.Namespace, runner, plan, what: str):
-    """``runner(plan, OUT, ...)`` with the shared flags; on Ctrl-C, say that the finished work is kept."""
+    """``runner(plan, OUT, ...)`` with the shared flags, the folder claimed (marked and locked) meanwhile.
+
+    On Ctrl-C, say that the finished work is kept. A run that fails or stops before any design
+    finished removes what it created (its folder, or the files it added), so the same command
+    can run again; the lock is held until :func:`finish_run` ends.
+    """
+    from pasibot_pin.explore.store import OWNED, PARTS
+    from pasibot_pin.files import OutputFolder
+
     out = Path(args.out)
+    folder = OutputFolder(out, ours=OWNED).claim(force=args.force)  # refused at once if another run writes there
+    args.claimed = folder
     try:
         flags = {"workers": args.workers, "dask": args.dask, "force": args.force, "csv": args.csv}
         return runner(plan, out, progress=not args.no_progress, **flags)
-    except KeyboardInterrupt:
-        print(f"pasibot {args.command}: stopped; the finished {what} are kept in {out}: run the same command again")
+    except BaseException as err:
+        finished = (out / PARTS).is_dir() and any((out / PARTS).glob("part-*.parquet"))
+        if finished:
+            folder.release()
+        else:
+            folder.discard()
+        if isinstance(err, KeyboardInterrupt) and finished:
+            print(f"pasibot {args.command}: stopped; the finished {what} are kept in {out}: run the same command again")
         raise
 
 
 def finish_run(
-    args: argparse.Namespace, table, varied, by: tuple[str, str], what: str, objectives=None, rows=None
+    args: argparse.Namespace, table, varied, by: tuple[str, str], what: str, objectives=None, rows=None, constraints=()
 ) -> None:
-    """Figures, the best designs (``rows``, or the ``--best`` by ``--by``), a summary line."""
+    """Figures, the best designs (``rows``, or the ``--best`` by ``--by``), a summary line.
+
+    ``constraints``: the ``--constraint``s; the Pareto figure greys the designs that violate one.
+    """
+    out = Path(args.out)
+    try:
+        _finish(args, out, table, varied, by, what, objectives, rows, constraints)
+    finally:
+        claimed = getattr(args, "claimed", None)
+        if claimed is not None:
+            claimed.release()
+
+
+def _finish(args, out: Path, table, varied, by, what: str, objectives, rows, constraints=()) -> None:
     import numpy as np
 
     from pasibot_pin.explore.sweep import best_rows, export_best, write_figures
 
-    out = Path(args.out)
-    figures = write_figures(table, out, varied, objectives)
+    figures = write_figures(table, out, varied, objectives, constraints)
     feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))
     print(f"{what}; {table.num_rows} in {out / 'results.parquet'}, {feasible} feasible")
     print(f"figures: {', '.join(str(f) for f in figures)}")

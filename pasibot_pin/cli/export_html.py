@@ -18,6 +18,7 @@ from pasibot_pin.cli.common import (
     add_steps_option,
     check_output_file,
     design_of,
+    file_path,
 )
 from pasibot_pin.model.params import VARIANTS
 
@@ -42,7 +43,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("export-html", help="write the walk as one self-contained HTML file (meshcat animation)")
     p.add_argument(
-        "--out", type=Path, default=Path("gait.html"), metavar="FILE", help="HTML file to write (default gait.html)"
+        "--out",
+        type=file_path,
+        default=Path("gait.html"),
+        metavar="FILE",
+        help="HTML file to write (default gait.html)",
     )
     add_walk_view_options(p)
     p.add_argument(

@@ -12,13 +12,20 @@ from __future__ import annotations
 import argparse
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_force_option, add_mu_option, add_robot_options, check_output_file, given
+from pasibot_pin.cli.common import (
+    add_force_option,
+    add_mu_option,
+    add_robot_options,
+    check_output_file,
+    file_path,
+    given,
+)
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("export-mjcf", help="write the robot as an MJCF file for MuJoCo", description=__doc__)
-    p.add_argument("--out", type=Path, required=True, metavar="FILE", help="MJCF file to write (.xml)")
+    p.add_argument("--out", type=file_path, required=True, metavar="FILE", help="MJCF file to write (.xml)")
     p.add_argument("--design", type=Path, default=None, help="design file (.toml or .json) instead of the seed design")
     add_robot_options(p)  # --variant given overrides the design's variant
     p.add_argument("--actuator", default="position", choices=("position", "velocity", "none"), help="crank servos")

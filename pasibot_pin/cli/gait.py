@@ -1,10 +1,11 @@
 """``pasibot gait``: foot paths of one leg, or the biped's multi-step walk, as CSV and a plot.
 
 ``--legs 1``: one crank turn in the leg frame (x forward, z up, origin at the crank pivot),
-one CSV row per sample with the columns of
-:data:`~pasibot_pin.studies.kinematics_study.LEG_COLUMNS`. ``--legs 2`` (the default, as in every
-command): the biped walking ``--steps`` steps in the world frame, columns
-:func:`~pasibot_pin.studies.kinematics_study.walk_columns`. All SI units, angles in rad.
+one CSV row per sample: the crank angle, the ankle, toe and heel positions, the foot pitch, the
+ankle's velocity and acceleration, and whether the leg is in stance. ``--legs 2`` (the default,
+as in every command): the biped walking ``--steps`` steps in the world frame: both crank angles,
+the time, the step, the stance leg, the hip's position and pitch, and each foot's ankle, toe,
+heel and pitch. Each column's name ends in its unit (``theta_rad``, ``ankle_x_m``, ``t_s``).
 """
 
 from __future__ import annotations

@@ -45,5 +45,6 @@ def run(args: argparse.Namespace) -> int:
     result = run_resumable(args, run_optimize, plan, "trials")
     objectives = tuple(o.metric for o in plan.objectives[:2])
     pair = objectives if len(objectives) == 2 else (objectives[0], "stride_m")
-    finish_run(args, result.table, plan.names, by, f"{result.evaluated} trials evaluated", pair, result.pareto)
+    what = f"{result.evaluated} trials evaluated"
+    finish_run(args, result.table, plan.names, by, what, pair, result.pareto, plan.constraints)
     return 0

@@ -1,7 +1,7 @@
 """``pasibot simulate``: walk the spring biped with its hip pitch free (does the fitted spring hold the hip?).
 
 ``--ground floor`` (default): both feet on a floor, heel and toe unilateral with Coulomb friction
-(:mod:`pasibot_pin.studies.floor_study`); writes ``floor_<scenario>.csv`` (the fitted case: t,
+(:mod:`pasibot_pin.studies.floor_study`); writes ``floor_<scenario>.csv`` (the fitted case: t_s,
 hip_pitch_deg, right_mode, left_mode, forces, crank torques) and ``floor_<scenario>.png``, and
 prints each case's outcome. ``--ground weld``: the stance foot welded flat
 (:mod:`pasibot_pin.studies.simulation_study`); writes ``simulation_<scenario>.png`` and ``.csv``.
@@ -15,6 +15,8 @@ import math
 from pathlib import Path
 
 from pasibot_pin.cli import common
+from pasibot_pin.cli.bounds import check_integration_steps
+from pasibot_pin.errors import ParameterError
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -47,10 +49,30 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.set_defaults(func=run)
 
 
+FLOOR_MAX_DT: float = 0.01
+"""The longest floor time step [s] (the floor's contact solve needs at least 100 steps a second)."""
+
+
+def check_floor_steps(args: argparse.Namespace) -> None:
+    """``--ground floor``: ``--dt`` at most :data:`FLOOR_MAX_DT`, ``--duration`` / ``--dt`` within the step budget.
+
+    Raises:
+        ParameterError: naming ``--dt`` or ``--duration``, before any work.
+
+    """
+    dt = 1e-3 if args.dt is None else args.dt
+    if args.dt is not None and args.dt > FLOOR_MAX_DT:
+        raise ParameterError(f"--dt must be in [1e-05, {FLOOR_MAX_DT:g}] s with --ground floor, got {args.dt:g}")
+    duration = args.duration if args.duration is not None else (2.0 if args.study else 10.0)
+    check_integration_steps(duration, dt, f"--duration {duration:g} s at --dt {dt:g} s")
+
+
 def run(args: argparse.Namespace) -> int:
     """Simulate the scenario, write plots and CSV, print the excursions."""
     if args.ground == "floor":
         from pasibot_pin.cli.simulate_floor import run_floor
+
+        check_floor_steps(args)
 
         return run_floor(args)
     from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation

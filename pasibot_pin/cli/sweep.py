@@ -18,7 +18,12 @@ from pasibot_pin.cli.explore_options import add_explore_options, finish_run, run
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("sweep", help="evaluate many designs into one table (resumable)", description=__doc__)
-    p.add_argument("--n", type=int, default=100, help="number of designs (grid: about n) (default 100)")
+    p.add_argument(
+        "--n",
+        type=int,
+        default=100,
+        help="number of designs (grid: levels^d for d varied parameters, e.g. 128 = 2^7) (default 100)",
+    )
     p.add_argument("--method", default="lhs", choices=("lhs", "grid"), help="Latin hypercube or grid (default lhs)")
     p.add_argument("--seed", type=int, default=0, help="the Latin hypercube's random seed (default 0)")
     add_explore_options(p)

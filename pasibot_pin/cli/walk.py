@@ -28,19 +28,20 @@ from pasibot_pin.cli.common import (
     design_of,
     given,
 )
+from pasibot_pin.errors import ParameterError
 
 MAX_STEPS = 1000
 """Most steps ``--steps`` takes [-]."""
 
 
-def positive_steps(text: str) -> int:
-    """``--steps``: an integer in [1, MAX_STEPS]."""
+def check_steps(text: str) -> int:
+    """``--steps``: an integer in [1, :data:`MAX_STEPS`], else a one-line ParameterError naming the flag."""
     try:
         value = int(text)
     except ValueError:
-        raise argparse.ArgumentTypeError(f"must be an integer in [1, {MAX_STEPS}], got {text!r}") from None
+        value = 0
     if not 1 <= value <= MAX_STEPS:
-        raise argparse.ArgumentTypeError(f"must be an integer in [1, {MAX_STEPS}], got {text!r}")
+        raise ParameterError(f"--steps must be an integer in [1, {MAX_STEPS}], got {text!r}")
     return value
 
 
@@ -50,7 +51,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_design_option(p)
     add_robot_options(p, legs=False)  # --variant given overrides the design's variant
     p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s]")
-    p.add_argument("--steps", type=positive_steps, default=20, help="steps to walk (default 20)")
+    p.add_argument("--steps", default="20", metavar="N", help=f"steps to walk, 1 to {MAX_STEPS} (default 20)")
     add_mu_option(p)
     p.add_argument("--stability", action="store_true", help="also the gait's Floquet multipliers (shooting)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
@@ -65,8 +66,9 @@ def run(args: argparse.Namespace) -> int:
     """Check the flags and files, walk the design, print the answer, write the files."""
     from pasibot_pin.model.design import Design
 
+    steps = check_steps(args.steps)
     if args.omega is not None and not (math.isfinite(args.omega) and 0.05 <= args.omega <= 20.0):
-        raise ValueError(f"--omega must be a crank speed in [0.05, 20] rad/s, got {args.omega!r}")
+        raise ParameterError(f"--omega must be a crank speed in [0.05, 20] rad/s, got {args.omega!r}")
     name = args.design.stem if args.design is not None else (args.variant if given(args, "variant") else "seed")
     html = gif = None
     if args.html or args.gif:
@@ -82,7 +84,7 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.report.walking import verdict_json, walk_lines, write_walk_animation
     from pasibot_pin.studies.walking import WalkSettings, walk_design
 
-    settings = WalkSettings(steps=args.steps, mu=args.mu)
+    settings = WalkSettings(steps=steps, mu=args.mu)
     robot = design_robot(design, 2, visuals=html is not None)
     walk = walk_design(design, settings, robot)
     stability = None

@@ -2,8 +2,11 @@
 
 :mod:`.pinocchio_models` builds Pinocchio's constraint models (and wraps Pinocchio's own
 constrained algorithms as references); :mod:`.system` evaluates every row and solves on the
-manifold. No other module builds constraint rows or calls Pinocchio's constraint or
-Jacobian API.
+manifold; :func:`frame_rows` builds the planar rows of frames outside a system (contact points,
+a sole's pose). No other module builds rows or calls Pinocchio's constraint or Jacobian API.
+
+The public API is what ``__all__`` lists; :class:`~.planar.PlanarRowBlocks` is what
+:func:`frame_rows` returns.
 """
 
 from pasibot_pin.constraints.pinocchio_models import (
@@ -32,6 +35,7 @@ from pasibot_pin.constraints.system import (
     coordinate,
     coupling,
     frame_jacobian,
+    frame_rows,
     planar_pitch,
     split_torques,
     symmetric_mass_matrix,
@@ -51,6 +55,7 @@ __all__ = [
     "coupling",
     "create_datas",
     "frame_jacobian",
+    "frame_rows",
     "ground_point_constraint",
     "inplane_rows",
     "is_weld",

@@ -162,6 +162,11 @@ class PlanarRowBlocks:
             gives the point a itself (its world position, Jacobian and drift).
         pitch_pairs: (a, b) end indices of each weld's pitch row (b may be -1: none).
 
+    Attributes:
+        moving_c, moving_a0, moving_AT: the lever (complex), angle offset and pitch map (nv, K)
+            of each term some joint turns (what a table of one-sample rows is built from).
+        has_sliders: some moving term is scaled by a prismatic coordinate.
+
     """
 
     def __init__(self, ends: PlanarEnds, pairs: list[tuple[int, int]], pitch_pairs: list[tuple[int, int]]):
@@ -192,20 +197,20 @@ class PlanarRowBlocks:
         self.fixed_jac = self.D[:, fixed & ~plain] @ (const[fixed & ~plain, None] * slide[fixed & ~plain])  # (n, nv)
         moving = ~fixed
         self.D_moving = self.D[:, moving]
-        self._c, self._a0 = self.c[moving], self.a0[moving]
-        self._AT = self.A[moving].T.copy()
-        self._iAT = 1j * self._AT
+        self.moving_c, self.moving_a0 = self.c[moving], self.a0[moving]
+        self.moving_AT = self.A[moving].T.copy()
+        self._iAT = 1j * self.moving_AT
         self._slide_T = slide[moving].T.copy()
         self._unit = 1.0 - slide[moving].sum(axis=1)  # the factor of a moving term without a slider
-        self._slides = bool(np.any(slide[moving]))
+        self.has_sliders = bool(np.any(slide[moving]))
         self._DT = self.D_moving.T.astype(complex)  # complex copy: numpy would cast on every product
         self._pitch_AT = self.pitch_A.T.copy()
         # terms turned by the same pitch row (the points of one body) share exp(i A q): the phases are
         # computed once per distinct row, and c exp(i a0) of each term is a constant factor
-        rows, group = np.unique(self._AT.T, axis=0, return_inverse=True)
+        rows, group = np.unique(self.moving_AT.T, axis=0, return_inverse=True)
         self._phase_AT = rows.T.copy()  # (nv, distinct pitches)
         self._group = group.reshape(-1)
-        self._c_turned = self._c * np.exp(1j * self._a0)
+        self._c_turned = self.moving_c * np.exp(1j * self.moving_a0)
 
     def _turned(self, q: np.ndarray):
         """(c exp(i phi), the slider factor or None) of every moving term."""
@@ -214,7 +219,7 @@ class PlanarRowBlocks:
         np.cos(angle, out=phase.real)
         np.sin(angle, out=phase.imag)
         turned = self._c_turned * phase[..., self._group]
-        return turned, (q @ self._slide_T + self._unit) if self._slides else None
+        return turned, (q @ self._slide_T + self._unit) if self.has_sliders else None
 
     def terms(self, q: np.ndarray, v: np.ndarray | None = None):
         """The moving terms' values (..., K), Jacobian transposed (..., nv, K) and drift (..., K) or None, complex.
@@ -231,7 +236,7 @@ class PlanarRowBlocks:
             jac_t = self._iAT * value[..., None, :]
         drift = None
         if v is not None:
-            w = v @ self._AT
+            w = v @ self.moving_AT
             drift = value * (-w * w)
             if factor is not None:
                 drift += 2j * turned * w * (v @ self._slide_T)
@@ -250,7 +255,7 @@ class PlanarRowBlocks:
         """
         turned, factor = self._turned(q)
         value = turned if factor is None else turned * factor
-        w, alpha = v @ self._AT, a @ self._AT
+        w, alpha = v @ self.moving_AT, a @ self.moving_AT
         acc = value * (1j * alpha - w * w)
         if factor is not None:
             acc += turned * (a @ self._slide_T) + 2j * turned * w * (v @ self._slide_T)

@@ -42,7 +42,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints.pinocchio_models import anchor_points, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarKinematics, PlanarRowBlocks
-from pasibot_pin.errors import ClosureError, SingularPoseError
+from pasibot_pin.errors import ClosureError, ParameterError, SingularPoseError
 
 _PLANAR_CACHE: dict[int, tuple[pin.Model, PlanarKinematics | None]] = {}
 
@@ -191,6 +191,40 @@ def _wrap(angle: np.ndarray | float):
 
 
 _LOWER: dict[int, tuple[np.ndarray, np.ndarray]] = {}
+
+
+def frame_rows(
+    model: pin.Model, frames: Sequence[int], points: Sequence[int], pitches: Sequence[int] = ()
+) -> PlanarRowBlocks:
+    """Planar rows of frames of ``model``: the world position of each of ``points``, the pitch of ``pitches``.
+
+    The public way to build rows outside a :class:`ConstraintSystem` (contact points, a sole's
+    pose): the same exact planar kinematics (complex products, batched over leading axes of q).
+
+    Args:
+        model: a planar model (every rotation about y).
+        frames: frame ids.
+        points: indices into ``frames`` whose world (x, z) rows are wanted, in this order.
+        pitches: indices into ``frames`` whose world pitch rows are wanted.
+
+    Returns:
+        :class:`~pasibot_pin.constraints.planar.PlanarRowBlocks`: ``evaluate(q)`` gives the points as
+        x + i z [m], their Jacobian and the pitch rows [rad].
+
+    Raises:
+        ParameterError: the model is not planar.
+
+    """
+    kin = planar_kinematics(model)
+    if kin is None:
+        raise ParameterError("frame_rows needs a planar model (every rotation about y)")
+    placed = [model.frames[int(f)] for f in frames]
+    ends = kin.ends(
+        np.array([f.parentJoint for f in placed]),
+        np.array([f.placement.translation for f in placed]).reshape(-1, 3),
+        np.array([f.placement.rotation for f in placed]).reshape(-1, 3, 3),
+    )
+    return PlanarRowBlocks(ends, [(int(k), -1) for k in points], [(int(k), -1) for k in pitches])
 
 
 def symmetric_mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
@@ -347,7 +381,7 @@ class ConstraintSystem:
             self._wrapped = [int(r) for r in wrapped]
             # one sample (the simulator's case): the terms' values, Jacobian and drift as the rows of one
             # complex array (nv rows i A^T, one of ones, one for -w^2), turned into rows by one product
-            if not blocks._slides:
+            if not blocks.has_sliders:
                 self._one_sample_tables(blocks)
 
     def _one_sample_tables(self, blocks: PlanarRowBlocks) -> None:
@@ -360,13 +394,13 @@ class ConstraintSystem:
         are summed, so the biped's 28 terms need 16 phases.
         """
         nv, n0 = self.model.nv, self.n_constraint_rows
-        big_c = blocks._c * np.exp(1j * blocks._a0)
+        big_c = blocks.moving_c * np.exp(1j * blocks.moving_a0)
         px, pz = self._pick_T[0::2], self._pick_T[1::2]
         weights = np.empty_like(self._pick_T)
         weights[0::2] = big_c.real[:, None] * px + big_c.imag[:, None] * pz
         weights[1::2] = -big_c.imag[:, None] * px + big_c.real[:, None] * pz
         # terms turned by the same pitch share one phase: their picked constants add up
-        pitches, group = np.unique(blocks._AT.T, axis=0, return_inverse=True)
+        pitches, group = np.unique(blocks.moving_AT.T, axis=0, return_inverse=True)
         merged = np.zeros((2 * len(pitches), self.nrows))
         np.add.at(merged, 2 * group.reshape(-1), weights[0::2])
         np.add.at(merged, 2 * group.reshape(-1) + 1, weights[1::2])

@@ -36,9 +36,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, symmetric_mass_matrix
-from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.constraints.system import planar_kinematics
+from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, frame_rows, symmetric_mass_matrix
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample, Verdict
@@ -50,11 +48,9 @@ from pasibot_pin.errors import (
     SimulationError,
     SingularPoseError,
 )
-from pasibot_pin.model.variants import MOTOR_LAYOUTS  # noqa: E402
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, SIDES
+from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
-SIDES = ("right", "left")
-HIP_X, HIP_PITCH = 0, 2
-"""Indices of the floating hip's forward position and pitch in q and v."""
 MAX_STEPS = 20_000_000
 """Most time steps one run takes (a bound on its time and memory)."""
 POINTS = ("heel", "toe")
@@ -333,13 +329,8 @@ class FloorSimulator:
         self._target_offsets = np.array([row.offset for row in scalars])
         self._target_rates = np.array([row.rate for row in scalars])
         self.bilateral = ConstraintSystem(model, robot.data, robot.loop_constraints, scalars, robot.geometry.L)
-        frames = [model.frames[robot.frame_id(f"{side}_{point}")] for side in SIDES for point in POINTS]
-        ends = planar_kinematics(model).ends(
-            np.array([f.parentJoint for f in frames]),
-            np.array([f.placement.translation for f in frames]),
-            np.array([f.placement.rotation for f in frames]),
-        )
-        self.points = PlanarRowBlocks(ends, [(k, -1) for k in range(len(frames))], [])
+        frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
+        self.points = frame_rows(model, frames, range(len(frames)))
         self._crank_rows = [self.bilateral.labels.index(name) for name in layout.motors]
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
@@ -516,7 +507,7 @@ class FloorSimulator:
             scale = ramp * ramp * (3 - 2 * ramp)
             q, v, *_ = held.step(0.0, q, v * (1.0 - SETTLE_DAMPING * h), h, scale, s.mu * SETTLE_MARGIN)
             t += h
-            if abs(q[2]) > s.fall_limit:
+            if abs(q[HIP_PITCH]) > s.fall_limit:
                 raise NoRestError(
                     f"no consistent start: settling at theta0 the robot falls (hip pitch past the limit at {t:.2f} s)"
                 )

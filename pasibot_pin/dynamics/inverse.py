@@ -43,13 +43,13 @@ from functools import lru_cache
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.constraints import ConstraintSystem, coupling, is_weld, planar_rows
+from pasibot_pin.constraints import ConstraintSystem, coupling, frame_rows, is_weld, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
-from pasibot_pin.constraints.system import planar_kinematics
 from pasibot_pin.dynamics.newton_euler import TreeLayout, tree_layout
 from pasibot_pin.dynamics.planar_id import PlanarInverseDynamics, planar_inverse_dynamics
 from pasibot_pin.model import closure
 from pasibot_pin.model.closure import Prescribed, frame_pitch, hip_pitch, joint_coordinate
+from pasibot_pin.model.coordinates import other
 from pasibot_pin.model.params import Geometry, MassModel, percentage_mass_model
 from pasibot_pin.model.robot import PasibotRobot, apply_masses, load
 from pasibot_pin.model.scenarios import (
@@ -68,11 +68,6 @@ STANCE_RANGE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 STANCE_MARGIN: float = 0.1
 """How far a fit window may reach past the ends of stance [rad]. The seed's last fit sample,
 4.8 rad, is 0.088 rad past 3 pi/2: it keeps the right foot welded that long."""
-
-
-def other(side: str) -> str:
-    """The other leg."""
-    return "left" if side == "right" else "right"
 
 
 def stance_side(theta_right: float) -> str:
@@ -304,15 +299,10 @@ def _ankle_ends(robot: PasibotRobot, side: str) -> PlanarRowBlocks:
     key = (id(robot.model), side)
     if key not in cache or cache[key][0] is not robot.model:
         model = robot.model
-        frames = [model.frames[robot.frame_id(f"{side}_{name}")] for name in ("l5_shank", "toe", "heel")]
-        ends = planar_kinematics(model).ends(
-            np.array([f.parentJoint for f in frames]),
-            np.array([f.placement.translation for f in frames]),
-            np.array([f.placement.rotation for f in frames]),
-        )
+        frames = [robot.frame_id(f"{side}_{name}") for name in ("l5_shank", "toe", "heel")]
         if len(cache) >= 32:
             cache.pop(next(iter(cache)))
-        cache[key] = (model, PlanarRowBlocks(ends, [(1, -1), (2, -1)], [(0, -1)]))  # keeps the model alive
+        cache[key] = (model, frame_rows(model, frames, [1, 2], [0]))  # keeps the model alive
     return cache[key][1]
 
 

@@ -27,12 +27,12 @@ from pasibot_pin.dynamics.simulator import (
     Impact,
     SimulationResult,
     SimulationSettings,
-    _other,
     foot_pose,
     sole_height,
     total_energy,
 )
 from pasibot_pin.errors import SimulationError
+from pasibot_pin.model.coordinates import other
 
 PROJECT_ITERATIONS = 20
 """Newton iterations of the projections (the simulator's)."""
@@ -80,8 +80,8 @@ class _Walks:
         self.weld_x = cset.labels.index(f"{first.name}.x")
         shared = first.joint2_placement.translation[0]
         self.offset = np.array([0.0 if w is None else shared - w.joint2_placement.translation[0] for w in welds])
-        self.ankle_target = cset.labels.index(f"{_other(stance)}_j13_ankle") - cset.n_constraint_rows
-        self.swing = _other(stance)
+        self.ankle_target = cset.labels.index(f"{other(stance)}_j13_ankle") - cset.n_constraint_rows
+        self.swing = other(stance)
 
     def rows(self, q: np.ndarray, v: np.ndarray | None, t: float, idx: np.ndarray):
         """The rows of walks ``idx`` at (q, v) (N, nv), time t."""
@@ -282,7 +282,7 @@ def simulate_many(robot, settings: Sequence[SimulationSettings], steps: int) -> 
             break
         # touchdown of the swing foot
         lam = walks.accelerations(t, q[active], v[active], active, {})[1]
-        side = _other(stance)
+        side = other(stance)
         welds: list = [None] * n
         poses = {}
         for j, k in enumerate(active):

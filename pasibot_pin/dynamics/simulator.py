@@ -52,6 +52,7 @@ from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, coordinate, symmetric_mass_matrix
 from pasibot_pin.errors import SimulationError
 from pasibot_pin.model.closure import hip_pitch, joint_coordinate, solve_velocity
+from pasibot_pin.model.coordinates import HIP_PITCH, other
 
 MOTOR_MODES: tuple[str, ...] = ("rheonomic", "free")
 HIP_MODES: tuple[str, ...] = ("free", "level")
@@ -312,10 +313,6 @@ class SimulationResult:
 
 
 # --------------------------------------------------------------------------- the simulator
-def _other(side: str) -> str:
-    return "left" if side == "right" else "right"
-
-
 class BipedSimulator:
     """Integrates the constrained dynamics of the ``spring`` biped (see the module docstring).
 
@@ -350,9 +347,9 @@ class BipedSimulator:
                 coordinate("left_j0_crank", self.cranks["left"], s.theta0 + math.pi, s.omega),
             ]
         if s.hip == "level":
-            rows.append(coordinate("hip_pitch", 2, 0.0, 0.0))
+            rows.append(coordinate("hip_pitch", HIP_PITCH, 0.0, 0.0))
         if s.swing_ankle == "rest":
-            swing = _other(stance)
+            swing = other(stance)
             rows.append(coordinate(f"{swing}_j13_ankle", self.ankles[swing], math.pi / 2 - s.spring.rest_angle))
         return rows
 
@@ -427,7 +424,7 @@ class BipedSimulator:
             phase = (s.theta0 - math.pi / 2) % (2 * math.pi)
             stance = "right" if phase < math.pi - 1e-9 else "left"
         q = assemble(self.robot, s.theta0, hip_pitch_value=s.initial_pitch, stance=stance)
-        swing = _other(stance)
+        swing = other(stance)
         beta0 = s.spring.rest_angle if s.spring is not None else math.pi / 2
         q[self.ankles[swing]] = math.pi / 2 - beta0
         robot = self.robot.with_stance(stance, q)
@@ -498,7 +495,7 @@ class BipedSimulator:
             rec["lam"].append(tau_m)
             rec["stance"].append(stance)
             rec["drift"].append(drift)
-            swing = _other(stance)
+            swing = other(stance)
             rec["swing"].append(sole_height(self.robot, q, swing, self._soles[swing]))
 
         t = 0.0
@@ -524,7 +521,7 @@ class BipedSimulator:
                 count += 1
                 q, v, t, last_drift = q_new, v_new, t + h, drift
                 mass_ready = reuse
-                if abs(q[2]) > s.fall_limit:
+                if abs(q[HIP_PITCH]) > s.fall_limit:
                     fell = True
                     message = f"fell: |hip pitch| passed {math.degrees(s.fall_limit):.0f} deg at t = {t:.3f} s"
                     break
@@ -533,7 +530,7 @@ class BipedSimulator:
             if phase < len(ends) - 1:  # touchdown of the swing foot
                 lam = self.acceleration(cset, t, q, v)[1]
                 record(t, q, v, lam, last_drift, labels_index)
-                side = _other(stance)
+                side = other(stance)
                 x, z, pitch = foot_pose(self.robot, q, side)
                 weld = self.ground_weld(side, q)
                 stance = side
@@ -541,7 +538,7 @@ class BipedSimulator:
                 labels_index = self._multiplier_rows(cset)
                 land = cset
                 if s.swing_ankle == "spring":  # the lifting foot keeps its ankle angle through the landing
-                    lifting = self.ankles[_other(side)]
+                    lifting = self.ankles[other(side)]
                     land = cset.with_scalars([*cset.scalars, coordinate("lifting_ankle", lifting, q[lifting])])
                 try:
                     q = land.project(q, t, metric="mass", max_iter=20)
@@ -572,7 +569,7 @@ class BipedSimulator:
             t=np.array(rec["t"]),
             q=qs,
             v=np.array(rec["v"]),
-            hip_pitch=qs[:, 2].copy(),
+            hip_pitch=qs[:, HIP_PITCH].copy(),
             beta=betas,
             motor_torque=lam[:, :2],
             hip_torque=lam[:, 2],

@@ -42,6 +42,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.coordinates import SIDES
 
 OUTCOMES: tuple[str, ...] = ("walks", "fell", "rolled", "slipped", "stalled", "hopped", "diverged", "undecided")
 """Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
@@ -50,7 +51,6 @@ the walk needs, see :data:`FAILURES`)."""
 FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "diverged")
 """The outcomes that are failures."""
 
-SIDES: tuple[str, str] = ("right", "left")
 
 MIN_STRIDE_STEPS = 3
 """The advance band is checked over whole strides, which needs at least this many judged steps [-]."""

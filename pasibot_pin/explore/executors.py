@@ -21,8 +21,13 @@ import logging
 import os
 from collections.abc import Callable, Sequence
 
+from pasibot_pin.errors import ParameterError
+
 IN_FLIGHT: int = 4
 """Tasks per Dask worker submitted ahead of the results."""
+
+MAX_WORKERS: int = 64
+"""The most worker processes a run starts (more only share the same cores and memory)."""
 
 CONNECT_TIMEOUT: str = "3s"
 """How long to wait for a Dask scheduler before giving up."""
@@ -40,19 +45,22 @@ def check_workers(workers: int | None) -> int:
     """``workers`` (default: :func:`default_workers`) if it is a positive integer, else ValueError naming it."""
     if workers is None:
         return default_workers()
-    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= 4096:
-        raise ValueError(f"parameter 'workers' must be an integer in [1, 4096], got {workers!r}")
+    if isinstance(workers, bool) or not isinstance(workers, int) or not 1 <= workers <= MAX_WORKERS:
+        raise ParameterError(f"--workers must be an integer in [1, {MAX_WORKERS}], got {workers!r}")
     return workers
 
 
 def check_scheduler(address: str | None) -> None:
     """Before any work: ``address`` is ``None``, ``local``, or a Dask scheduler that answers (ValueError if not)."""
-    if address is None or address == "local":
+    from pasibot_pin.extras import require
+
+    if address is None:
         return
-    try:
-        from distributed import Client
-    except ImportError:
-        raise ValueError("--dask needs the sweep extra: pip install 'pasibot-pin[sweep]'") from None
+    require("sweep", ["distributed"], f"--dask {address}")
+    if address == "local":
+        return
+    from distributed import Client
+
     from pasibot_pin.net import tcp_refused
 
     refused = tcp_refused(address)
@@ -77,14 +85,15 @@ def run_tasks(
         fn: a module-level function (pickled by reference).
         tasks: the argument tuples.
         on_result: called with each result, in the order they finish.
-        workers: processes (default one per core); 1 runs in this process (without ``dask``).
+        workers: processes (default one per core, at most :data:`MAX_WORKERS`, never more than the
+            tasks); 1 runs in this process (without ``dask``).
         dask: ``None`` (local processes), ``"local"`` (a Dask LocalCluster) or a scheduler address.
 
     Raises:
         ValueError: a Dask scheduler that cannot be reached (before any task runs).
 
     """
-    workers = check_workers(workers)
+    workers = min(check_workers(workers), max(1, len(tasks)))  # no more workers than tasks
     if dask is not None:
         _run_dask(fn, tasks, on_result, workers, dask)
     elif workers == 1:

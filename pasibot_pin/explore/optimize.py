@@ -30,6 +30,7 @@ import numpy as np
 from pasibot_pin.explore.plan import DEFAULT_RANGES, Choice, Varied, check_floor, range_record
 from pasibot_pin.explore.store import ResultStore
 from pasibot_pin.model.design import Design
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import ALL_METRICS, warm_caches
 
 STUDY_NAME = "pasibot"
@@ -163,6 +164,8 @@ class OptimizePlan:
 @dataclass
 class OptimizeResult:
     """What an optimisation produced: the folder, plan, table, trials evaluated now, Pareto rows."""
+
+    __repr__ = short_repr
 
     folder: Path
     plan: OptimizePlan

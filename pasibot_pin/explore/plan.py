@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import CHOICES, SPECS, Design
 
 
@@ -133,8 +134,8 @@ class SweepPlan:
 
     Attributes:
         ranges: the varied parameters (:class:`Range` and :class:`Choice`).
-        n: the number of designs (``grid``: every value of each choice, and levels per numeric
-            parameter = round((n / values of the choices) ** (1 / d)), at least 2).
+        n: the number of designs (``grid``: every value of each choice times levels ** d for the d
+            numeric parameters, at least 2 levels each; any other n is refused with the nearest grid sizes).
         method: ``lhs`` or ``grid``.
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
@@ -163,6 +164,28 @@ class SweepPlan:
                 f"--vary names a parameter twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}"
             )
         object.__setattr__(self, "ranges", tuple(self.ranges))
+        if self.method == "grid":
+            self._check_grid_size()
+
+    def _check_grid_size(self) -> None:
+        """A grid has (values of the choices) x levels ** d designs: refuse any other ``n``, offering the nearest."""
+        k = math.prod(len(r.values) for r in self.ranges if isinstance(r, Choice))
+        d = sum(isinstance(r, Range) for r in self.ranges)
+        if d == 0:
+            if self.n != k:
+                raise ParameterError(f"--n {self.n} with --method grid over choices only: the grid has --n {k} designs")
+            return
+        per = self.n / k
+        levels = max(2, round(per ** (1.0 / d)))
+        if k * levels**d != self.n:  # n means the number of designs
+            below = max(2, int(per ** (1.0 / d) + 1e-9))
+            above = below if below**d > per else below + 1
+            sizes = sorted({k * below**d, k * above**d} - {self.n})
+            offer = " or ".join(f"--n {size} ({round((size / k) ** (1.0 / d))} levels)" for size in sizes)
+            raise ParameterError(
+                f"--n {self.n} with --method grid over {d} numeric parameter(s) and {k} choice(s): a grid has "
+                f"{k} x levels^{d} designs; take {offer}"
+            )
 
     @property
     def names(self) -> tuple[str, ...]:

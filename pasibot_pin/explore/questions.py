@@ -60,7 +60,23 @@ FLOOR_STEPS: int = 6
 """How many steps each design of question 2 is asked to walk on the floor [-]."""
 
 RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
-"""Where the answers of a source checkout are kept."""
+"""Where the answers of a source checkout are kept (the designs, the runs' Parquet tables, the figures)."""
+
+SUMMARY = "answers_summary.json"
+"""The figures the report quotes from the runs' tables (:func:`summarize_tables`), as JSON in
+:data:`RESULTS_DIR`: ``pasibot analyze`` reads them without pyarrow."""
+
+
+def _answers_dir() -> Path:
+    # Installed wheel: the answer designs and the summary are packaged as pasibot_pin/results
+    # (pyproject's force-include; the Parquet tables and figures stay in the repository).
+    # Source checkout or editable install: docs/results.
+    packaged = Path(__file__).resolve().parents[1] / "results"
+    return packaged if (packaged / SUMMARY).is_file() else RESULTS_DIR
+
+
+ANSWERS_DIR: Path = _answers_dir()
+"""Where the answer designs (``.toml``) and :data:`SUMMARY` are read: the wheel's copy, else :data:`RESULTS_DIR`."""
 
 
 def seed_stride_plan(straight: bool = False, trials: int = 600, population: int = 40, seed: int = 0) -> OptimizePlan:
@@ -111,12 +127,54 @@ FLOOR_TABLE = "floor_springs.parquet"
 
 
 def answer_path(straight: bool, suffix: str = ".toml") -> Path:
-    """Question 1's answer: its design (``.toml``) or the run's table (``.parquet``).
+    """Question 1's answer: its design (``.toml``, in :data:`ANSWERS_DIR`) or the run's table (``.parquet``).
 
     ``straight``: the run with the straightness constraint.
     """
     stem = "least_torque_seed_stride_straight" if straight else "least_torque_seed_stride"
-    return RESULTS_DIR / f"{stem}{suffix}"
+    return (ANSWERS_DIR if suffix == ".toml" else RESULTS_DIR) / f"{stem}{suffix}"
+
+
+def summarize_tables() -> dict:
+    """The figures the report quotes, from the runs' Parquet tables in :data:`RESULTS_DIR` (needs pyarrow).
+
+    Returns:
+        ``designs_explored`` (rows of question 1's two runs), ``best_cop_margin_m`` (the best CoP
+        margin of any feasible design of them [m]) and ``floor`` (question 2's
+        :class:`~pasibot_pin.report.design_exploration.FloorAnswer` as a dict).
+
+    """
+    import dataclasses
+
+    import numpy as np
+    import pyarrow.parquet as pq
+
+    from pasibot_pin.report.design_exploration import floor_answer_of_rows
+
+    tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
+    margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
+    floor = floor_answer_of_rows(pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist())
+    return {
+        "designs_explored": int(sum(t.num_rows for t in tables)),
+        "best_cop_margin_m": float(np.max(margins)),
+        "floor": dataclasses.asdict(floor),
+    }
+
+
+def write_summary() -> Path:
+    """Write :func:`summarize_tables` to :data:`RESULTS_DIR` / :data:`SUMMARY` (``make answers`` does)."""
+    import json
+
+    path = RESULTS_DIR / SUMMARY
+    path.write_text(json.dumps(summarize_tables(), indent=2, sort_keys=True) + "\n")
+    return path
+
+
+def read_summary() -> dict:
+    """:data:`SUMMARY` as written by :func:`write_summary` (no pyarrow needed)."""
+    import json
+
+    return json.loads((ANSWERS_DIR / SUMMARY).read_text())
 
 
 def write_answer(straight: bool, folder: Path, workers: int | None = None, force: bool = False) -> Design:
@@ -148,9 +206,9 @@ def write_floor_answer(folder: Path, workers: int | None = None) -> Path:
 
 
 def main(argv: list[str] | None = None) -> None:
-    """Run the questions again (``make answers``): docs/results/*.toml, *.parquet, pareto.png.
+    """Run the questions again (``make answers``): docs/results/*.toml, *.parquet, pareto.png, the summary.
 
-    ``--floor-only``: question 2 alone.
+    ``--floor-only``: question 2 alone (and the summary).
     """
     import argparse
     import tempfile
@@ -163,6 +221,7 @@ def main(argv: list[str] | None = None) -> None:
         _question_one(args.workers)
     with tempfile.TemporaryDirectory() as tmp:
         print(write_floor_answer(Path(tmp) / "floor", workers=args.workers))
+    print(write_summary())
 
 
 def _question_one(workers: int | None) -> None:

@@ -24,7 +24,7 @@ import time
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
-from pasibot_pin.files import write_text_atomic
+from pasibot_pin.files import MARKER, atomic_path, write_text_atomic
 from pasibot_pin.model.design import CHOICES, Design
 from pasibot_pin.studies.design_metrics import METRICS
 
@@ -124,7 +124,7 @@ class ResultStore:
                     f"--out {folder} holds a different run ({PLAN_FILE} differs); "
                     "use another folder, or --force to replace it"
                 )
-        elif not force and folder.is_dir() and any(folder.iterdir()):
+        elif not force and folder.is_dir() and any(entry.name != MARKER for entry in folder.iterdir()):
             raise FileExistsError(f"--out {folder} is not empty and holds no run; use another folder or --force")
         (folder / PARTS).mkdir(parents=True, exist_ok=True)
         if not saved.is_file():
@@ -167,9 +167,8 @@ class ResultStore:
         first = min(int(r["index"]) for r in self._buffer)
         number = len(self._parts())
         target = self.folder / PARTS / f"part-{number:06d}-{first:08d}.parquet"
-        tmp = target.with_name(f".{target.name}.tmp")
-        pq.write_table(table, tmp)
-        tmp.replace(target)
+        with atomic_path(target) as tmp:  # removed on any error or signal, never left half written
+            pq.write_table(table, tmp)
         self._buffer.clear()
 
     def table(self):
@@ -193,14 +192,11 @@ class ResultStore:
         self.flush()
         table = self.table()
         target = self.folder / RESULTS
-        tmp = target.with_name(f".{target.name}.tmp")
-        pq.write_table(table, tmp)
-        tmp.replace(target)
+        with atomic_path(target) as tmp:
+            pq.write_table(table, tmp)
         if csv:
-            target_csv = self.folder / RESULTS_CSV
-            tmp = target_csv.with_name(f".{target_csv.name}.tmp")
-            pcsv.write_csv(table, tmp)
-            tmp.replace(target_csv)
+            with atomic_path(self.folder / RESULTS_CSV) as tmp:
+                pcsv.write_csv(table, tmp)
         return target
 
 

@@ -10,6 +10,7 @@ sensitivity map; :func:`export_best` writes the best designs as design files, UR
 from __future__ import annotations
 
 import math
+import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -18,6 +19,7 @@ import numpy as np
 
 from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import (
     pareto_mask,  # noqa: F401 (re-exported)
     warm_caches,
@@ -75,6 +77,8 @@ class SweepResult:
         results: path of ``results.parquet``.
 
     """
+
+    __repr__ = short_repr
 
     folder: Path
     plan: SweepPlan
@@ -151,16 +155,40 @@ def run_sweep(
     return SweepResult(Path(folder), plan, store.table(), len(todo), results)
 
 
-def _progress(total: int, done: int, enabled: bool):
-    from tqdm.auto import tqdm
+class _PlainProgress:
+    """The progress bar without tqdm: one ``done/total designs`` line on stderr per tenth of the run."""
 
+    def __init__(self, total: int, done: int, enabled: bool):
+        self.total, self.done, self.enabled = total, done, enabled
+        self.shown = -1
+
+    def update(self, n: int = 1) -> None:
+        self.done += n
+        tenth = 10 * self.done // max(self.total, 1)
+        if self.enabled and tenth != self.shown:
+            self.shown = tenth
+            print(f"{self.done}/{self.total} designs", file=sys.stderr, flush=True)
+
+    def close(self) -> None:
+        pass
+
+
+def _progress(total: int, done: int, enabled: bool):
+    """A progress bar over ``total`` designs, ``done`` already: tqdm's if installed, else :class:`_PlainProgress`."""
+    try:
+        from tqdm.auto import tqdm
+    except ImportError:
+        return _PlainProgress(total, done, enabled)
     return tqdm(total=total, initial=done, unit="design", disable=not enabled, smoothing=0.1, dynamic_ncols=True)
 
 
 # --------------------------------------------------------------------------- after the run
-def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[str, str] | None = None) -> list[Path]:
+def write_figures(
+    table, folder: Path, varied: Sequence[str], objectives: tuple[str, str] | None = None, constraints: Sequence = ()
+) -> list[Path]:
     """``pareto.png`` and ``sensitivity.png`` of a results table into ``folder``.
 
+    ``constraints``: an optimisation's ``--constraint``s; designs that violate one are greyed, off the front.
     The sensitivity map ranks the numeric parameters of ``varied`` only (a varied variant is a column of strings).
     """
     import matplotlib
@@ -176,7 +204,12 @@ def write_figures(table, folder: Path, varied: Sequence[str], objectives: tuple[
 
     written = []
     figures = (
-        ("pareto.png", lambda: plot_pareto(table, *(objectives or ("peak_crank_torque_Nm", "stride_m")))),
+        (
+            "pareto.png",
+            lambda: plot_pareto(
+                table, *(objectives or ("peak_crank_torque_Nm", "stride_m")), constraints=tuple(constraints)
+            ),
+        ),
         ("sensitivity.png", lambda: plot_sensitivity(table, varied)),
     )
     for name, draw in figures:
@@ -230,11 +263,8 @@ def export_best(table, rows: Sequence[int], folder: Path) -> list[Path]:
         design = design_of_row(table, row)
         stem = folder / f"{rank:02d}_index{int(table.column('index')[row].as_py())}"
         written.append(design.save(stem.with_suffix(".toml"), force=True))
-        written.append(
-            write_text_atomic(
-                stem.with_suffix(".urdf"), render_urdf(design.variant, 2, design.geometry(), design.masses())
-            )
-        )
+        text = render_urdf(design.variant, 2, design.geometry(), design.masses(), design.inertia)
+        written.append(write_text_atomic(stem.with_suffix(".urdf"), text))
         robot = design_robot(design, 2)
         spring = design_spring(design, robot)
         springs = (

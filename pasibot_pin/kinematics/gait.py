@@ -36,6 +36,8 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.model import closure
+from pasibot_pin.model.coordinates import SIDES, other
+from pasibot_pin.reprs import short_repr
 
 FOOT_MODES: tuple[str, ...] = ("flat", "point", "toe")
 """How the stance foot holds the ground (see the module docstring)."""
@@ -46,14 +48,6 @@ MAX_WALK_SAMPLES: int = 1_000_000
 CLOSURE_TOL: float = 1e-10
 """Largest closure residual accepted at any sample of a walk [m, rad]."""
 
-SIDES: tuple[str, str] = ("right", "left")
-
-
-def other(side: str) -> str:
-    """The other leg's side."""
-    if side not in SIDES:
-        raise ValueError(f"unknown side {side!r}; valid: right, left")
-    return "left" if side == "right" else "right"
 
 
 def body_pitch(rotation: np.ndarray) -> float:
@@ -69,6 +63,10 @@ def seed_trace_angle(rotation: np.ndarray) -> float:
     return math.acos(max(-1.0, min(1.0, (float(np.trace(rotation)) - 1.0) / 2.0)))
 
 
+DEFAULT_OMEGA: float = 0.1
+"""The crank rate a walk is time-stamped at when none is given [rad/s] (the seed's Fig 5.1, ``pasibot gait``'s)."""
+
+
 @dataclass
 class Walk:
     """A sampled multi-step walk of the two-legged robot.
@@ -76,14 +74,14 @@ class Walk:
     Attributes:
         robot: the robot (two legs).
         theta: right-crank angle at each sample (N,) [rad]; the left crank is ``theta + pi``.
-        t: time since the start (N,) [s], ``(theta - theta[0]) / omega``; ``None`` without omega.
+        t: time since the start (N,) [s], ``(theta - theta[0]) / omega``.
         q: closed configurations (N, nq).
         stance: the stance leg at each sample (``right`` / ``left``), length N.
         step: step index at each sample (N,); step k spans the half turn
             ``theta_start + k pi .. theta_start + (k + 1) pi``. The sample at an exchange
             belongs to the new step; the last sample to the last step.
         foot: ``flat``, ``point`` or ``toe``.
-        omega: crank rate [rad/s] or ``None``.
+        omega: crank rate [rad/s] (the time stamps' rate).
         contacts: the constraint models in force during each step (loops plus the stance contact).
         residual: largest closure residual at each sample (N,) [m or rad].
         exchange_jump: largest change of q at each exchange, between the pose reached at the
@@ -92,14 +90,16 @@ class Walk:
 
     """
 
+    __repr__ = short_repr
+
     robot: object
     theta: np.ndarray
-    t: np.ndarray | None
+    t: np.ndarray
     q: np.ndarray
     stance: list[str]
     step: np.ndarray
     foot: str
-    omega: float | None
+    omega: float
     contacts: list[list] = field(default_factory=list)
     residual: np.ndarray = field(default_factory=lambda: np.zeros(0))
     exchange_jump: list[float] = field(default_factory=list)
@@ -230,7 +230,7 @@ def walk(
         samples_per_step: samples per step, >= 2; the walk has ``steps * samples_per_step + 1``
             samples, both ends included.
         theta_start: right-crank angle at the start [rad] (pi/2: touch-down).
-        omega: crank rate [rad/s] for the time stamps, or ``None``.
+        omega: crank rate [rad/s] for the time stamps; ``None``: :data:`DEFAULT_OMEGA`.
         foot: ``flat``, ``point`` or ``toe`` (see the module docstring).
         first_stance: the leg in stance during the first step (``right``; ``left`` is
             meaningful when ``theta_start`` puts the left foot at touch-down).
@@ -299,7 +299,8 @@ def walk(
                 f"walk: closure residual {residual[i]:.3e} exceeds {CLOSURE_TOL:g} at theta = "
                 f"{math.degrees(theta[i]):.3f} deg (step {k}, stance {stance_side})"
             )
-    t = None if omega is None else (theta - theta_start) / float(omega)
+    omega = DEFAULT_OMEGA if omega is None else float(omega)
+    t = (theta - theta_start) / omega
     return Walk(
         robot=robot,
         theta=theta,
@@ -313,3 +314,26 @@ def walk(
         residual=residual,
         exchange_jump=jumps,
     )
+
+
+def step_advances(robot, steps: int = 2, samples_per_step: int = 12, foot: str = "flat", omega=None) -> np.ndarray:
+    """The hip's advance in each of ``steps`` steps, from the start of a step to the start of the next [m].
+
+    Both ends are the same phase of the gait: just after an exchange (the first, the start). The
+    last sample of a walk is the *end* of its last step, before the exchange: for the ``rigid``
+    foot, square to its shank, the body is pitched ~30 deg there, and the exchange that puts the
+    new stance foot flat turns the whole robot back, so the hip's travel to that sample is not a
+    step's advance. A walk of one step more gives the next start.
+    """
+    w = walk(robot, steps + 1, samples_per_step, foot=foot, omega=omega)
+    starts = w.hip_path()[:: samples_per_step, 0][: steps + 1]
+    return np.diff(starts)
+
+
+def stride_advance(robot, samples_per_step: int = 12, foot: str = "flat") -> float:
+    """The hip's advance per step over a whole stride (two steps, from one step start to the same phase) [m].
+
+    One definition for every variant (:func:`step_advances`): 8 L with a level hip (the linkage's
+    stroke); 6.9 L for the ``rigid`` variant with flat feet, whose body pitches with its shank.
+    """
+    return float(np.mean(step_advances(robot, 2, samples_per_step, foot)))

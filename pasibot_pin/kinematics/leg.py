@@ -27,6 +27,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import frame_jacobian, planar_pitch
 from pasibot_pin.model import closure
+from pasibot_pin.reprs import short_repr
 
 STANCE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
 """Crank-angle window of the stance phase [rad] (DESIGN §4: 90 deg to 270 deg)."""
@@ -87,6 +88,8 @@ class LegCycle:
         ankle_acceleration: ankle acceleration (N, 2) [m/s^2] (with ``omega``).
 
     """
+
+    __repr__ = short_repr
 
     robot: object
     theta: np.ndarray
@@ -247,6 +250,8 @@ class StraightLineMetrics:
         pitch_at_zero: foot pitch at theta = 0 [rad] (parallel: about -12.4 deg).
 
     """
+
+    __repr__ = short_repr
 
     L: float
     ground_z: float
@@ -471,6 +476,8 @@ class KSweep:
 
     """
 
+    __repr__ = short_repr
+
     variant: str
     K: np.ndarray
     cycles: list[LegCycle] = field(default_factory=list)
@@ -583,6 +590,8 @@ class AnkleMotion:
         chain_rates: rates of the open chain j0_crank, j1, j4, j6 [rad/s].
 
     """
+
+    __repr__ = short_repr
 
     theta: float
     omega: float

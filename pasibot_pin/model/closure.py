@@ -25,6 +25,7 @@ from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
 from pasibot_pin.model import jet
 from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
+from pasibot_pin.model.coordinates import HIP_PITCH
 from pasibot_pin.model.description import sides
 
 RESIDUAL_TOL = 1e-12
@@ -45,7 +46,7 @@ def hip_pitch(robot) -> CoordinateRow:
     """Prescribe the hip pitch (third coordinate of the planar floating hip)."""
     if not robot.floating:
         raise ValueError("the one-leg model has a fixed hip: its pitch cannot be prescribed")
-    return constraints.coordinate("hip_pitch", 2)
+    return constraints.coordinate("hip_pitch", HIP_PITCH)
 
 
 def frame_pitch(robot, frame: str) -> PitchRow:

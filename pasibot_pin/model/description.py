@@ -108,8 +108,17 @@ def xacro_arguments(
     legs: int = 2,
     geometry: Geometry | None = None,
     masses: MassModel | None = None,
+    inertia: str = "point",
 ) -> dict[str, str]:
-    """Every xacro argument for a parameter set, as strings (``repr`` of floats)."""
+    """Every xacro argument for a parameter set, as strings (``repr`` of floats).
+
+    ``inertia``: ``point`` (the seed's point masses, zero rotational inertia) or ``uniform``
+    (rods, the hip a box: the inertias :func:`pasibot_pin.model.robot.load` gives).
+    """
+    from pasibot_pin.errors import ParameterError
+
+    if inertia not in ("point", "uniform"):
+        raise ParameterError(f"parameter 'inertia' must be 'point' or 'uniform', got {inertia!r}")
     check_variant(variant)
     check_legs(legs)
     geometry = geometry or Geometry()
@@ -128,6 +137,7 @@ def xacro_arguments(
         "hip_com_z": repr(float(masses.hip_com[1])),
         "m_foot": repr(float(masses.foot)),
         "foot_com": repr(float(masses.foot_com)),
+        "inertia": inertia,
     }
     args.update({key: repr(float(value)) for key, value in geometry.ratios.items()})
     args.update({f"m_{key}": repr(float(value)) for key, value in masses.links.items()})
@@ -139,6 +149,7 @@ def render_urdf(
     legs: int = 2,
     geometry: Geometry | None = None,
     masses: MassModel | None = None,
+    inertia: str = "point",
 ) -> str:
     """Render the xacro source to URDF text (no ROS needed).
 
@@ -147,6 +158,7 @@ def render_urdf(
         legs: 1 (fixed hip) or 2 (biped).
         geometry: leg geometry (default: the seed's).
         masses: mass model (default: the seed's percentage rule).
+        inertia: ``point`` masses (zero rotational inertia) or ``uniform`` rods [kg.m^2 in the file].
 
     Returns:
         The URDF as a string. The xacro banner names the source relative to the
@@ -155,7 +167,7 @@ def render_urdf(
         tens of milliseconds; a study loads the same design many times).
 
     """
-    mappings = xacro_arguments(variant, legs, geometry, masses)
+    mappings = xacro_arguments(variant, legs, geometry, masses, inertia)
     return _render(tuple(sorted(mappings.items())))
 
 

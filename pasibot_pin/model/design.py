@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import json
 import math
+import numbers
 import os
 import sys
 import tempfile
@@ -23,6 +24,7 @@ from collections.abc import Mapping
 from dataclasses import asdict, dataclass, field, fields, replace
 from pathlib import Path
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.params import (
     MASS_RULES,
     SEED_LINK_RATIOS,
@@ -33,6 +35,7 @@ from pasibot_pin.model.params import (
     MassModel,
     human_description_fractions,
     percentage_mass_model,
+    short_repr,
 )
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
@@ -109,22 +112,26 @@ mass rule gives the shares."""
 def check_value(name: str, value: object) -> float | str | None:
     """``value`` if it is valid for parameter ``name``, else a one-line ValueError naming it."""
     if name in CHOICES:
-        if value not in CHOICES[name]:
-            raise ValueError(f"parameter {name!r} must be one of {', '.join(CHOICES[name])}, got {value!r}")
+        if not isinstance(value, str) or value not in CHOICES[name]:
+            raise ParameterError(
+                f"parameter {name!r} must be one of {', '.join(CHOICES[name])}, got {short_repr(value)}"
+            )
         return str(value)
     spec = SPECS.get(name)
     if spec is None:
-        raise ValueError(f"unknown design parameter {name!r}; valid: {', '.join([*CHOICES, *SPECS])}")
+        raise ParameterError(f"unknown design parameter {short_repr(name)}; valid: {', '.join([*CHOICES, *SPECS])}")
     if value is None and name in OPTIONAL:
         return None
-    if isinstance(value, bool):
-        raise ValueError(f"parameter {name!r} must be a number [{spec.unit}], got {value!r}")
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ParameterError(f"parameter {name!r} must be a number [{spec.unit}], got {short_repr(value)}")
     try:
-        number = float(value)  # type: ignore[arg-type]
-    except (TypeError, ValueError):
-        raise ValueError(f"parameter {name!r} must be a number [{spec.unit}], got {value!r}") from None
+        number = float(value)
+    except OverflowError:  # an integer too large for a float
+        number = math.inf
     if not (spec.low <= number <= spec.high):  # NaN and infinities fail here
-        raise ValueError(f"parameter {name!r} = {number!r} [{spec.unit}] is outside [{spec.low:g}, {spec.high:g}]")
+        raise ParameterError(
+            f"parameter {name!r} = {short_repr(value)} [{spec.unit}] is outside [{spec.low:g}, {spec.high:g}]"
+        )
     return number
 
 
@@ -178,6 +185,11 @@ class Design:
     omega: float = 0.1
 
     def __post_init__(self) -> None:
+        if not isinstance(self.ratios, Mapping):
+            raise ParameterError(
+                "parameter 'ratios' must be a table of link ratios (r1 = 1.0, r4 = 9.5, ...), "
+                f"got {short_repr(self.ratios)}"
+            )
         unknown = set(self.ratios) - set(SEED_LINK_RATIOS)
         if unknown:
             raise ValueError(f"unknown link ratio(s) {sorted(unknown)}; valid: {', '.join(SEED_LINK_RATIOS)}")
@@ -247,7 +259,14 @@ class Design:
     def from_dict(cls, data: Mapping) -> Design:
         """A design from a dict; keys absent keep the seed design's values, unknown keys are an error."""
         data = dict(data)
-        ratios = dict(data.pop("ratios", {}) or {})
+        ratios = data.pop("ratios", None)
+        if ratios is None:
+            ratios = {}
+        if not isinstance(ratios, Mapping):
+            raise ParameterError(
+                f"parameter 'ratios' must be a table of link ratios (r1 = 1.0, r4 = 9.5, ...), got {short_repr(ratios)}"
+            )
+        ratios = dict(ratios)
         for key in list(data):
             if key in SEED_LINK_RATIOS:  # flat ratio names are accepted too
                 ratios[key] = data.pop(key)
@@ -273,6 +292,7 @@ class Design:
         text = _to_toml(self.to_dict()) if path.suffix == ".toml" else _to_json(self.to_dict())
         fd, tmp = tempfile.mkstemp(dir=path.parent if str(path.parent) else ".", prefix=f".{path.name}.", suffix=".tmp")
         try:
+            os.fchmod(fd, 0o666 & ~_umask())  # mkstemp's 0600 -> what open() gives (0644 with umask 022)
             with os.fdopen(fd, "w") as handle:
                 handle.write(text)
             os.replace(tmp, path)
@@ -280,6 +300,13 @@ class Design:
             Path(tmp).unlink(missing_ok=True)
             raise
         return path
+
+
+def _umask() -> int:
+    """The process's file-creation mask (read by setting it and setting it back)."""
+    mask = os.umask(0o022)
+    os.umask(mask)
+    return mask
 
 
 def design_robot(design: Design, legs: int = 2, visuals: bool = True):
@@ -311,8 +338,15 @@ def load_design(path: str | os.PathLike) -> Design:
             data = json.loads(path.read_text())
         else:
             raise ValueError(f"parameter 'design': a design file ends in .toml or .json, got {path.name!r}")
+    except RecursionError:
+        raise ParameterError(f"parameter 'design': {path} nests tables or lists too deeply") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError, UnicodeDecodeError) as err:
-        raise ValueError(f"parameter 'design': {path} is not valid {path.suffix[1:].upper()}: {err}") from None
+        reason = " ".join(str(err).split())
+        raise ParameterError(f"parameter 'design': {path} is not valid {path.suffix[1:].upper()}: {reason}") from None
+    except ValueError:  # a number Python refuses to read: an integer of more digits than its limit
+        raise ParameterError(
+            f"parameter 'design': {path} holds a number too long to read (an integer of thousands of digits)"
+        ) from None
     if not isinstance(data, dict):
         raise ValueError(f"parameter 'design': {path} must hold a table of parameters")
     return Design.from_dict(data)

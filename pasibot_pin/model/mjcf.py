@@ -15,7 +15,12 @@ placements, masses and COMs, whatever the variant and parameters:
   with Coulomb friction ``mu``.
 
 Point masses have no rotational inertia; MuJoCo needs some, so ``boundinertia`` gives every
-body at least ``1e-8`` kg.m^2 (a torque error below 1e-6 N.m at the accelerations here).
+body at least ``1e-8`` kg.m^2 (a torque error below 1e-6 N.m at the accelerations here), or
+more with a stiff ankle spring: a foot whose point mass lies on its own ankle axis (``foot_toe
+= foot_heel``) has no inertia about it but that bound, and MuJoCo's explicit spring term then
+blows up at t = 0 (K_e h^2 / I = 3 for K_e = 3000 N.m/rad at 0.1 ms). The default bound is
+:func:`stable_boundinertia` (K_e h^2 / I <= 0.1; 3e-4 kg.m^2 there, a torque error below 1e-2
+N.m, and 3e-5 kg.m^2 for the seed's ~300 N.m/rad springs).
 
 Units: SI, angles [rad].
 """
@@ -75,6 +80,12 @@ class MjcfOptions:
             default (0.02, 1): a soft floor); the time constant must be >= 2 timesteps.
         contact_solimp: impedance (d0, dwidth, width) of the sole-floor contacts (MuJoCo's
             default (0.9, 0.95, 0.001)).
+        boundinertia: the least principal inertia of every body [kg.m^2] (MuJoCo's compiler
+            ``boundinertia``; ``None``: :func:`stable_boundinertia` of the spring and the step).
+            A point mass on its own joint axis (a foot with ``foot_toe = foot_heel``) has no
+            inertia about it: with an ankle spring K_e the foot's own mode has a rate
+            sqrt(K_e / I), which MuJoCo's explicit spring term cannot step unless K_e h^2 / I
+            is small.
 
     """
 
@@ -95,10 +106,13 @@ class MjcfOptions:
     planar_noslip: bool = False
     contact_solref: tuple[float, float] = (0.02, 1.0)
     contact_solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)
+    boundinertia: float | None = None
 
     def __post_init__(self) -> None:
-        for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep"):
+        for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep", "boundinertia"):
             value = getattr(self, name)
+            if name == "boundinertia" and value is None:
+                continue
             if not (math.isfinite(value) and value >= 0):
                 raise ValueError(f"parameter {name!r} must be a finite number >= 0, got {value!r}")
         if not (isinstance(self.noslip_iterations, int) and 0 <= self.noslip_iterations <= 1000):
@@ -119,6 +133,27 @@ class MjcfOptions:
             raise ValueError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
         if self.weld_foot not in (None, "right", "left"):
             raise ValueError(f"parameter 'weld_foot' must be right, left or None, got {self.weld_foot!r}")
+
+
+MIN_BOUNDINERTIA = 1e-8
+"""The least principal inertia of any exported body [kg.m^2]."""
+SPRING_STEP_RATIO = 0.1
+"""The largest K_e h^2 / I the export allows a body on a spring joint (:func:`stable_boundinertia`) [-]."""
+
+
+def stable_boundinertia(spring_stiffness: float, timestep: float) -> float:
+    """The least body inertia [kg.m^2] that keeps a torsion spring stable at MuJoCo's step.
+
+    A body of inertia I on a spring K [N.m/rad] stepped by h [s] with MuJoCo's explicit spring
+    term is stable for K h^2 / I < 4 (symplectic Euler); this keeps K h^2 / I at most
+    :data:`SPRING_STEP_RATIO`, and never below :data:`MIN_BOUNDINERTIA`.
+
+    Args:
+        spring_stiffness: K_e [N.m/rad].
+        timestep: MuJoCo's step h [s].
+
+    """
+    return max(MIN_BOUNDINERTIA, spring_stiffness * timestep**2 / SPRING_STEP_RATIO)
 
 
 def _vec(values) -> str:
@@ -195,7 +230,11 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
     motors = list(robot.actuated_joints)
 
     root = ET.Element("mujoco", model=f"pasibot_{robot.variant}_{robot.legs}leg")
-    ET.SubElement(root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false", boundinertia="1e-8")
+    bound = options.boundinertia
+    if bound is None:
+        bound = stable_boundinertia(options.spring_stiffness, options.timestep)
+    bound = repr(float(bound))
+    ET.SubElement(root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false", boundinertia=bound)
     option = ET.SubElement(
         root, "option", timestep=repr(options.timestep), gravity=_vec(model.gravity.linear), integrator="implicitfast"
     )

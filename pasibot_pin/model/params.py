@@ -9,9 +9,11 @@ Nothing here computes kinematics or dynamics: this module only holds and validat
 from __future__ import annotations
 
 import math
+import numbers
 from collections.abc import Mapping
 from dataclasses import dataclass, field, fields, replace
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
 
 VARIANTS: tuple[str, ...] = tuple(VARIANT_RECORDS)
@@ -75,13 +77,27 @@ RATIO_RANGE: tuple[float, float] = (1e-3, 1e3)
 
 
 def _check_positive(name: str, value: float) -> float:
+    """``value`` as a float if it is a positive finite number (not a bool, not a string), else ParameterError."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ParameterError(f"parameter {name!r} must be a positive finite number, got {short_repr(value)}")
     try:
-        value = float(value)
-    except (TypeError, ValueError):
-        raise ValueError(f"parameter {name!r} must be a positive finite number, got {value!r}") from None
-    if not math.isfinite(value) or value <= 0.0:
-        raise ValueError(f"parameter {name!r} must be a positive finite number, got {value!r}")
-    return value
+        number = float(value)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number) or number <= 0.0:
+        raise ParameterError(f"parameter {name!r} must be a positive finite number, got {short_repr(value)}")
+    return number
+
+
+def short_repr(value: object) -> str:
+    """``repr(value)``, cut to a readable length (a 5,000-digit integer is named by its size)."""
+    if isinstance(value, int) and not isinstance(value, bool) and abs(value) > 10**15:
+        return f"a {len(str(abs(value))) if abs(value) < 10**4000 else 'more than 4000'}-digit integer"
+    try:
+        text = repr(value)
+    except RecursionError:  # a list nested thousands deep
+        return f"a deeply nested {type(value).__name__}"
+    return text if len(text) <= 60 else text[:57] + "..."
 
 
 def _check_range(name: str, value: float, bounds: tuple[float, float], unit: str) -> float:
@@ -99,8 +115,8 @@ def check_variant(variant: str | Variant) -> str:
 
 def check_legs(legs: int) -> int:
     """Return ``legs`` if it is 1 or 2, else raise ``ValueError``."""
-    if legs not in LEG_COUNTS:
-        raise ValueError(f"parameter 'legs' must be 1 or 2, got {legs!r}")
+    if isinstance(legs, bool) or not isinstance(legs, numbers.Integral) or legs not in LEG_COUNTS:
+        raise ParameterError(f"parameter 'legs' must be the integer 1 or 2, got {short_repr(legs)}")
     return int(legs)
 
 
@@ -131,8 +147,8 @@ class Geometry:
     hip_half_width: float = 0.1
 
     def __post_init__(self) -> None:
-        _check_range("L", self.L, LENGTH_RANGE, "m")
-        _check_range("K", self.K, RATIO_RANGE, "[-]")
+        object.__setattr__(self, "L", _check_range("L", self.L, LENGTH_RANGE, "m"))
+        object.__setattr__(self, "K", _check_range("K", self.K, RATIO_RANGE, "[-]"))
         if not isinstance(self.ratios, Mapping):
             raise ValueError(f"parameter 'ratios' must map r1..r13 to numbers, got {self.ratios!r}")
         unknown = set(self.ratios) - set(SEED_LINK_RATIOS)
@@ -144,8 +160,10 @@ class Geometry:
             merged[key] = _check_range(key, value, RATIO_RANGE, "[-]")
         object.__setattr__(self, "ratios", merged)
         for name in ("foot_toe", "foot_heel", "parallel_toe", "parallel_heel"):
-            _check_range(name, getattr(self, name), RATIO_RANGE, "[-]")
-        _check_range("hip_half_width", self.hip_half_width, LENGTH_RANGE, "m")
+            object.__setattr__(self, name, _check_range(name, getattr(self, name), RATIO_RANGE, "[-]"))
+        object.__setattr__(
+            self, "hip_half_width", _check_range("hip_half_width", self.hip_half_width, LENGTH_RANGE, "m")
+        )
         if merged["r4"] <= merged["r7"]:
             raise ValueError("parameter 'r4' must exceed 'r7' (joint 5 lies on L4 at L4 - L7 from joint 4)")
         if merged["r5"] <= merged["r6"]:

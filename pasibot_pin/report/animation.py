@@ -52,6 +52,10 @@ def write_gait_gif(path: Path, dpi: int = GIF_DPI) -> Path:
     return Path(path)
 
 
+SIMULATION_TITLE = "simulated walk, hip pitch free, stance foot welded"
+"""The title of a simulated walk's GIF and of its page's title bar."""
+
+
 def export_animation(robot, result, html: Path | None = None, gif: Path | None = None, fps: float = 20.0) -> list[Path]:
     """Write a simulated walk as a one-file meshcat HTML page and/or as a stick GIF.
 
@@ -73,7 +77,7 @@ def export_animation(robot, result, html: Path | None = None, gif: Path | None =
     from pasibot_pin.studies.simulation_study import animation_frames
 
     frames = animation_frames(result, fps)
-    title = "simulated walk, hip pitch free, stance foot welded"
+    title = SIMULATION_TITLE
     written = []
     if gif is not None:
         from pasibot_pin.viz.animation import save_gif
@@ -88,7 +92,12 @@ def export_animation(robot, result, html: Path | None = None, gif: Path | None =
             text = viewer.static_html()
         finally:
             viewer.close()
-        html.write_text(text, encoding="utf-8")
+        from pasibot_pin.files import PART_MARKER, write_text_atomic
+
+        if PART_MARKER in Path(html).name:  # the caller writes to a temporary name already
+            Path(html).write_text(text, encoding="utf-8")
+        else:
+            write_text_atomic(html, text)
         written.append(html)
     return written
 

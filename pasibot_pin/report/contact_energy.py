@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, write_columns_csv
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, write_columns_csv, writing
 from pasibot_pin.report.markdown import Section, figure, figure_links
 from pasibot_pin.studies.contact import ContactResult
 from pasibot_pin.studies.contact_energy_study import (
@@ -79,11 +79,11 @@ def write_energy_csv(path: Path, rows: Sequence[StepEnergy]) -> None:
         rows: :class:`pasibot_pin.studies.energy.StepEnergy` rows.
 
     """
-    table = [r.row() for r in rows]
+    from pasibot_pin.units import with_unit
+
+    table = [{with_unit(k): v for k, v in r.row().items()} for r in rows]  # omega_rad_s, W_crank_net_J, ...
     keys = list(dict.fromkeys(k for row in table for k in row))
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
+    with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.DictWriter(handle, fieldnames=keys, restval="")
         writer.writeheader()
         writer.writerows(table)
@@ -155,10 +155,10 @@ def _motor_lines(motor: SingleMotorStudy, sub: Path) -> list[str]:
     for case in motor.flywheels:
         fw = case.flywheel
         if fw is None:
-            rows.append(f"| {case.inertia:g} | - | too small: {case.error} |")
+            rows.append(f"| {case.inertia:g} | too small: {case.error} |")
         else:
             rows.append(
-                f"| {case.inertia:g} | {fw.mean_torque:.2f} | {fw.speed_fluctuation * 100:.2f} "
+                f"| {case.inertia:g} | {fw.speed_fluctuation * 100:.2f} "
                 f"({fw.speed_fluctuation_linear * 100:.2f} first order) |"
             )
     write_columns_csv(sub / f"single_motor_{motor.scenario}.csv", motor.columns())
@@ -172,13 +172,17 @@ def _motor_lines(motor: SingleMotorStudy, sub: Path) -> list[str]:
         "the coupling carries the left crank's torque. Its torque equals T_a + T_a' of the two-motor "
         f"solution to {motor.max_deviation:.1e} N.m (tested).",
         "",
-        f"- peak {single.peak():.2f} N.m, RMS {single.rms():.2f} N.m (two motors: peaks "
+        f"- without a flywheel (the crank speed held at {motor.omega:g} rad/s): peak {single.peak():.2f} N.m and "
+        f"{motor.peak_power:.1f} W, RMS {single.rms():.2f} N.m (two motors: peaks "
         f"{np.max(np.abs(torques.Ta)):.2f} and {np.max(np.abs(torques.Ta_swing)):.2f} N.m)",
+        f"- with a flywheel of any size the motor gives a constant torque, its mean over a step: "
+        f"{motor.mean_torque:.2f} N.m, {motor.mean_power:.1f} W; the flywheel's inertia only sets how much the "
+        "crank speed varies (the table)",
         f"- flywheel for a {motor.fluctuation * 100:g} % speed fluctuation: {motor.inertia_for_target:.2f} kg.m^2 "
-        "on the crank shaft",
+        "on the crank shaft (a large wheel)",
         "",
-        "| flywheel [kg.m^2] | motor torque with it [N.m] | crank speed fluctuation [%] |",
-        "|---|---|---|",
+        "| flywheel [kg.m^2] | crank speed fluctuation [%] |",
+        "|---|---|",
         *rows,
         "",
         figure(
@@ -251,6 +255,8 @@ def build(out_dir: Path) -> Section:
         "sole": (float(np.min(run1.s_heel)), float(np.max(run1.s_toe))),
         "fluctuation": float(result.motor.fluctuation),
         "motor_peak": float(result.motor.single.peak()),
+        "motor_omega": float(result.motor.omega),
+        "motor_scenario": result.motor.scenario,
         "flywheel": float(result.motor.inertia_for_target),
     }
     return Section("\n".join(lines), facts)

@@ -63,15 +63,11 @@ def answers() -> list[Answer]:
 
 
 def explored() -> tuple[int, float]:
-    """(designs evaluated in the two runs, the best CoP margin of any feasible one [m]), from docs/results."""
-    import numpy as np
-    import pyarrow.parquet as pq
+    """(designs evaluated in the two runs, the best CoP margin of any feasible one [m]), from the answers' summary."""
+    from pasibot_pin.explore.questions import read_summary
 
-    from pasibot_pin.explore.questions import answer_path
-
-    tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
-    margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
-    return sum(t.num_rows for t in tables), float(np.max(margins))
+    summary = read_summary()
+    return int(summary["designs_explored"]), float(summary["best_cop_margin_m"])
 
 
 def _cell(value: float, scale: float, fmt: str) -> str:
@@ -138,15 +134,16 @@ class FloorAnswer:
     best_outcome: str
 
 
-def floor_answer() -> FloorAnswer:
-    """The summary of question 2's run."""
+def floor_answer_of_rows(rows: list[dict]) -> FloorAnswer:
+    """Question 2's summary from its table's rows.
+
+    Args:
+        rows: one dict per design, with ``index``, ``feasible``, ``floor_time_s`` [s], ``floor_steps`` and
+            ``floor_outcome``.
+
+    """
     from collections import Counter
 
-    import pyarrow.parquet as pq
-
-    from pasibot_pin.explore.questions import FLOOR_TABLE, RESULTS_DIR
-
-    rows = pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist()
     walked = [r for r in rows if r["feasible"]]
     best = max(walked, key=lambda r: (r["floor_steps"], r["floor_time_s"]))
     outcomes = Counter(r["floor_outcome"] if r["feasible"] else "infeasible" for r in rows)
@@ -162,6 +159,13 @@ def floor_answer() -> FloorAnswer:
     )
 
 
+def floor_answer() -> FloorAnswer:
+    """The summary of question 2's run, as ``make answers`` stored it (no pyarrow needed)."""
+    from pasibot_pin.explore.questions import read_summary
+
+    return FloorAnswer(**read_summary()["floor"])
+
+
 def floor_markdown(answer: FloorAnswer | None = None) -> str:
     """Question 2's verdict, one paragraph (the walking verdict's outcomes, counted)."""
     from pasibot_pin.dynamics.verdict import GaitCriteria
@@ -174,7 +178,7 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
 
     units = {r.name: "" if SPECS[r.name].unit == "-" else f" {SPECS[r.name].unit}" for r in plan.ranges}
     names = ", ".join(f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges)
-    counts = ", ".join(f"{n} {o}" for o, n in a.outcomes.items())
+    counts = ", ".join(f"{n} {o}" for o, n in sorted(a.outcomes.items(), key=lambda kv: (-kv[1], kv[0])))
     pitch = math.degrees(GaitCriteria().max_hip_pitch)
     head = (
         f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, body {plan.base.body_mass:g} kg, each design asked "

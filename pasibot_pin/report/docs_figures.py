@@ -2,6 +2,7 @@
 
 - :func:`write_variants_figure`: ``docs/variants.png``, the three variants (two legs) at q0;
 - :func:`write_gait_gif`: ``docs/gait.gif``, the ``analyze`` walk's stick GIF, smaller;
+- :func:`write_walker_gif`: ``docs/walking.gif``, a walker walking on the floor (the README's hero);
 - :func:`write_kinematics_figure`: ``docs/kinematics.png``, the parallel leg's foot paths over a
   crank turn beside the spring biped walking three steps;
 - :func:`write_torques_figure`: ``docs/torques.png``, run 2's torques against the stance ankle
@@ -95,6 +96,23 @@ def write_gait_gif(path: Path) -> Path:
     return write(Path(path), dpi=GIF_DPI)
 
 
+WALKER_GIF_FPS: float = 8.0
+"""Frames per second of simulated time of ``docs/walking.gif`` [1/s]."""
+
+
+def write_walker_gif(path: Path) -> Path:
+    """``docs/walking.gif``: the long-soled parallel walker (4.5 L soles, 2 rad/s) walking four steps on the floor."""
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.report.walking import write_walk_animation
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+    design = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
+    robot = design_robot(design, 2, visuals=False)
+    walk = walk_design(design, WalkSettings(steps=4), robot)
+    write_walk_animation(walk, robot, gif=Path(path), fps=WALKER_GIF_FPS, dpi=GIF_DPI)
+    return Path(path)
+
+
 def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
     """``docs/torques.png``: T_a, T_e, T_a', T_e' against beta with the fit, default model | seed preset."""
     from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
@@ -121,6 +139,7 @@ def write_walking_map_figure(path: Path) -> Path:
 DOCS_PICTURES = (
     (write_variants_figure, "variants.png"),
     (write_gait_gif, "gait.gif"),
+    (write_walker_gif, "walking.gif"),
     (write_kinematics_figure, "kinematics.png"),
     (write_torques_figure, "torques.png"),
     (write_simulation_figure, "simulation.png"),

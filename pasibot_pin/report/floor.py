@@ -10,11 +10,12 @@ from __future__ import annotations
 
 import csv
 import math
+import os
 from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from pasibot_pin.files import atomic_paths
+from pasibot_pin.files import atomic_paths, check_replaceable
 from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.report.floor_static import cases_markdown, floor_text, static_files, sweep_markdown, write_static_into
 from pasibot_pin.studies.floor_spring_study import CaseComparison, FloorSpringStudy
@@ -28,19 +29,23 @@ PLOT_NAME = "floor_{scenario}.png"
 def floor_files(out: Path, scenario: str, force: bool = False) -> tuple[Path, Path]:
     """(csv, png) of ``scenario`` in ``out``; FileExistsError if one exists and ``force`` is false."""
     files = (Path(out) / CSV_NAME.format(scenario=scenario), Path(out) / PLOT_NAME.format(scenario=scenario))
-    existing = [str(p) for p in files if p.exists()]
+    existing = [str(p) for p in files if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    for path in files:
+        check_replaceable(path, "--out")  # --force replaces regular files only
     return files
 
 
 def write_floor(study: FloorStudy, csv_path: Path, png_path: Path) -> list[Path]:
     """Write the fitted case's CSV and the study's figure; returns the paths."""
+    from pasibot_pin.units import with_unit
+
     cols = floor_columns(study.cases[0].result)
     with atomic_paths(csv_path, png_path) as (csv_tmp, png_tmp):
         with csv_tmp.open("w", newline="") as handle:
             writer = csv.writer(handle)
-            writer.writerow(list(cols))
+            writer.writerow([with_unit(name) for name in cols])  # t_s, right_heel_Fn_N, ...
             for row in zip(*cols.values()):
                 writer.writerow([x if isinstance(x, str) else repr(float(x)) for x in row])
         fig = plot_floor_study(study)
@@ -59,11 +64,33 @@ def _deg(angle: float) -> str:
     return "no stable eq." if math.isinf(angle) else f"{math.degrees(angle):.1f}"
 
 
+def outcome_text(row: CaseComparison) -> str:
+    """The floor run's outcome in words; an ``undecided`` run says why (shorter than two step periods)."""
+    from pasibot_pin.model.scenarios import get_scenario
+
+    if not row.floor_outcome.startswith("undecided"):
+        return row.floor_outcome
+    omega = get_scenario(row.scenario).omega
+    return (
+        f"undecided: the {row.floor_end:g} s run is shorter than two steps ({math.pi / omega:.1f} s each at "
+        f"{omega:g} rad/s); it did not fall"
+    )
+
+
+WELD_DT_MS = 10.0
+"""The welded runs' time step in this table [ms] (``floor_spring_study.compare_case``)."""
+
+
 def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
-    """The table's rows, one per scenario and spring case, columns with their units."""
-    out = []
+    """The table's rows, one per scenario and spring case, columns with their units.
+
+    A welded run that fell has no largest pitch (its last sample is where the fall was caught):
+    the column says ``fell`` and the next one when.
+    """
+    out, span = [], f"{study.settings.duration:g} s"
     for r in study.rows:
         fell = "" if math.isnan(r.weld_fell_at) else f"{r.weld_fell_at:.2f}"
+        weld_pitch = "fell" if fell else f"{math.degrees(r.weld_max_pitch):.1f}"
         start = r.floor_start if r.floor_start == "none" else f"{r.floor_start} {r.floor_start_modes}"
         out.append(
             {
@@ -72,15 +99,15 @@ def floor_spring_table(study: FloorSpringStudy) -> list[dict[str, str]]:
                 "K_e [N.m/rad]": f"{r.stiffness:.1f}",
                 "weld: quasi-static max pitch [deg]": _deg(r.weld_static),
                 "floor: quasi-static max pitch [deg]": floor_text(r.floor_static),
-                "weld: max pitch [deg]": f"{math.degrees(r.weld_max_pitch):.1f}",
-                "weld: fell at [s]": fell,
+                f"weld: max pitch in {span} [deg]": weld_pitch,
+                f"weld: fell at, dt {WELD_DT_MS:g} ms [s]": fell,
                 "floor: start": "cannot stand" if r.floor_start == "none" else start,
                 "floor: start pitch [deg]": ""
                 if r.floor_start == "none"
                 else f"{math.degrees(r.floor_start_pitch):.2f}",
-                "floor: max pitch [deg]": f"{math.degrees(r.floor_max_pitch):.1f}",
+                f"floor: max pitch in {span} [deg]": f"{math.degrees(r.floor_max_pitch):.1f}",
                 "floor: landings [-]": str(r.floor_landings),
-                "floor: outcome": r.floor_outcome,
+                "floor: outcome": outcome_text(r),
             }
         )
     return out
@@ -115,8 +142,9 @@ def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + 
         "",
         f"![Largest hip pitch of every run and spring case, weld beside floor]({figure})",
         "",
-        f"*Largest |hip pitch| over {study.settings.duration:g} s, weld (blue) beside floor (orange); hatched: the run "
-        "fell or failed.*",
+        f"*Largest |hip pitch| [deg] over {study.settings.duration:g} s of each spring case, welded stance foot (blue) "
+        "beside the floor (orange), each bar labelled with its value (a dot on the axis marks zero); hatched: the run "
+        "fell or failed, the bar where it stopped.*",
         "",
     ]
     if statics and any(s.stiffness is not None for s in statics):
@@ -132,9 +160,11 @@ def floor_spring_files(out: Path, force: bool = False, sweep: bool = False) -> l
     paths = [Path(out) / f"{SPRINGS_NAME}{ext}" for ext in (".md", ".csv", ".png")]
     if sweep:
         paths += static_files(out, force=True)
-    existing = [str(p) for p in paths if p.exists()]
+    existing = [str(p) for p in paths if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    for path in paths:
+        check_replaceable(path, "--out")  # --force replaces regular files only
     return paths
 
 
@@ -212,7 +242,7 @@ def _section(study: FloorSpringStudy, others: list):
         "weld_max_pitch": fitted.weld_max_pitch,
         "floor_max_pitch": fitted.floor_max_pitch,
         "floor_start": fitted.floor_start,
-        "floor_outcome": fitted.floor_outcome,
+        "floor_outcome": outcome_text(fitted),
         "quasi_static_weld_holds": sum(math.isfinite(p.weld_excursion) for s in statics for p in s.cases.values()),
         "quasi_static_floor_holds": sum(p.holds for s in statics for p in s.cases.values()),
     }

@@ -13,7 +13,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.report.files import FIGURE_DPI, save_figure_file
+from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, writing
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
     KinematicsSurvey,
@@ -32,15 +32,15 @@ def write_rows_csv(path: Path, columns: list[str] | tuple[str, ...], rows: np.nd
 
     Args:
         path: output file; its folder is created.
-        columns: the header.
+        columns: the column names (SI values); the header adds their units (``theta`` -> ``theta_rad``).
         rows: one sequence of cells per row.
 
     """
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    with path.open("w", newline="") as handle:
+    from pasibot_pin.units import with_unit
+
+    with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)
-        writer.writerow(columns)
+        writer.writerow([with_unit(name) for name in columns])
         for row in rows:
             writer.writerow([repr(float(x)) if isinstance(x, (float, np.floating)) else x for x in row])
 

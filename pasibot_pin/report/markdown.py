@@ -49,6 +49,16 @@ def _deg(rad: float) -> str:
     return f"{math.degrees(rad):.1f}°" if math.isfinite(rad) else "fell"
 
 
+def _runs_pitch(run1: float, run23) -> str:
+    """'the largest hip pitch is 41.3° in run 1; runs 2 and 3 fell' (a fall has no largest pitch)."""
+    held = [(f"run {k}", v) for k, v in zip((1, 2, 3), (run1, *run23)) if math.isfinite(v)]
+    fell = [f"{k}" for k, v in zip((1, 2, 3), (run1, *run23)) if not math.isfinite(v)]
+    parts = [f"the largest hip pitch is {' and '.join(f'{_deg(v)} in {name}' for name, v in held)}"] if held else []
+    if fell:
+        parts.append(("run " if len(fell) == 1 else "runs ") + " and ".join(fell) + " fell")
+    return "; ".join(parts)
+
+
 def summary(facts: Mapping[str, Mapping]) -> str:
     """The report's opening section: the seed's claims against the model's findings.
 
@@ -107,9 +117,8 @@ def summary(facts: Mapping[str, Mapping]) -> str:
                 "the fitted spring keeps the walking robot upright",
                 "the spring avoids instability of the biped (§8)",
                 f"K_e exceeds gravity's toppling stiffness k_g by only {sim['margin_run1']:.1f} N.m/rad (run 1); "
-                f"with the hip free, the largest hip pitch is {_deg(sim['run1_fitted'])} in run 1 and "
-                f"{' and '.join(_deg(v) for v in sim['run23_fitted'])} in runs 2 and 3; without a spring the "
-                f"robot falls within {sim['fall_min']:.1f}–{sim['fall_max']:.1f} s",
+                f"with the hip free, {_runs_pitch(sim['run1_fitted'], sim['run23_fitted'])}; without a spring "
+                f"the robot falls within {sim['fall_min']:.1f}–{sim['fall_max']:.1f} s",
                 "differ: neutral stability at best (welded stance foot)",
             )
         )
@@ -129,8 +138,8 @@ def summary(facts: Mapping[str, Mapping]) -> str:
             (
                 "one motor for both legs",
                 "future work (§8)",
-                f"feasible: peak {con['motor_peak']:.1f} N.m at 5 rad/s; a {con['flywheel']:.0f} kg.m² flywheel "
-                f"keeps the speed within {100 * con['fluctuation']:g} %",
+                f"one motor can drive both cranks ({con['motor_scenario']}, {con['motor_omega']:g} rad/s); its peak "
+                "torque and power, and the flywheel a constant torque would need, are in the answers above",
                 "new",
             )
         )
@@ -176,5 +185,14 @@ def summary(facts: Mapping[str, Mapping]) -> str:
 
 
 def report_text(sections: Iterable[str], facts: Mapping[str, Mapping]) -> str:
-    """``report.md``: the title, the :func:`summary` of verdicts, then the sections in order."""
-    return "\n".join(["# PASIBOT analysis", "", summary(facts), *(f"{text}\n" for text in sections)])
+    """``report.md``: the title, the answers box, the :func:`summary` of verdicts, then the sections in order.
+
+    The answers box (:func:`~pasibot_pin.report.answers.answers_box`) comes from ``facts["answers"]["lines"]``;
+    without them the report opens with the summary.
+    """
+    from pasibot_pin.report.answers import answers_box
+
+    lines = facts.get("answers", {}).get("lines")
+    head = [answers_box(lines)] if lines else []
+    body = [f"{text}\n" for text in sections if text]
+    return "\n".join(["# PASIBOT analysis", "", *head, summary(facts), *body])

@@ -23,10 +23,13 @@ def section(out_dir: Path) -> str:
             sections += ["```", load(variant, legs).summary(), "```", ""]
     write_text_atomic(Path(out_dir) / "info.txt", "\n\n".join(load(v, 2).summary() for v in VARIANTS) + "\n")
     for variant in VARIANTS:
-        fig = plot_robot(load(variant, 2))
+        fig = plot_robot(load(variant, 2), legend=True)
         save_figure_file(fig, out_dir / f"robot_{variant}.png")
     sections += [
-        figure(f"robot_{v}.png", f"The {v} biped at its assembled pose q0 (side view [m]; links coloured by group).")
+        figure(
+            f"robot_{v}.png",
+            f"The {v} biped at its assembled pose q0 (side view [m]; the legend names each link group and symbol).",
+        )
         for v in VARIANTS
     ]
     return "\n".join(sections)

@@ -12,11 +12,13 @@
 from __future__ import annotations
 
 import math
+import os
 import time
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from pasibot_pin.files import check_replaceable
 from pasibot_pin.report.animation import export_animation
 from pasibot_pin.report.files import save_figure_file, write_columns_csv
 
@@ -59,7 +61,6 @@ def prepare_outputs(
 
     """
     out = Path(out)
-    out.mkdir(parents=True, exist_ok=True)
     tag = str(scenario).replace(" ", "_")
     files = SimulateFiles(
         out / PLOT_NAME.format(scenario=tag),
@@ -67,9 +68,12 @@ def prepare_outputs(
         out / GIF_NAME.format(scenario=tag) if gif else None,
         out / HTML_NAME.format(scenario=tag) if html else None,
     )
-    existing = [str(p) for p in (files.plot, files.csv, files.gif, files.html) if p is not None and p.exists()]
+    paths = [p for p in (files.plot, files.csv, files.gif, files.html) if p is not None]
+    existing = [str(p) for p in paths if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
+    for path in paths:
+        check_replaceable(path, "--out")  # --force replaces regular files only
     return files
 
 
@@ -177,15 +181,16 @@ def study_table(studies: Sequence) -> list[str]:
 def run_table(studies: Sequence) -> list[str]:
     """Markdown table of every walk: excursion, duration, landing mismatch, swing sole, drift."""
     lines = [
-        "| scenario | spring | max abs hip pitch [deg] | simulated [s] | largest landing height mismatch [mm] | "
-        "lowest swing sole [mm] | largest drift per step before projection [m] |",
-        "|---|---|---|---|---|---|---|",
+        "| scenario | spring | time step [ms] | max abs hip pitch [deg] | simulated [s] | largest landing height "
+        "mismatch [mm] | lowest swing sole [mm] | largest drift per step before projection [m] |",
+        "|---|---|---|---|---|---|---|---|",
     ]
     for entry in studies:
         for label, res in entry.study.runs.items():
             landing = f"{1000 * max(abs(i.height) for i in res.impacts):.1f}" if res.impacts else "-"
+            pitch = "fell" if res.fell else _deg(res.max_hip_excursion)  # a fall's last pitch is where it was caught
             lines.append(
-                f"| {entry.name} | {label} | {_deg(res.max_hip_excursion)} | "
+                f"| {entry.name} | {label} | {1000 * res.settings.dt:g} | {pitch} | "
                 f"{res.t[-1]:.2f}{' (fell)' if res.fell else ''} | {landing} | "
                 f"{1000 * float(res.swing_height.min()):.1f} | {res.max_drift:.1e} |"
             )
@@ -205,20 +210,35 @@ def write_scenario_figures(out_dir: Path, study) -> list[tuple[str, str]]:
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from pasibot_pin.viz.plots_simulation import plot_simulation, plot_spring_sweep, plot_static_equilibrium
+    from pasibot_pin.viz.plots_simulation import (
+        fall_window,
+        plot_simulation,
+        plot_spring_sweep,
+        plot_static_equilibrium,
+    )
 
     figures = []
     name = study.name
     if study.runs:
         fig = plot_simulation(study.runs, main="fitted", rest_angle=study.fitted.rest_angle)
-        fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
+        window = fall_window(study.runs)
+        if window is None:
+            fig.axes[0].set_title(f"{name}: hip pitch, hip free (x: fell; dotted: touchdowns)")
+        else:
+            fig.axes[0].set_title(f"{name}: the first {window:.2f} s, hip free: where the runs fell (x)")
         save_figure_file(fig, out_dir / f"simulation_{name}.png")
         plt.close(fig)
+        falls = (
+            ""
+            if window is None
+            else f"the first {window:.2f} s (top) with every run, each fall marked x at its time, then the whole run "
+            "of the springs that held; "
+        )
         figures.append(
             (
                 f"simulation_{name}.png",
-                f"{name}: hip pitch [deg] over time [s] with the fitted, no, half and twice the stiffness; ankle "
-                "angles [deg] and crank torques [N.m] of the fitted run.",
+                f"{name}: hip pitch [deg] over time [s] with the fitted, no, half and twice the stiffness: {falls}"
+                "ankle angles [deg] and crank torques [N.m] of the fitted run.",
             )
         )
     fig = plot_static_equilibrium(study.statics)

@@ -14,7 +14,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor import SIDES
+from pasibot_pin.model.coordinates import SIDES
 
 FORCE_SCALE = 5e-4
 """Arrow length per newton of floor force [m/N]."""
@@ -44,7 +44,9 @@ def floor_force_tracks(sim, result, index: np.ndarray) -> dict:
     return tracks
 
 
-def write_walk_animation(walk, robot, html: Path | None = None, gif: Path | None = None, fps: float = 20.0):
+def write_walk_animation(
+    walk, robot, html: Path | None = None, gif: Path | None = None, fps: float = 20.0, dpi: int = 80
+):
     """Write the walk as a one-file meshcat page and/or a stick GIF (each to a temporary name, then renamed).
 
     Args:
@@ -53,6 +55,7 @@ def write_walk_animation(walk, robot, html: Path | None = None, gif: Path | None
         html: the HTML file (``None``: none).
         gif: the GIF file (``None``: none).
         fps: frames per second of simulated time [1/s].
+        dpi: the GIF's resolution [dots per inch] (6.4 x 5 in).
 
     Returns:
         The files written.
@@ -73,7 +76,9 @@ def write_walk_animation(walk, robot, html: Path | None = None, gif: Path | None
         from pasibot_pin.viz.animation import save_gif
 
         with atomic_path(gif) as temp:
-            save_gif(robot, qs, temp, fps=fps, force=True, title=title, forces=forces, modes=modes, times=times)
+            save_gif(
+                robot, qs, temp, fps=fps, dpi=dpi, force=True, title=title, forces=forces, modes=modes, times=times
+            )
         written.append(gif)
     if html is not None:
         from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene

@@ -34,6 +34,7 @@ import pinocchio as pin
 import proxsuite
 
 from pasibot_pin.model.params import SOLE_FLOOR_MU
+from pasibot_pin.reprs import short_repr
 
 QP_EPS: float = 1e-12
 """Absolute accuracy asked of proxsuite [N, N.m]."""
@@ -246,6 +247,8 @@ class ContactResult:
         residual: (N x 3) wrench the contacts cannot supply.
 
     """
+
+    __repr__ = short_repr
 
     t: np.ndarray
     theta: np.ndarray

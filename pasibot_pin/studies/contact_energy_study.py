@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies import energy, single_motor
 from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES, ContactResult, scenario_contact
 
@@ -87,6 +88,8 @@ class ScenarioContact:
 
     """
 
+    __repr__ = short_repr
+
     scenario: str
     variant: str
     torques: object
@@ -114,6 +117,8 @@ class ContactSweep:
         slip: contact of the infeasible-friction check (tiny mu on a what-if sole).
 
     """
+
+    __repr__ = short_repr
 
     mu: float
     cases: list[ScenarioContact]
@@ -165,6 +170,8 @@ class FlywheelCase:
 
     """
 
+    __repr__ = short_repr
+
     inertia: float
     flywheel: single_motor.Flywheel | None
     error: str = ""
@@ -206,6 +213,8 @@ class SingleMotorStudy:
 
     """
 
+    __repr__ = short_repr
+
     scenario: str
     omega: float
     thetas: np.ndarray
@@ -219,6 +228,23 @@ class SingleMotorStudy:
     def two_motor_sum(self) -> np.ndarray:
         """T_a + T_a' of the two-motor solution [N.m]."""
         return self.torques.Ta + self.torques.Ta_swing
+
+    @property
+    def peak_power(self) -> float:
+        """Largest |motor power| u omega over the turn, with no flywheel [W] (the crank speed is held)."""
+        return float(np.max(np.abs(self.single.motor))) * self.omega
+
+    @property
+    def mean_torque(self) -> float:
+        """The motor's mean torque over one step [N.m]: its constant torque with a flywheel of any size."""
+        step = slice(0, len(self.thetas) // 2 + 1)
+        theta = self.thetas[step]
+        return float(np.trapezoid(self.single.motor[step], theta) / (theta[-1] - theta[0]))
+
+    @property
+    def mean_power(self) -> float:
+        """The motor's mean power, its mean torque times omega [W]."""
+        return self.mean_torque * self.omega
 
     @property
     def max_deviation(self) -> float:
@@ -281,6 +307,8 @@ class EnergySweep:
 
     """
 
+    __repr__ = short_repr
+
     rows: list[energy.StepEnergy]
 
     @property
@@ -323,6 +351,8 @@ class PowerProfile:
         powers: power given by each actuator [W] (:func:`pasibot_pin.studies.energy.actuator_powers`).
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     omega: float
@@ -397,6 +427,8 @@ class ContactEnergyResult:
         power: the :class:`PowerProfile`.
 
     """
+
+    __repr__ = short_repr
 
     settings: ContactEnergySettings
     contact: ContactSweep

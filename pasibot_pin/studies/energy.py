@@ -14,7 +14,8 @@ the stance foot welded (DESIGN §5). Along it:
   the residual ankle work,
 * a single motor for both cranks (:mod:`pasibot_pin.studies.single_motor`) gives T_a + T_a'; its
   positive work is below the two motors' sum when one crank brakes while the other drives,
-* the cost of transport is a work per step over (total weight x distance walked in the step).
+* the cost of transport is a work per step over (total weight x the advance per step over a whole
+  stride, :func:`~pasibot_pin.kinematics.gait.stride_advance`: for every variant, a positive distance).
 
 The ``parallel`` variant (the seed's parallel extension) has 2 actuators for 2 degrees of
 freedom (cranks only; its foot is held parallel by the linkage). The team's inverse dynamics
@@ -39,9 +40,12 @@ from dataclasses import dataclass, field
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.kinematics.gait import stride_advance
+from pasibot_pin.model.coordinates import other
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+from pasibot_pin.reprs import short_repr
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -92,7 +96,7 @@ def actuator_powers(robot: PasibotRobot, result) -> dict[str, np.ndarray]:
         out.update({k: np.zeros(n) for k in ("ankle_stance", "ankle_swing")})
     for k in range(n):
         side = result.stance[k]
-        swing = "left" if side == "right" else "right"
+        swing = other(side)
         v = result.v[k]
         out["crank_stance"][k] = result.Ta[k] * v[robot.idx_v(f"{side}_j0_crank")]
         out["crank_swing"][k] = result.Ta_swing[k] * v[robot.idx_v(f"{swing}_j0_crank")]
@@ -118,7 +122,8 @@ class StepEnergy:
         variant: ``spring`` or ``parallel``.
         omega: crank speed [rad/s].
         total_mass: robot mass [kg].
-        distance: hip advance over the step [m].
+        distance: the hip's advance per step over a whole stride [m]
+            (:func:`~pasibot_pin.kinematics.gait.stride_advance`; 8 L with a level hip).
         duration: step time (pi / omega) [s].
         crank: net, positive and negative work of the two crank motors (each counted alone) [J].
         single: net, positive and negative work of one motor driving both cranks [J].
@@ -132,6 +137,8 @@ class StepEnergy:
             ``motors+residual`` (cranks + ankle work the spring cannot give; spring only) [-].
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     omega: float
@@ -219,7 +226,7 @@ def _step_energy(robot, result, weights, omega, variant, fit=None) -> StepEnergy
             }
     energies = [sum(mechanical_energy(robot, result.q[i], result.v[i])) for i in (0, -1)]
     mass = total_mass(robot)
-    distance = float(result.q[-1][0] - result.q[0][0])
+    distance = stride_advance(robot)  # per step, over a whole stride: the body's rocking cancels
     weight_distance = mass * GRAVITY * distance
     cot = {
         "motors": crank[1] / weight_distance,

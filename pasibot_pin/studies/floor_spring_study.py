@@ -28,6 +28,7 @@ import numpy as np
 
 from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
+from pasibot_pin.model.coordinates import HIP_PITCH
 from pasibot_pin.studies.floor_static import FloorStatic, FloorStaticSweep, floor_static_path, stance_thetas
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs
 
@@ -143,7 +144,7 @@ def compare_case(
     sim = FloorSimulator(robot, FloorSettings(omega=omega, spring=spring, mu=settings.mu, dt=settings.dt))
     res = sim.run(settings.duration)
     if res.start is not None:
-        start, start_pitch = res.start.kind, float(res.start.q[2])
+        start, start_pitch = res.start.kind, float(res.start.q[HIP_PITCH])
         modes = f"{res.start.modes['right']}/{res.start.modes['left']}"
     else:
         start, start_pitch, modes = "none", 0.0, "-"

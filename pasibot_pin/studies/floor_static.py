@@ -47,6 +47,7 @@ import pinocchio as pin
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.floor import LOAD_TOL, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
+from pasibot_pin.model.coordinates import other
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs
 from pasibot_pin.studies.static_batch import static_equilibria
 from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem, static_equilibrium
@@ -158,7 +159,7 @@ class _FloorStatics:
     def bilateral(self, stance: str) -> ConstraintSystem:
         """Loops, both cranks held and the swing ankle held (its rest angle): the weld's rows but the weld."""
         if stance not in self.systems:
-            robot, swing = self.robot, "left" if stance == "right" else "right"
+            robot, swing = self.robot, other(stance)
             rows = [coordinate(f"{s}_j0_crank", robot.idx_v(f"{s}_j0_crank")) for s in ("right", "left")]
             rows.append(coordinate(f"{swing}_j13_ankle", self.ankles[swing]))
             self.systems[stance] = ConstraintSystem(
@@ -227,7 +228,7 @@ def floor_static_path(
         configurations[k] = q
         heel[k], toe[k], tangential[k], cop[k], residual[k] = statics.forces(spring, q, stance)
         use[k] = abs(tangential[k]) / (heel[k] + toe[k])
-        clearance[k] = sole_height(robot, q, "left" if stance == "right" else "right")
+        clearance[k] = sole_height(robot, q, other(stance))
         if heel[k] < -LOAD_TOL:
             status.append("toe")  # the heel would have to pull: the centre of pressure is ahead of the toe
         elif toe[k] < -LOAD_TOL:

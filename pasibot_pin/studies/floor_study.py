@@ -20,6 +20,7 @@ import numpy as np
 
 from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.model.variants import get_variant
 from pasibot_pin.studies.spring_study import SPRING_CASES, design_inputs, scenario_inputs
 
 MAX_DURATION: float = 600.0
@@ -80,7 +81,7 @@ class FloorStudy:
     Attributes:
         scenario: the scenario's name.
         omega: crank speed [rad/s].
-        fit: the fitted spring.
+        fit: the fitted spring (``None`` for a design without ankle springs).
         cases: one :class:`FloorCase` per spring case, fitted first.
         settings: the settings used.
 
@@ -88,7 +89,7 @@ class FloorStudy:
 
     scenario: str
     omega: float
-    fit: AnkleSpring
+    fit: AnkleSpring | None
     cases: list[FloorCase] = field(default_factory=list)
     settings: FloorStudySettings | None = None
 
@@ -98,17 +99,40 @@ class FloorStudy:
 
 
 def floor_study(settings: FloorStudySettings, on_case: Callable[[FloorCase], None] | None = None) -> FloorStudy:
-    """Simulate the scenario's spring cases on the floor (see the module docstring)."""
-    inputs = scenario_inputs(settings.scenario) if settings.design is None else design_inputs(settings.design)
+    """Simulate the scenario's spring cases on the floor (see the module docstring).
+
+    A design without ankle springs (``rigid``, ``parallel``) is one case, ``design``: the design as
+    it is, its motors and crank speed.
+    """
+    design = settings.design
+    if design is not None and not get_variant(design.variant).free_ankle:
+        return _springless_design(settings, on_case)
+    inputs = scenario_inputs(settings.scenario) if design is None else design_inputs(design)
     study = FloorStudy(inputs.name, inputs.omega, inputs.fit, settings=settings)
     cases = SPRING_CASES if settings.cases else SPRING_CASES[:1]
+    motors = "two" if design is None else design.motors
     for label, factor in cases:
         spring = inputs.fit.scaled(factor)  # one definition, weld and floor: K_e scaled, damper kept
-        floor = FloorSettings(omega=inputs.omega, spring=spring, mu=settings.mu, dt=settings.dt)
+        floor = FloorSettings(omega=inputs.omega, spring=spring, mu=settings.mu, dt=settings.dt, motors=motors)
         case = FloorCase(label, spring, FloorSimulator(inputs.robot, floor).run(settings.duration))
         study.cases.append(case)
         if on_case is not None:
             on_case(case)
+    return study
+
+
+def _springless_design(settings: FloorStudySettings, on_case: Callable[[FloorCase], None] | None) -> FloorStudy:
+    """The one case of a design without ankle springs."""
+    from pasibot_pin.model.design import design_robot
+
+    design = settings.design
+    robot = design_robot(design, 2, visuals=False)
+    floor = FloorSettings(omega=design.omega, mu=settings.mu, dt=settings.dt, motors=design.motors)
+    study = FloorStudy("design", design.omega, None, settings=settings)
+    case = FloorCase("design", None, FloorSimulator(robot, floor).run(settings.duration))
+    study.cases.append(case)
+    if on_case is not None:
+        on_case(case)
     return study
 
 
@@ -131,15 +155,16 @@ def floor_columns(result: FloorResult) -> dict[str, np.ndarray]:
         cols[f"{name}_Fn"] = result.normal[:, k]
         cols[f"{name}_Ft"] = result.tangential[:, k]
         cols[f"{name}_friction_use"] = use[:, k]
-    for k, side in enumerate(SIDES):
-        cols[f"{side}_crank_torque"] = result.motor_torque[:, k]
+    names = SIDES if result.motor_torque.shape[1] == len(SIDES) else ("motor",)
+    for k, name in enumerate(names):
+        cols[f"{name}_crank_torque"] = result.motor_torque[:, k]
     return cols
 
 
 def case_summary(case: FloorCase) -> str:
-    """One line: the case, its outcome, the largest hip pitch and the landings."""
+    """One line: the case and its walking verdict (outcome, steps, advance, largest hip pitch)."""
     res = case.result
+    if res.verdict is not None:
+        return f"  floor, {case.label:10s}: {res.verdict.summary()}"
     pitch = math.degrees(float(np.max(np.abs(res.hip_pitch)))) if len(res.t) else 0.0
-    lengths = res.step_lengths()
-    steps = f"; steps {', '.join(f'{x:+.3f}' for x in lengths[:4])} m" if len(lengths) else ""
-    return f"  floor, {case.label:10s}: {res.outcome}; max |hip pitch| {pitch:.1f} deg{steps}"
+    return f"  floor, {case.label:10s}: {res.outcome}; max |hip pitch| {pitch:.1f} deg"

@@ -19,9 +19,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from pasibot_pin.kinematics import leg as kin
-from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk
+from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, step_advances, walk
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
+from pasibot_pin.reprs import short_repr
 
 LEG_COLUMNS: tuple[str, ...] = (
     "theta",
@@ -160,6 +161,8 @@ class LegRun:
 
     """
 
+    __repr__ = short_repr
+
     variant: str
     L: float
     omega: float
@@ -179,13 +182,15 @@ class WalkRun:
         samples_per_step: crank intervals per step.
         L: crank length [m].
         walk: the sampled walk.
-        hip_advance: hip x travel of each step (steps,) [m].
+        hip_advance: hip x travel of each step, start to next start (steps,) [m] (:func:`step_advances`).
         hip_height_ptp: peak-to-peak hip height [m].
         hip_pitch: hip pitch at every sample (N,) [rad].
         max_residual: largest closure residual [m or rad].
         max_jump: largest pose jump at an exchange, 0 without exchanges [m or rad].
 
     """
+
+    __repr__ = short_repr
 
     variant: str
     foot: str
@@ -237,7 +242,8 @@ def walk_run(robot, steps: int = 2, step_deg: float = 5.0, omega: float = 0.1, f
     sps = samples(180.0, step_deg)
     w = walk(robot, steps, sps, omega=omega, foot=foot)
     hip = w.hip_path()
-    starts = [hip[k * sps, 0] for k in range(steps)] + [hip[-1, 0]]
+    # each step from its start to the next step's start (same phase: just after an exchange)
+    advances = step_advances(robot, steps, sps, foot=foot, omega=omega)
     return WalkRun(
         variant=robot.variant,
         foot=w.foot,
@@ -245,7 +251,7 @@ def walk_run(robot, steps: int = 2, step_deg: float = 5.0, omega: float = 0.1, f
         samples_per_step=sps,
         L=robot.geometry.L,
         walk=w,
-        hip_advance=np.diff(starts),
+        hip_advance=advances,
         hip_height_ptp=float(np.ptp(hip[:, 1])),
         hip_pitch=w.pitch(),
         max_residual=float(w.residual.max()),
@@ -380,6 +386,8 @@ class KinematicsSurvey:
         walks: one biped walk per ``settings.walk_cases`` entry.
 
     """
+
+    __repr__ = short_repr
 
     settings: KinematicsSettings
     legs: dict[str, LegRun]

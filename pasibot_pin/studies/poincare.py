@@ -283,6 +283,7 @@ def find_fixed_point(
     fd_step: float = 1e-6,
     scale: Sequence[float] | np.ndarray | float | None = None,
     max_evaluations: int | None = None,
+    scheme: Scheme = "central",
 ) -> FixedPoint:
     """Newton-shoot a fixed point of ``F`` from ``x0``, then linearise there.
 
@@ -300,6 +301,8 @@ def find_fixed_point(
         fd_step: relative finite-difference step [-] (component ``i`` moves by ``fd_step * s_i``).
         scale: typical magnitude ``s_i`` of each component (state units); default ``max(|x_i|, 1)``.
         max_evaluations: most map calls; default ``max_iter * (2 n + 12) + 2 n + 1``.
+        scheme: the Jacobian's differences, ``"central"`` or ``"forward"`` (``n + 1`` calls instead
+            of ``2 n``: for an expensive map whose multipliers are needed to a few digits only).
 
     Returns:
         The :class:`FixedPoint`, with ``DF(x*)`` and its multipliers.
@@ -318,11 +321,13 @@ def find_fixed_point(
         budget = max_iter * (2 * n + 12) + 2 * n + 1
     else:
         budget = _count(max_evaluations, "max_evaluations")
+    if scheme not in ("central", "forward"):
+        raise ParameterError(f"scheme must be 'central' or 'forward', got {scheme!r}")
     f = _Counted(step_map, n, budget)
     h = _steps(x, fd_step, scale)
     try:
-        x, g, iterations = _newton(f, x, h, tol, max_iter)
-        jac = _jacobian(f, x, h)
+        x, g, iterations = _newton(f, x, h, tol, max_iter, scheme)
+        jac = _jacobian(f, x, h, scheme)
     except NoFixedPointError:
         raise
     except SimulationError as err:
@@ -330,7 +335,9 @@ def find_fixed_point(
     return FixedPoint(x, float(np.max(np.abs(g))), iterations, f.calls, jac, _eigen(jac))
 
 
-def _newton(f: _Counted, x: np.ndarray, h: np.ndarray, tol: float, max_iter: int) -> tuple[np.ndarray, np.ndarray, int]:
+def _newton(
+    f: _Counted, x: np.ndarray, h: np.ndarray, tol: float, max_iter: int, scheme: Scheme = "central"
+) -> tuple[np.ndarray, np.ndarray, int]:
     """The damped Newton loop: ``(x*, G(x*), iterations)`` or :class:`NoFixedPointError`."""
     try:
         g = f(x) - x
@@ -342,7 +349,7 @@ def _newton(f: _Counted, x: np.ndarray, h: np.ndarray, tol: float, max_iter: int
             return x, g, iteration
         if iteration == max_iter:
             break
-        jac_g = _jacobian(f, x, h) - np.eye(x.size)
+        jac_g = _jacobian(f, x, h, scheme) - np.eye(x.size)
         dx = np.linalg.lstsq(jac_g, -g, rcond=None)[0]
         x, g = _line_search(f, x, g, dx, norm)
     raise NoFixedPointError(

@@ -34,6 +34,7 @@ from pasibot_pin.dynamics.simulator import (
     simulate,
 )
 from pasibot_pin.model.scenarios import SCENARIOS
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.spring_study import (
     SPRING_CASES,
     ScenarioInputs,
@@ -167,6 +168,8 @@ class SimulationRun:
         statics: case label -> static equilibrium path (quasi-static scenario; empty otherwise).
 
     """
+
+    __repr__ = short_repr
 
     setup: SimulationSetup
     runs: dict[str, SimulationResult] = field(default_factory=dict)
@@ -312,6 +315,8 @@ class ScenarioStudy:
 
     """
 
+    __repr__ = short_repr
+
     study: SpringStudy
     toppling: float
     spring_fit: object
@@ -334,6 +339,8 @@ class SwingFootCheck:
 
     """
 
+    __repr__ = short_repr
+
     scenario: ScenarioInputs
     base: SimulationResult
     full: SimulationResult
@@ -350,6 +357,8 @@ class SimulationStudy:
         check: the swing-foot model check (``None`` when not asked for).
 
     """
+
+    __repr__ = short_repr
 
     settings: SimulationStudySettings
     scenarios: list[ScenarioStudy]

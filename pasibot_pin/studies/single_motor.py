@@ -33,6 +33,7 @@ import numpy as np
 from pasibot_pin.constraints import split_torques
 from pasibot_pin.model import closure
 from pasibot_pin.model.variants import get_motor_layout
+from pasibot_pin.reprs import short_repr
 
 
 @dataclass
@@ -48,6 +49,8 @@ class SingleMotorResult:
         coupling_residual: max |q_L - q_R - pi| over the samples (wrapped) [rad].
 
     """
+
+    __repr__ = short_repr
 
     t: np.ndarray
     theta: np.ndarray

@@ -14,6 +14,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pasibot_pin.reprs import short_repr
+
 LOW_R2: float = 0.9
 """Below this R^2 a single K_e does not describe T_e(beta) (seed run 4: R^2 ~ 0.58)."""
 
@@ -37,6 +39,8 @@ class SpringFit:
         warning: a message when R^2 < :data:`LOW_R2`, else empty.
 
     """
+
+    __repr__ = short_repr
 
     K_e: float
     beta0: float

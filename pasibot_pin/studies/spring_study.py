@@ -31,6 +31,7 @@ from pasibot_pin.dynamics.simulator import (
     critical_foot_damping,
     simulate,
 )
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.static_batch import static_equilibria
 from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
 
@@ -83,6 +84,8 @@ class SpringStudy:
         best: the most level (K_e, beta0) of the sweep.
 
     """
+
+    __repr__ = short_repr
 
     name: str
     omega: float

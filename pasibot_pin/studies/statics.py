@@ -20,7 +20,9 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
-from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings, _other
+from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings
+from pasibot_pin.model.coordinates import HIP_PITCH, other
+from pasibot_pin.reprs import short_repr
 
 
 # --------------------------------------------------------------------------- statics (the omega -> 0 limit)
@@ -36,6 +38,8 @@ class StaticEquilibrium:
         found: True where an equilibrium was found.
 
     """
+
+    __repr__ = short_repr
 
     theta: np.ndarray
     hip_pitch: np.ndarray
@@ -79,7 +83,7 @@ class StaticProblem:
             if cache is not None:
                 cache[key] = (q_level, stance, weld)
         self.q_level = q_level.copy()
-        swing = _other(stance)
+        swing = other(stance)
         self.q_level[self.sim.ankles[swing]] = math.pi / 2 - spring.rest_angle
         # one system per crank angle: the swing ankle's rest angle and the hip pitch are targets of their
         # rows (offset 0, so a target t gives the residual q_i - t, the same bits as an offset t)
@@ -90,7 +94,7 @@ class StaticProblem:
             coords = [c.at(0.0) if c.name == f"{swing}_j13_ankle" else c for c in self.sim.coordinate_rows(stance)]
             coords = [c for c in coords if c.name != "hip_pitch"]
             cmodels = list(robot.loop_constraints) + [weld]
-            rows = [*coords, coordinate("hip_pitch", 2)]  # the hip-pitch row is last
+            rows = [*coords, coordinate("hip_pitch", HIP_PITCH)]  # the hip-pitch row is last
             self.cset = ConstraintSystem(robot.model, robot.data, cmodels, rows, robot.geometry.L)
             if cache is not None:
                 cache[system_key] = self.cset

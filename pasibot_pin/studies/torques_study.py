@@ -27,6 +27,7 @@ from pasibot_pin.model.scenarios import (
     get_preset,
     get_scenario,
 )
+from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.spring_fit import SpringFit, fit_result
 
 SURVEY_PRESETS: tuple[str, ...] = ("default", "seed")
@@ -149,6 +150,8 @@ class ScenarioTorques:
 
     """
 
+    __repr__ = short_repr
+
     scenario: Scenario
     preset: str
     choices: ModelChoices
@@ -187,6 +190,8 @@ class TorqueSurvey:
         slow: :data:`SLOW_SCENARIO`, default model, every 4th crank angle of ``walk``.
 
     """
+
+    __repr__ = short_repr
 
     runs: Mapping[tuple[str, str], ScenarioTorques]
     quasi_static_clean: SpringFit

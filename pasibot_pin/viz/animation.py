@@ -49,6 +49,10 @@ def ankle_paths_xz(robot, qs: np.ndarray) -> dict[str, np.ndarray]:
     return out
 
 
+LEGEND_BAND = 0.2
+"""The figure's bottom share left under the axes of a new stick animation: ticks, the x label, the legend [-]."""
+
+
 def _stick_scene(
     robot, qs: np.ndarray, fps: float, ax=None, title: str | None = None, forces=None, modes=None, times=None
 ):
@@ -64,8 +68,10 @@ def _stick_scene(
     qs = _check(robot, qs)
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
         raise ValueError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
-    if ax is None:
+    own = ax is None
+    if own:
         fig, ax = plt.subplots(figsize=(6.4, 5.0))
+        fig.subplots_adjust(bottom=LEGEND_BAND)  # the legend's band under the x label, apart from the clock
     else:
         fig = ax.figure
     frames = [robot_segments(robot, q) for q in qs]
@@ -123,7 +129,11 @@ def _stick_scene(
             ),
         )
     times = np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float)
-    if paths:
+    if paths and own:  # below the axes, across the figure: the clock (top left, inside) never meets it
+        ax.legend(
+            loc="lower center", bbox_to_anchor=(0.5, 0.01), bbox_transform=fig.transFigure, ncol=3, fontsize=8
+        )
+    elif paths:
         ax.legend(loc="upper right", fontsize=8)
     # everything but the axes frame, ticks and grid moves; drawn in the axes' own order
     children = ax.get_children()
@@ -311,8 +321,14 @@ def save_gif(
         from PIL import Image
 
         images = [Image.fromarray(f, "RGBA") for f in frames]
-    out.parent.mkdir(parents=True, exist_ok=True)
-    images[0].save(out, save_all=True, append_images=images[1:], duration=int(1000 / fps), loop=0)
+    from pasibot_pin.files import PART_MARKER, atomic_path
+
+    duration = max(1, round(1000 / fps))  # [ms] per frame
+    if PART_MARKER in out.name:  # the caller writes to a temporary name already
+        images[0].save(out, format="gif", save_all=True, append_images=images[1:], duration=duration, loop=0)
+        return out
+    with atomic_path(out) as tmp:  # the GIF appears whole under its name, or not at all
+        images[0].save(tmp, format="gif", save_all=True, append_images=images[1:], duration=duration, loop=0)
     return out
 
 

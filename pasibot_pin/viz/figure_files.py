@@ -34,10 +34,22 @@ def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
 
     Args:
         fig: a matplotlib figure.
-        path: output file (its extension names the format).
+        path: output file (its extension names the format); written under a temporary name in its
+            folder and renamed when complete (unless ``path`` is such a temporary name already).
         dpi: resolution [dots per inch].
 
     """
+    from pasibot_pin.files import PART_MARKER, atomic_path
+
+    if PART_MARKER not in Path(path).name:  # a figure appears whole under its name, or not at all
+        with atomic_path(Path(path)) as tmp:
+            _save_figure(fig, tmp, dpi)
+        return
+    _save_figure(fig, path, dpi)
+
+
+def _save_figure(fig, path: Path, dpi: float) -> None:
+    """:func:`save_figure_file` straight to ``path``."""
     import matplotlib as mpl
     from matplotlib.backends.backend_agg import FigureCanvasAgg
 

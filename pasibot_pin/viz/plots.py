@@ -68,7 +68,35 @@ def robot_segments(robot, q: np.ndarray) -> list[tuple[str, np.ndarray, np.ndarr
     return segments
 
 
-def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True, alpha: float = 1.0):
+GROUP_LABELS = {
+    "hoeken": "Hoeken linkage (crank, coupler, rocker)",
+    "pantograph": "pantograph (thigh, shank)",
+    "extension": "parallel extension",
+    "foot": "foot (heel to toe)",
+    "hip": "hip",
+}
+"""The legend's name of each link group of :data:`GROUP_COLOURS`."""
+
+
+def robot_legend(ax, groups, pivots: bool, ground: bool) -> None:
+    """A legend below ``ax`` naming every symbol :func:`plot_robot` drew: link groups, pivots, hip, ground."""
+    from matplotlib.lines import Line2D
+
+    handles = [
+        Line2D([], [], color=GROUP_COLOURS[g], lw=3, label=GROUP_LABELS[g]) for g in GROUP_COLOURS if g in groups
+    ]
+    if pivots:
+        label = "fixed pivots on the hip (crank j0, j3, j8)"
+        handles.append(Line2D([], [], color=GROUP_COLOURS["hip"], marker="s", ls="", ms=7, label=label))
+    handles.append(Line2D([], [], color="k", marker="+", ls="", ms=10, label="hip frame (body origin)"))
+    if ground:
+        handles.append(Line2D([], [], color="#8b5a2b", lw=1, label="ground z = 0"))
+    ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
+
+
+def plot_robot(
+    robot, q: np.ndarray | None = None, ax=None, ground: bool = True, alpha: float = 1.0, legend: bool = False
+):
     """Side view (x forward, z up) of the robot at ``q`` (default ``robot.q0``).
 
     Args:
@@ -77,6 +105,7 @@ def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True,
         ax: axes to draw on (default: a new figure).
         ground: draw the ground line z = 0 (two-legged robots).
         alpha: line opacity.
+        legend: name every symbol in a legend below the axes (:func:`robot_legend`).
 
     Returns:
         The matplotlib figure.
@@ -114,6 +143,8 @@ def plot_robot(robot, q: np.ndarray | None = None, ax=None, ground: bool = True,
         ax.axhline(0.0, color="#8b5a2b", lw=1)
         ax.set_xlim(xs)
     ax.plot(*hip[0], "k+", ms=10)
+    if legend:
+        robot_legend(ax, {group for group, _, _ in segments}, bool(pivots), ground and robot.floating)
     ax.set_aspect("equal")
     ax.set_xlabel("x [m]")
     ax.set_ylabel("z [m]")

@@ -66,22 +66,56 @@ def plot_floor_study(study, axes=None):
     return fig
 
 
+WELD_COLOUR, FLOOR_COLOUR = "#457b9d", "#e76f51"
+"""The weld's and the floor's bars in :func:`plot_weld_vs_floor`."""
+
+
 def plot_weld_vs_floor(study, ax=None):
     """Largest |hip pitch| [deg] of every scenario and spring case, weld beside floor (``FloorSpringStudy``).
 
-    Hatched bars: the run fell or failed (the bar is where it stopped).
+    Every bar carries its value above it (a zero is a ``0.0`` and a dot on the axis, not a missing bar);
+    hatched bars: the run fell or failed (the bar is where it stopped, labelled ``fell``/``failed``).
+    The legend names the colours and the hatch; the ticks name the spring case (and the run when
+    there are several).
     """
-    fig, ax = figure_axes(ax, (9, 3.8))
+    from matplotlib.patches import Patch
+
     rows = study.rows
+    fig, ax = figure_axes(ax, (max(9.0, 2.5 + 1.0 * len(rows)), 3.8))  # about an inch per spring case
     x = np.arange(len(rows))
-    weld = [np.degrees(r.weld_max_pitch) for r in rows]
-    floor = [np.degrees(r.floor_max_pitch) for r in rows]
+    several = len({r.scenario for r in rows}) > 1
     for k, r in enumerate(rows):
-        ax.bar(x[k] - 0.2, weld[k], 0.4, color="#457b9d", hatch="//" if not np.isnan(r.weld_fell_at) else None)
-        ax.bar(x[k] + 0.2, floor[k], 0.4, color="#e76f51", hatch="//" if r.floor_failed else None)
-    ax.set_xticks(x, [f"{r.scenario}\n{r.case}" for r in rows], fontsize=6, rotation=90)
+        weld_fell, floor_failed = not np.isnan(r.weld_fell_at), bool(r.floor_failed)
+        bars = (
+            (x[k] - 0.2, np.degrees(r.weld_max_pitch), WELD_COLOUR, weld_fell, "fell"),
+            (x[k] + 0.2, np.degrees(r.floor_max_pitch), FLOOR_COLOUR, floor_failed, "failed"),
+        )
+        for xk, value, colour, stopped, word in bars:
+            ax.bar(xk, value, 0.4, color=colour, hatch="//" if stopped else None, ec="k" if stopped else colour)
+            ax.plot(xk, 0.0, "o", color=colour, ms=4, clip_on=False, zorder=3)  # a zero bar stays visible
+            ax.annotate(
+                word if stopped else f"{value:.1f}",
+                (xk, value),
+                xytext=(0, 2),
+                textcoords="offset points",
+                ha="center",
+                va="bottom",
+                fontsize=8,
+            )
+    labels = [f"{r.scenario}\n{r.case}" if several else r.case for r in rows]
+    ax.set_xticks(x, labels, fontsize=9)
+    ax.set_xlim(-0.6, len(rows) - 0.4)
+    ax.set_ylim(0.0, 1.15 * max([1.0] + [np.degrees(max(r.weld_max_pitch, r.floor_max_pitch)) for r in rows]))
+    ax.set_xlabel("spring case" if not several else "run and spring case")
     ax.set_ylabel("largest |hip pitch| [deg]")
-    ax.set_title(f"weld (blue) against floor (orange) over {study.settings.duration:g} s; hatched: fell or failed")
+    scenarios = ", ".join(dict.fromkeys(r.scenario for r in rows))
+    ax.set_title(f"{scenarios}: largest |hip pitch| over {study.settings.duration:g} s, weld against floor")
+    handles = [
+        Patch(color=WELD_COLOUR, label="welded stance foot"),
+        Patch(color=FLOOR_COLOUR, label="on the floor (heel and toe)"),
+        Patch(facecolor="white", edgecolor="k", hatch="//", label="fell or failed (bar: where it stopped)"),
+    ]
+    ax.legend(handles=handles, fontsize=8, loc="upper left", bbox_to_anchor=(1.01, 1.0))  # beside: never on a bar
     ax.grid(alpha=0.3, axis="y")
     return fig
 

@@ -22,16 +22,48 @@ def _impact_lines(ax, result) -> None:
         ax.axvline(imp.t, color="#bbbbbb", lw=0.8, ls=":")
 
 
-def plot_hip_pitch(results: Mapping[str, object], ax=None):
-    """Hip pitch against time for several runs (label -> SimulationResult)."""
+FALL_WINDOW = 0.2
+"""A run that fell before this share of the longest run gets its own panel of the first seconds [-]."""
+
+
+def fall_window(results: Mapping[str, object]) -> float | None:
+    """The time span [s] of the falls' panel: 1.5 x the last fall, or None when no run fell that early."""
+    falls = [float(res.t[-1]) for res in results.values() if res.fell and len(res.t)]
+    longest = max((float(res.t[-1]) for res in results.values() if len(res.t)), default=0.0)
+    if not falls or max(falls) >= FALL_WINDOW * longest:
+        return None
+    return 1.5 * max(falls)
+
+
+def plot_hip_pitch(results: Mapping[str, object], ax=None, t_max: float | None = None, falls: bool = True):
+    """Hip pitch [deg] against time [s] for several runs (label -> SimulationResult).
+
+    Args:
+        results: label -> SimulationResult.
+        ax: matplotlib axes or ``None``.
+        t_max: draw up to this time [s] and set the axis there (``None``: every sample).
+        falls: draw the runs that fell (an x and "fell at ... s" where each stopped); ``False``
+            leaves them out (they are shown in a panel of their own).
+
+    Returns:
+        The figure.
+
+    """
     fig, ax = _axes(ax)
-    for label, res in results.items():
-        line = ax.plot(res.t, np.degrees(res.hip_pitch), lw=1.2, label=label)[0]
+    for k, (label, res) in enumerate(results.items()):  # one colour per run, whichever panel draws it
+        if res.fell and not falls:
+            continue
+        keep = slice(None) if t_max is None else np.asarray(res.t) <= t_max
+        line = ax.plot(res.t[keep], np.degrees(res.hip_pitch[keep]), lw=1.2, label=label, color=f"C{k % 10}")[0]
         if res.fell:
-            ax.plot(res.t[-1], np.degrees(res.hip_pitch[-1]), "x", color=line.get_color(), ms=8)
+            t, pitch = res.t[-1], np.degrees(res.hip_pitch[-1])
+            ax.plot(t, pitch, "x", color=line.get_color(), ms=8)
+            ax.annotate(f"fell at {t:.2f} s", (t, pitch), xytext=(4, -10), textcoords="offset points", fontsize=7)
     first = next(iter(results.values()), None)
-    if first is not None:
+    if first is not None and t_max is None:
         _impact_lines(ax, first)
+    if t_max is not None:
+        ax.set_xlim(0.0, t_max)
     ax.axhline(0.0, color="k", lw=0.6)
     ax.set_xlabel("time [s]")
     ax.set_ylabel("hip pitch [deg]")
@@ -70,31 +102,46 @@ def plot_motor_torque(result, ax=None):
 
 
 def plot_simulation(results: Mapping[str, object], main: str | None = None, rest_angle: float | None = None, axes=None):
-    """Three panels: hip pitch of every run, ankle angles and motor torque of the ``main`` run.
+    """Hip pitch of every run, ankle angles and motor torque of the ``main`` run, against time [s].
+
+    When some runs fell early (:func:`fall_window`), a first panel shows the first seconds with
+    every run, each fall marked with an x and its time; the hip-pitch panel below then spans the
+    whole run of the springs that held. Otherwise there are three panels, every run in the first.
 
     Args:
         results: label -> SimulationResult.
         main: the label whose ankle angles and motor torque are drawn (default: the first).
         rest_angle: the spring's rest angle beta0 [rad], drawn on the ankle panel.
-        axes: three matplotlib axes, or ``None`` for a new figure.
+        axes: three (or, when runs fell early, four) matplotlib axes, or ``None`` for a new figure.
 
     Returns:
         The figure.
 
     """
+    window = fall_window(results)
     if axes is None:
         from pasibot_pin.viz.plots_layout import subplots
 
-        fig, axes = subplots(3, 1, figsize=(8, 9), sharex=True)
+        rows = 3 if window is None else 4
+        ratios = (3, 3, 3) if window is None else (2.4, 3, 3, 3)
+        fig, axes = subplots(rows, 1, figsize=(8, 3 * rows), height_ratios=ratios)
+        for ax in axes[rows - 2 :]:
+            ax.sharex(axes[rows - 3])
     else:
         fig = axes[0].figure
     main = main or next(iter(results))
-    plot_hip_pitch(results, ax=axes[0])
-    plot_ankle_angles(results[main], ax=axes[1], rest_angle=rest_angle)
-    plot_motor_torque(results[main], ax=axes[2])
-    for ax in axes[:-1]:
+    full = axes if window is None else axes[1:]
+    if window is not None:
+        plot_hip_pitch(results, ax=axes[0], t_max=window)
+        axes[0].set_title(f"the first {window:.2f} s: where the runs fell (x)")
+    plot_hip_pitch(results, ax=full[0], falls=window is None)
+    if window is not None:
+        full[0].set_title("the whole run of the springs that held (dotted: touchdowns)")
+    plot_ankle_angles(results[main], ax=full[1], rest_angle=rest_angle)
+    plot_motor_torque(results[main], ax=full[2])
+    for ax in full[:-1]:
         ax.set_xlabel("")
-    axes[1].set_title(f"run: {main}")
+    full[1].set_title(f"run: {main}")
     return fig
 
 

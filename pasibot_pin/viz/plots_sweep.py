@@ -30,8 +30,47 @@ def _values(table, name: str) -> np.ndarray:
     return np.asarray(table.column(name).to_numpy(zero_copy_only=False), dtype=float)
 
 
-def plot_pareto(table, x: str = "peak_crank_torque_Nm", y: str = "stride_m", ax=None, color: str = "cop_margin_m"):
-    """Every feasible design in the (x, y) plane, the Pareto front (x as low, y as high as can be) marked.
+def pareto_masks(table, x: str, y: str, constraints: Sequence = ()) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Which rows are feasible, which of those satisfy every constraint, and which of those are on the front.
+
+    Args:
+        table: a sweep's results (pyarrow Table).
+        x: the metric along x (its ``sense`` in the metrics' table, else min).
+        y: the metric along y (its ``sense``, else max).
+        constraints: objects with ``metric`` and ``violation(value)`` (<= 0: satisfied), e.g. an
+            optimisation's ``--constraint``s (:class:`~pasibot_pin.explore.optimize.Constraint`).
+
+    Returns:
+        (feasible, satisfied, front): boolean masks over the table's rows; ``satisfied`` implies
+        ``feasible`` and ``front`` implies ``satisfied`` (a design that violates a constraint is never on it).
+
+    """
+    from pasibot_pin.studies.design_metrics import pareto_mask
+
+    metrics = _metrics()
+    feasible = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
+    satisfied = feasible.copy()
+    for c in constraints:
+        satisfied &= np.array([c.violation(float(v)) <= 0 for v in _values(table, c.metric)], dtype=bool)
+    front = np.zeros(len(feasible), dtype=bool)
+    if satisfied.any():
+        senses = (metrics[x].sense or "min", metrics[y].sense or "max")
+        front[satisfied] = pareto_mask(_values(table, x)[satisfied], _values(table, y)[satisfied], senses)
+    return feasible, satisfied, front
+
+
+def plot_pareto(
+    table,
+    x: str = "peak_crank_torque_Nm",
+    y: str = "stride_m",
+    ax=None,
+    color: str = "cop_margin_m",
+    constraints: Sequence = (),
+):
+    """The designs in the (x, y) plane and the Pareto front (x as low, y as high as can be) of those that count.
+
+    Only feasible designs that satisfy every constraint are coloured and can be on the front; feasible
+    designs that violate a constraint are drawn grey, off the front (:func:`pareto_masks`).
 
     Args:
         table: a sweep's results (pyarrow Table).
@@ -40,28 +79,32 @@ def plot_pareto(table, x: str = "peak_crank_torque_Nm", y: str = "stride_m", ax=
         y: the metric along y (higher is better unless its ``sense`` says otherwise).
         ax: axes to draw on (default: a new figure).
         color: the metric that colours the points.
+        constraints: the optimisation's constraints (``metric``, ``violation(value)``), if any.
 
     Returns:
         The figure.
 
     """
-    from pasibot_pin.studies.design_metrics import pareto_mask
-
-    METRICS = _metrics()
-
+    metrics = _metrics()
     if ax is None:
         from pasibot_pin.viz.plots_layout import subplots
 
         fig, ax = subplots(figsize=(6.4, 4.6))
     fig = ax.figure
-    ok = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
-    xs, ys, cs = _values(table, x)[ok], _values(table, y)[ok], _values(table, color)[ok]
-    senses = (METRICS[x].sense or "min", METRICS[y].sense or "max")
-    front = pareto_mask(xs, ys, senses)
-    points = ax.scatter(xs, ys, c=cs, s=12, cmap="viridis", label=f"feasible designs ({ok.sum()} of {len(ok)})")
+    ok, good, front = pareto_masks(table, x, y, constraints)
+    xs, ys, cs = _values(table, x), _values(table, y), _values(table, color)
+    grey = ok & ~good
+    if grey.any():
+        named = ", ".join(c.text() if hasattr(c, "text") else c.metric for c in constraints)
+        ax.scatter(xs[grey], ys[grey], s=10, color="#c8c8c8", label=f"violate {named} ({grey.sum()})")
+    what = "feasible designs" + (" within the constraints" if constraints else "")
+    points = ax.scatter(
+        xs[good], ys[good], c=cs[good], s=12, cmap="viridis", label=f"{what} ({good.sum()} of {len(ok)})"
+    )
     fig.colorbar(points, ax=ax, label=_label(color))
     order = np.argsort(xs[front])
     ax.plot(xs[front][order], ys[front][order], "o-", color="crimson", ms=4, lw=1.2, label="Pareto front")
+    senses = (metrics[x].sense or "min", metrics[y].sense or "max")
     ax.set_xlabel(_label(x))
     ax.set_ylabel(_label(y))
     ax.set_title(f"{x} ({senses[0]}) against {y} ({senses[1]})")

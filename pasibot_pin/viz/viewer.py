@@ -242,6 +242,26 @@ def _serve_loopback() -> None:
     bridge.run()
 
 
+def _die_with_parent(parent: int) -> None:
+    """In the server child, before ``exec``: the kernel sends SIGTERM when the parent dies, even on SIGKILL.
+
+    Linux's ``prctl(PR_SET_PDEATHSIG)``; elsewhere a no-op (the parent's ``atexit`` still stops the
+    server on a normal exit). ``parent`` is the parent's pid: had it died before the call, exit at once.
+    """
+    import ctypes
+    import ctypes.util
+    import os
+    import signal
+
+    if not sys.platform.startswith("linux"):
+        return
+    pr_set_pdeathsig = 1
+    libc = ctypes.CDLL(ctypes.util.find_library("c") or "libc.so.6", use_errno=True)
+    libc.prctl(pr_set_pdeathsig, int(signal.SIGTERM), 0, 0, 0)
+    if os.getppid() != parent:
+        os._exit(1)
+
+
 def start_server(timeout: float = 30.0) -> ServerProcess:
     """Start a meshcat server whose ZMQ and web sockets listen on 127.0.0.1 only.
 
@@ -257,6 +277,9 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
     """
     if not timeout > 0:
         raise ValueError(f"parameter 'timeout' must be > 0 s, got {timeout!r}")
+    import functools
+    import os
+
     code = "from pasibot_pin.viz.viewer import _serve_loopback; _serve_loopback()"
     process = subprocess.Popen(
         [sys.executable, "-u", "-c", code],
@@ -264,6 +287,7 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
         stderr=subprocess.DEVNULL,
         start_new_session=True,
         text=True,
+        preexec_fn=functools.partial(_die_with_parent, os.getpid()),  # gone with us, even on SIGKILL
     )
     server = ServerProcess(process, "", "")
     atexit.register(server.close)  # at once: a Ctrl-C from here on still stops the server
@@ -424,7 +448,7 @@ class Hud:
             "theta": [round(math.degrees(float(x)), 4) for x in self.theta],
             "modes": {side: list(m) for side, m in self.modes.items()},
         }
-        return HUD_SCRIPT.replace("HUD_INFO", json.dumps(info))
+        return HUD_SCRIPT.replace("HUD_INFO", json.dumps(info).replace("</", "<\\/"))  # no "</script>" inside
 
 
 def sole_depth(robot) -> float:
@@ -880,15 +904,16 @@ class WalkViewer:
         on the root node, so it would come first and the nodes' static poses after it. The
         animation command is moved to the end here, and the ``#t=`` seek script is added.
         """
-        html = _animation_last(self.meshcat.static_html())
-        marker = "</body>"
-        at = html.rfind(marker)
+        import html as html_text
+
+        page = _animation_last(self.meshcat.static_html())
+        if self.hud is not None:  # before the insertion point is found: the title changes the length
+            page = page.replace("<title>MeshCat</title>", f"<title>{html_text.escape(self.hud.title)}</title>", 1)
+        at = page.rfind("</body>")
         if at < 0:
             raise RuntimeError("meshcat's static_html() has no </body>")
-        if self.hud is not None:
-            html = html.replace("<title>MeshCat</title>", f"<title>{self.hud.title}</title>")
         hud = self.hud.script() if self.hud is not None else ""
-        return html[:at] + hud + SEEK_SCRIPT + html[at:]
+        return page[:at] + hud + SEEK_SCRIPT + page[at:]
 
     def close(self) -> None:
         """Stop our server (a reused ``meshcat-server`` keeps running)."""

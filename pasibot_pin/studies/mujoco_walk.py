@@ -1,0 +1,362 @@
+"""The MuJoCo twin of a walk: the same design, start, crank schedule and verdict, in MuJoCo.
+
+:func:`walk_in_mujoco` is :func:`~pasibot_pin.studies.walking.walk_design` with MuJoCo in place
+of our floor simulator. Everything but the engine is shared:
+
+* the robot: the design's two-legged robot exported by :func:`~pasibot_pin.model.mjcf.to_mjcf`
+  (its variant, masses, sole; its ankle spring from
+  :func:`~pasibot_pin.studies.spring_fit.design_spring`, as ours);
+* the start: ours (:meth:`~pasibot_pin.dynamics.floor.FloorSimulator.start_state`: the flat
+  double support, or the settled one of a preloaded spring; the flat one where the robot cannot
+  stand at theta0, as :func:`walk_design`), the soles' capsules :data:`SINK` into the floor;
+* the cranks: theta0 + omega advance(t) (:func:`~pasibot_pin.dynamics.floor.crank_advance`,
+  the walk's ramp), imposed by :data:`MJ_WALK`'s ``constraint`` drives (an ``equality joint``
+  per crank, set every step). They track better than the position servo: measured on the
+  4.5 L parallel walker at 1 rad/s, the servo (kp 5000, kv 20, its ramp lag kv omega / kp
+  added) is 5-10 mrad off under the stance torque, the drive 1.9 mrad before and < 0.1 mrad
+  after its own lag (2 tau zeta^2 omega with the equality's solref (tau, zeta)) is added
+  (:data:`DRIVE_LEAD`). With ``motors = "one"`` both cranks are driven on the same schedule
+  pi apart, which is the coupling row of ours; the one motor's power is the sum of the two;
+* the verdict: a :class:`~pasibot_pin.dynamics.verdict.GaitJudge` with the walk's
+  :class:`~pasibot_pin.dynamics.verdict.GaitCriteria`, fed every :data:`SAMPLE_DT` (ours feeds it
+  every step of its own ~1 ms) and the run stopped as soon as it is decided.
+
+Per foot, each sample: ``loaded`` when the sole's contacts push with more than
+:data:`~pasibot_pin.dynamics.floor.LOAD_TOL` on average over the last :data:`LOAD_WINDOW`
+(every MuJoCo step counted; ours reports each step's impulse over its length, an average over
+its ~1 ms); ``on_point`` when only the heel half or only the toe half of the sole carries load
+(where the contact points lie along heel -> toe, compared in x); ``x`` the middle of the heel and toe sites,
+``pitch`` from their heights; ``normal`` the sole's average normal force; ``slip`` the largest
+|x velocity| of the heel or toe site whose half is loaded (the foot is rigid: its contact points
+move between them; the capsule's 2 mm radius changes that speed by |pitch rate| x 2 mm). The
+motor power is the drive's equality force (averaged over the sample) times the crank rate.
+
+Why 10 ms and not MuJoCo's step: a landing foot of PASIBOT grazes the floor and slides on it
+under a light load while the other foot still stands (ours: ``sliding`` for ~0.3 s at 1 rad/s).
+MuJoCo's compliant contact, with the stiff loops, makes that foot chatter instead: on for 1-3
+ms, off for 1-3 ms (at a 0.1 ms step, with pyramidal or elliptic cones, with or without
+no-slip, at floor time constants from 1 to 5 ms), about 50-150 N on average, now and then off
+for 10-20 ms. Sampled per step or per ms, the judge (its 10 ms dwell) sees such a gap as a
+lift-off and the next contact as a landing where the foot stood (``hopped``, before the
+verdict's bounce rule); averaged over 10 ms (the judge's dwell, several chatter periods) it is
+the load ours computes. On the 4.5 L walker (3 steps) the twin's steps land within 3 ms of ours
+with the 10 ms average, 16 ms after them with 1 ms averages (both walk, the bounce rule
+absorbing the gaps). Larger MuJoCo steps chatter longer: 0.2 and 0.25 ms ``hopped`` after one
+and two steps even with the 10 ms average (before the bounce rule).
+
+The contacts (:data:`MJ_WALK`) are a stiff floor (1 ms, impedance 0.9999) with Coulomb friction
+mu, at MuJoCo's 0.1 ms step; the floor plane is given the soles' solref/solimp too (MuJoCo
+averages the two geoms' parameters: with the plane's defaults the stance foot sank ~1 mm,
+enough to land the swing foot of the 4.5 L walker 0.4 s early and hard, as its touchdown
+grazes the floor).
+
+A MuJoCo instability (a non-finite state, a MuJoCo warning that it reset a bad acceleration or
+state, a speed above :data:`~pasibot_pin.dynamics.floor.SPEED_LIMIT`) is the ``diverged``
+outcome, never an exception.
+
+Units: SI, angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+
+from pasibot_pin.dynamics.floor import LOAD_TOL, SPEED_LIMIT, FloorSimulator, crank_advance
+from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
+from pasibot_pin.errors import MissingExtraError, SimulationError
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
+from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
+from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_duration
+
+MJ_WALK = MjcfOptions(
+    actuator="constraint",
+    contact_solref=(1e-3, 1.0),
+    contact_solimp=(0.9999, 0.9999, 0.001),
+    timestep=1e-4,
+)
+"""The MuJoCo model of a walk: crank drives as stiff equality constraints, a stiff floor and
+friction (impedance 0.9999: MuJoCo's friction creeps by its 1 - 0.9999 regularisation only), a
+0.1 ms step (the spring, mu and boundinertia are filled in per design). No no-slip post-solve:
+measured on the 4.5 L walker (3 steps), 30 no-slip iterations (with ``planar_noslip``) give the
+same verdict, steps 3 ms later instead of within 3 ms of ours, 43.6 J instead of 41.6 J of motor
+work per stride (ours 41.1 J), and cost 60 % more per MuJoCo step."""
+SAMPLE_DT = 1e-3
+"""The judge takes a sample this often [s] (an average over the MuJoCo steps in between)."""
+LOAD_WINDOW = 0.01
+"""A foot's load is its sole's normal force averaged over this long [s] (see the module docstring)."""
+SINK = 1e-6
+"""The soles start this far into MuJoCo's floor [m], so its contacts carry the weight from the first step."""
+MISSING = "needs the mujoco extra: pip install 'pasibot-pin[mujoco]'"
+
+
+def _mujoco():
+    """The ``mujoco`` module, or :class:`MissingExtraError`."""
+    try:
+        import mujoco
+    except ImportError as err:
+        raise MissingExtraError(f"walk_in_mujoco {MISSING}") from err
+    return mujoco
+
+
+@dataclass
+class MujocoWalk:
+    """A design walked in MuJoCo: its verdict and a few traces (one row per judged sample).
+
+    Attributes:
+        verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict`.
+        omega: crank speed [rad/s].
+        dt: MuJoCo's time step [s].
+        sample_dt: the judge's sample interval [s].
+        start_kind: ``flat`` or ``settled`` (our start it began from).
+        t: sample times from the start [s].
+        hip_x: hip forward position [m].
+        hip_pitch: [rad].
+        loaded: (n, 2) right and left foot loaded.
+        normal: (n, 2) right and left normal force [N].
+        max_crank_error: largest |crank - schedule| over the samples [rad].
+        options: the :class:`~pasibot_pin.model.mjcf.MjcfOptions` exported.
+
+    """
+
+    verdict: Verdict
+    omega: float
+    dt: float
+    sample_dt: float
+    start_kind: str
+    t: np.ndarray
+    hip_x: np.ndarray
+    hip_pitch: np.ndarray
+    loaded: np.ndarray
+    normal: np.ndarray
+    max_crank_error: float
+    options: MjcfOptions = field(repr=False)
+
+    def __repr__(self) -> str:
+        return f"MujocoWalk(omega={self.omega:g} rad/s, dt={self.dt:g} s: {self.verdict.summary()})"
+
+
+def mujoco_options(design, settings: WalkSettings, robot, base: MjcfOptions = MJ_WALK) -> MjcfOptions:
+    """The export options of ``design``'s walk: ``base`` with the design's spring and the walk's mu."""
+    floor = floor_settings(design, settings, robot)
+    options = replace(base, mu=floor.mu)
+    if floor.spring is not None:
+        spring = floor.spring
+        options = replace(
+            options,
+            spring_stiffness=spring.stiffness,
+            spring_rest_angle=spring.rest_angle,
+            spring_damping=spring.damping,
+        )
+    return options
+
+
+class _Twin:
+    """MuJoCo's model and data of one walk, the crank schedule and the judge's samples."""
+
+    def __init__(self, mujoco, robot, design, settings: WalkSettings, options: MjcfOptions):
+        self.mj, self.robot = mujoco, robot
+        self.floor = floor_settings(design, settings, robot)
+        sim = FloorSimulator(robot, self.floor)
+        try:
+            start = sim.start_state()
+            q0, v0, self.start_kind = start.q, start.v, start.kind
+        except SimulationError:  # cannot stand at theta0: the flat double support, as walk_design
+            (q0, v0), self.start_kind = sim.initial_state(), "flat"
+        self.weight, self.options = sim.weight, options
+        model = mujoco.MjModel.from_xml_string(to_mjcf(robot, options, q_weld=q0))
+        floor_geom = model.geom("floor").id  # MuJoCo mixes both geoms' solref/solimp: make them equal
+        model.geom_solref[floor_geom] = options.contact_solref
+        model.geom_solimp[floor_geom, :3] = options.contact_solimp
+        self.model, self.data = model, mujoco.MjData(model)
+        self.data.qpos[:], self.data.qvel[:] = q0, v0
+        self.data.qpos[HIP_Z] += options.sole_radius - SINK  # capsule bottoms where our points are
+        motors = list(robot.actuated_joints)
+        self.theta0 = np.array([q0[robot.idx_q(m)] for m in motors])
+        self.qadr = [model.joint(m).qposadr[0] for m in motors]
+        self.dofs = [model.joint(m).dofadr[0] for m in motors]
+        self.drives = np.array([model.equality(f"{m}_drive").id for m in motors])
+        tau, zeta = options.solref
+        self.lead = 2.0 * tau * zeta * zeta  # the drive's lag on a ramp, per unit of crank rate [s]
+        self.soles = np.array([model.geom(f"{side}_sole").id for side in SIDES])
+        self.sites = [[model.site(f"{side}_{p}").id for p in ("heel", "toe")] for side in SIDES]
+        self.one_motor = self.floor.motors == "one"
+        self.model.eq_data[self.drives, 0] = self.theta0
+        self._drive_rows: np.ndarray | None = None
+        self._edges = np.arange(4)  # condim 3, pyramidal: four edge rows per contact
+        self._foot_of_geom = np.full(model.ngeom, -1)
+        self._foot_of_geom[self.soles] = np.arange(len(SIDES))
+        self._ends = np.array(self.sites).ravel()
+        self._recent = np.zeros((max(1, round(LOAD_WINDOW / SAMPLE_DT)), 4))  # the last samples' forces [N]
+        self._slot = 0
+        self._reset_window()
+
+    def _reset_window(self) -> None:
+        self._force = np.zeros(4)  # right heel half, right toe half, left heel half, left toe half: summed [N]
+        self._torque = np.zeros(len(self.drives))
+        self._n = 0
+
+    def schedule(self, t: float) -> tuple[np.ndarray, float]:
+        """The cranks' angles [rad] and rate [rad/s] at ``t`` [s] after the start."""
+        advance, rate = crank_advance(t, self.floor.crank_ramp)
+        return self.theta0 + self.floor.omega * advance, self.floor.omega * rate
+
+    def step(self, t: float) -> None:
+        """One MuJoCo step from ``t`` [s], the drives on the schedule (lag added), forces summed."""
+        angle, rate = self.schedule(t)
+        self.model.eq_data[self.drives, 0] = angle + self.lead * rate
+        self.mj.mj_step(self.model, self.data)
+        self._accumulate()
+
+    def _accumulate(self) -> None:
+        """Add this step's drive torques and each sole half's normal force to the window's sums."""
+        data = self.data
+        self._n += 1
+        efc_force = data.efc_force
+        if self._drive_rows is None:  # equality rows come first in MuJoCo's order: fixed indices
+            eq_type, efc_id = int(self.mj.mjtConstraint.mjCNSTR_EQUALITY), data.efc_id
+            kind = np.asarray(data.efc_type, dtype=int)
+            self._drive_rows = np.array([np.flatnonzero((kind == eq_type) & (efc_id == eq))[0] for eq in self.drives])
+        self._torque += efc_force[self._drive_rows]  # a joint equality's row has J = 1 on its crank
+        ncon = data.ncon
+        if not ncon:
+            return
+        contact = data.contact
+        address = contact.efc_address[:ncon]
+        foot = self._foot_of_geom[np.maximum(contact.geom1[:ncon], contact.geom2[:ncon])]
+        if address.min() < 0 or foot.min() < 0:
+            raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
+        normal = efc_force[address[:, None] + self._edges].sum(axis=1)  # the pyramid's edges sum to the normal
+        ends = data.site_xpos[self._ends, 0]  # x of right heel, right toe, left heel, left toe
+        heel, toe = ends[2 * foot], ends[2 * foot + 1]
+        toe_half = (contact.pos[:ncon, 0] - 0.5 * (heel + toe)) * (toe - heel) >= 0.0  # along the sole, in x
+        self._force += np.bincount(2 * foot + toe_half, normal, minlength=4)
+
+    def sample(self, t: float) -> GaitSample:
+        """The judge's sample at ``t`` [s]: this instant's pose, the forces averaged (:data:`LOAD_WINDOW`)."""
+        mj, data = self.mj, self.data
+        n = max(self._n, 1)
+        self._recent[self._slot % len(self._recent)] = self._force / n
+        self._slot += 1
+        force, torque = self._recent[: self._slot].mean(axis=0).reshape(2, 2), self._torque / n
+        velocity = np.zeros(6)
+        feet = []
+        for i in range(len(SIDES)):
+            heel, toe = (data.site_xpos[s] for s in self.sites[i])
+            half_loaded = force[i] > LOAD_TOL
+            slip = 0.0
+            for k in range(2):
+                if half_loaded[k]:
+                    mj.mj_objectVelocity(self.model, data, mj.mjtObj.mjOBJ_SITE, self.sites[i][k], velocity, 0)
+                    slip = max(slip, abs(float(velocity[3])))
+            feet.append(
+                FootSample(
+                    loaded=bool(force[i].sum() > LOAD_TOL),
+                    x=0.5 * float(heel[0] + toe[0]),
+                    pitch=math.atan2(float(toe[2] - heel[2]), float(toe[0] - heel[0])),
+                    normal=float(force[i].sum()),
+                    slip=slip,
+                    on_point=bool(half_loaded[0] != half_loaded[1]),
+                )
+            )
+        rates = data.qvel[self.dofs]
+        power = [float(tau * w) for tau, w in zip(torque, rates)]
+        if self.one_motor:
+            power = [sum(power)]
+        self._reset_window()
+        return GaitSample(t, float(data.qpos[HIP_X]), float(data.qpos[HIP_PITCH]), (feet[0], feet[1]), tuple(power))
+
+    def start_sample(self) -> GaitSample:
+        """The judge's first sample: a point within 1 um of the floor counts as loaded (as ours)."""
+        sample = self.sample(0.0)
+        self._slot = 0  # the start's zero forces are no part of the first window
+        feet = []
+        for i, foot in enumerate(sample.feet):
+            heights = [self.data.site_xpos[s][2] - self.options.sole_radius for s in self.sites[i]]
+            on = [h < 1e-6 for h in heights]
+            feet.append(replace(foot, loaded=any(on), on_point=on[0] != on[1], normal=0.0, slip=0.0))
+        return replace(sample, feet=(feet[0], feet[1]), motor_power=tuple(0.0 for _ in sample.motor_power))
+
+    def broken(self) -> str:
+        """Why MuJoCo's state is not to be trusted (empty: it is fine)."""
+        mj, data = self.mj, self.data
+        for name in ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL"):
+            if data.warning[getattr(mj.mjtWarning, name)].number:
+                return f"MuJoCo warned {name[7:]} (it reset the state)"
+        if not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))):
+            return "the state is not finite"
+        if np.max(np.abs(data.qvel)) > SPEED_LIMIT:
+            return f"a velocity passed {SPEED_LIMIT:g}"
+        return ""
+
+
+def walk_in_mujoco(
+    design, settings: WalkSettings | None = None, robot=None, options: MjcfOptions | None = None
+) -> MujocoWalk:
+    """Walk ``design`` in MuJoCo and judge it as :func:`walk_design` does (see the module docstring).
+
+    Args:
+        design: a :class:`~pasibot_pin.model.design.Design`.
+        settings: :class:`~pasibot_pin.studies.walking.WalkSettings` (steps, mu; its ``dt`` is ours,
+            MuJoCo steps at ``options.timestep``).
+        robot: its two-legged robot, if already built.
+        options: the export's contacts, drives and step (default :data:`MJ_WALK`; the design's
+            spring and the walk's mu are filled in).
+
+    Returns:
+        :class:`MujocoWalk`; a walk that fails (or a MuJoCo that breaks) is its verdict.
+
+    Raises:
+        MissingExtraError: mujoco is not installed.
+        ParameterError: bad settings or a crank speed below the walk's minimum.
+        DesignError: the design cannot be built.
+
+    """
+    from pasibot_pin.model.design import design_robot
+
+    mujoco = _mujoco()
+    settings = WalkSettings() if settings is None else settings
+    robot = design_robot(design, 2, visuals=False) if robot is None else robot
+    options = mujoco_options(design, settings, robot, MJ_WALK if options is None else options)
+    twin = _Twin(mujoco, robot, design, settings, options)
+    h = float(twin.model.opt.timestep)
+    every = max(1, round(SAMPLE_DT / h))
+    judge = GaitJudge(twin.floor.omega, robot.geometry.L, twin.weight, settings.judged_by(), twin.start_sample())
+    rows: list[tuple] = []
+    crank_error, t = 0.0, 0.0
+    for k in range(math.ceil(walk_duration(twin.floor.omega, settings.steps) / h - 1e-9)):
+        try:
+            twin.step(k * h)
+        except mujoco.FatalError as err:
+            judge.diverged(t, f"MuJoCo failed: {err}")
+            break
+        t = (k + 1) * h
+        if (k + 1) % every:
+            continue
+        broken = twin.broken()
+        if broken:
+            judge.diverged(t, f"MuJoCo diverged: {broken}")
+            break
+        sample = twin.sample(t)
+        crank_error = max(crank_error, float(np.max(np.abs(twin.data.qpos[twin.qadr] - twin.schedule(t)[0]))))
+        feet = sample.feet
+        rows.append((t, sample.hip_x, sample.hip_pitch, *(f.loaded for f in feet), *(f.normal for f in feet)))
+        if judge.update(sample):
+            break
+    trace = np.array(rows, dtype=float).reshape(-1, 7)
+    return MujocoWalk(
+        verdict=judge.verdict(t),
+        omega=twin.floor.omega,
+        dt=h,
+        sample_dt=every * h,
+        start_kind=twin.start_kind,
+        t=trace[:, 0],
+        hip_x=trace[:, 1],
+        hip_pitch=trace[:, 2],
+        loaded=trace[:, 3:5].astype(bool),
+        normal=trace[:, 5:7],
+        max_crank_error=crank_error,
+        options=options,
+    )
