@@ -135,28 +135,10 @@ class FloorAnswer:
 
 
 def floor_answer_of_rows(rows: list[dict]) -> FloorAnswer:
-    """Question 2's summary from its table's rows.
+    """Question 2's summary from its table's rows (:func:`~pasibot_pin.explore.questions.floor_summary`)."""
+    from pasibot_pin.explore.questions import floor_summary
 
-    Args:
-        rows: one dict per design, with ``index``, ``feasible``, ``floor_time_s`` [s], ``floor_steps`` and
-            ``floor_outcome``.
-
-    """
-    from collections import Counter
-
-    walked = [r for r in rows if r["feasible"]]
-    best = max(walked, key=lambda r: (r["floor_steps"], r["floor_time_s"]))
-    outcomes = Counter(r["floor_outcome"] if r["feasible"] else "infeasible" for r in rows)
-    return FloorAnswer(
-        trials=len(rows),
-        walkers=outcomes.get("walks", 0),
-        best_time=float(best["floor_time_s"]),
-        best_steps=int(best["floor_steps"]),
-        most_steps=int(max(r["floor_steps"] for r in walked)),
-        outcomes=dict(outcomes.most_common()),
-        best_index=int(best["index"]),
-        best_outcome=str(best["floor_outcome"]),
-    )
+    return FloorAnswer(**floor_summary(rows))
 
 
 def floor_answer() -> FloorAnswer:

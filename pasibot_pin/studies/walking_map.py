@@ -244,6 +244,51 @@ def _progress_bar(total: int, done: int, enabled: bool):
     return tqdm(total=total, initial=done, unit="walk", disable=not enabled, dynamic_ncols=True)
 
 
+def twin_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS) -> tuple[tuple, str, float, str]:
+    """The MuJoCo twin's walk of one cell: (key, outcome, steps, detail); runs in a worker."""
+    from pasibot_pin.studies.walking import WalkSettings
+
+    walker = twin_walker()
+    if walker is None:
+        raise ImportError(NO_TWIN)
+    v = walker(map_design(variant, sole, omega), WalkSettings(steps=steps)).verdict
+    return (variant, float(sole), float(omega)), v.outcome, float(v.steps), v.detail
+
+
+def add_twin(wmap: WalkingMap, min_omega: float = 0.0, workers: int = 2, progress: bool = True) -> WalkingMap:
+    """``wmap`` with the MuJoCo twin's columns filled for every cell at ``min_omega`` [rad/s] or faster.
+
+    Cells already holding a twin outcome and ``infeasible`` cells are left as they are. The map's
+    :attr:`~WalkingMap.twin_note` says which cells the twin ran (empty when it ran on all of them).
+    """
+    from dataclasses import replace
+
+    from pasibot_pin.jobs import Job, run_jobs
+
+    todo = [c for c in wmap.cells if c.omega >= min_omega and not c.twin_outcome and c.outcome != "infeasible"]
+    jobs = [Job(_estimate(c.omega, wmap.steps), (c.variant, c.sole, c.omega), twin_cell,
+                (c.variant, c.sole, c.omega, wmap.steps)) for c in todo]  # fmt: skip
+    found: dict[tuple, tuple] = {}
+    bar = _progress_bar(len(jobs), 0, progress)
+
+    def on_result(_key, result) -> None:
+        found[result[0]] = result[1:]
+        bar.update(1)
+
+    try:
+        run_jobs(jobs, on_result, workers=max(1, workers))
+    finally:
+        bar.close()
+    cells = []
+    for c in wmap.cells:
+        twin = found.get((c.variant, c.sole, c.omega))
+        cells.append(c if twin is None else replace(c, twin_outcome=twin[0], twin_steps=twin[1], twin_detail=twin[2]))
+    slow = [c for c in cells if not c.twin_outcome and c.outcome != "infeasible"]
+    ran = [c.omega for c in cells if c.twin_outcome]
+    note = NO_TWIN if not ran else f"the twin ran at omega >= {min(ran):g} rad/s only" if slow else ""
+    return WalkingMap(cells, wmap.steps, note)
+
+
 def _estimate(omega: float, steps: int) -> float:
     """A walk's CPU time if it walks, for ordering only (slow walks first) [s]."""
     return steps * math.pi / omega
