@@ -176,3 +176,16 @@ def test_an_interrupted_map_resumes_from_its_partial_file(tmp_path, monkeypatch)
     again = walking_map.compute_walking_map(**grid, partial=partial)
     assert [c.outcome for c in again.cells] == [c.outcome for c in first.cells]
     assert again.cells[0].decided_at_s == first.cells[0].decided_at_s
+
+
+def test_the_twin_column_re_simulates_in_mujoco(wmap):
+    """Where the twin ran, its outcome is walk_in_mujoco's (the first failing cell at the fastest speed)."""
+    from pasibot_pin.studies.walking_map import twin_walker
+
+    ran = [c for c in wmap.cells if c.twin_outcome and c.twin_outcome != "walks"]
+    walker = twin_walker()
+    if not ran or walker is None:
+        pytest.skip(wmap.twin_note or "no twin")
+    cell = max(ran, key=lambda c: (c.omega, -c.sole))
+    v = walker(map_design(cell.variant, cell.sole, cell.omega), WalkSettings(steps=wmap.steps)).verdict
+    assert (v.outcome, float(v.steps)) == (cell.twin_outcome, cell.twin_steps)

@@ -38,6 +38,9 @@ class WalkingAnswer:
         spring_range: the fitted springs of the spring cells, in words (K_e [N.m/rad], beta0 [deg]).
         spring_median_s: the median time the spring cells' failures were decided [s].
         spring_by_speed: per crank speed, the spring cells' mean fitted K_e [N.m/rad] and commonest outcome.
+        twin_cells: cells the MuJoCo twin walked too [-]; twin_agree: of them, where both engines agree
+            that it walks or not [-]; twin_same: where the outcomes are the same [-].
+        twin_walkers: the twin's walkers, in words; twin_note: which cells the twin ran (``""``: all).
 
     """
 
@@ -54,6 +57,11 @@ class WalkingAnswer:
     spring_range: str = ""
     spring_median_s: float = math.nan
     spring_by_speed: dict[float, tuple[float, str]] = field(default_factory=dict)
+    twin_cells: int = 0
+    twin_agree: int = 0
+    twin_same: int = 0
+    twin_walkers: tuple[str, ...] = ()
+    twin_note: str = ""
 
 
 def _detail_kind(detail: str) -> str:
@@ -103,7 +111,20 @@ def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
         spring_range=spring_range,
         spring_median_s=median,
         spring_by_speed=by_speed,
+        **_twin_figures(wmap),
     )
+
+
+def _twin_figures(wmap: WalkingMap) -> dict:
+    """The MuJoCo twin's agreement with ours over the cells it walked."""
+    both = [c for c in wmap.cells if c.twin_outcome]
+    return {
+        "twin_cells": len(both),
+        "twin_agree": sum(c.walks == (c.twin_outcome == "walks") for c in both),
+        "twin_same": sum(c.outcome == c.twin_outcome for c in both),
+        "twin_walkers": tuple(_cell_text(c) for c in both if c.twin_outcome == "walks"),
+        "twin_note": wmap.twin_note,
+    }
 
 
 def _cell_text(c: MapCell) -> str:
@@ -197,7 +218,21 @@ def walking_paragraph(a: WalkingAnswer) -> str:
             f"(cost of transport {e.cost_of_transport:.2f}), {_cell_text(e)}."
         )
     parts.append(_spring_sentence(a))
+    parts.append(_twin_sentence(a))
     return " ".join(p for p in parts if p)
+
+
+def _twin_sentence(a: WalkingAnswer) -> str:
+    """How the MuJoCo twin's verdicts compare with ours (or why there are none)."""
+    if not a.twin_cells:
+        return f"The MuJoCo twin's column is empty ({a.twin_note})." if a.twin_note else ""
+    where = f" ({a.twin_note})" if a.twin_note else ""
+    walkers = f"; its walkers: {'; '.join(a.twin_walkers)}" if a.twin_walkers else "; it finds no walker there"
+    return (
+        f"The MuJoCo twin (the same verdict on the exported model) walked {a.twin_cells} of the cells{where}: "
+        f"it agrees with ours on whether the design walks in {a.twin_agree} and on the outcome in "
+        f"{a.twin_same}{walkers}."
+    )
 
 
 def _grid_table(wmap: WalkingMap, variant: str) -> list[str]:
@@ -208,7 +243,8 @@ def _grid_table(wmap: WalkingMap, variant: str) -> list[str]:
         cells = []
         for s in wmap.soles:
             c = wmap.cell(variant, s, w)
-            cells.append("**walks**" if c.walks else f"{c.outcome} ({c.steps}, {c.decided_at_s:.1f} s)")
+            ours = "**walks**" if c.walks else f"{c.outcome} ({c.steps}, {c.decided_at_s:.1f} s)"
+            cells.append(f"{ours}; MuJoCo: {c.twin_outcome}" if c.twin_outcome else ours)
         lines.append(f"| {w:g} | " + " | ".join(cells) + " |")
     return lines
 

@@ -83,7 +83,8 @@ def walking_map_figure(wmap):
     seen = [o for o in OUTCOME_COLOURS if any(c.outcome == o or c.twin_outcome == o for c in wmap.cells)]
     handles = [Patch(facecolor=OUTCOME_COLOURS[o], label=o) for o in seen]
     axes[0][-1].legend(handles=handles, loc="upper left", bbox_to_anchor=(1.02, 1.0), fontsize=8, frameon=False)
-    twin = "dot: MuJoCo twin" if not wmap.twin_note else "MuJoCo twin: not run"
+    ran = any(c.twin_outcome for c in wmap.cells)
+    twin = "MuJoCo twin: not run" if not ran else "dot: MuJoCo twin" + (f", {wmap.twin_note}" if wmap.twin_note else "")
     head = f"Does it walk {wmap.steps} steps? (cell: our verdict, W walks, else steps taken; {twin})"
     fig.suptitle(head, fontsize=10)
     return fig
