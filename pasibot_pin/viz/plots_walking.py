@@ -54,7 +54,7 @@ def plot_walking_map(wmap, variant: str, ax=None, twin: bool = True):
             ax.text(i, j, label, ha="center", va="center", fontsize=7, color="white")
             if twin and cell.twin_outcome:
                 dot = OUTCOME_COLOURS.get(cell.twin_outcome, "white")
-                ax.add_patch(Circle((i + 0.3, j + 0.3), 0.12, facecolor=dot, edgecolor="white", lw=0.8))
+                ax.add_patch(Circle((i + 0.3, j + 0.3), 0.12, facecolor=dot, edgecolor="black", lw=0.6))
     ax.set_xlim(-0.5, len(soles) - 0.5)
     ax.set_ylim(-0.5, len(omegas) - 0.5)
     ax.set_xticks(np.arange(len(soles)), [f"{s:g}" for s in soles])
