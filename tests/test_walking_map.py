@@ -189,3 +189,18 @@ def test_the_twin_column_re_simulates_in_mujoco(wmap):
     cell = max(ran, key=lambda c: (c.omega, -c.sole))
     v = walker(map_design(cell.variant, cell.sole, cell.omega), WalkSettings(steps=wmap.steps)).verdict
     assert (v.outcome, float(v.steps)) == (cell.twin_outcome, cell.twin_steps)
+
+
+def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
+    """The sweep's paragraph is in docs/walking.md; its fastest walker, re-simulated for fewer steps, walks."""
+    from pasibot_pin.report.walking_answer import fastest_sweep_design, sweep_paragraph, sweep_rows
+
+    rows = sweep_rows()
+    assert sweep_paragraph(rows) in (ROOT / "docs" / "walking.md").read_text()
+    design, row = fastest_sweep_design(rows)
+    assert float(row["omega"]) == max(float(r["omega"]) for r in rows if r["floor_outcome"] == "walks")
+    assert load_design(ROOT / "docs" / "results" / "fastest_sweep_walker.toml") == design
+    v = walk_design(design, WalkSettings(steps=SHORT_STEPS)).verdict
+    assert v.outcome == "walks" and v.steps == SHORT_STEPS
+    # the design comes back from CSV text (its floats rounded in the last digits): the walk agrees to round-off
+    assert math.degrees(v.max_hip_pitch) <= float(row["floor_max_hip_pitch_deg"]) + 1e-3
