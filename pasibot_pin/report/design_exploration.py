@@ -165,7 +165,7 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
     head = (
         f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, body {plan.base.body_mass:g} kg, each design asked "
         f"to walk {FLOOR_STEPS} steps and judged by the walking verdict: fell = |hip pitch| past {pitch:.0f} deg), "
-        f"NSGA-II over the spring designs ({names}; {a.trials} designs)"
+        f"NSGA-II over the spring designs, varying {names} ({a.trials} designs)"
     )
     if a.walkers:
         return f"{head} found {a.walkers} that walk. Outcomes: {counts}."
@@ -179,8 +179,10 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
 def walking_text() -> str:
     """The walking map's answer (:func:`~pasibot_pin.report.walking_answer.walking_paragraph` of the committed map)."""
     from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
-    from pasibot_pin.studies.walking_map import load_map
+    from pasibot_pin.studies.walking_map import MAP_CSV, load_map
 
+    if not MAP_CSV.is_file():  # an installed wheel: the map's table stays in the source repository
+        return "The walking map's table (docs/results/walking_map.csv) is in the source repository (make walking-map)."
     return walking_paragraph(walking_answer(load_map()))
 
 
