@@ -11,7 +11,7 @@ import pyarrow as pa
 import pyarrow.parquet as pq
 import pytest
 
-from pasibot_pin.explore.plan import Range, SweepPlan, parse_range
+from pasibot_pin.explore.plan import Choice, Range, SweepPlan, parse_range
 from pasibot_pin.explore.store import parameter_names
 from pasibot_pin.explore.sweep import best_rows, design_of_row, run_sweep
 from pasibot_pin.model.design import load_design
@@ -113,6 +113,9 @@ def test_grid_and_hypercube_plans():
         ("K=0.5:2", "outside"),
         ("K1:2", "NAME=LO:HI"),
         ("variant=1:2", "categorical"),
+        ("variant=parallel,hovercraft", "not among its values"),
+        ("variant=parallel,parallel", "twice"),
+        ("variant=", "at least one value"),
     ],
 )
 def test_bad_ranges_are_named(text, message):
@@ -161,6 +164,7 @@ def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path):
         ["--vary", "Q=1:2"],
         ["--vary", "K=2.4:1.8"],
         ["--vary", "K=nan:2"],
+        ["--vary", "variant=parallel,wheel"],
         ["--n", "0"],
         ["--workers", "0"],
         ["--by", "speed"],
@@ -180,3 +184,47 @@ def test_cli_bad_input_is_one_line_before_any_work(tmp_path, args, capsys):
     assert code == 2
     assert err.startswith("pasibot sweep: error:") and err.count("\n") == 1
     assert "Traceback" not in err and not out.exists()
+
+
+VARIANTS = Choice("variant", ("parallel", "spring", "rigid"))
+
+
+def test_a_choice_is_parsed_and_round_trips_through_the_plan_record():
+    assert parse_range("variant=parallel, spring,rigid") == VARIANTS
+    assert parse_range("motors=one").values == ("one",)
+    plan = SweepPlan(ranges=(VARIANTS, Range("omega", 0.2, 10.0)), n=7, seed=4)
+    again = SweepPlan.from_dict(json.loads(json.dumps(plan.to_dict())))
+    assert again == plan and np.array_equal(again.points(), plan.points())
+
+
+def test_hypercube_draws_the_variants_in_equal_shares_and_grid_takes_each():
+    plan = SweepPlan(ranges=(Range("omega", 0.2, 10.0), VARIANTS, Range("parallel_toe", 0.1, 10.0)), n=30, seed=5)
+    points = plan.points()
+    values = [plan.values(p) for p in points]
+    names = [v[1] for v in values]
+    assert sorted(set(names)) == sorted(VARIANTS.values)
+    assert all(names.count(v) == 10 for v in VARIANTS.values)  # one LHS stratum per value
+    for k in (0, 2):  # the numeric columns keep one point per stratum
+        r = plan.ranges[k]
+        assert sorted(np.floor((points[:, k] - r.low) / (r.high - r.low) * 30).astype(int)) == list(range(30))
+    designs = [plan.design(p) for p in points]
+    assert [d.variant for d in designs] == names and all(d.omega == v[0] for d, v in zip(designs, values))
+    grid = SweepPlan(ranges=(VARIANTS, Range("omega", 1.0, 3.0)), n=9, method="grid")
+    cells = {(v, w) for v, w in map(grid.values, grid.points())}
+    assert cells == {(v, w) for v in VARIANTS.values for w in (1.0, 2.0, 3.0)}
+
+
+def test_sweep_over_variants_records_each_variant_and_the_walking_outcome(tmp_path):
+    """Three variants on the floor for 2 steps at 3 rad/s: each row is its own design's walk, re-simulated."""
+    from pasibot_pin.model.design import Design
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+    plan = SweepPlan(ranges=(VARIANTS, Range("foot_toe", 1.0, 2.0)), n=3, seed=0, base=Design(omega=3.0), floor=2)
+    table = run_sweep(plan, tmp_path, workers=1, progress=False).table
+    assert sorted(table.column("variant").to_pylist()) == sorted(VARIANTS.values)
+    for row in range(3):
+        design = design_of_row(table, row)
+        assert design.variant == table.column("variant")[row].as_py()
+        verdict = walk_design(design, WalkSettings(steps=2)).verdict
+        assert table.column("floor_outcome")[row].as_py() == verdict.outcome
+        assert table.column("floor_steps")[row].as_py() == verdict.steps

@@ -24,8 +24,11 @@ def add_explore_options(p: argparse.ArgumentParser) -> None:
         "--vary",
         action="append",
         default=None,
-        metavar="NAME=LO:HI",
-        help=f"a parameter and its range (repeatable; default: {' '.join(r.text() for r in DEFAULT_RANGES)})",
+        metavar="NAME=LO:HI|NAME=A,B",
+        help=(
+            "a numeric parameter and its range, or a categorical one and its values, e.g. "
+            f"variant=parallel,spring,rigid (repeatable; default: {' '.join(r.text() for r in DEFAULT_RANGES)})"
+        ),
     )
     p.add_argument("--design", type=Path, default=None, help="base design file (.toml/.json; default the seed's)")
     p.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")

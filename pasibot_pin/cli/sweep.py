@@ -1,7 +1,8 @@
 """``pasibot sweep``: evaluate many designs (Latin hypercube or grid), one table, resumable.
 
 Every design is the base design (the seed's, or ``--design FILE``) with the ``--vary``
-parameters set; its metrics (path, torques, spring, contact, energy) go in one row of
+parameters set (``--vary NAME=LO:HI`` for a number, ``--vary variant=parallel,spring,rigid`` for a
+categorical parameter); its metrics (path, torques, spring, contact, energy) go in one row of
 ``OUT/results.parquet``. An interrupted run keeps every finished design: run the same command
 again to continue. ``--dask local`` runs on a Dask LocalCluster, ``--dask tcp://HOST:8786`` on a
 cluster (``dask scheduler`` on one machine, ``dask worker tcp://HOST:8786`` on each).

@@ -27,7 +27,7 @@ from pathlib import Path
 
 import numpy as np
 
-from pasibot_pin.explore.plan import DEFAULT_RANGES, Range, check_floor
+from pasibot_pin.explore.plan import DEFAULT_RANGES, Choice, Varied, check_floor, range_record
 from pasibot_pin.explore.store import ResultStore
 from pasibot_pin.model.design import Design
 from pasibot_pin.reprs import short_repr
@@ -117,7 +117,7 @@ class OptimizePlan:
 
     """
 
-    ranges: tuple[Range, ...] = DEFAULT_RANGES
+    ranges: tuple[Varied, ...] = DEFAULT_RANGES
     objectives: tuple[Objective, ...] = (Objective("peak_crank_torque_Nm", "min"),)
     constraints: tuple[Constraint, ...] = ()
     trials: int = 200
@@ -146,7 +146,7 @@ class OptimizePlan:
     def to_dict(self) -> dict:
         """A JSON-able record (``plan.json``)."""
         return {
-            "ranges": [[r.name, r.low, r.high] for r in self.ranges],
+            "ranges": [range_record(r) for r in self.ranges],
             "objectives": [o.text() for o in self.objectives],
             "constraints": [c.text() for c in self.constraints],
             "trials": self.trials,
@@ -244,7 +244,7 @@ def run_optimize(
     )
     done_before = len(store.done)
     base_values = {r.name: plan.base.values()[r.name] for r in plan.ranges}
-    inside = all(v is not None and r.low <= v <= r.high for r, v in zip(plan.ranges, base_values.values()))
+    inside = all(_inside(r, v) for r, v in zip(plan.ranges, base_values.values()))
     if not study.trials and inside:
         study.enqueue_trial(base_values)  # trial 0 is the base design: the front is never worse than it
     bar = _progress(plan.trials, done_before, progress)
@@ -281,7 +281,7 @@ def run_optimize(
             size = min(plan.population, plan.trials - len(store.done))
             asked = [study.ask() for _ in range(size)]
             ids.update({t.number: t._trial_id for t in asked})
-            items = [(t.number, [t.suggest_float(r.name, r.low, r.high) for r in plan.ranges]) for t in asked]
+            items = [(t.number, [_suggest(t, r) for r in plan.ranges]) for t in asked]
             evaluate(items)
             if on_generation is not None:
                 on_generation(len(store.done), plan.trials)
@@ -291,6 +291,20 @@ def run_optimize(
     results = store.finish(csv=csv)
     table = store.table()
     return OptimizeResult(folder, plan, table, len(store.done) - done_before, pareto_rows(table, plan), results)
+
+
+def _suggest(trial, r: Varied) -> float | str:
+    """The trial's value of one varied parameter (a float in a :class:`Range`, a value of a :class:`Choice`)."""
+    if isinstance(r, Choice):
+        return trial.suggest_categorical(r.name, list(r.values))
+    return trial.suggest_float(r.name, r.low, r.high)
+
+
+def _inside(r: Varied, value) -> bool:
+    """The base design's ``value`` lies in ``r`` (it may be trial 0)."""
+    if isinstance(r, Choice):
+        return value in r.values
+    return value is not None and r.low <= value <= r.high
 
 
 def _tell_row(study, plan: OptimizePlan, row: dict, trial_id: int) -> None:

@@ -1,4 +1,10 @@
-"""Which designs a sweep evaluates: parameter ranges, Latin hypercube or grid, a seed.
+"""Which designs a sweep evaluates: parameter ranges and choices, Latin hypercube or grid, a seed.
+
+A numeric parameter varies over a :class:`Range` (``--vary K=1.8:2.4``), a categorical one (the
+variant, the motor layout, the mass rule, the inertia: :data:`~pasibot_pin.model.design.CHOICES`)
+over a :class:`Choice` of its values (``--vary variant=parallel,spring,rigid``). In a Latin
+hypercube a choice is one more dimension cut into equal strata, one per value (the values are
+drawn in equal shares); in a grid it is one more axis with every value.
 
 A :class:`SweepPlan` is data (it is saved as ``plan.json`` beside the results, and a resumed run
 must have the same plan). Its rows are fully determined by the plan: the same plan gives the
@@ -28,8 +34,12 @@ class Range:
     def __post_init__(self) -> None:
         spec = SPECS.get(self.name)
         if spec is None:
-            kind = "a categorical parameter (set it in the design file)" if self.name in CHOICES else "unknown"
-            raise ValueError(f"--vary {self.name}: {kind}; numeric parameters: {', '.join(SPECS)}")
+            if self.name in CHOICES:
+                raise ValueError(
+                    f"--vary {self.name}: a categorical parameter: list its values, "
+                    f"e.g. {self.name}={','.join(CHOICES[self.name])}"
+                )
+            raise ValueError(f"--vary {self.name}: unknown; numeric parameters: {', '.join(SPECS)}")
         for label, value in (("low", self.low), ("high", self.high)):
             if not math.isfinite(value):
                 raise ValueError(f"--vary {self.name}: the {label} bound must be a finite number, got {value!r}")
@@ -46,9 +56,52 @@ class Range:
         return f"{self.name}={self.low:g}:{self.high:g}"
 
 
-def parse_range(text: str) -> Range:
-    """A :class:`Range` from ``NAME=LO:HI`` (one-line ValueError naming what is wrong)."""
+@dataclass(frozen=True)
+class Choice:
+    """One varied categorical parameter: its name in the design record and the values it takes.
+
+    A plan's points hold the index of the value (0, 1, ...) in this parameter's column.
+    """
+
+    name: str
+    values: tuple[str, ...]
+
+    def __post_init__(self) -> None:
+        valid = CHOICES.get(self.name)
+        if valid is None:
+            raise ValueError(f"--vary {self.name}: not a categorical parameter; categorical: {', '.join(CHOICES)}")
+        values = tuple(str(v) for v in self.values)
+        if not values:
+            raise ValueError(f"--vary {self.name}=: list at least one value of {', '.join(valid)}")
+        bad = [v for v in values if v not in valid]
+        if bad:
+            raise ValueError(f"--vary {self.name}: {', '.join(bad)} not among its values {', '.join(valid)}")
+        if len(set(values)) != len(values):
+            raise ValueError(f"--vary {self.name}: a value is listed twice")
+        object.__setattr__(self, "values", values)
+
+    def value(self, index: float) -> str:
+        """The value at ``index`` (a point's entry: 0, 1, ...)."""
+        return self.values[min(max(int(index), 0), len(self.values) - 1)]
+
+    def text(self) -> str:
+        """``NAME=A,B,...``, as on the command line."""
+        return f"{self.name}={','.join(self.values)}"
+
+
+Varied = Range | Choice
+"""A varied parameter: numeric (:class:`Range`) or categorical (:class:`Choice`)."""
+
+
+def parse_range(text: str) -> Varied:
+    """A :class:`Range` from ``NAME=LO:HI``, or a :class:`Choice` from ``NAME=A,B,...``.
+
+    A choice is a categorical parameter of :data:`~pasibot_pin.model.design.CHOICES`; a bad text is a
+    one-line ValueError naming what is wrong.
+    """
     name, sep, bounds = str(text).partition("=")
+    if sep and name.strip() in CHOICES and ":" not in bounds:
+        return Choice(name.strip(), tuple(v.strip() for v in bounds.split(",") if v.strip()))
     low, sep2, high = bounds.partition(":")
     if not sep or not sep2 or not name.strip():
         raise ValueError(f"--vary {text!r}: write NAME=LO:HI, e.g. K=1.8:2.4")
@@ -80,9 +133,9 @@ class SweepPlan:
     """The designs of a sweep.
 
     Attributes:
-        ranges: the varied parameters.
-        n: the number of designs (``grid``: levels ** d for d varied parameters, at least 2 levels each;
-            any other n is refused with the nearest grid sizes).
+        ranges: the varied parameters (:class:`Range` and :class:`Choice`).
+        n: the number of designs (``grid``: every value of each choice times levels ** d for the d
+            numeric parameters, at least 2 levels each; any other n is refused with the nearest grid sizes).
         method: ``lhs`` or ``grid``.
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
@@ -90,7 +143,7 @@ class SweepPlan:
 
     """
 
-    ranges: tuple[Range, ...] = DEFAULT_RANGES
+    ranges: tuple[Varied, ...] = DEFAULT_RANGES
     n: int = 100
     method: str = "lhs"
     seed: int = 0
@@ -112,17 +165,27 @@ class SweepPlan:
             )
         object.__setattr__(self, "ranges", tuple(self.ranges))
         if self.method == "grid":
-            d = len(self.ranges)
-            levels = max(2, round(self.n ** (1.0 / d)))
-            if levels**d != self.n:  # n means the number of designs: a grid has levels**d of them
-                below, above = max(2, int(self.n ** (1.0 / d) + 1e-9)), None
-                above = below if below**d > self.n else below + 1
-                sizes = sorted({below**d, above**d} - {self.n})
-                offer = " or ".join(f"--n {size} ({round(size ** (1.0 / d))} levels)" for size in sizes)
-                raise ParameterError(
-                    f"--n {self.n} with --method grid over {d} varied parameter(s): a grid has levels^{d} designs; "
-                    f"take {offer}"
-                )
+            self._check_grid_size()
+
+    def _check_grid_size(self) -> None:
+        """A grid has (values of the choices) x levels ** d designs: refuse any other ``n``, offering the nearest."""
+        k = math.prod(len(r.values) for r in self.ranges if isinstance(r, Choice))
+        d = sum(isinstance(r, Range) for r in self.ranges)
+        if d == 0:
+            if self.n != k:
+                raise ParameterError(f"--n {self.n} with --method grid over choices only: the grid has --n {k} designs")
+            return
+        per = self.n / k
+        levels = max(2, round(per ** (1.0 / d)))
+        if k * levels**d != self.n:  # n means the number of designs
+            below = max(2, int(per ** (1.0 / d) + 1e-9))
+            above = below if below**d > per else below + 1
+            sizes = sorted({k * below**d, k * above**d} - {self.n})
+            offer = " or ".join(f"--n {size} ({round((size / k) ** (1.0 / d))} levels)" for size in sizes)
+            raise ParameterError(
+                f"--n {self.n} with --method grid over {d} numeric parameter(s) and {k} choice(s): a grid has "
+                f"{k} x levels^{d} designs; take {offer}"
+            )
 
     @property
     def names(self) -> tuple[str, ...]:
@@ -130,26 +193,50 @@ class SweepPlan:
         return tuple(r.name for r in self.ranges)
 
     def points(self) -> np.ndarray:
-        """The varied parameters' values, one row per design (N, d), in their units."""
-        low = np.array([r.low for r in self.ranges])
-        high = np.array([r.high for r in self.ranges])
+        """The varied parameters' values, one row per design (N, d), in their units.
+
+        A choice's column holds the index of its value (:meth:`values`).
+        """
+        numeric = [r for r in self.ranges if isinstance(r, Range)]
+        low = np.array([r.low for r in numeric])
+        high = np.array([r.high for r in numeric])
         if self.method == "grid":
-            levels = max(2, round(self.n ** (1.0 / len(self.ranges))))
-            axes = [np.linspace(lo, hi, levels) for lo, hi in zip(low, high)]
+            per_choice = self.n / math.prod(len(r.values) for r in self.ranges if isinstance(r, Choice))
+            levels = max(2, round(per_choice ** (1.0 / len(numeric)))) if numeric else 1
+            axes = [
+                np.linspace(r.low, r.high, levels) if isinstance(r, Range) else np.arange(len(r.values), dtype=float)
+                for r in self.ranges
+            ]
             return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
         from scipy.stats import qmc
 
         unit = qmc.LatinHypercube(d=len(self.ranges), seed=np.random.default_rng(self.seed)).random(self.n)
-        return qmc.scale(unit, low, high)
+        if len(numeric) == len(self.ranges):
+            return qmc.scale(unit, low, high)
+        out = np.empty_like(unit)
+        for k, r in enumerate(self.ranges):
+            if isinstance(r, Range):
+                out[:, k] = qmc.scale(unit[:, k : k + 1], [r.low], [r.high])[:, 0]
+            else:  # one stratum per value: the values in equal shares
+                out[:, k] = np.floor(unit[:, k] * len(r.values))
+        return out
 
-    def design(self, values: Sequence[float]) -> Design:
-        """The base design with the varied parameters set to ``values``."""
-        return self.base.with_(**{name: float(v) for name, v in zip(self.names, values)})
+    def values(self, point: Sequence[float]) -> list[float | str]:
+        """One point's parameter values: a number per :class:`Range`, a value per :class:`Choice`."""
+        return [r.value(x) if isinstance(r, Choice) else float(x) for r, x in zip(self.ranges, point)]
+
+    def design(self, values: Sequence[float | str]) -> Design:
+        """The base design with the varied parameters set to ``values`` (a point, or :meth:`values`)."""
+        changes = {
+            r.name: (v if isinstance(v, str) else r.value(v)) if isinstance(r, Choice) else float(v)
+            for r, v in zip(self.ranges, values)
+        }
+        return self.base.with_(**changes)
 
     def to_dict(self) -> dict:
         """A JSON-able record (``plan.json``)."""
         return {
-            "ranges": [[r.name, r.low, r.high] for r in self.ranges],
+            "ranges": [range_record(r) for r in self.ranges],
             "n": int(self.n),
             "method": self.method,
             "seed": int(self.seed),
@@ -161,13 +248,31 @@ class SweepPlan:
     def from_dict(cls, data: Mapping) -> SweepPlan:
         """The plan of a ``plan.json``."""
         return cls(
-            ranges=tuple(Range(str(n), float(lo), float(hi)) for n, lo, hi in data["ranges"]),
+            ranges=tuple(range_of_record(r) for r in data["ranges"]),
             n=int(data["n"]),
             method=str(data["method"]),
             seed=int(data["seed"]),
             base=Design.from_dict(data["base"]),
             floor=data.get("floor"),
         )
+
+
+def range_record(r: Varied) -> list:
+    """A varied parameter as JSON: ``[name, low, high]`` or ``[name, [values]]``."""
+    return [r.name, list(r.values)] if isinstance(r, Choice) else [r.name, r.low, r.high]
+
+
+def range_of_record(record: Sequence) -> Varied:
+    """The varied parameter of a :func:`range_record`."""
+    if len(record) == 2:
+        return Choice(str(record[0]), tuple(record[1]))
+    name, low, high = record
+    return Range(str(name), float(low), float(high))
+
+
+def numeric_names(ranges: Sequence[Varied]) -> list[str]:
+    """The names of the numeric (:class:`Range`) parameters among ``ranges``."""
+    return [r.name for r in ranges if isinstance(r, Range)]
 
 
 def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
@@ -195,7 +300,7 @@ def check_floor(floor: int | None) -> int | None:
     return check_floor_steps(floor, "--floor")
 
 
-def ranges_or_default(texts: Iterable[str] | None) -> tuple[Range, ...]:
+def ranges_or_default(texts: Iterable[str] | None) -> tuple[Varied, ...]:
     """The ranges of ``--vary`` options, or :data:`DEFAULT_RANGES` when there are none."""
     texts = list(texts or ())
     return tuple(parse_range(t) for t in texts) if texts else DEFAULT_RANGES

@@ -6,12 +6,12 @@
    CoP margin (max); constraint: the stride within :data:`STRIDE_TOLERANCE` of the seed's. With
    ``straight=True`` the stance path must also stay as straight as :data:`STRAIGHTNESS_FACTOR`
    times the seed's (a hip that does not bob).
-2. *Does any spring design walk on the floor, with the hip pitch bounded and the CoP inside the
-   sole?* The runs of question 1 record ``cop_margin_m`` for every design (the hip held level);
-   :func:`floor_plan` simulates spring designs on the floor (:data:`FLOOR_RANGES`: the spring's
-   stiffness, rest angle and damping, the sole, K and the body COM) at the fast seed run's crank
-   speed and body (run 4: 5 rad/s, 20 kg) for :data:`FLOOR_SECONDS`, and maximises the time on
-   the floor and the steps walked.
+2. *Does any spring design walk on the floor?* The walking map (:mod:`pasibot_pin.studies.walking_map`)
+   walks every variant with its fitted spring; :func:`floor_plan` searches the spring itself:
+   NSGA-II over spring designs on the floor (:data:`FLOOR_RANGES`: the spring's stiffness, rest
+   angle and damping, the sole up to 10 L each side, K, the body COM and the crank speed), each
+   asked to walk :data:`FLOOR_STEPS` steps and judged by the walking verdict
+   (:mod:`pasibot_pin.dynamics.verdict`), maximising the steps walked and the time to the verdict.
 
 The answers quoted in the README are the designs in ``docs/results/`` (written by
 :func:`write_answer`); ``tests/test_questions.py`` evaluates them again and checks every quoted
@@ -47,12 +47,14 @@ FLOOR_RANGES: tuple[Range, ...] = (
     Range("spring_stiffness", 0.0, 1500.0),
     Range("spring_rest_angle", 0.8, 2.2),
     Range("spring_damping", 0.0, 30.0),
-    Range("foot_toe", 1.0, 4.0),
-    Range("foot_heel", 0.3, 2.0),
+    Range("foot_toe", 1.0, 10.0),
+    Range("foot_heel", 0.3, 10.0),
     Range("K", 1.8, 2.4),
     Range("body_com_dx", -0.1, 0.3),
+    Range("omega", 1.0, 8.0),
 )
-"""Question 2's varied parameters: the ankle spring [N.m/rad, rad, N.m.s/rad], the sole [L], K, the body COM [m]."""
+"""Question 2's varied parameters: the ankle spring [N.m/rad, rad, N.m.s/rad], the sole [L], K, the body
+COM [m], the crank speed [rad/s] (the walking map's soles and speeds; 0.5 rad/s walks are the slowest)."""
 
 FLOOR_STEPS: int = 6
 """How many steps each design of question 2 is asked to walk on the floor [-]."""
@@ -102,13 +104,16 @@ def seed_stride_plan(straight: bool = False, trials: int = 600, population: int 
 
 
 def floor_plan(trials: int = 120, population: int = 24, seed: int = 0) -> OptimizePlan:
-    """Question 2 as an :class:`~pasibot_pin.explore.optimize.OptimizePlan` (see the module's notes)."""
+    """Question 2 as an :class:`~pasibot_pin.explore.optimize.OptimizePlan` (see the module's notes).
+
+    The base is the fast seed run's body (run 4: 20 kg) on the spring variant.
+    """
     from pasibot_pin.model.scenarios import get_scenario
 
     run4 = get_scenario("run4")
     return OptimizePlan(
         ranges=FLOOR_RANGES,
-        objectives=(Objective("floor_time_s", "max"), Objective("floor_steps", "max")),
+        objectives=(Objective("floor_steps", "max"), Objective("floor_time_s", "max")),
         trials=trials,
         population=population,
         seed=seed,
@@ -130,29 +135,54 @@ def answer_path(straight: bool, suffix: str = ".toml") -> Path:
     return (ANSWERS_DIR if suffix == ".toml" else RESULTS_DIR) / f"{stem}{suffix}"
 
 
+def floor_summary(rows: list[dict]) -> dict:
+    """Question 2's summary from its table's rows (the fields of the report's ``FloorAnswer``).
+
+    Args:
+        rows: one dict per design, with ``index``, ``feasible``, ``floor_time_s`` [s], ``floor_steps`` and
+            ``floor_outcome``.
+
+    Returns:
+        ``trials``, ``walkers``, ``best_time`` [s], ``best_steps``, ``most_steps`` (the best design: the
+        most steps, then the longest run), ``outcomes`` (each outcome's count; ``infeasible``: a design
+        that cannot be built or turned), ``best_index`` and ``best_outcome``.
+
+    """
+    from collections import Counter
+
+    walked = [r for r in rows if r["feasible"]]
+    best = max(walked, key=lambda r: (r["floor_steps"], r["floor_time_s"]))
+    outcomes = Counter(r["floor_outcome"] if r["feasible"] else "infeasible" for r in rows)
+    return {
+        "trials": len(rows),
+        "walkers": outcomes.get("walks", 0),
+        "best_time": float(best["floor_time_s"]),
+        "best_steps": int(best["floor_steps"]),
+        "most_steps": int(max(r["floor_steps"] for r in walked)),
+        "outcomes": dict(outcomes.most_common()),
+        "best_index": int(best["index"]),
+        "best_outcome": str(best["floor_outcome"]),
+    }
+
+
 def summarize_tables() -> dict:
     """The figures the report quotes, from the runs' Parquet tables in :data:`RESULTS_DIR` (needs pyarrow).
 
     Returns:
         ``designs_explored`` (rows of question 1's two runs), ``best_cop_margin_m`` (the best CoP
-        margin of any feasible design of them [m]) and ``floor`` (question 2's
-        :class:`~pasibot_pin.report.design_exploration.FloorAnswer` as a dict).
+        margin of any feasible design of them [m]) and ``floor`` (question 2's :func:`floor_summary`).
 
     """
-    import dataclasses
-
     import numpy as np
     import pyarrow.parquet as pq
 
-    from pasibot_pin.report.design_exploration import floor_answer_of_rows
-
     tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
     margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
-    floor = floor_answer_of_rows(pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist())
+    floor = floor_summary(pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist())
     return {
         "designs_explored": int(sum(t.num_rows for t in tables)),
         "best_cop_margin_m": float(np.max(margins)),
-        "floor": dataclasses.asdict(floor),
+        "floor": floor,
     }
 
 
@@ -189,30 +219,50 @@ def write_answer(straight: bool, folder: Path, workers: int | None = None, force
     return design
 
 
-def main() -> None:
-    """Run the questions again (``make answers``): docs/results/*.toml, *.parquet, pareto.png, the summary."""
+def write_floor_answer(folder: Path, workers: int | None = None) -> Path:
+    """Run question 2 into ``folder``; copy its table to :data:`RESULTS_DIR` / :data:`FLOOR_TABLE`."""
+    import shutil
+
+    from pasibot_pin.explore.optimize import run_optimize
+
+    result = run_optimize(floor_plan(), folder, workers=workers, force=True, progress=True)
+    shutil.copyfile(result.results, RESULTS_DIR / FLOOR_TABLE)
+    return RESULTS_DIR / FLOOR_TABLE
+
+
+def main(argv: list[str] | None = None) -> None:
+    """Run the questions again (``make answers``): docs/results/*.toml, *.parquet, pareto.png, the summary.
+
+    ``--floor-only``: question 2 alone (and the summary).
+    """
+    import argparse
     import tempfile
+
+    parser = argparse.ArgumentParser(description="run the design-exploration questions again (docs/results/)")
+    parser.add_argument("--floor-only", action="store_true", help="only question 2 (the spring designs on the floor)")
+    parser.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
+    args = parser.parse_args(argv)
+    if not args.floor_only:
+        _question_one(args.workers)
+    with tempfile.TemporaryDirectory() as tmp:
+        print(write_floor_answer(Path(tmp) / "floor", workers=args.workers))
+    print(write_summary())
+
+
+def _question_one(workers: int | None) -> None:
+    import tempfile
+
+    import pyarrow.parquet as pq
 
     from pasibot_pin.explore.sweep import write_figures
 
     with tempfile.TemporaryDirectory() as tmp:
         for straight in (False, True):
-            design = write_answer(straight, Path(tmp) / str(straight))
+            design = write_answer(straight, Path(tmp) / str(straight), workers=workers)
             print(f"{answer_path(straight)}: K = {design.K:.4g}")
-    import pyarrow.parquet as pq
-
     table = pq.read_table(answer_path(False, ".parquet"))
     for path in write_figures(table, RESULTS_DIR, [r.name for r in QUESTION_RANGES]):
         print(path)
-    import shutil
-
-    from pasibot_pin.explore.optimize import run_optimize
-
-    with tempfile.TemporaryDirectory() as tmp:
-        result = run_optimize(floor_plan(), Path(tmp) / "floor", progress=False)
-        shutil.copyfile(result.results, RESULTS_DIR / FLOOR_TABLE)
-        print(RESULTS_DIR / FLOOR_TABLE)
-    print(write_summary())
 
 
 if __name__ == "__main__":

@@ -30,10 +30,11 @@ CHUNK: int = 4
 
 
 def evaluate_designs(
-    base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float]]], floor: int | None = None
+    base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float | str]]], floor: int | None = None
 ) -> list[dict]:
     """Rows of ``items`` (index, values of ``names``) on the ``base`` design; runs in a worker.
 
+    A value is a number, or a string for a categorical parameter (``variant="parallel"``).
     A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
     ``floor``: also walk each design this many steps on the floor.
     """
@@ -44,7 +45,7 @@ def evaluate_designs(
     base_design = Design.from_dict(base)
     rows = []
     for index, values in items:
-        changes = {name: float(v) for name, v in zip(names, values)}
+        changes = {name: v if isinstance(v, str) else float(v) for name, v in zip(names, values)}
         try:
             design = base_design.with_(**changes)
         except ValueError as err:
@@ -132,7 +133,7 @@ def run_sweep(
     store = ResultStore(
         Path(folder), {"kind": "sweep", **plan.to_dict()}, len(points), force=force, extra=floor_columns(plan.floor)
     )
-    todo = [(i, [float(x) for x in row]) for i, row in enumerate(points) if i not in store.done]
+    todo = [(i, plan.values(row)) for i, row in enumerate(points) if i not in store.done]
     tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor) for k in range(0, len(todo), chunk)]
     bar = _progress(len(points), len(points) - len(todo), progress)
 
@@ -188,8 +189,13 @@ def write_figures(
     """``pareto.png`` and ``sensitivity.png`` of a results table into ``folder``.
 
     ``constraints``: an optimisation's ``--constraint``s; designs that violate one are greyed, off the front.
+    The sensitivity map ranks the numeric parameters of ``varied`` only (a varied variant is a column of strings).
     """
     import matplotlib
+
+    from pasibot_pin.model.design import CHOICES
+
+    varied = [name for name in varied if name not in CHOICES]
 
     matplotlib.use("Agg")
     from pasibot_pin.files import atomic_path

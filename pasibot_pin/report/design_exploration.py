@@ -7,6 +7,7 @@ The same text is quoted in ``docs/design_exploration.md`` and the README; a test
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -112,52 +113,32 @@ class FloorAnswer:
     """Question 2 on the floor: how the spring designs fared (from docs/results/floor_springs.parquet).
 
     Attributes:
-        trials: designs simulated.
-        best_time: the longest time any design stayed up [s].
-        best_steps: that design's steps.
-        most_steps: the most steps any design took.
-        fell: designs whose hip pitch passed 60 deg.
-        slipped: designs that slipped.
-        rolled: designs that rolled over a heel or toe.
-        other: the other outcomes.
-        best_index: the longest run's ``index`` in the table.
+        trials: designs evaluated [-].
+        walkers: designs whose walking verdict is ``walks`` [-].
+        best_time: the time to the verdict of the best design (most steps, then longest) [s].
+        best_steps: its steps [-].
+        most_steps: the most steps any design took [-].
+        outcomes: the count of each outcome (``infeasible``: a design that cannot be built or turned).
+        best_index: the best design's index in the table.
+        best_outcome: its outcome and what decided it.
 
     """
 
     trials: int
+    walkers: int
     best_time: float
     best_steps: int
     most_steps: int
-    fell: int
-    slipped: int
-    rolled: int
-    other: int
+    outcomes: dict[str, int]
     best_index: int
+    best_outcome: str
 
 
 def floor_answer_of_rows(rows: list[dict]) -> FloorAnswer:
-    """Question 2's summary from its table's rows.
+    """Question 2's summary from its table's rows (:func:`~pasibot_pin.explore.questions.floor_summary`)."""
+    from pasibot_pin.explore.questions import floor_summary
 
-    Args:
-        rows: one dict per design, with ``index``, ``floor_time_s`` [s], ``floor_steps`` and ``floor_outcome``.
-
-    """
-    best = max(rows, key=lambda r: (r["floor_time_s"], r["floor_steps"]))
-    outcomes = [r["floor_outcome"] for r in rows]
-    fell = sum(o.startswith("fell") for o in outcomes)
-    slipped = sum("slipped" in o for o in outcomes)
-    rolled = sum("rolled" in o for o in outcomes)
-    return FloorAnswer(
-        trials=len(rows),
-        best_time=float(best["floor_time_s"]),
-        best_steps=int(best["floor_steps"]),
-        most_steps=int(max(r["floor_steps"] for r in rows)),
-        fell=fell,
-        slipped=slipped,
-        rolled=rolled,
-        other=len(rows) - fell - slipped - rolled,
-        best_index=int(best["index"]),
-    )
+    return FloorAnswer(**floor_summary(rows))
 
 
 def floor_answer() -> FloorAnswer:
@@ -168,22 +149,41 @@ def floor_answer() -> FloorAnswer:
 
 
 def floor_markdown(answer: FloorAnswer | None = None) -> str:
-    """Question 2's verdict, one paragraph."""
+    """Question 2's verdict, one paragraph (the walking verdict's outcomes, counted)."""
+    from pasibot_pin.dynamics.verdict import GaitCriteria
     from pasibot_pin.explore.questions import FLOOR_STEPS, floor_plan
     from pasibot_pin.studies.walking import WALK_MU as FLOOR_MU
 
     a = answer or floor_answer()
     plan = floor_plan()
-    names = ", ".join(r.name for r in plan.ranges)
-    return (
-        f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, {plan.base.omega:g} rad/s, "
-        f"body {plan.base.body_mass:g} kg, "
-        f"{FLOOR_STEPS} steps per design), NSGA-II over {names} ({a.trials} designs) found no spring that walks: "
-        f"the longest run lasted {a.best_time:.2f} s ({a.best_steps} steps) and no design took more than "
-        f"{a.most_steps} steps. {a.fell} designs fell (hip pitch past 60 deg), {a.slipped} slipped, {a.rolled} "
-        f"rolled over a heel or toe, {a.other} other. With the crank speed imposed and no controller, a passive "
-        "ankle spring does not make PASIBOT walk in this range."
+    from pasibot_pin.model.design import SPECS
+
+    units = {r.name: "" if SPECS[r.name].unit == "-" else f" {SPECS[r.name].unit}" for r in plan.ranges}
+    names = ", ".join(f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges)
+    counts = ", ".join(f"{n} {o}" for o, n in sorted(a.outcomes.items(), key=lambda kv: (-kv[1], kv[0])))
+    pitch = math.degrees(GaitCriteria().max_hip_pitch)
+    head = (
+        f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, body {plan.base.body_mass:g} kg, each design asked "
+        f"to walk {FLOOR_STEPS} steps and judged by the walking verdict: fell = |hip pitch| past {pitch:.0f} deg), "
+        f"NSGA-II over the spring designs, varying {names} ({a.trials} designs)"
     )
+    if a.walkers:
+        return f"{head} found {a.walkers} that walk. Outcomes: {counts}."
+    return (
+        f"{head} found none that walks: the best took {a.best_steps} steps ({a.best_outcome} at {a.best_time:.2f} s) "
+        f"and no design took more than {a.most_steps}. Outcomes: {counts}. With the cranks turning at a set "
+        "speed and no controller, a passive ankle spring does not make PASIBOT walk in this range."
+    )
+
+
+def walking_text() -> str:
+    """The walking map's answer (:func:`~pasibot_pin.report.walking_answer.walking_paragraph` of the committed map)."""
+    from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
+    from pasibot_pin.studies.walking_map import MAP_CSV, load_map
+
+    if not MAP_CSV.is_file():  # an installed wheel: the map's table stays in the source repository
+        return "The walking map's table (docs/results/walking_map.csv) is in the source repository (make walking-map)."
+    return walking_paragraph(walking_answer(load_map()))
 
 
 def question() -> str:
@@ -206,6 +206,7 @@ def build(out_dir: Path):
     rows = answers()
     seed, free, straight = rows
     floor = floor_answer()
+    walking = walking_text()
     text = "\n".join(
         [
             "## Design exploration: less torque at the same stride",
@@ -213,6 +214,10 @@ def build(out_dir: Path):
             question(),
             "",
             markdown(rows),
+            "",
+            "### Does it walk? (the walking map, docs/walking.md)",
+            "",
+            walking,
             "",
             "### Does any spring design walk on the floor?",
             "",
@@ -226,6 +231,7 @@ def build(out_dir: Path):
         "straight_peak": straight.metrics["peak_crank_torque_Nm"],
         "straightness_ratio": free.metrics["straightness_m"] / seed.metrics["straightness_m"],
         "floor_trials": floor.trials,
+        "floor_walkers": floor.walkers,
         "floor_best_time": floor.best_time,
         "floor_most_steps": floor.most_steps,
     }

@@ -8,7 +8,9 @@
 - :func:`write_torques_figure`: ``docs/torques.png``, run 2's torques against the stance ankle
   angle with the fitted spring, the default model beside the seed preset;
 - :func:`write_simulation_figure`: ``docs/simulation.png``, run 1's hip pitch with the fitted, no,
-  half and twice the stiffness beside its (K_e, beta0) sweep.
+  half and twice the stiffness beside its (K_e, beta0) sweep;
+- :func:`write_walking_map_figure`: ``docs/walking_map.png``, the walking map's outcomes, drawn from
+  the committed ``docs/results/walking_map.csv`` (``make walking-map`` computes that table).
 
 ``tests/test_docs_figures.py`` redraws each and compares it with the committed file.
 """
@@ -125,6 +127,17 @@ def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
     return _save(fig, path)
 
 
+def write_walking_map_figure(path: Path) -> Path:
+    """``docs/walking_map.png``: the committed walking map (:func:`.plots_walking.walking_map_figure`)."""
+    import matplotlib
+
+    matplotlib.use("Agg")
+    from pasibot_pin.studies.walking_map import load_map
+    from pasibot_pin.viz.plots_walking import walking_map_figure
+
+    return _save(walking_map_figure(load_map()), path)
+
+
 DOCS_PICTURES = (
     (write_variants_figure, "variants.png"),
     (write_gait_gif, "gait.gif"),
@@ -132,6 +145,7 @@ DOCS_PICTURES = (
     (write_kinematics_figure, "kinematics.png"),
     (write_torques_figure, "torques.png"),
     (write_simulation_figure, "simulation.png"),
+    (write_walking_map_figure, "walking_map.png"),
 )
 """Every README picture and the function that draws it."""
 

@@ -1,0 +1,388 @@
+"""Does it walk? The answer of the walking map (docs/results/walking_map.csv) in numbers and words.
+
+:func:`walking_answer` reads the figures off a :class:`~pasibot_pin.studies.walking_map.WalkingMap`
+(which variants walk, the smallest walking sole at each speed, the fastest walker, the spring
+designs' failures, the least motor energy per metre); :func:`walking_paragraph` says them in one
+paragraph, the one ``docs/walking.md``, the README and the report quote (``tests/test_walking_map.py``
+checks the quotes); :func:`walking_markdown` is the rest of ``docs/walking.md``.
+
+Units: SI; soles over the crank length L; crank speed [rad/s].
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from collections.abc import Sequence
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from pasibot_pin.studies.walking_map import MapCell, WalkingMap
+
+
+@dataclass(frozen=True)
+class WalkingAnswer:
+    """The walking map's answer.
+
+    Attributes:
+        cells: designs in the map [-].
+        steps: steps each was asked to walk [-].
+        walkers: walkers per variant [-] (every variant, 0 included).
+        smallest_sole: per crank speed [rad/s], the smallest walking sole [L] and its variants
+            (speeds without a walker are absent).
+        fastest: the walker of the highest crank speed (then the smallest sole), or ``None``.
+        least_energy: the walker of the least motor energy per metre, or ``None``.
+        failures: per variant, the count of each failure outcome.
+        spring_details: the spring cells' failure details and their counts, most common first.
+        soles: the map's soles [L]; omegas: its crank speeds [rad/s].
+        spring_range: the fitted springs of the spring cells, in words (K_e [N.m/rad], beta0 [deg]).
+        spring_median_s: the median time the spring cells' failures were decided [s].
+        spring_by_speed: per crank speed, the spring cells' mean fitted K_e [N.m/rad] and commonest outcome.
+        twin_cells: cells the MuJoCo twin walked too [-]; twin_agree: of them, where both engines agree
+            that it walks or not [-]; twin_same: where the outcomes are the same [-].
+        twin_walkers: the twin's walkers, in words; twin_note: which cells the twin ran (``""``: all).
+
+    """
+
+    cells: int
+    steps: int
+    walkers: dict[str, int]
+    smallest_sole: dict[float, tuple[float, tuple[str, ...]]]
+    fastest: MapCell | None
+    least_energy: MapCell | None
+    failures: dict[str, dict[str, int]]
+    spring_details: list[tuple[str, int]] = field(default_factory=list)
+    soles: tuple[float, ...] = ()
+    omegas: tuple[float, ...] = ()
+    spring_range: str = ""
+    spring_median_s: float = math.nan
+    spring_by_speed: dict[float, tuple[float, str]] = field(default_factory=dict)
+    twin_cells: int = 0
+    twin_agree: int = 0
+    twin_same: int = 0
+    twin_walkers: tuple[str, ...] = ()
+    twin_note: str = ""
+
+
+def _detail_kind(detail: str) -> str:
+    """A failure detail without its numbers and side (``the left foot slid 5.6 mm`` -> ``a foot slid``)."""
+    words = [w for w in detail.replace("right", "").replace("left", "").split() if not any(c.isdigit() for c in w)]
+    return " ".join(words).replace("the foot", "a foot").replace("  ", " ")
+
+
+def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
+    """The figures of the answer, read off ``wmap``."""
+    walkers = wmap.walkers()
+    smallest: dict[float, tuple[float, tuple[str, ...]]] = {}
+    for omega in wmap.omegas:
+        here = [c for c in walkers if c.omega == omega]
+        if here:
+            sole = min(c.sole for c in here)
+            smallest[omega] = (sole, tuple(c.variant for c in here if c.sole == sole))
+    fastest = max(walkers, key=lambda c: (c.omega, -c.sole), default=None)
+    with_energy = [c for c in walkers if math.isfinite(c.energy_per_m_J)]
+    least = min(with_energy, key=lambda c: c.energy_per_m_J, default=None)
+    failed = [c for c in wmap.cells if not c.walks]
+    failures = {v: dict(Counter(c.outcome for c in failed if c.variant == v)) for v in wmap.variants}
+    spring = [c for c in wmap.cells if c.variant == "spring" and not c.walks]
+    details = Counter(f"{c.outcome}: {_detail_kind(c.detail)}" for c in spring).most_common()
+    k = [c.spring_stiffness for c in spring if math.isfinite(c.spring_stiffness)]
+    beta = [math.degrees(c.spring_rest_angle) for c in spring if math.isfinite(c.spring_rest_angle)]
+    spring_range = f"K_e {min(k):.0f}-{max(k):.0f} N.m/rad, beta0 {min(beta):.0f}-{max(beta):.0f} deg" if k else ""
+    times = sorted(c.decided_at_s for c in spring if math.isfinite(c.decided_at_s))
+    median = (times[(len(times) - 1) // 2] + times[len(times) // 2]) / 2 if times else math.nan
+    by_speed = {}
+    for omega in wmap.omegas:
+        here = [c for c in spring if c.omega == omega and math.isfinite(c.spring_stiffness)]
+        if here:
+            common = Counter(c.outcome for c in here).most_common(1)[0][0]
+            by_speed[omega] = (sum(c.spring_stiffness for c in here) / len(here), common)
+    return WalkingAnswer(
+        cells=len(wmap.cells),
+        steps=wmap.steps,
+        walkers={v: sum(c.variant == v for c in walkers) for v in wmap.variants},
+        smallest_sole=smallest,
+        fastest=fastest,
+        least_energy=least,
+        failures=failures,
+        spring_details=details,
+        soles=tuple(wmap.soles),
+        omegas=tuple(wmap.omegas),
+        spring_range=spring_range,
+        spring_median_s=median,
+        spring_by_speed=by_speed,
+        **_twin_figures(wmap),
+    )
+
+
+def _twin_figures(wmap: WalkingMap) -> dict:
+    """The MuJoCo twin's agreement with ours over the cells it walked."""
+    both = [c for c in wmap.cells if c.twin_outcome]
+    return {
+        "twin_cells": len(both),
+        "twin_agree": sum(c.walks == (c.twin_outcome == "walks") for c in both),
+        "twin_same": sum(c.outcome == c.twin_outcome for c in both),
+        "twin_walkers": tuple(_cell_text(c) for c in both if c.twin_outcome == "walks"),
+        "twin_note": wmap.twin_note,
+    }
+
+
+def _cell_text(c: MapCell) -> str:
+    return f"{c.variant}, sole {c.sole:g} L each side, {c.omega:g} rad/s"
+
+
+def _list(parts: list[str]) -> str:
+    return parts[0] if len(parts) == 1 else ", ".join(parts[:-1]) + " and " + parts[-1]
+
+
+def _counts(counts: dict[str, int]) -> str:
+    return _list([f"{n} {o}" for o, n in sorted(counts.items(), key=lambda kv: (-kv[1], kv[0]))])
+
+
+WHY: dict[str, str] = {
+    "fell": "the body tips over the stance ankle and nothing brings it back",
+    "rolled": "the ankle torque tips the foot onto its heel or toe: the centre of pressure leaves the sole",
+    "hopped": "the stiff, preloaded spring kicks the robot off the floor",
+    "slipped": "the stance foot slides more than the limit as the body pitches on the spring",
+    "stalled": "the feet scuff in place: the hip does not advance",
+}
+"""What each failure outcome of a spring design is, physically."""
+
+
+def toppling_stiffness_seed() -> float:
+    """Gravity's toppling stiffness about the stance ankle of the seed spring design, hip level [N.m/rad]."""
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.studies.spring_study import toppling_stiffness
+
+    return float(toppling_stiffness(design_robot(Design(), 2, visuals=False)))
+
+
+def _spring_sentence(a: WalkingAnswer) -> str:
+    """Whether a spring design walks and, if none does, how they fail and why."""
+    if "spring" not in a.walkers:
+        return ""
+    n_spring = a.walkers["spring"]
+    if n_spring:
+        return f"{n_spring} spring designs walk."
+    fails = a.failures.get("spring", {})
+    total = sum(fails.values())
+    k_g = toppling_stiffness_seed()
+    ranked = sorted(fails.items(), key=lambda kv: (-kv[1], kv[0]))
+    why = "; ".join(f"{o}: {WHY[o]}" for o, _n in ranked if o in WHY)
+    return (
+        f"No spring design walks (each with its fitted spring, {a.spring_range}): of its {total} cells, "
+        f"{_counts(fails)}, decided after {a.spring_median_s:.2f} s (median). Gravity's toppling stiffness about "
+        f"the stance ankle is {k_g:.0f} N.m/rad: the spring fitted with the hip held level is "
+        f"{_ends(a, k_g)} ({why}). A passive ankle spring holds the hip only at the posture it was fitted to, "
+        "while the linkage turns the ankle through the stance."
+    )
+
+
+def _ends(a: WalkingAnswer, k_g: float) -> str:
+    """The fitted spring over k_g at the slowest and fastest speeds, with the spring cells' commonest outcome there."""
+    parts = []
+    for omega in (min(a.omegas), max(a.omegas)):
+        k_e, outcome = a.spring_by_speed[omega]
+        parts.append(f"{k_e / k_g:.2f} times it at {omega:g} rad/s (mostly {outcome})")
+    return " and ".join(parts)
+
+
+def walking_paragraph(a: WalkingAnswer) -> str:
+    """The answer in one paragraph (quoted by docs/walking.md, the README and the report)."""
+    soles = f"{min(a.soles):g}-{max(a.soles):g} L"
+    omegas = f"{min(a.omegas):g}-{max(a.omegas):g} rad/s"
+    total = sum(a.walkers.values())
+    head = (
+        f"Walking map ({a.cells} designs: a symmetric sole of {soles} each side of the ankle x cranks at {omegas} x "
+        f"the {_list(list(a.walkers))} variants, {a.steps} steps each on the floor, the walking verdict): "
+        f"{total} designs walk ({_list([f'{n} {v}' for v, n in a.walkers.items()])})."
+    )
+    if not total:
+        return " ".join([head, _spring_sentence(a)]).strip()
+    by_speed = _list([f"{s:g} L at {w:g} rad/s ({'/'.join(vs)})" for w, (s, vs) in a.smallest_sole.items()])
+    f, e = a.fastest, a.least_energy
+    assert f is not None
+    speed = 8.0 * f.advance_per_step * f.omega / math.pi  # L/s: 8 L a step, a step every pi/omega
+    parts = [
+        head,
+        f"The smallest sole that walks: {by_speed}; no design walks at "
+        f"{_list([f'{w:g}' for w in a.omegas if w not in a.smallest_sole]) or 'no'} rad/s."
+        if len(a.smallest_sole) < len(a.omegas)
+        else f"The smallest sole that walks: {by_speed}.",
+        f"The fastest walker is {_cell_text(f)} ({speed:.1f} L/s of hip advance, "
+        f"max |hip pitch| {f.max_hip_pitch_deg:.1f} deg).",
+    ]
+    if e is not None:
+        parts.append(
+            f"The least motor energy per metre among walkers: {e.energy_per_m_J:.1f} J/m "
+            f"(cost of transport {e.cost_of_transport:.2f}), {_cell_text(e)}."
+        )
+    parts.append(_spring_sentence(a))
+    parts.append(_twin_sentence(a))
+    return " ".join(p for p in parts if p)
+
+
+def _twin_sentence(a: WalkingAnswer) -> str:
+    """How the MuJoCo twin's verdicts compare with ours (or why there are none)."""
+    if not a.twin_cells:
+        return f"The MuJoCo twin's column is empty ({a.twin_note})." if a.twin_note else ""
+    where = f" ({a.twin_note})" if a.twin_note else ""
+    walkers = f"; its walkers: {'; '.join(a.twin_walkers)}" if a.twin_walkers else "; it finds no walker there"
+    return (
+        f"The MuJoCo twin (the same verdict on the exported model) walked {a.twin_cells} of the cells{where}: "
+        f"it agrees with ours on whether the design walks in {a.twin_agree} and on the outcome in "
+        f"{a.twin_same}{walkers}."
+    )
+
+
+def _grid_table(wmap: WalkingMap, variant: str) -> list[str]:
+    """One variant's outcomes as a Markdown table: rows crank speed, columns sole."""
+    head = "| omega [rad/s] \\ sole [L] | " + " | ".join(f"{s:g}" for s in wmap.soles) + " |"
+    lines = [head, "|" + "---|" * (len(wmap.soles) + 1)]
+    for w in wmap.omegas:
+        cells = []
+        for s in wmap.soles:
+            c = wmap.cell(variant, s, w)
+            ours = "**walks**" if c.walks else f"{c.outcome} ({c.steps}, {c.decided_at_s:.1f} s)"
+            cells.append(f"{ours}; MuJoCo: {c.twin_outcome}" if c.twin_outcome else ours)
+        lines.append(f"| {w:g} | " + " | ".join(cells) + " |")
+    return lines
+
+
+def walking_markdown(wmap: WalkingMap) -> str:
+    """The map's tables (one per variant: the outcome, steps taken and when it was decided) and the walkers."""
+    lines: list[str] = []
+    for variant in wmap.variants:
+        lines += [f"#### {variant}", "", *_grid_table(wmap, variant), ""]
+    lines += [
+        "| walker | advance per step [% of 8 L] | max hip pitch [deg] | max slide [mm] | "
+        "cost of transport [-] | motor energy [J/m] |",
+        "|---|---|---|---|---|---|",
+    ]
+    for c in sorted(wmap.walkers(), key=lambda c: (c.variant, c.sole, c.omega)):
+        lines.append(
+            f"| {_cell_text(c)} | {100 * c.advance_per_step:.1f} | {c.max_hip_pitch_deg:.2f} | "
+            f"{c.max_slip_mm:.2f} | {c.cost_of_transport:.2f} | {c.energy_per_m_J:.1f} |"
+        )
+    return "\n".join(lines)
+
+
+ROOT = Path(__file__).resolve().parents[2]
+PARAGRAPH = ("<!-- walking answer: generated by pasibot_pin.report.walking_answer.walking_paragraph() -->",
+             "<!-- end walking answer -->")  # fmt: skip
+"""The markers around the quoted paragraph in docs/walking.md and README.md."""
+TABLES = ("<!-- walking tables: generated by pasibot_pin.report.walking_answer.walking_markdown() -->",
+          "<!-- end walking tables -->")  # fmt: skip
+"""The markers around the map's tables in docs/walking.md."""
+
+
+def replace_between(text: str, markers: tuple[str, str], body: str) -> str:
+    """``text`` with what lies between the two markers replaced by ``body`` (ValueError if a marker is missing)."""
+    start, end = markers
+    if start not in text or end not in text:
+        raise ValueError(f"no {start!r} ... {end!r} block")
+    head, rest = text.split(start, 1)
+    _old, tail = rest.split(end, 1)
+    return f"{head}{start}\n{body}\n{end}{tail}"
+
+
+def update_docs(wmap: WalkingMap | None = None) -> list[Path]:
+    """Write the generated blocks of docs/walking.md (paragraph, tables) and README.md (paragraph)."""
+    from pasibot_pin.files import write_text_atomic
+    from pasibot_pin.studies.walking_map import load_map
+
+    wmap = load_map() if wmap is None else wmap
+    paragraph = walking_paragraph(walking_answer(wmap))
+    doc, readme = ROOT / "docs" / "walking.md", ROOT / "README.md"
+    text = replace_between(doc.read_text(), PARAGRAPH, paragraph)
+    text = replace_between(text, TABLES, walking_markdown(wmap))
+    if SWEEP_CSV.is_file():
+        text = replace_between(text, SWEEP, sweep_paragraph(sweep_rows()))
+    write_text_atomic(doc, text)
+    write_text_atomic(readme, replace_between(readme.read_text(), PARAGRAPH, paragraph))
+    return [doc, readme]
+
+
+def main(argv: Sequence[str] | None = None) -> None:
+    """``make walking-map``: (``--compute``: the map on 2 workers, saved as CSV) the picture, designs/, the quotes."""
+    import argparse
+    import time
+
+    from pasibot_pin.report.designs_catalog import write_catalog
+    from pasibot_pin.studies.walking_map import MAP_CSV, MAP_PNG, compute_walking_map, load_map, save_map
+    from pasibot_pin.viz.plots_walking import save_walking_map_figure
+
+    parser = argparse.ArgumentParser(description="the walking map's files: CSV, picture, designs/, quoted answer")
+    parser.add_argument("--compute", action="store_true", help="walk every cell again first (about 30 min CPU)")
+    parser.add_argument("--workers", type=int, default=2, help="worker processes of --compute (default 2)")
+    args = parser.parse_args(argv)
+    if args.compute:
+        start = time.monotonic()
+        partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
+        wmap = compute_walking_map(workers=args.workers, partial=partial)
+        save_map(wmap)
+        partial.unlink()
+        cpu = sum(c.cpu_s for c in wmap.cells)
+        print(f"{MAP_CSV}: {len(wmap.cells)} cells, {time.monotonic() - start:.0f} s wall, {cpu:.0f} s CPU of walks")
+    wmap = load_map()
+    print(save_walking_map_figure(wmap, MAP_PNG, dpi=100))  # the README's resolution (report/docs_figures)
+    for written in [*write_catalog(wmap), *update_docs(wmap)]:
+        print(written)
+
+
+if __name__ == "__main__":
+    main()
+
+
+SWEEP_CSV = ROOT / "docs" / "results" / "walking_sweep.csv"
+"""The committed walking sweep (``pasibot sweep --floor 20 --n 200`` over the variants, omega and the soles)."""
+SWEEP = ("<!-- walking sweep: generated by pasibot_pin.report.walking_answer.sweep_paragraph() -->",
+         "<!-- end walking sweep -->")  # fmt: skip
+"""The markers around the sweep's paragraph in docs/walking.md."""
+
+
+def sweep_rows(path: Path = SWEEP_CSV) -> list[dict]:
+    """The sweep's rows as dicts of strings (the csv module: no pyarrow)."""
+    import csv
+
+    with open(path, newline="") as handle:
+        return list(csv.DictReader(handle))
+
+
+def fastest_sweep_design(rows: list[dict]):
+    """The :class:`~pasibot_pin.model.design.Design` of the sweep's fastest walker, and its row."""
+    from pasibot_pin.model.design import CHOICES, Design
+
+    walkers = [r for r in rows if r["floor_outcome"] == "walks"]
+    row = max(walkers, key=lambda r: float(r["omega"]))
+    names = [k for k in Design().values() if k in row]
+    values = {k: (row[k] if k in CHOICES else float(row[k]) if row[k] not in ("", "nan") else None) for k in names}
+    return Design.from_dict(values), row
+
+
+def sweep_paragraph(rows: list[dict]) -> str:
+    """The walking sweep in one paragraph: its walkers, the fastest, with asymmetric soles."""
+    from collections import Counter
+
+    walkers = [r for r in rows if r["floor_outcome"] == "walks"]
+    variants = Counter(r["variant"] for r in rows)
+    design, fast = fastest_sweep_design(rows)
+    speeds = sorted(float(r["omega"]) for r in walkers)
+    infeasible = Counter(r["failure"] for r in rows if r["failure"])
+    return (
+        f"A Latin-hypercube sweep of {len(rows)} designs ({_list([f'{n} {v}' for v, n in sorted(variants.items())])}; "
+        f"omega, foot_toe, foot_heel, parallel_toe and parallel_heel varied; 20 steps each, "
+        "`docs/results/walking_sweep.csv`) found "
+        f"{len(walkers)} walkers, all {_list(sorted({r['variant'] for r in walkers}))}, at "
+        f"{speeds[0]:.2f}-{speeds[-1]:.2f} rad/s. The fastest walks at {float(fast['omega']):.2f} rad/s on "
+        f"soles of {design.parallel_toe:.1f} L ahead and {design.parallel_heel:.1f} L behind the ankle "
+        f"(max |hip pitch| {float(fast['floor_max_hip_pitch_deg']):.1f} deg, "
+        f"{float(fast['floor_energy_per_m_J']):.0f} J/m; `docs/results/fastest_sweep_walker.toml`; the map's soles "
+        "are symmetric). "
+        + (
+            f"{_counts(dict(infeasible))} designs were not walked: the inverse dynamics with the hip held level "
+            "rejects them first (`design_metrics`)."
+            if infeasible
+            else ""
+        )
+    ).strip()

@@ -1,0 +1,206 @@
+"""The walking map, its answer and the found designs: the committed table re-simulates, the docs quote the code.
+
+The map's table (docs/results/walking_map.csv) records 20-step verdicts. A cell that fails stops at
+its failure, so re-simulating it with the same 20 steps is cheap and must give the same outcome, steps
+and time. A walker re-simulated for fewer steps runs the same trajectory up to its last step: it must
+walk those steps, with a hip pitch no larger than the 20-step run's largest. The full 20-step check of
+every committed design is ``python -m pasibot_pin.report.designs_catalog --check`` (offline, minutes).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from pathlib import Path
+
+import pytest
+
+from pasibot_pin.model.design import load_design
+from pasibot_pin.report.designs_catalog import DESIGNS_DIR, catalog_markdown, pick_designs
+from pasibot_pin.report.walking_answer import walking_answer, walking_markdown, walking_paragraph
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking_map import (
+    MAP_CSV,
+    MapCell,
+    WalkingMap,
+    load_map,
+    map_design,
+    save_map,
+)
+
+ROOT = Path(__file__).resolve().parents[1]
+SHORT_STEPS = 4
+"""Steps of a walker's re-simulation here (the advance band needs 3) [-]."""
+
+
+@pytest.fixture(scope="module")
+def wmap() -> WalkingMap:
+    return load_map()
+
+
+def raw_rows() -> list[dict]:
+    """The committed table read with the csv module alone (an independent reading)."""
+    lines = MAP_CSV.read_text().splitlines()
+    return list(csv.DictReader(line for line in lines if not line.startswith("#")))
+
+
+def resimulate(cell: MapCell, steps: int):
+    return walk_design(map_design(cell.variant, cell.sole, cell.omega), WalkSettings(steps=steps)).verdict
+
+
+def check_cell(cell: MapCell, steps: int) -> None:
+    """A failure re-simulates to its outcome, steps and time; a walker walks its first steps no worse."""
+    if cell.walks:
+        v = resimulate(cell, SHORT_STEPS)
+        assert v.outcome == "walks" and v.steps == SHORT_STEPS
+        assert math.degrees(v.max_hip_pitch) <= cell.max_hip_pitch_deg + 1e-9
+    else:
+        v = resimulate(cell, steps)
+        assert (v.outcome, v.steps) == (cell.outcome, cell.steps)
+        assert v.decided_at == pytest.approx(cell.decided_at_s, abs=1e-9)
+
+
+def test_map_design_makes_a_symmetric_sole_on_the_variant_s_own_foot():
+    p = map_design("parallel", 4.5, 2.0)
+    assert (p.variant, p.parallel_toe, p.parallel_heel, p.omega) == ("parallel", 4.5, 4.5, 2.0)
+    for variant in ("rigid", "spring"):
+        d = map_design(variant, 6.0, 1.0)
+        assert (d.variant, d.foot_toe, d.foot_heel, d.omega) == (variant, 6.0, 6.0, 1.0)
+        assert d.spring_stiffness is None  # the spring variant keeps its fitted spring
+
+
+def test_csv_round_trip(tmp_path, wmap):
+    path = save_map(wmap, tmp_path / "map.csv")
+    again = load_map(path)
+    assert again.steps == wmap.steps and again.twin_note == wmap.twin_note
+    for a, b in zip(again.cells, wmap.cells):
+        for name, x in vars(a).items():
+            y = getattr(b, name)
+            assert x == y or (isinstance(x, float) and math.isnan(x) and math.isnan(y)), name
+
+
+def test_committed_map_covers_the_grid(wmap):
+    rows = raw_rows()
+    keys = {(r["variant"], float(r["sole"]), float(r["omega"])) for r in rows}
+    assert len(keys) == len(rows) == len(wmap.variants) * len(wmap.soles) * len(wmap.omegas)
+    assert wmap.steps == 20
+    from pasibot_pin.dynamics.verdict import OUTCOMES
+
+    assert {r["outcome"] for r in rows} <= {*OUTCOMES, "infeasible"}
+
+
+def test_answer_figures_match_an_independent_count(wmap):
+    """Which variants walk, the smallest sole per speed, the fastest and least-energy walkers, from the raw rows."""
+    a = walking_answer(wmap)
+    rows = raw_rows()
+    walkers = [r for r in rows if r["outcome"] == "walks"]
+    for variant, n in a.walkers.items():
+        assert n == sum(r["variant"] == variant for r in walkers)
+    for omega, (sole, variants) in a.smallest_sole.items():
+        here = [r for r in walkers if float(r["omega"]) == omega]
+        assert sole == min(float(r["sole"]) for r in here)
+        assert set(variants) == {r["variant"] for r in here if float(r["sole"]) == sole}
+    if walkers:
+        assert a.fastest.omega == max(float(r["omega"]) for r in walkers)
+        assert a.least_energy.energy_per_m_J == min(float(r["energy_per_m_J"]) for r in walkers)
+    spring_fails = [r for r in rows if r["variant"] == "spring" and r["outcome"] != "walks"]
+    assert sum(a.failures.get("spring", {}).values()) == len(spring_fails)
+
+
+def test_docs_and_readme_quote_the_answer(wmap):
+    paragraph = walking_paragraph(walking_answer(wmap))
+    assert paragraph in (ROOT / "docs" / "walking.md").read_text()
+    assert paragraph in (ROOT / "README.md").read_text()
+    assert walking_markdown(wmap) in (ROOT / "docs" / "walking.md").read_text()
+
+
+def test_a_sample_of_cells_re_simulates_to_the_table(wmap):
+    """Every variant's first failing cell at the fastest speed, and the fastest walker (fewer steps)."""
+    fast = max(wmap.omegas)
+    picked = []
+    for variant in wmap.variants:
+        fails = [c for c in wmap.cells if c.variant == variant and c.omega == fast and not c.walks]
+        picked += fails[:1]
+    a = walking_answer(wmap)
+    if a.fastest is not None:
+        picked.append(a.fastest)
+    for cell in picked:
+        check_cell(cell, wmap.steps)
+
+
+def test_designs_folder_is_the_catalog_of_the_map(wmap):
+    entries = pick_designs(wmap)
+    assert (DESIGNS_DIR / "README.md").read_text() == catalog_markdown(entries, wmap.steps)
+    assert sorted(p.stem for p in DESIGNS_DIR.glob("*.toml")) == sorted(e.name for e in entries)
+    for e in entries:
+        assert load_design(DESIGNS_DIR / f"{e.name}.toml") == e.design
+        assert (DESIGNS_DIR / f"{e.name}.png").stat().st_size > 1000
+
+
+@pytest.mark.parametrize("k", range(5))
+def test_each_committed_design_re_simulates_to_its_row(wmap, k):
+    entries = pick_designs(wmap)
+    if k >= len(entries):
+        pytest.skip(f"{len(entries)} designs committed")
+    e = entries[k]
+    design = load_design(DESIGNS_DIR / f"{e.name}.toml")
+    assert design == map_design(e.cell.variant, e.cell.sole, e.cell.omega)
+    check_cell(e.cell, wmap.steps)
+
+
+def test_walking_map_figure_has_a_panel_per_variant_with_units(wmap):
+    import matplotlib.pyplot as plt
+
+    from pasibot_pin.viz.plots_walking import plot_walking_map, walking_map_figure
+
+    fig = walking_map_figure(wmap)
+    axes = [ax for ax in fig.axes if ax.get_title()]
+    assert [ax.get_title().split(":")[0] for ax in axes] == wmap.variants
+    for ax in axes:
+        assert "[L]" in ax.get_xlabel() and "[rad/s]" in ax.get_ylabel()
+    plt.close(fig)
+    one = plot_walking_map(wmap, wmap.variants[0])
+    assert one.axes[0].get_title().startswith(wmap.variants[0])
+    plt.close(one)
+
+
+def test_an_interrupted_map_resumes_from_its_partial_file(tmp_path, monkeypatch):
+    """A one-cell map streams its cell to the partial CSV; run again, it walks nothing and gives the same cell."""
+    from pasibot_pin.studies import walking_map
+
+    partial = tmp_path / "partial.csv"
+    grid = {"soles": (1.5,), "omegas": (8.0,), "variants": ("rigid",), "workers": 1, "progress": False}
+    first = walking_map.compute_walking_map(**grid, partial=partial)
+    assert len(partial.read_text().splitlines()) == 2  # header, one cell
+    monkeypatch.setattr(walking_map, "walk_cell", lambda *a: pytest.fail("walked again"))
+    again = walking_map.compute_walking_map(**grid, partial=partial)
+    assert [c.outcome for c in again.cells] == [c.outcome for c in first.cells]
+    assert again.cells[0].decided_at_s == first.cells[0].decided_at_s
+
+
+def test_the_twin_column_re_simulates_in_mujoco(wmap):
+    """Where the twin ran, its outcome is walk_in_mujoco's (the first failing cell at the fastest speed)."""
+    from pasibot_pin.studies.walking_map import twin_walker
+
+    ran = [c for c in wmap.cells if c.twin_outcome and c.twin_outcome != "walks"]
+    walker = twin_walker()
+    if not ran or walker is None:
+        pytest.skip(wmap.twin_note or "no twin")
+    cell = max(ran, key=lambda c: (c.omega, -c.sole))
+    v = walker(map_design(cell.variant, cell.sole, cell.omega), WalkSettings(steps=wmap.steps)).verdict
+    assert (v.outcome, float(v.steps)) == (cell.twin_outcome, cell.twin_steps)
+
+
+def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
+    """The sweep's paragraph is in docs/walking.md; its fastest walker, re-simulated for fewer steps, walks."""
+    from pasibot_pin.report.walking_answer import fastest_sweep_design, sweep_paragraph, sweep_rows
+
+    rows = sweep_rows()
+    assert sweep_paragraph(rows) in (ROOT / "docs" / "walking.md").read_text()
+    design, row = fastest_sweep_design(rows)
+    assert float(row["omega"]) == max(float(r["omega"]) for r in rows if r["floor_outcome"] == "walks")
+    assert load_design(ROOT / "docs" / "results" / "fastest_sweep_walker.toml") == design
+    v = walk_design(design, WalkSettings(steps=SHORT_STEPS)).verdict
+    assert v.outcome == "walks" and v.steps == SHORT_STEPS
+    # the design comes back from CSV text (its floats rounded in the last digits): the walk agrees to round-off
+    assert math.degrees(v.max_hip_pitch) <= float(row["floor_max_hip_pitch_deg"]) + 1e-3
