@@ -31,18 +31,33 @@ def _walk_line(name: str, design, settings) -> str:
 
 
 def walking_answer_lines() -> list[str]:
-    """Does it walk? One Markdown bullet per design, each its verdict on the floor (``walk_design``).
+    """Does it walk? The walking map's headline (the committed table), then two designs walked now.
 
-    For now: a parallel design whose sole reaches 4.5 L ahead of and behind joint 13, and the
-    seed's parallel design, both at 2 rad/s, judged over 4 steps (:class:`WalkSettings`).
+    The map: every variant, the same sole ahead of and behind the ankle, over crank speeds, each
+    design asked to walk its 20 steps (:mod:`pasibot_pin.studies.walking_map`, ``make walking-map``).
+    Then a parallel design whose sole reaches 4.5 L ahead of and behind joint 13, and the seed's
+    parallel design, both at 2 rad/s, judged over 4 steps (:class:`WalkSettings`).
     """
     from pasibot_pin.model.design import Design
+    from pasibot_pin.report.walking_answer import walking_answer
     from pasibot_pin.studies.walking import WalkSettings
+    from pasibot_pin.studies.walking_map import load_map
 
+    a = walking_answer(load_map())
+    walking = [f"{v} ({n})" for v, n in a.walkers.items() if n]
+    smallest = ", ".join(f"{sole:g} L at {omega:g} rad/s" for omega, (sole, _) in sorted(a.smallest_sole.items()))
+    head = (
+        f"- Across the walking map ({a.cells} designs, {a.steps} steps each): walkers by variant "
+        f"{', '.join(walking) or 'none'}; no {' or '.join(v for v, n in a.walkers.items() if not n)} design walks. "
+        f"Smallest walking sole: {smallest}."
+    )
+    if a.fastest is not None:
+        head += f" Fastest: {a.fastest.variant}, {a.fastest.sole:g} L soles, {a.fastest.omega:g} rad/s."
     settings = WalkSettings(steps=4)
     wide = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
     seed = Design(variant="parallel", omega=2.0)
     return [
+        head,
         "- " + _walk_line("A long sole", wide, settings),
         "- " + _walk_line("The seed's sole", seed, settings),
     ]

@@ -11,6 +11,7 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from pasibot_pin.explore.plan import Range
 from pasibot_pin.model.design import Design
 
 COLUMNS: tuple[tuple[str, str, float, str], ...] = (
@@ -159,7 +160,9 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
     from pasibot_pin.model.design import SPECS
 
     units = {r.name: "" if SPECS[r.name].unit == "-" else f" {SPECS[r.name].unit}" for r in plan.ranges}
-    names = ", ".join(f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges)
+    names = ", ".join(
+        f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges if isinstance(r, Range)
+    )
     counts = ", ".join(f"{n} {o}" for o, n in sorted(a.outcomes.items(), key=lambda kv: (-kv[1], kv[0])))
     pitch = math.degrees(GaitCriteria().max_hip_pitch)
     head = (

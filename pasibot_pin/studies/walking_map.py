@@ -28,6 +28,7 @@ import time
 from collections.abc import Sequence
 from dataclasses import asdict, dataclass, fields
 from pathlib import Path
+from typing import Any
 
 from pasibot_pin.model.design import Design
 
@@ -170,7 +171,7 @@ def map_design(variant: str, sole: float, omega: float, base: Design | None = No
 def twin_walker():
     """``walk_in_mujoco`` of the MuJoCo twin, or ``None`` when it is not installed."""
     try:
-        from pasibot_pin.studies.mujoco_walk import walk_in_mujoco  # type: ignore[import-not-found]
+        from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
     except ImportError:
         return None
     return walk_in_mujoco
@@ -331,7 +332,8 @@ def compute_walking_map(
     jobs = [Job(_estimate(k[2], steps), k, walk_cell, (*k, steps, twin)) for k in todo]  # slow walks first
     bar = _progress_bar(len(keys), len(keys) - len(todo), progress)
 
-    def on_result(_key, cell: MapCell) -> None:
+    def on_result(_key: object, cell: object) -> None:
+        assert isinstance(cell, MapCell)
         done[(cell.variant, cell.sole, cell.omega)] = cell
         if partial is not None:
             _append_cell(Path(partial), cell)
@@ -370,7 +372,7 @@ def _read_cells(lines: Sequence[str]) -> list[MapCell]:
     types = {f.name: f.type for f in fields(MapCell)}
     cells = []
     for row in csv.DictReader(lines):
-        values = {}
+        values: dict[str, Any] = {}
         for k, text in row.items():  # a column absent from an older file keeps its default
             kind = types[k]
             values[k] = text if kind == "str" else int(text) if kind == "int" else float(text)
