@@ -61,6 +61,7 @@ LONGEST_FIRST = (
     "tests/test_gait_stability.py",  # the shot gait: a warm-up walk and seven step-map runs
     "tests/test_walking.py",  # the walker with one motor and with two, every variant on the floor
     "tests/test_mujoco_walk.py",  # the twin: three steps in each engine
+    "tests/test_designs_twin.py",  # every committed design in both engines
     "tests/test_floor_static.py",  # its module fixtures: the quasi-static study of runs 1-4
     "tests/test_energy.py::test_analyze_step_contact_energy",
     "tests/test_floor.py::test_analyze_floor_section",
