@@ -45,8 +45,9 @@ MAP_STEPS: int = 20
 """Steps each cell is asked to walk (the verdict's default) [-]."""
 
 RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
-MAP_CSV = RESULTS_DIR / "walking_map.csv"
-"""The committed map (a source checkout)."""
+_PACKAGED = Path(__file__).resolve().parents[1] / "results" / "walking_map.csv"
+MAP_CSV = _PACKAGED if _PACKAGED.is_file() else RESULTS_DIR / "walking_map.csv"
+"""The committed map: the wheel's copy (pyproject's force-include), else the source checkout's docs/results."""
 MAP_PNG = RESULTS_DIR.parent / "walking_map.png"
 """The committed picture of the map."""
 
