@@ -1,10 +1,10 @@
 """Every committed design in designs/ gives the same walking outcome in MuJoCo, on our own export.
 
 Both engines start from the same consistent state, turn the cranks on the same schedule and feed
-the same verdict (`dynamics/verdict.py`). Walkers are compared over 3 steps here (the fewest whose verdict can be walks) (the committed
-table is their 20-step verdict, checked by `test_walking_map.py`): the same outcome, steps within
-one, the hip's advance within 5 %, the largest hip pitch within 2 deg. A non-walker must fail the
-same way in both.
+the same verdict (`dynamics/verdict.py`). Walkers are compared over 3 steps here (the fewest whose
+verdict can be walks; the committed table is their 20-step verdict, checked by
+`test_walking_map.py`): the same outcome, steps within one, the hip's advance within 5 %, the
+largest hip pitch within 2 deg. A non-walker must fail the same way in both.
 """
 
 import math

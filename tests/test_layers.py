@@ -21,6 +21,7 @@ LAYERS: dict[str, int] = {
     "net": 0,
     "extras": 0,
     "jobs": 0,
+    "progress": 0,
     "constraints": 1,
     "model": 2,
     "kinematics": 3,

@@ -226,7 +226,8 @@ def run_optimize(
     import optuna
 
     from pasibot_pin.explore.executors import check_workers, run_tasks
-    from pasibot_pin.explore.sweep import _progress, evaluate_designs, floor_columns
+    from pasibot_pin.explore.sweep import evaluate_designs, floor_columns
+    from pasibot_pin.progress import progress_bar
 
     workers = check_workers(workers)
     folder = Path(folder)
@@ -247,7 +248,7 @@ def run_optimize(
     inside = all(_inside(r, v) for r, v in zip(plan.ranges, base_values.values()))
     if not study.trials and inside:
         study.enqueue_trial(base_values)  # trial 0 is the base design: the front is never worse than it
-    bar = _progress(plan.trials, done_before, progress)
+    bar = progress_bar(plan.trials, done_before, progress)
     base = plan.base.to_dict()
 
     ids: dict[int, int] = {}  # trial number -> storage id

@@ -10,7 +10,6 @@ sensitivity map; :func:`export_best` writes the best designs as design files, UR
 from __future__ import annotations
 
 import math
-import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +18,7 @@ import numpy as np
 
 from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column
+from pasibot_pin.progress import progress_bar
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import (
     pareto_mask,  # noqa: F401 (re-exported)
@@ -135,7 +135,7 @@ def run_sweep(
     )
     todo = [(i, plan.values(row)) for i, row in enumerate(points) if i not in store.done]
     tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor) for k in range(0, len(todo), chunk)]
-    bar = _progress(len(points), len(points) - len(todo), progress)
+    bar = progress_bar(len(points), len(points) - len(todo), progress)
 
     def on_result(rows: list[dict]) -> None:
         store.add(rows)
@@ -153,33 +153,6 @@ def run_sweep(
     if todo or not results.is_file() or (csv and not (Path(folder) / RESULTS_CSV).is_file()):
         results = store.finish(csv=csv)  # a complete run's table is never rewritten
     return SweepResult(Path(folder), plan, store.table(), len(todo), results)
-
-
-class _PlainProgress:
-    """The progress bar without tqdm: one ``done/total designs`` line on stderr per tenth of the run."""
-
-    def __init__(self, total: int, done: int, enabled: bool):
-        self.total, self.done, self.enabled = total, done, enabled
-        self.shown = -1
-
-    def update(self, n: int = 1) -> None:
-        self.done += n
-        tenth = 10 * self.done // max(self.total, 1)
-        if self.enabled and tenth != self.shown:
-            self.shown = tenth
-            print(f"{self.done}/{self.total} designs", file=sys.stderr, flush=True)
-
-    def close(self) -> None:
-        pass
-
-
-def _progress(total: int, done: int, enabled: bool):
-    """A progress bar over ``total`` designs, ``done`` already: tqdm's if installed, else :class:`_PlainProgress`."""
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        return _PlainProgress(total, done, enabled)
-    return tqdm(total=total, initial=done, unit="design", disable=not enabled, smoothing=0.1, dynamic_ncols=True)
 
 
 # --------------------------------------------------------------------------- after the run

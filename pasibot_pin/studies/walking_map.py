@@ -31,6 +31,7 @@ from pathlib import Path
 from typing import Any
 
 from pasibot_pin.model.design import Design
+from pasibot_pin.progress import progress_bar
 
 SOLES: tuple[float, ...] = (1.5, 3.0, 4.5, 6.0, 8.0, 10.0)
 """Sole extents on each side of the ankle [L]."""
@@ -229,23 +230,6 @@ def walk_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS, t
     return replace(cell, twin_outcome=mujoco.outcome, twin_steps=float(mujoco.steps), twin_detail=mujoco.detail)
 
 
-class _NoBar:
-    def update(self, n: int = 1) -> None:
-        pass
-
-    def close(self) -> None:
-        pass
-
-
-def _progress_bar(total: int, done: int, enabled: bool):
-    """A progress bar over ``total`` walks (``done`` already): tqdm's, or none without tqdm."""
-    try:
-        from tqdm.auto import tqdm
-    except ImportError:
-        return _NoBar()
-    return tqdm(total=total, initial=done, unit="walk", disable=not enabled, dynamic_ncols=True)
-
-
 def twin_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS) -> tuple[tuple, str, float, str]:
     """The MuJoCo twin's walk of one cell: (key, outcome, steps, detail); runs in a worker."""
     from pasibot_pin.studies.walking import WalkSettings
@@ -271,7 +255,7 @@ def add_twin(wmap: WalkingMap, min_omega: float = 0.0, workers: int = 2, progres
     jobs = [Job(_estimate(c.omega, wmap.steps), (c.variant, c.sole, c.omega), twin_cell,
                 (c.variant, c.sole, c.omega, wmap.steps)) for c in todo]  # fmt: skip
     found: dict[tuple, tuple] = {}
-    bar = _progress_bar(len(jobs), 0, progress)
+    bar = progress_bar(len(jobs), 0, progress, unit="walk")
 
     def on_result(_key, result) -> None:
         found[result[0]] = result[1:]
@@ -331,7 +315,7 @@ def compute_walking_map(
         done = {(c.variant, c.sole, c.omega): c for c in _read_cells(Path(partial).read_text().splitlines())}
     todo = [k for k in keys if k not in done]
     jobs = [Job(_estimate(k[2], steps), k, walk_cell, (*k, steps, twin)) for k in todo]  # slow walks first
-    bar = _progress_bar(len(keys), len(keys) - len(todo), progress)
+    bar = progress_bar(len(keys), len(keys) - len(todo), progress, unit="walk")
 
     def on_result(_key: object, cell: object) -> None:
         assert isinstance(cell, MapCell)
