@@ -87,18 +87,27 @@ def run(args: argparse.Namespace) -> int:
     settings = WalkSettings(steps=steps, mu=args.mu)
     robot = design_robot(design, 2, visuals=html is not None)
     walk = walk_design(design, settings, robot)
-    stability = None
-    if args.stability:
+    stability, no_gait = None, ""
+    if args.stability and not walk.verdict.walks:
+        no_gait = f"stability: no periodic gait to linearise (the design {walk.verdict.outcome})"
+    elif args.stability:
+        from pasibot_pin.errors import NoFixedPointError
         from pasibot_pin.studies.gait_stability import gait_stability
 
-        stability = gait_stability(design, walk, robot=robot)
+        try:
+            stability = gait_stability(design, walk, robot=robot)
+        except NoFixedPointError as err:  # an outcome, not a failure of the command
+            no_gait = f"stability: no fixed point near the walk ({err})"
     if args.json:
-        print(json.dumps(verdict_json(walk, stability)), flush=True)
+        out = verdict_json(walk, stability)
+        if args.stability and stability is None:
+            out.update(multipliers=None, stable=False, stability_note=no_gait)
+        print(json.dumps(out), flush=True)
     else:
         for line in walk_lines(walk):
             print(line, flush=True)
-        if stability is not None:
-            print(stability.summary(), flush=True)
+        if args.stability:
+            print(stability.summary() if stability is not None else no_gait, flush=True)
     for path in write_walk_animation(walk, robot, html, gif):
         if not args.json:
             print(f"wrote {path}")

@@ -30,7 +30,7 @@ import numpy as np
 from pasibot_pin.constraints import coordinate
 from pasibot_pin.dynamics.floor import FloorSimulator
 from pasibot_pin.dynamics.simulator import ankle_indices
-from pasibot_pin.errors import DivergedError, ParameterError
+from pasibot_pin.errors import DivergedError, NoFixedPointError, ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z
 from pasibot_pin.studies.poincare import BasinEstimate, FixedPoint, basin_estimate, find_fixed_point
 
@@ -198,7 +198,7 @@ def section_state(gait_map: GaitMap, walk) -> tuple[np.ndarray, np.ndarray]:
     """The state at the last section of ``walk`` (right crank at mid-stance), and its q (a Newton guess).
 
     Raises:
-        ParameterError: the walk did not reach a section after its ramp.
+        NoFixedPointError: the walk did not reach a section after its ramp (it failed first).
 
     """
     result, omega = walk.result, walk.omega
@@ -207,7 +207,7 @@ def section_state(gait_map: GaitMap, walk) -> tuple[np.ndarray, np.ndarray]:
     after_ramp = result.t > walk.settings.crank_ramp
     crossing = np.flatnonzero(after_ramp[1:] & (np.floor(turns[1:]) > np.floor(turns[:-1]))) + 1
     if not len(crossing):
-        raise ParameterError("the walk reached no section (right crank at mid-stance) after its ramp")
+        raise NoFixedPointError("no gait to shoot: the walk reached no section (right crank at mid-stance) after the ramp")
     k = int(crossing[-1])
     return gait_map.state(result.q[k], result.v[k]), result.q[k]
 
