@@ -207,7 +207,7 @@ def section_state(gait_map: GaitMap, walk) -> tuple[np.ndarray, np.ndarray]:
     after_ramp = result.t > walk.settings.crank_ramp
     crossing = np.flatnonzero(after_ramp[1:] & (np.floor(turns[1:]) > np.floor(turns[:-1]))) + 1
     if not len(crossing):
-        raise NoFixedPointError("no gait to shoot: the walk reached no section (right crank at mid-stance) after the ramp")
+        raise NoFixedPointError("no gait to shoot: the walk reached no section (right crank at mid-stance)")
     k = int(crossing[-1])
     return gait_map.state(result.q[k], result.v[k]), result.q[k]
 
