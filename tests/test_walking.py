@@ -124,3 +124,11 @@ def test_simulate_on_the_floor_takes_every_variant_and_motor_layout(tmp_path, ca
         assert "floor, design" in out and "steps" in out
         header = (tmp_path / variant / "floor_design.csv").read_text().splitlines()[0]
         assert ("motor_crank_torque" in header) == (motors == "one")
+
+
+def test_walk_stability_of_a_design_that_falls_is_an_outcome_not_an_error(capsys):
+    """--stability on a design that does not walk: the command succeeds and says there is no gait."""
+    argv = ["walk", "--variant", "parallel", "--omega", "2", "--steps", "3", "--stability", "--json"]
+    assert main(argv) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["outcome"] != "walks" and out["multipliers"] is None and out["stable"] is False
