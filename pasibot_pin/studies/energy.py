@@ -41,7 +41,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.kinematics.gait import stride_advance
-from pasibot_pin.model.coordinates import other
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, other
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
@@ -230,7 +230,11 @@ def _step_energy(robot: PasibotRobot, result, weights, omega, variant, fit=None)
             }
     energies = [sum(mechanical_energy(robot, result.q[i], result.v[i])) for i in (0, -1)]
     mass = total_mass(robot)
-    distance = stride_advance(robot)  # per step, over a whole stride: the body's rocking cancels
+    distance = float(result.q[-1][HIP_X] - result.q[0][HIP_X])
+    if abs(result.q[-1][HIP_PITCH] - result.q[0][HIP_PITCH]) > 1e-9:
+        # the body rocks within the step (a rigid foot, square to its shank): the step's own hip
+        # travel is not its advance; measure it over a whole stride, where the rocking cancels
+        distance = stride_advance(robot)
     weight_distance = mass * GRAVITY * distance
     cot = {
         "motors": crank[1] / weight_distance,
