@@ -26,7 +26,7 @@ def test_the_fixed_point_maps_onto_itself_and_the_gait_is_stable(shot):
     point = stability.fixed_point
     assert point.residual <= StabilitySettings().tol
     gait_map = GaitMap(robot, walk.settings)
-    gait_map._guess = section_state(gait_map, walk)[1]
+    gait_map.guess = section_state(gait_map, walk)[1]
     again = gait_map(point.x)  # an independent evaluation of the map at x*
     assert np.max(np.abs(again - point.x)) <= 10 * StabilitySettings().tol
     assert stability.stable and len(stability.multipliers) == gait_map.size == 5
@@ -40,7 +40,7 @@ def test_the_dominant_multiplier_predicts_the_decay_of_a_kick_in_direct_simulati
     robot, walk, stability = shot
     point = stability.fixed_point
     gait_map = GaitMap(robot, walk.settings)
-    gait_map._guess = section_state(gait_map, walk)[1]
+    gait_map.guess = section_state(gait_map, walk)[1]
     kick = np.zeros(point.x.size)
     kick[4] = 0.01  # hip pitch rate [rad/s]
     after = gait_map(point.x + kick) - point.x

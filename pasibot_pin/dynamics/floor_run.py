@@ -92,6 +92,7 @@ class FloorResult:
             with the cranks held (no walk to judge) and ``diverged`` if a held run broke.
         failed: True when the outcome is a failure (:data:`~pasibot_pin.dynamics.verdict.FAILURES`).
         stop_reason: why the run ended, in words (a failure and its time, or the run's length).
+        stopped: the run ended early on a failure (a step that broke, a fall, a roll, a slip) [-].
         verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict` (``None`` with the cranks held).
         start: the consistent start it began from (``None`` for a given or ``flat`` start).
         start_kind: ``flat`` (geometric double support), ``settled`` (:meth:`FloorSimulator.start_state`)
@@ -114,6 +115,7 @@ class FloorResult:
     outcome: str = ""
     failed: bool = False
     stop_reason: str = ""
+    stopped: bool = False
     verdict: Verdict | None = None
     start: StartState | None = None
     start_kind: str = ""
@@ -274,6 +276,7 @@ class RunLog:
             outcome=outcome,
             failed=failed,
             stop_reason=self.stop_reason or f"ran {t_end:.3f} s",
+            stopped=bool(self.stop_reason),
             verdict=verdict,
             start=begin,
             start_kind=start_kind,

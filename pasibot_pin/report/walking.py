@@ -26,20 +26,26 @@ def walk_frames(result, fps: float) -> np.ndarray:
     return np.clip(np.searchsorted(result.t, times), 0, max(len(result.t) - 1, 0))
 
 
-def floor_force_tracks(sim, result, index: np.ndarray) -> dict:
-    """One :class:`~pasibot_pin.viz.viewer.ForceTrack` per foot: its floor force at its centre of pressure."""
+def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
+    """One :class:`~pasibot_pin.viz.viewer.ForceTrack` per foot: its floor force at its centre of pressure.
+
+    The heel and toe points of every frame are evaluated in one batch (:func:`~pasibot_pin.constraints.frame_rows`).
+    """
+    from pasibot_pin.constraints import frame_rows
+    from pasibot_pin.dynamics.floor import POINTS
     from pasibot_pin.viz.viewer import ForceTrack
 
+    frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
+    xz = frame_rows(robot.model, frames, range(len(frames))).positions(result.q[index])  # (N, 4) x + i z [m]
     tracks = {}
     for i, side in enumerate(SIDES):
-        points, forces = np.zeros((len(index), 3)), np.zeros((len(index), 3))
-        for row, k in enumerate(index):
-            gap, along, *_ = sim.contact_rows(result.q[k])
-            fn, ft = result.normal[k, 2 * i : 2 * i + 2], result.tangential[k, 2 * i : 2 * i + 2]
-            total = float(fn.sum())
-            weights = fn / total if total > 0 else np.array([0.5, 0.5])
-            points[row] = (float(weights @ along[2 * i : 2 * i + 2]), 0.0, float(weights @ gap[2 * i : 2 * i + 2]))
-            forces[row] = (float(ft.sum()), 0.0, total)
+        feet = slice(2 * i, 2 * i + 2)
+        fn, ft = result.normal[index, feet], result.tangential[index, feet]
+        total = fn.sum(axis=1)
+        weights = np.where(total[:, None] > 0, fn / np.where(total > 0, total, 1.0)[:, None], 0.5)
+        cop = np.sum(weights * xz[:, feet], axis=1)
+        points = np.column_stack((cop.real, np.zeros(len(index)), cop.imag))
+        forces = np.column_stack((ft.sum(axis=1), np.zeros(len(index)), total))
         tracks[f"{side} foot"] = ForceTrack(points, forces, FORCE_SCALE)
     return tracks
 
@@ -61,14 +67,12 @@ def write_walk_animation(
         The files written.
 
     """
-    from pasibot_pin.dynamics.floor import FloorSimulator
     from pasibot_pin.files import atomic_path
 
     result = walk.result
     index = walk_frames(result, fps)
     qs, times = result.q[index], result.t[index]
-    sim = FloorSimulator(robot, walk.settings)
-    forces = floor_force_tracks(sim, result, index)
+    forces = floor_force_tracks(robot, result, index)
     modes = {side: [result.modes[side][k] for k in index] for side in SIDES}
     title = f"{robot.variant} on the floor, {walk.omega:g} rad/s: {walk.verdict.short()}"
     written = []

@@ -78,11 +78,13 @@ class GaitMap:
     Args:
         robot: the design's two-legged robot.
         floor: the walk's :class:`~pasibot_pin.dynamics.floor.FloorSettings`.
+        guess: a configuration near the section (Newton's start when a state is made whole).
 
     """
 
-    def __init__(self, robot, floor) -> None:
+    def __init__(self, robot, floor, guess: np.ndarray | None = None) -> None:
         self.robot = robot
+        self.guess = None if guess is None else np.array(guess, dtype=float)  # Newton's start for every state
         self.period = math.pi / floor.omega
         self.sim = FloorSimulator(robot, replace(floor, theta0=SECTION_THETA, crank_ramp=0.0))
         ankles = ankle_indices(robot) if robot.spec.free_ankle else {}
@@ -133,15 +135,13 @@ class GaitMap:
 
         """
         self.evaluations += 1
-        q, v = self.configuration(np.asarray(x, dtype=float), self._guess)
+        q, v = self.configuration(np.asarray(x, dtype=float), self.guess)
         result = self.sim.run(self.period, q, v)
-        if result.stop_reason.startswith("ran") is False:
+        if result.stopped:
             raise DivergedError(f"the step failed: {result.stop_reason}")
         if float(np.max(np.abs(result.hip_pitch))) > math.radians(10.0):
             raise DivergedError("the step failed: |hip pitch| passed 10 deg")
         return self.mirrored(self.state(result.q[-1], result.v[-1]))
-
-    _guess: np.ndarray | None = None
 
 
 @dataclass
@@ -233,8 +233,7 @@ def gait_stability(design, walk=None, settings: StabilitySettings | None = None,
     if walk is None or walk.verdict.steps < settings.warmup_steps:
         walk = walk_design(design, WalkSettings(steps=settings.warmup_steps), robot)
     gait_map = GaitMap(robot, walk.settings)
-    x0, q_guess = section_state(gait_map, walk)
-    gait_map._guess = q_guess
+    x0, gait_map.guess = section_state(gait_map, walk)
     scale = np.maximum(np.abs(x0), [0.01] * len(gait_map.q_index) + [0.1] * len(gait_map.v_index))
     point = find_fixed_point(
         gait_map,

@@ -17,7 +17,7 @@ Units: SI, angles [rad].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 from pasibot_pin.dynamics.floor import FloorResult, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
@@ -78,8 +78,6 @@ class WalkSettings:
 
     def judged_by(self) -> GaitCriteria:
         """The verdict's criteria with this walk's step count."""
-        from dataclasses import replace
-
         return replace(self.criteria, steps=self.steps)
 
 
