@@ -107,7 +107,13 @@ def test_walk_command_json_has_the_answer(tmp_path, capsys):
         (["--gif", "--out", "/proc/pasibot"], "/proc/pasibot"),
     ],
 )
-def test_walk_bad_flags_are_one_line_before_any_work(argv, names, capsys):
+def test_walk_bad_flags_are_one_line_before_any_work(argv, names, capsys, monkeypatch):
+    import pasibot_pin.studies.walking as walking
+
+    def no_work(*args, **kwargs):
+        raise AssertionError("the walk started before the flags were checked")
+
+    monkeypatch.setattr(walking, "walk_design", no_work)
     assert main(["walk", *argv]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and names in err and "Traceback" not in err

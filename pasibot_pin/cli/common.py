@@ -203,6 +203,13 @@ def _check_writable_folder(folder: Path, option: str, path: Path) -> None:
         raise ValueError(f"{option} {path}: {probe} is a file, not a folder")
     if not os.access(probe, os.W_OK | os.X_OK):
         raise ValueError(f"{option} {path}: folder {probe} is not writable")
+    if probe != folder:  # the folder will be created: try it (/proc, /sys refuse even root)
+        trial = temporary_name(probe / "probe")
+        try:
+            os.mkdir(trial, 0o700)
+        except OSError as err:
+            raise ValueError(f"{option} {path}: cannot create a folder in {probe} ({err.strerror})") from None
+        os.rmdir(trial)
 
 
 def check_output_file(path: Path | None, option: str, force: bool = False) -> Path | None:
@@ -242,7 +249,7 @@ def _probe_folder(folder: Path, option: str, path: Path) -> None:
     """
     folder = Path(folder) if str(folder) else Path(".")
     if not folder.is_dir():
-        return  # created later, under a writable ancestor (checked)
+        return  # created later, under an ancestor where a folder was created (checked)
     probe = temporary_name(folder / "probe")
     try:
         fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
