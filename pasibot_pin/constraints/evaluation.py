@@ -98,7 +98,7 @@ class RowSystem:
         self._set_ends(self._lay_out_scalar_rows())
         self.tolerance = self._row_tolerances()
         self.labels = self._constraint_labels + [s.name for s in self.scalars]
-        self._coef: np.ndarray | None = None  # the one-sample tables' coefficients (planar, no sliders)
+        self._coef: np.ndarray | None = None  # the one-sample tables' coefficients (planar rows)
         if self._planar_ends is not None:
             self._planar_tables(self._planar_ends)
 
@@ -193,8 +193,7 @@ class RowSystem:
         self._wrapped = [int(r) for r in wrapped]
         # one sample (the simulator's case): the terms' values, Jacobian and drift as the rows of one
         # complex array (nv rows i A^T, one of ones, one for -w^2), turned into rows by one product
-        if not blocks.has_sliders:
-            self._one_sample_tables(blocks)
+        self._one_sample_tables(blocks)
 
     def _one_sample_tables(self, blocks: PlanarRowBlocks) -> None:
         """Tables of :meth:`_evaluate_one`: the terms' constants folded into one real picking matrix.
@@ -211,11 +210,21 @@ class RowSystem:
         weights = np.empty_like(self._pick_T)
         weights[0::2] = big_c.real[:, None] * px + big_c.imag[:, None] * pz
         weights[1::2] = -big_c.imag[:, None] * px + big_c.real[:, None] * pz
+        # a term a slider scales (C exp(i A q) q_s: the pantograph's slide) is not a function of its
+        # phase alone: those few are evaluated term by term (:meth:`_slider_terms`), the rest merged
+        slid = np.flatnonzero(blocks.moving_slide_T.any(axis=0))
+        plain = np.setdiff1d(np.arange(len(big_c)), slid)
+        self._slid_c = big_c[slid]
+        self._slid_AT = blocks.moving_AT[:, slid].copy()
+        self._slid_iAT = 1j * self._slid_AT
+        self._slid_S = blocks.moving_slide_T[:, slid].copy()  # (nv, Ks): which coordinate scales each term
+        self._slid_pick_T = self._pick_T[np.stack((2 * slid, 2 * slid + 1), axis=1).reshape(-1)]  # (2 Ks, m)
+        self.batch_tables = not len(slid)  # the batch path merges every term
         # terms turned by the same pitch share one phase: their picked constants add up
-        pitches, group = np.unique(blocks.moving_AT.T, axis=0, return_inverse=True)
+        pitches, group = np.unique(blocks.moving_AT.T[plain], axis=0, return_inverse=True)
         merged = np.zeros((2 * len(pitches), self.nrows))
-        np.add.at(merged, 2 * group.reshape(-1), weights[0::2])
-        np.add.at(merged, 2 * group.reshape(-1) + 1, weights[1::2])
+        np.add.at(merged, 2 * group.reshape(-1), weights[0::2][plain])
+        np.add.at(merged, 2 * group.reshape(-1) + 1, weights[1::2][plain])
         self._weights_T = merged
         self._phase_T = pitches.T.copy()  # (nv, number of distinct pitches)
         # rows: i A^T (the Jacobian), 1 (the value), then w^2 (the drift, filled per call: a buffer)
@@ -348,7 +357,7 @@ class RowSystem:
         if coef is not None:
             if q.ndim == 1:
                 return self._evaluate_one(q, v, t, targets, coef)
-            if q.ndim == 2:
+            if q.ndim == 2 and self.batch_tables:
                 return self._evaluate_batch(q, v, t, targets, coef)
         value, jac_t, term_drift = self._blocks.terms(q, v)
         phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
@@ -385,6 +394,8 @@ class RowSystem:
             np.multiply(w, w, out=coef[nv + 1])  # the drift of a term is -w^2 times its value
             out = (coef * phase).view(float).dot(self._weights_T) + self._constant
             drift = -out[nv + 1]
+        if len(self._slid_c):
+            self._slider_terms(q, v, out, drift)
         phi = out[nv] + q.dot(self._linear_T)
         if targets is None:
             if t:
@@ -395,6 +406,23 @@ class RowSystem:
             phi[r] = math.remainder(phi[r], 2 * math.pi)
         # J transposed in memory (column-major): what Pinocchio's Eigen takes without a copy
         return Rows(phi, out[:nv].T, drift, self._phi_t.copy())
+
+    def _slider_terms(self, q: np.ndarray, v: np.ndarray | None, out: np.ndarray, drift: np.ndarray) -> None:
+        """Add the slider-scaled terms to :meth:`_evaluate_one`'s J^T rows and values (``out``) and ``drift``.
+
+        A term C exp(i A q) q_s has the value T q_s (T = C exp(i A q)), the gradient i A T q_s + e_s T
+        and the drift -(A v)^2 T q_s + 2 i (A v) v_s T.
+        """
+        nv = len(q)
+        turned = self._slid_c * np.exp(1j * q.dot(self._slid_AT))
+        value = turned * q.dot(self._slid_S)
+        jac_t = self._slid_iAT * value + self._slid_S * turned
+        pick = self._slid_pick_T
+        out[:nv] += jac_t.view(float).dot(pick)
+        out[nv] += value.view(float).dot(pick)
+        if v is not None:
+            w = v.dot(self._slid_AT)
+            drift += (turned * (2j * w * v.dot(self._slid_S) - w * w * q.dot(self._slid_S))).view(float).dot(pick)
 
     def _evaluate_batch(self, q, v, t, targets, coef: np.ndarray) -> Rows:
         """:meth:`_evaluate_planar` for a batch (N, nv) through the tables of :meth:`_evaluate_one`.

@@ -203,7 +203,7 @@ class PlanarRowBlocks:
         self.moving_c, self.moving_a0 = self.c[moving], self.a0[moving]
         self.moving_AT = self.A[moving].T.copy()
         self._iAT = 1j * self.moving_AT
-        self._slide_T = slide[moving].T.copy()
+        self.moving_slide_T = slide[moving].T.copy()
         self._unit = 1.0 - slide[moving].sum(axis=1)  # the factor of a moving term without a slider
         self.has_sliders = bool(np.any(slide[moving]))
         self._DT = self.D_moving.T.astype(complex)  # complex copy: numpy would cast on every product
@@ -222,7 +222,7 @@ class PlanarRowBlocks:
         np.cos(angle, out=phase.real)
         np.sin(angle, out=phase.imag)
         turned = self._c_turned * phase[..., self._group]
-        return turned, (q @ self._slide_T + self._unit) if self.has_sliders else None
+        return turned, (q @ self.moving_slide_T + self._unit) if self.has_sliders else None
 
     def terms(self, q: np.ndarray, v: np.ndarray | None = None):
         """The moving terms' values (..., K), Jacobian transposed (..., nv, K) and drift (..., K) or None, complex.
@@ -233,7 +233,7 @@ class PlanarRowBlocks:
         turned, factor = self._turned(q)
         if factor is not None:
             value = turned * factor
-            jac_t = self._iAT * value[..., None, :] + self._slide_T * turned[..., None, :]
+            jac_t = self._iAT * value[..., None, :] + self.moving_slide_T * turned[..., None, :]
         else:
             value = turned
             jac_t = self._iAT * value[..., None, :]
@@ -242,7 +242,7 @@ class PlanarRowBlocks:
             w = v @ self.moving_AT
             drift = value * (-w * w)
             if factor is not None:
-                drift += 2j * turned * w * (v @ self._slide_T)
+                drift += 2j * turned * w * (v @ self.moving_slide_T)
         return value, jac_t, drift
 
     def positions(self, q: np.ndarray) -> np.ndarray:
@@ -261,7 +261,7 @@ class PlanarRowBlocks:
         w, alpha = v @ self.moving_AT, a @ self.moving_AT
         acc = value * (1j * alpha - w * w)
         if factor is not None:
-            acc += turned * (a @ self._slide_T) + 2j * turned * w * (v @ self._slide_T)
+            acc += turned * (a @ self.moving_slide_T) + 2j * turned * w * (v @ self.moving_slide_T)
         rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
         return rows, acc @ self._DT + a @ self.fixed_jac.T
 

@@ -153,10 +153,17 @@ def fd_jacobian(
     return _jacobian(_Counted(step_map, x.size), x, _steps(x, fd_step, scale), scheme)
 
 
-def _jacobian(f: _Counted, x: np.ndarray, h: np.ndarray, scheme: Scheme = "central") -> np.ndarray:
-    """Finite differences of ``f`` at ``x`` with steps ``h`` (a failure names the component)."""
+def _jacobian(
+    f: _Counted, x: np.ndarray, h: np.ndarray, scheme: Scheme = "central", fx: np.ndarray | None = None
+) -> np.ndarray:
+    """Finite differences of ``f`` at ``x`` with steps ``h`` (a failure names the component).
+
+    ``fx``: ``f(x)`` when already known (the forward scheme's base point is not evaluated again).
+    """
     jac = np.empty((x.size, x.size))
-    base = _differentiating(f, x, None, h) if scheme == "forward" else None
+    base = None
+    if scheme == "forward":
+        base = _differentiating(f, x, None, h) if fx is None else fx
     for j in range(x.size):
         e = np.zeros(x.size)
         e[j] = h[j]
@@ -305,7 +312,10 @@ def find_fixed_point(
             of ``2 n``: for an expensive map whose multipliers are needed to a few digits only).
 
     Returns:
-        The :class:`FixedPoint`, with ``DF(x*)`` and its multipliers.
+        The :class:`FixedPoint`, with ``DF(x*)`` and its multipliers. When the last Newton step
+        moved every component by less than its difference step, the last iteration's ``DF`` is
+        kept (differentiating again at ``x*`` would change it by less than the differences' own
+        error); the forward scheme reuses the known ``F(x)`` as its base point.
 
     Raises:
         NoFixedPointError: no convergence within the budget, a stalled line search, or the map
@@ -326,8 +336,9 @@ def find_fixed_point(
     f = _Counted(step_map, n, budget)
     h = _steps(x, fd_step, scale)
     try:
-        x, g, iterations = _newton(f, x, h, tol, max_iter, scheme)
-        jac = _jacobian(f, x, h, scheme)
+        x, g, iterations, jac = _newton(f, x, h, tol, max_iter, scheme)
+        if jac is None:
+            jac = _jacobian(f, x, h, scheme, fx=g + x)
     except NoFixedPointError:
         raise
     except SimulationError as err:
@@ -337,21 +348,30 @@ def find_fixed_point(
 
 def _newton(
     f: _Counted, x: np.ndarray, h: np.ndarray, tol: float, max_iter: int, scheme: Scheme = "central"
-) -> tuple[np.ndarray, np.ndarray, int]:
-    """The damped Newton loop: ``(x*, G(x*), iterations)`` or :class:`NoFixedPointError`."""
+) -> tuple[np.ndarray, np.ndarray, int, np.ndarray | None]:
+    """The damped Newton loop: ``(x*, G(x*), iterations, DF)`` or :class:`NoFixedPointError`.
+
+    ``DF`` is the last iteration's Jacobian when that iteration's step moved every component by
+    less than its difference step ``h`` (a new Jacobian at ``x*`` would differ by less than the
+    differences' own truncation error), else ``None`` (the caller differentiates at ``x*``).
+    """
     try:
         g = f(x) - x
     except SimulationError as err:
         raise NoFixedPointError(f"the step map fails at the initial guess x0 = {x}: {err}") from err
+    jac = None
     for iteration in range(max_iter + 1):
         norm = float(np.linalg.norm(g))
         if np.max(np.abs(g)) <= tol:
-            return x, g, iteration
+            return x, g, iteration, jac
         if iteration == max_iter:
             break
-        jac_g = _jacobian(f, x, h, scheme) - np.eye(x.size)
-        dx = np.linalg.lstsq(jac_g, -g, rcond=None)[0]
-        x, g = _line_search(f, x, g, dx, norm)
+        jac = _jacobian(f, x, h, scheme, fx=g + x)
+        dx = np.linalg.lstsq(jac - np.eye(x.size), -g, rcond=None)[0]
+        x_new, g = _line_search(f, x, g, dx, norm)
+        if not np.all(np.abs(x_new - x) < h):
+            jac = None
+        x = x_new
     raise NoFixedPointError(
         f"Newton did not converge in {max_iter} iterations: "
         f"|F(x) - x| = {np.max(np.abs(g)):.3g} > tol {tol:g} at x = {x}"
