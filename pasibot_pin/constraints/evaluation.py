@@ -210,25 +210,32 @@ class RowSystem:
         weights = np.empty_like(self._pick_T)
         weights[0::2] = big_c.real[:, None] * px + big_c.imag[:, None] * pz
         weights[1::2] = -big_c.imag[:, None] * px + big_c.real[:, None] * pz
-        # a term a slider scales (C exp(i A q) q_s: the pantograph's slide) is not a function of its
-        # phase alone: those few are evaluated term by term (:meth:`_slider_terms`), the rest merged
+        # terms turned by the same pitch share one phase: their picked constants add up
         slid = np.flatnonzero(blocks.moving_slide_T.any(axis=0))
         plain = np.setdiff1d(np.arange(len(big_c)), slid)
-        self._slid_c = big_c[slid]
-        self._slid_AT = blocks.moving_AT[:, slid].copy()
-        self._slid_iAT = 1j * self._slid_AT
-        self._slid_S = blocks.moving_slide_T[:, slid].copy()  # (nv, Ks): which coordinate scales each term
-        self._slid_pick_T = self._pick_T[np.stack((2 * slid, 2 * slid + 1), axis=1).reshape(-1)]  # (2 Ks, m)
-        self.batch_tables = not len(slid)  # the batch path merges every term
-        # terms turned by the same pitch share one phase: their picked constants add up
         pitches, group = np.unique(blocks.moving_AT.T[plain], axis=0, return_inverse=True)
         merged = np.zeros((2 * len(pitches), self.nrows))
         np.add.at(merged, 2 * group.reshape(-1), weights[0::2][plain])
         np.add.at(merged, 2 * group.reshape(-1) + 1, weights[1::2][plain])
-        self._weights_T = merged
-        self._phase_T = pitches.T.copy()  # (nv, number of distinct pitches)
+        # a term a slider scales, C exp(i A q) q_s (the pantograph's slide), takes two columns of its
+        # own: phase e q_s with the plain coefficients, and phase e with e_s as its Jacobian's (the
+        # product rule), no value, and 2 i w v_s for its drift (filled per call)
+        slid_weights = np.stack((weights[0::2][slid], weights[1::2][slid]), axis=1).reshape(-1, self.nrows)
+        self._weights_T = np.vstack((merged, slid_weights, slid_weights))
+        slid_AT = blocks.moving_AT[:, slid]
+        self._phase_T = np.ascontiguousarray(np.hstack((pitches.T, slid_AT, slid_AT)))  # (nv, columns): w = A v
+        self._exponent = 1j * self._phase_T  # exp(q . exponent) = exp(i A q)
+        n_plain, n_slid = len(pitches), len(slid)
+        self._slid_a = np.arange(n_plain, n_plain + n_slid)  # the e q_s columns
+        self._slid_b = self._slid_a + n_slid  # the e columns
+        self._slid_index = np.argmax(blocks.moving_slide_T[:, slid], axis=0)  # each term's slider coordinate
+        self.batch_tables = not n_slid  # the batch path merges every term by its phase
         # rows: i A^T (the Jacobian), 1 (the value), then w^2 (the drift, filled per call: a buffer)
-        self._coef = np.vstack((1j * self._phase_T, np.ones(len(pitches)), np.zeros(len(pitches))))
+        jac_coef = 1j * self._phase_T
+        jac_coef[:, self._slid_b] = blocks.moving_slide_T[:, slid]
+        value_coef = np.ones(self._phase_T.shape[1])
+        value_coef[self._slid_b] = 0.0
+        self._coef = np.ascontiguousarray(np.vstack((jac_coef, value_coef, np.zeros(len(value_coef)))))
         constant = np.vstack((self._linear_T, self._linear_0, np.zeros(self.nrows)))
         constant[nv, n0:] -= self._offset  # the scalar rows' targets at t = 0
         self._constant = constant
@@ -385,17 +392,20 @@ class RowSystem:
         """
         # ndarray.dot rather than @: the same product with less call overhead on these small arrays
         nv = self.model.nv
-        phase = np.exp(q.dot(coef[:nv]))  # exp(i A q); the real part of the exponent is exactly 0
+        phase = np.exp(q.dot(self._exponent))  # exp(i A q); the real part of the exponent is exactly 0
+        slid_a, slid_b = self._slid_a, self._slid_b
+        if len(slid_a):
+            phase[slid_a] *= q[self._slid_index]
         if v is None:
             out = (coef[: nv + 1] * phase).view(float).dot(self._weights_T) + self._constant[: nv + 1]
             drift = np.zeros(self.nrows)
         else:
             w = v.dot(self._phase_T)
             np.multiply(w, w, out=coef[nv + 1])  # the drift of a term is -w^2 times its value
+            if len(slid_b):
+                coef[nv + 1, slid_b] = -2j * w[slid_b] * v[self._slid_index]
             out = (coef * phase).view(float).dot(self._weights_T) + self._constant
             drift = -out[nv + 1]
-        if len(self._slid_c):
-            self._slider_terms(q, v, out, drift)
         phi = out[nv] + q.dot(self._linear_T)
         if targets is None:
             if t:
@@ -406,23 +416,6 @@ class RowSystem:
             phi[r] = math.remainder(phi[r], 2 * math.pi)
         # J transposed in memory (column-major): what Pinocchio's Eigen takes without a copy
         return Rows(phi, out[:nv].T, drift, self._phi_t.copy())
-
-    def _slider_terms(self, q: np.ndarray, v: np.ndarray | None, out: np.ndarray, drift: np.ndarray) -> None:
-        """Add the slider-scaled terms to :meth:`_evaluate_one`'s J^T rows and values (``out``) and ``drift``.
-
-        A term C exp(i A q) q_s has the value T q_s (T = C exp(i A q)), the gradient i A T q_s + e_s T
-        and the drift -(A v)^2 T q_s + 2 i (A v) v_s T.
-        """
-        nv = len(q)
-        turned = self._slid_c * np.exp(1j * q.dot(self._slid_AT))
-        value = turned * q.dot(self._slid_S)
-        jac_t = self._slid_iAT * value + self._slid_S * turned
-        pick = self._slid_pick_T
-        out[:nv] += jac_t.view(float).dot(pick)
-        out[nv] += value.view(float).dot(pick)
-        if v is not None:
-            w = v.dot(self._slid_AT)
-            drift += (turned * (2j * w * v.dot(self._slid_S) - w * w * q.dot(self._slid_S))).view(float).dot(pick)
 
     def _evaluate_batch(self, q, v, t, targets, coef: np.ndarray) -> Rows:
         """:meth:`_evaluate_planar` for a batch (N, nv) through the tables of :meth:`_evaluate_one`.
