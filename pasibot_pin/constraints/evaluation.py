@@ -220,7 +220,7 @@ class RowSystem:
         # a term a slider scales, C exp(i A q) q_s (the pantograph's slide), takes two columns of its
         # own: phase e q_s with the plain coefficients, and phase e with e_s as its Jacobian's (the
         # product rule), no value, and 2 i w v_s for its drift (filled per call)
-        slid_weights = np.stack((weights[0::2][slid], weights[1::2][slid]), axis=1).reshape(-1, self.nrows)
+        slid_weights = np.stack((weights[0::2][slid], weights[1::2][slid]), axis=1).reshape(2 * len(slid), self.nrows)
         self._weights_T = np.vstack((merged, slid_weights, slid_weights))
         slid_AT = blocks.moving_AT[:, slid]
         self._phase_T = np.ascontiguousarray(np.hstack((pitches.T, slid_AT, slid_AT)))  # (nv, columns): w = A v
