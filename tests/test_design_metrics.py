@@ -9,6 +9,7 @@ import pinocchio as pin
 import pytest
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics, run_scenario
+from pasibot_pin.dynamics.verdict import OUTCOMES
 from pasibot_pin.kinematics.leg import crank_grid as turn_grid
 from pasibot_pin.kinematics.leg import leg_cycle
 from pasibot_pin.kinematics.path_metrics import straight_line_metrics
@@ -179,3 +180,18 @@ def test_floor_metrics_are_the_walking_verdict():
     for bad in (-1, 0, 1.5, True, 10**6):
         with pytest.raises(ParameterError, match="floor"):
             dm.design_metrics(design, floor=bad)
+
+
+def test_a_lift_off_design_is_still_walked_on_the_floor():
+    """The inverse dynamics with the hip held level rejects it; the floor (no held hip) still judges it."""
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+    design = SEED.with_(omega=15.5, body_com_dx=-0.1466)
+    out = dm.design_metrics(design, floor=2)
+    assert not out.feasible and out.failure == "lift-off"
+    assert all(math.isnan(out[k]) for k in dm.METRICS)
+    verdict = walk_design(design, WalkSettings(steps=2)).verdict
+    assert out.floor_outcome == verdict.outcome and out.floor_outcome in OUTCOMES
+    assert out["floor_steps"] == verdict.steps and out.row()["floor_outcome"] == verdict.outcome
+    # an assembly failure has no linkage to walk: no floor outcome
+    assert dm.design_metrics(SEED.with_(K=1.3), floor=2).floor_outcome == ""

@@ -125,6 +125,9 @@ ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS}
 
 FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "lift-off", "non-finite")
 """The kinds of infeasibility (``""``: feasible)."""
+WALKABLE_FAILURES: tuple[str, ...] = ("lift-off",)
+"""Kinds of infeasibility whose linkage still turns: such a design is walked on the floor all the same
+(the floor has no held hip: its verdict is the answer the inverse dynamics cannot give)."""
 
 
 @dataclass(frozen=True)
@@ -375,17 +378,24 @@ def design_metrics(design: Design, floor: int | None = None) -> DesignMetrics:
         raise TypeError(f"parameter 'design' must be a Design, got {type(design).__name__}")
     check_floor_steps(floor, "parameter 'floor'")
     outcome = None
-    try:
-        with warnings.catch_warnings():
-            warnings.simplefilter("ignore")
+    failure: Infeasible | None = None
+    values: dict[str, float] = {}
+    floor_values: dict[str, float] = {}
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore")
+        try:
             values = path_metrics(design)
             values.update(dynamic_metrics(design))
-            if floor is not None:
-                floor_values, outcome = floor_metrics(design, floor)
-                values.update(floor_values)
-    except Infeasible as err:
-        out = infeasible(err.kind, str(err))
-        return out if floor is None else DesignMetrics(out.values, False, out.failure, out.reason, "")
+        except Infeasible as err:
+            failure = err
+        if floor is not None and (failure is None or failure.kind in WALKABLE_FAILURES):
+            floor_values, outcome = floor_metrics(design, floor)
+            values.update(floor_values)
+    if failure is not None:
+        out = infeasible(failure.kind, str(failure))
+        if floor is None:
+            return out
+        return DesignMetrics({**out.values, **floor_values}, False, out.failure, out.reason, outcome or "")
     springless = not get_variant(design.variant).free_ankle  # K_e is NaN by definition
     bad = [
         k
