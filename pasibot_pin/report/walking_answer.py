@@ -315,7 +315,16 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description="the walking map's files: CSV, picture, designs/, quoted answer")
     parser.add_argument("--compute", action="store_true", help="walk every cell again first (about 30 min CPU)")
     parser.add_argument("--workers", type=int, default=2, help="worker processes of --compute (default 2)")
+    parser.add_argument(
+        "--twin", action="store_true", help="walk the MuJoCo twin in every cell of the map that has no twin outcome yet"
+    )
     args = parser.parse_args(argv)
+    if args.twin and not args.compute:
+        from pasibot_pin.studies.walking_map import add_twin
+
+        start = time.monotonic()
+        save_map(add_twin(load_map(), 0.0, workers=args.workers))
+        print(f"{MAP_CSV}: the twin's missing cells walked in {time.monotonic() - start:.0f} s wall")
     if args.compute:
         start = time.monotonic()
         partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
