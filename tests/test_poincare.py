@@ -195,6 +195,22 @@ def test_linear_map_multipliers_recovered():
     assert not unstable.stable and unstable.dominant == pytest.approx(1.5)
 
 
+def test_relax_steps_take_a_deadbeat_map_to_its_fixed_point_before_newton():
+    """x <- F(x) first: a deadbeat map (F constant near x*) is solved in one step, so Newton only
+    differentiates there (n + 2 calls with forward differences); an unstable map's plain step is
+    refused (it raises |F(x) - x|) and Newton finds the same point as without it."""
+    x_star = np.array([0.3, -1.0, 2.0])
+    deadbeat = find_fixed_point(affine_map(np.zeros((3, 3)), x_star), x_star + 0.1, relax_steps=2, scheme="forward")
+    assert deadbeat.iterations == 0 and deadbeat.evaluations == 3 + 2
+    assert deadbeat.x == pytest.approx(x_star, abs=1e-12) and np.max(np.abs(deadbeat.multipliers)) < 1e-8
+    unstable = affine_map(np.diag([1.5, 0.5, -2.0]), x_star)
+    plain = find_fixed_point(unstable, x_star + 0.1, tol=1e-12)
+    relaxed = find_fixed_point(unstable, x_star + 0.1, tol=1e-12, relax_steps=3)
+    assert relaxed.x == pytest.approx(plain.x, abs=1e-12) and relaxed.evaluations == plain.evaluations + 1
+    with pytest.raises(ParameterError, match="relax_steps"):
+        find_fixed_point(unstable, x_star, relax_steps=-1)
+
+
 def cubic(x):
     """0.5 x + x^3 per component (first), fixed point 0 with basin |x| < 1/sqrt(2); raises when far."""
     x = np.asarray(x, dtype=float)

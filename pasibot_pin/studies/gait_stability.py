@@ -47,6 +47,7 @@ class StabilitySettings:
         tol: the fixed point's tolerance, max |F(x) - x| [state units].
         max_iter: most Newton iterations [-].
         fd_step: finite-difference step, relative to each component's scale [-].
+        relax_steps: plain steps x <- F(x) tried before Newton, each kept if it lowers the residual [-].
         basin_kicks: hip-pitch rate kicks tried for the basin [rad/s], increasing.
         basin_steps: steps a kicked walk has to return in [-].
         basin_tol: "returned" when the state is this close to the fixed point [state units].
@@ -57,6 +58,7 @@ class StabilitySettings:
     tol: float = 1e-6
     max_iter: int = 4
     fd_step: float = 1e-3
+    relax_steps: int = 2
     basin_kicks: tuple[float, ...] = (0.1, 0.5, 2.0, 5.0)
     basin_steps: int = 4
     basin_tol: float = 1e-3
@@ -66,6 +68,9 @@ class StabilitySettings:
             value = getattr(self, name)
             if isinstance(value, bool) or not isinstance(value, int) or not 1 <= value <= 1000:
                 raise ParameterError(f"parameter {name!r} must be an integer in [1, 1000], got {value!r}")
+        relax = self.relax_steps
+        if isinstance(relax, bool) or not isinstance(relax, int) or not 0 <= relax <= 100:
+            raise ParameterError(f"parameter 'relax_steps' must be an integer in [0, 100], got {relax!r}")
         for name in ("tol", "fd_step", "basin_tol"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and 0 < value < 1):
@@ -243,6 +248,7 @@ def gait_stability(design, walk=None, settings: StabilitySettings | None = None,
         fd_step=settings.fd_step,
         scale=scale,
         scheme="forward",
+        relax_steps=settings.relax_steps,
     )
     basin = None
     if settings.basin_kicks:

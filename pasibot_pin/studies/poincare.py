@@ -291,6 +291,7 @@ def find_fixed_point(
     scale: Sequence[float] | np.ndarray | float | None = None,
     max_evaluations: int | None = None,
     scheme: Scheme = "central",
+    relax_steps: int = 0,
 ) -> FixedPoint:
     """Newton-shoot a fixed point of ``F`` from ``x0``, then linearise there.
 
@@ -310,6 +311,9 @@ def find_fixed_point(
         max_evaluations: most map calls; default ``max_iter * (2 n + 12) + 2 n + 1``.
         scheme: the Jacobian's differences, ``"central"`` or ``"forward"`` (``n + 1`` calls instead
             of ``2 n``: for an expensive map whose multipliers are needed to a few digits only).
+        relax_steps: at most this many plain iterations ``x <- F(x)`` before Newton, each kept only
+            if it lowers ``|F(x) - x|`` (a stable gait's next section is a better guess than its
+            last: a deadbeat one is the fixed point itself, and Newton then differentiates once).
 
     Returns:
         The :class:`FixedPoint`, with ``DF(x*)`` and its multipliers. When the last Newton step
@@ -326,6 +330,8 @@ def find_fixed_point(
     x = _state(x0, "x0")
     tol = _positive(tol, "tol")
     max_iter = _count(max_iter, "max_iter")
+    if isinstance(relax_steps, bool) or not isinstance(relax_steps, int) or not 0 <= relax_steps <= 100:
+        raise ParameterError(f"relax_steps must be an integer in [0, 100], got {relax_steps!r}")
     n = x.size
     if max_evaluations is None:
         budget = max_iter * (2 * n + 12) + 2 * n + 1
@@ -336,7 +342,7 @@ def find_fixed_point(
     f = _Counted(step_map, n, budget)
     h = _steps(x, fd_step, scale)
     try:
-        x, g, iterations, jac = _newton(f, x, h, tol, max_iter, scheme)
+        x, g, iterations, jac = _newton(f, x, h, tol, max_iter, scheme, relax_steps)
         if jac is None:
             jac = _jacobian(f, x, h, scheme, fx=g + x)
     except NoFixedPointError:
@@ -347,7 +353,13 @@ def find_fixed_point(
 
 
 def _newton(
-    f: _Counted, x: np.ndarray, h: np.ndarray, tol: float, max_iter: int, scheme: Scheme = "central"
+    f: _Counted,
+    x: np.ndarray,
+    h: np.ndarray,
+    tol: float,
+    max_iter: int,
+    scheme: Scheme = "central",
+    relax_steps: int = 0,
 ) -> tuple[np.ndarray, np.ndarray, int, np.ndarray | None]:
     """The damped Newton loop: ``(x*, G(x*), iterations, DF)`` or :class:`NoFixedPointError`.
 
@@ -359,6 +371,19 @@ def _newton(
         g = f(x) - x
     except SimulationError as err:
         raise NoFixedPointError(f"the step map fails at the initial guess x0 = {x}: {err}") from err
+    for _ in range(relax_steps):  # x <- F(x) while it helps
+        if np.max(np.abs(g)) <= tol:
+            break
+        x_next = x + g
+        try:
+            g_next = f(x_next) - x_next
+        except NoFixedPointError:
+            raise
+        except SimulationError:
+            break
+        if np.linalg.norm(g_next) >= np.linalg.norm(g):
+            break
+        x, g = x_next, g_next
     jac = None
     for iteration in range(max_iter + 1):
         norm = float(np.linalg.norm(g))

@@ -146,8 +146,6 @@ def walk_design(design, settings: WalkSettings | None = None, robot=None) -> Des
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     floor = floor_settings(design, settings, robot)
     sim = FloorSimulator(robot, floor)
-    result = sim.run(
-        walk_duration(design.omega, settings.steps), criteria=settings.judged_by(), stop_on_verdict=True
-    )
+    result = sim.run(walk_duration(design.omega, settings.steps), criteria=settings.judged_by(), stop_on_verdict=True)
     assert result.verdict is not None  # omega > 0
     return DesignWalk(result.verdict, result, design.omega, floor.dt, floor)
