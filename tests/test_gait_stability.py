@@ -16,7 +16,7 @@ WALKER = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2
 @pytest.fixture(scope="module")
 def shot():
     robot = design_robot(WALKER, 2, visuals=False)
-    walk = walk_design(WALKER, WalkSettings(steps=3), robot)
+    walk = walk_design(WALKER, WalkSettings(steps=StabilitySettings().warmup_steps), robot)  # walked once
     stability = gait_stability(WALKER, walk, StabilitySettings(basin_kicks=(0.05, 0.5), basin_steps=2), robot)
     return robot, walk, stability
 
