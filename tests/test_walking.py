@@ -60,11 +60,12 @@ def test_one_motor_moves_the_robot_as_two_and_carries_their_sum(walks):
     "design",
     [
         Design(variant="rigid", omega=1.0),
+        Design(variant="rigid", foot_toe=6.0, foot_heel=6.0, omega=5.0),  # its feet tilt: one touches, at a point
         Design(variant="parallel", omega=1.0),
         Design(variant="spring", foot_toe=3.0, foot_heel=3.0, omega=1.0, spring_stiffness=3000.0),
         Design(variant="spring", foot_toe=4.0, foot_heel=4.0, omega=1.0, spring_stiffness=3000.0),
     ],
-    ids=["rigid", "parallel-seed", "spring-toe=heel=3", "spring-toe=heel=4"],
+    ids=["rigid", "rigid-sole6-fast", "parallel-seed", "spring-toe=heel=3", "spring-toe=heel=4"],
 )
 def test_every_variant_gets_a_verdict_from_a_consistent_start(design):
     """No design fails at t = 0: the start closes every loop with no sole point below the floor,

@@ -56,7 +56,7 @@ from pasibot_pin.errors import (
     ParameterError,
     SimulationError,
 )
-from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, SIDES
+from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 MAX_STEPS = 20_000_000
@@ -289,6 +289,9 @@ class FloorSimulator:
     def initial_state(self, swing_pitch: float | None = 0.0) -> tuple[np.ndarray, np.ndarray]:
         """The geometric double support: both feet flat on the floor at theta0, the hip level.
 
+        The hip's height puts the lowest sole point on the floor and none below it: a foot the
+        linkage tilts (the rigid variant's) touches at its lowest point.
+
         At the touchdown angle (theta0 = pi/2) both ankles lie on the stance line, so both soles
         rest on the floor; the velocity keeps both feet still, the hip level and the cranks at
         omega (a least-squares solve of the consistent, redundant rows). With preloaded ankle
@@ -299,6 +302,9 @@ class FloorSimulator:
         robot = self.robot
         guess, _ = analytic_configurations(robot, [self.settings.theta0], swing_foot_pitch=swing_pitch)
         q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance
+        # the lowest sole point on the floor, none below it: a foot the linkage tilts (the rigid
+        # variant's, square to its shank) touches at one point instead of sinking into the floor
+        q[HIP_Z] -= float(np.min(self.contact_rows(q)[0]))
         _, _, jn, jt = self.contact_rows(q)
         rows = self.bilateral.evaluate(q, None, 0.0)
         jac = np.vstack((rows.jac, jn, jt, np.eye(q.size)[2:3]))
