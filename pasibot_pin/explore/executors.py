@@ -20,8 +20,11 @@ from __future__ import annotations
 import logging
 import os
 from collections.abc import Callable, Sequence
+from typing import TypeVar, cast
 
 from pasibot_pin.errors import ParameterError
+
+R = TypeVar("R")
 
 IN_FLIGHT: int = 4
 """Tasks per Dask worker submitted ahead of the results."""
@@ -73,9 +76,9 @@ def check_scheduler(address: str | None) -> None:
 
 
 def run_tasks(
-    fn: Callable,
+    fn: Callable[..., R],
     tasks: Sequence[tuple],
-    on_result: Callable[[object], None],
+    on_result: Callable[[R], None],
     workers: int | None = None,
     dask: str | None = None,
 ) -> None:
@@ -103,10 +106,12 @@ def run_tasks(
         from pasibot_pin.jobs import Job, run_jobs
 
         jobs = [Job(1.0, k, fn, tuple(task)) for k, task in enumerate(tasks)]
-        run_jobs(jobs, lambda _key, result: on_result(result), workers=workers)
+        run_jobs(jobs, lambda _key, result: on_result(cast(R, result)), workers=workers)  # result: fn's, untyped
 
 
-def _run_dask(fn: Callable, tasks: Sequence[tuple], on_result: Callable, workers: int, address: str) -> None:
+def _run_dask(
+    fn: Callable[..., R], tasks: Sequence[tuple], on_result: Callable[[R], None], workers: int, address: str
+) -> None:
     from distributed import Client, LocalCluster, as_completed
 
     cluster = None
