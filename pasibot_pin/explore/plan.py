@@ -270,11 +270,6 @@ def range_of_record(record: Sequence) -> Varied:
     return Range(str(name), float(low), float(high))
 
 
-def numeric_names(ranges: Sequence[Varied]) -> list[str]:
-    """The names of the numeric (:class:`Range`) parameters among ``ranges``."""
-    return [r.name for r in ranges if isinstance(r, Range)]
-
-
 def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
     """``METRIC[:min|max]`` -> (metric, sense), the sense defaulting to the metric's own.
 

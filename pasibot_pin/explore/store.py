@@ -200,16 +200,6 @@ class ResultStore:
         return target
 
 
-def read_results(folder: Path):
-    """The results table of a finished run (``results.parquet``), as a pyarrow Table."""
-    import pyarrow.parquet as pq
-
-    path = Path(folder) / RESULTS
-    if not path.is_file():
-        raise ValueError(f"no {RESULTS} in {folder}: run the sweep (or optimisation) to the end first")
-    return pq.read_table(path)
-
-
 def column(table, name: str, rows: Sequence[int] | None = None):
     """One column as a numpy array (optionally only ``rows``)."""
     import numpy as np

@@ -135,13 +135,6 @@ class FloorAnswer:
     best_outcome: str
 
 
-def floor_answer_of_rows(rows: list[dict]) -> FloorAnswer:
-    """Question 2's summary from its table's rows (:func:`~pasibot_pin.explore.questions.floor_summary`)."""
-    from pasibot_pin.explore.questions import floor_summary
-
-    return FloorAnswer(**floor_summary(rows))
-
-
 def floor_answer() -> FloorAnswer:
     """The summary of question 2's run, as ``make answers`` stored it (no pyarrow needed)."""
     from pasibot_pin.explore.questions import read_summary

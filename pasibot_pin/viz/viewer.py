@@ -179,10 +179,6 @@ class WalkViewer:
         for node in ("visuals", "joints", "contacts"):
             self.meshcat[f"{ROOT}/{node}"].set_property("visible", bool(visible))
 
-    def visual_nodes(self) -> list[str]:
-        """Scene path of every visual object of the robot (under the viewer's root)."""
-        return [self.viz.getViewerNodeName(obj, pin.GeometryType.VISUAL) for obj in self.visual_model.geometryObjects]
-
     def visual_poses(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """World pose (4x4) of every visual node at ``q``, as sent to the viewer."""
         q = check_trajectory(self.robot, q)[0]
