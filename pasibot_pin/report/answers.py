@@ -8,9 +8,9 @@ Three questions, each answered in one bullet whose numbers come from code and ar
 - the spring: :func:`spring_answer_line`, the recommended spring and its margin
   (:func:`~pasibot_pin.studies.spring_choice.recommended_spring`).
 
-:func:`answer_lines` gives the box's lines, :func:`answers_box` its Markdown; :func:`build` is the
-``pasibot analyze`` step (its facts carry the lines; :func:`~pasibot_pin.report.markdown.report_text`
-puts the box first).
+:func:`answer_lines` gives the box's lines; :func:`build` is the ``pasibot analyze`` step (its facts
+carry the lines; :func:`~pasibot_pin.report.markdown.report_text` puts them first, in
+:func:`~pasibot_pin.report.markdown.answers_box`).
 """
 
 from __future__ import annotations
@@ -101,18 +101,6 @@ def answers() -> list[str]:
 
     return answer_lines(
         walking_answer_lines(), motor_answer_line(single_motor_study()), spring_answer_line(recommended_spring())
-    )
-
-
-def answers_box(lines: list[str]) -> str:
-    """The ``## Answers`` section: the lines in a quoted box, with the definitions below it."""
-    body = "\n".join(f"> {line}" if line else ">" for line in lines)
-    return (
-        "## Answers\n\n"
-        + body
-        + "\n\nThe walks are judged by `pasibot_pin.dynamics.verdict` on the floor (heel and toe contacts); the "
-        "motor's numbers come from the single-motor section below, the spring's from "
-        "`pasibot_pin.studies.spring_choice`.\n"
     )
 
 
