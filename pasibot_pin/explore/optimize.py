@@ -21,15 +21,19 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.explore.executors import check_workers, run_tasks
 from pasibot_pin.explore.plan import DEFAULT_RANGES, Choice, Varied, check_floor, range_record
 from pasibot_pin.explore.store import ResultStore
+from pasibot_pin.explore.sweep import evaluate_designs, floor_columns
 from pasibot_pin.model.design import Design
+from pasibot_pin.progress import progress_bar
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import ALL_METRICS, warm_caches
 
@@ -177,16 +181,14 @@ class OptimizeResult:
 
 def _storage(folder: Path):
     """The study's storage: Optuna's journal file ``optuna.log`` (appends only, fast, survives a crash)."""
-    from optuna.storages import JournalStorage
-    from optuna.storages.journal import JournalFileBackend
+    from optuna.storages import JournalStorage  # deferred: optional extra (optuna)
+    from optuna.storages.journal import JournalFileBackend  # deferred: optional extra (optuna)
 
     return JournalStorage(JournalFileBackend(str(folder / STORAGE)))
 
 
 def _sampler(plan: OptimizePlan):
-    import warnings
-
-    import optuna
+    import optuna  # deferred: optional extra (optuna)
 
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
     return optuna.samplers.NSGAIISampler(
@@ -223,10 +225,6 @@ def run_optimize(
         An :class:`OptimizeResult`.
 
     """
-    from pasibot_pin.explore.executors import check_workers
-    from pasibot_pin.explore.sweep import floor_columns
-    from pasibot_pin.progress import progress_bar
-
     workers = check_workers(workers)
     folder = Path(folder)
     record = {k: v for k, v in plan.to_dict().items() if k != "trials"}  # more trials continue the same run
@@ -254,7 +252,7 @@ def run_optimize(
 
 def _open_study(plan: OptimizePlan, folder: Path):
     """The Optuna study of ``folder`` (created or loaded); a new one's trial 0 is the base design, when it may be."""
-    import optuna
+    import optuna  # deferred: optional extra (optuna)
 
     optuna.logging.set_verbosity(optuna.logging.WARNING)
     study = optuna.create_study(
@@ -282,7 +280,7 @@ class _Trials:
 
     def finish_interrupted(self) -> None:
         """Trials asked but never finished (an interrupted run): told from the table, or evaluated again."""
-        import optuna
+        import optuna  # deferred: optional extra (optuna)
 
         running = self.study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
         table_rows = {int(r["index"]): r for r in self.store.table().to_pylist()} if running else {}
@@ -305,9 +303,6 @@ class _Trials:
 
     def evaluate(self, items: list[tuple[int, list[float | str]]]) -> None:
         """Evaluate (trial number, values) items, one design per task: a generation spreads over the workers."""
-        from pasibot_pin.explore.executors import run_tasks
-        from pasibot_pin.explore.sweep import evaluate_designs
-
         tasks = [(self.base, self.plan.names, [item], self.plan.floor) for item in items]
         run_tasks(evaluate_designs, tasks, self.tell, workers=self.workers, dask=self.dask)
 
@@ -335,7 +330,7 @@ def _inside(r: Varied, value) -> bool:
 
 def _tell_row(study, plan: OptimizePlan, row: dict, trial_id: int) -> None:
     """Tell the study a trial's result: its objectives and constraint violations, or a failure."""
-    import optuna
+    import optuna  # deferred: optional extra (optuna)
 
     number = int(row["index"])
     if row["feasible"]:

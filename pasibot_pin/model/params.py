@@ -328,9 +328,8 @@ def human_description_fractions() -> dict[str, float]:
         [kg] under the key ``'total_mass'``.
 
     """
-    # the human fractions read example-robot-data's URDF: loaded on use, not at the CLI's start
-    import xml.etree.ElementTree as ET
-    from importlib.metadata import PackageNotFoundError, distribution
+    import xml.etree.ElementTree as ET  # deferred: keeps the CLI's start fast
+    from importlib.metadata import PackageNotFoundError, distribution  # deferred: keeps the CLI's start fast
 
     try:
         dist = distribution("example-robot-data")
