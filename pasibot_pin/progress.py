@@ -31,7 +31,7 @@ class PlainProgress:
 def progress_bar(total: int, done: int, enabled: bool, unit: str = "design"):
     """A progress bar over ``total`` items, ``done`` already: tqdm's if installed, else :class:`PlainProgress`."""
     try:
-        from tqdm.auto import tqdm
+        from tqdm.auto import tqdm  # deferred: optional extra (tqdm)
     except ImportError:
         return PlainProgress(total, done, enabled, unit)
     return tqdm(total=total, initial=done, unit=unit, disable=not enabled, smoothing=0.1, dynamic_ncols=True)

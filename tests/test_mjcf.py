@@ -19,6 +19,7 @@ import pasibot_pin as pp
 from pasibot_pin.__main__ import main
 from pasibot_pin.dynamics import simulator as simulate
 from pasibot_pin.dynamics.floor import LOAD_TOL
+from pasibot_pin.model.description import sides
 from pasibot_pin.model.design import Design
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.studies import spring_study
@@ -306,3 +307,95 @@ def test_planar_noslip_needs_noslip_and_doubles_the_written_friction():
     model, _ = _model(robot, MjcfOptions(mu=0.7, noslip_iterations=5, planar_noslip=True, actuator="constraint"))
     assert model.geom_friction[model.geom("right_sole").id][0] == pytest.approx(1.4)
     assert model.nu == 0 and model.neq == len(robot.loops) + len(robot.actuated_joints)
+
+
+EXPORTS = [
+    MjcfOptions(),
+    MjcfOptions(actuator="velocity", kv=7.0, floor=False, timestep=2e-4),
+    MjcfOptions(actuator="constraint", noslip_iterations=5, planar_noslip=True, mu=0.6),
+    MjcfOptions(actuator="none", boundinertia=1e-6, spring_stiffness=300.0, spring_rest_angle=1.3, spring_damping=0.5),
+    MjcfOptions(weld_foot="left", spring_stiffness=3000.0, solref=(2e-3, 0.9), contact_solimp=(0.95, 0.99, 0.002)),
+]
+
+
+@pytest.mark.parametrize("variant", pp.VARIANTS)
+@pytest.mark.parametrize("legs", [1, 2])
+@pytest.mark.parametrize("k", range(len(EXPORTS)))
+def test_every_export_option_reaches_mujocos_model(variant, legs, k):
+    """Each option, read back from MuJoCo's compiled model; the geometry against Pinocchio's frames."""
+    options = EXPORTS[k]
+    robot = pp.load(variant, legs)
+    if options.weld_foot and legs == 1:
+        with pytest.raises(ValueError, match="no foot to weld"):
+            to_mjcf(robot, options)
+        return
+    q = robot.q0.copy()  # a weld, keyframe and crank drives off q0 (the loops left open): all follow q_weld
+    q[robot.idx_q(robot.actuated_joints[0])] += 0.1
+    if legs == 2:
+        q[0] += 0.05
+    model, data = _model(robot, options, q_weld=q)
+    assert model.opt.timestep == options.timestep and model.opt.noslip_iterations == options.noslip_iterations
+    np.testing.assert_allclose(model.opt.gravity, robot.model.gravity.linear, atol=0)
+    bound = options.boundinertia
+    bound = max(1e-8, options.spring_stiffness * options.timestep**2 / 0.1) if bound is None else bound
+    assert np.min(model.body_inertia[1:]) >= bound * (1 - 1e-12)
+    key = model.key("home").id
+    np.testing.assert_allclose(model.key_qpos[key], q, atol=0)
+    motors = robot.actuated_joints
+    crank_q = np.array([q[robot.idx_q(m)] for m in motors])
+    # the cranks: servos, drives, or nothing
+    eq_joint = [i for i in range(model.neq) if model.eq_type[i] == mujoco.mjtEq.mjEQ_JOINT]
+    if options.actuator == "position":
+        assert model.nu == len(motors)
+        np.testing.assert_allclose(model.key_ctrl[key], crank_q, atol=0)
+        np.testing.assert_allclose(model.actuator_gainprm[:, 0], options.kp)
+        np.testing.assert_allclose(model.actuator_biasprm[:, 1:3], [[-options.kp, -options.kv]] * len(motors))
+    elif options.actuator == "velocity":
+        assert model.nu == len(motors)
+        np.testing.assert_allclose(model.key_ctrl[key], 0.0, atol=0)
+        np.testing.assert_allclose(model.actuator_gainprm[:, 0], options.kv)
+    else:
+        assert model.nu == 0
+    if options.actuator == "position" or options.actuator == "velocity":
+        assert [model.joint(model.actuator_trnid[i, 0]).name for i in range(model.nu)] == motors
+    if options.actuator == "constraint":
+        assert [model.joint(model.eq_obj1id[i]).name for i in eq_joint] == motors
+        np.testing.assert_allclose([model.eq_data[i, 0] for i in eq_joint], crank_q, atol=0)
+    else:
+        assert not eq_joint
+    # the loops and the weld
+    connects = [model.equality(i).name for i in range(model.neq) if model.eq_type[i] == mujoco.mjtEq.mjEQ_CONNECT]
+    assert connects == [loop.name for loop in robot.loops]
+    welds = [i for i in range(model.neq) if model.eq_type[i] == mujoco.mjtEq.mjEQ_WELD]
+    assert len(welds) == (options.weld_foot is not None)
+    np.testing.assert_allclose(model.eq_solref, [options.solref] * model.neq)
+    np.testing.assert_allclose(model.eq_solimp[:, :3], [options.solimp] * model.neq)
+    pdata = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, pdata, q)
+    mujoco.mj_resetDataKeyframe(model, data, key)
+    mujoco.mj_forward(model, data)
+    if options.weld_foot:
+        foot = pdata.oMf[robot.frame_id(f"{options.weld_foot}_foot")]
+        anchor = data.site(f"{options.weld_foot}_foot_anchor")
+        np.testing.assert_allclose(anchor.xpos, foot.translation, atol=1e-12)
+        np.testing.assert_allclose(anchor.xmat.reshape(3, 3), foot.rotation, atol=1e-12)
+    # the ankle springs
+    for name in robot.spring_joints:
+        joint = model.joint(name)
+        assert model.jnt_stiffness[joint.id] == options.spring_stiffness
+        assert model.qpos_spring[joint.qposadr[0]] == pytest.approx(math.pi / 2 - options.spring_rest_angle, abs=1e-15)
+        assert model.dof_damping[joint.dofadr[0]] == options.spring_damping
+    assert np.count_nonzero(model.jnt_stiffness) == (len(robot.spring_joints) if options.spring_stiffness else 0)
+    # the soles (heel to toe, the only geoms that collide) and the floor
+    friction = options.mu * (2.0 if options.planar_noslip else 1.0)
+    colliding = {model.geom(i).name for i in range(model.ngeom) if model.geom_contype[i]}
+    assert colliding == {f"{side}_sole" for side in sides(robot.legs)} | ({"floor"} if options.floor else set())
+    for side in sides(robot.legs):
+        sole = model.geom(f"{side}_sole")
+        heel, toe = (pdata.oMf[robot.frame_id(f"{side}_{p}")].translation for p in ("heel", "toe"))
+        np.testing.assert_allclose(data.geom(sole.id).xpos, (heel + toe) / 2, atol=1e-12)
+        assert sole.size[0] == options.sole_radius and sole.size[1] == pytest.approx(np.linalg.norm(toe - heel) / 2)
+        assert sole.friction[0] == pytest.approx(friction, rel=1e-15) and sole.condim[0] == 3
+        np.testing.assert_allclose(sole.solref, options.contact_solref)
+        np.testing.assert_allclose(sole.solimp[:3], options.contact_solimp)
+    assert model.geom("floor").friction[0] == pytest.approx(friction, rel=1e-15)

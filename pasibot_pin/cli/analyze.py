@@ -15,7 +15,9 @@ import importlib
 import time
 from pathlib import Path
 
-from pasibot_pin.cli.common import add_force_option, add_out_folder_option
+from pasibot_pin.cli.common import add_force_option, add_out_folder_option, check_output_folder
+from pasibot_pin.files import MARKER, OutputFolder
+from pasibot_pin.report.files import write_text_atomic
 
 STEPS: list[tuple[str, str]] = [
     ("answers", "answers"),
@@ -47,7 +49,7 @@ PLANS: dict[str, str] = {"simulation": "SimulationPlan", "floor": "FloorPlan"}
 
 def run_step(name: str, out_dir: Path):
     """Run one step: (its :class:`~pasibot_pin.report.markdown.Section`, its wall time [s] for the console)."""
-    from pasibot_pin.report.markdown import Section
+    from pasibot_pin.report.markdown import Section  # deferred: keeps the CLI's start fast
 
     start = time.perf_counter()
     module = importlib.import_module(f"pasibot_pin.report.{dict(STEPS)[name]}")
@@ -65,9 +67,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Run every step on one pool, longest pieces first, and write ``report.md``."""
-    from pasibot_pin.cli.common import check_output_folder
-    from pasibot_pin.files import MARKER, OutputFolder
-
     out_dir: Path = check_output_folder(args.out, "--out")
     if out_dir.is_dir() and any(p.name != MARKER for p in out_dir.iterdir()) and not args.force:
         raise FileExistsError(f"--out {out_dir} already holds files; pass --force to write over them")
@@ -83,9 +82,8 @@ def run(args: argparse.Namespace) -> int:
 
 def _run(out_dir: Path) -> None:
     """Every step into ``out_dir`` (claimed), then ``report.md``."""
-    from pasibot_pin.jobs import WORKERS, Job, run_jobs
-    from pasibot_pin.report.files import write_text_atomic
-    from pasibot_pin.report.markdown import report_text
+    from pasibot_pin.jobs import WORKERS, Job, run_jobs  # deferred: keeps the CLI's start fast
+    from pasibot_pin.report.markdown import report_text  # deferred: keeps the CLI's start fast
 
     built: dict = {}  # step name -> its Section
     plans = {

@@ -13,6 +13,9 @@ from pasibot_pin.cli.common import (
     check_output_folder,
     design_of,
 )
+from pasibot_pin.model.assembly import check_full_turn
+from pasibot_pin.model.description import render_default_urdfs, render_urdf, write_urdf
+from pasibot_pin.model.params import SEED_LINK_RATIOS, Geometry, check_legs, check_variant, percentage_mass_model
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -37,8 +40,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def parse_ratios(items: list[str]) -> dict[str, float]:
     """``['r4=9.5', ...]`` -> ``{'r4': 9.5}``; ValueError for anything but a known ``rN=NUMBER``."""
-    from pasibot_pin.model.params import SEED_LINK_RATIOS
-
     out: dict[str, float] = {}
     for item in items:
         key, sep, value = item.partition("=")
@@ -54,10 +55,6 @@ def parse_ratios(items: list[str]) -> dict[str, float]:
 
 def run(args: argparse.Namespace) -> int:
     """Render and write (or print) the URDF."""
-    from pasibot_pin.model.assembly import check_full_turn
-    from pasibot_pin.model.description import render_default_urdfs, render_urdf, write_urdf
-    from pasibot_pin.model.params import Geometry, check_legs, check_variant, percentage_mass_model
-
     if args.defaults:
         if args.L is not None or args.K is not None or args.ratio or args.design is not None:
             raise ValueError("--defaults renders the default parameters; it takes no --L, --K, --ratio or --design")

@@ -275,7 +275,7 @@ def check_output_folder(path: Path, option: str) -> Path:
 
 def plot_formats() -> dict[str, str]:
     """Figure formats matplotlib can write: extension (without dot) -> description."""
-    from matplotlib.backend_bases import FigureCanvasBase  # heavy: loaded on use, not at the CLI's start
+    from matplotlib.backend_bases import FigureCanvasBase  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     return dict(FigureCanvasBase.get_supported_filetypes())
 

@@ -19,6 +19,9 @@ from pasibot_pin.cli.common import (
     check_outputs,
     design_of,
 )
+from pasibot_pin.model.scenarios import PRESETS, get_scenario
+from pasibot_pin.report.files import write_columns_csv
+from pasibot_pin.studies.contact import CONTACT_SAMPLES, design_contact, scenario_contact
 
 CONTACT_VARIANTS: tuple[str, ...] = ("spring", "parallel")
 """The variants the contact study takes (the seed's scenarios and presets are for these two designs)."""
@@ -26,9 +29,6 @@ CONTACT_VARIANTS: tuple[str, ...] = ("spring", "parallel")
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
-    from pasibot_pin.model.scenarios import PRESETS
-    from pasibot_pin.studies.contact import CONTACT_SAMPLES
-
     p = sub.add_parser(
         "contact",
         help="heel/toe contact forces, centre of pressure and friction needed along a seed scenario",
@@ -56,10 +56,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the contact summary; write the optional CSV and figure."""
-    from pasibot_pin.model.scenarios import get_scenario
-    from pasibot_pin.report.contact_energy import write_contact_figure
-    from pasibot_pin.report.files import write_columns_csv
-    from pasibot_pin.studies.contact import design_contact, scenario_contact
+    from pasibot_pin.report.contact_energy import write_contact_figure  # deferred: keeps the CLI's start fast
 
     design = design_of(args)
     name = "design" if design is not None else get_scenario(args.scenario).name

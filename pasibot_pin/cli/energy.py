@@ -55,8 +55,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the table; write the optional CSV and figure."""
-    from pasibot_pin.report.contact_energy import write_cost_of_transport, write_energy_csv
-    from pasibot_pin.studies.contact_energy_study import (
+    from pasibot_pin.report.contact_energy import (  # deferred: keeps the CLI's start fast
+        write_cost_of_transport,
+        write_energy_csv,
+    )
+    from pasibot_pin.studies.contact_energy_study import (  # deferred: keeps the CLI's start fast
         ContactEnergySettings,
         check_flywheel_inertia,
         energy_sweep,

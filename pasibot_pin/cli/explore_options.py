@@ -76,7 +76,7 @@ def run_resumable(args: argparse.Namespace, runner, plan, what: str):
     finished removes what it created (its folder, or the files it added), so the same command
     can run again; the lock is held until :func:`finish_run` ends.
     """
-    from pasibot_pin.explore.store import OWNED, PARTS  # pyarrow: loaded on use, not at the CLI's start
+    from pasibot_pin.explore.store import OWNED, PARTS  # deferred: keeps the CLI's start fast
     out = Path(args.out)
     folder = OutputFolder(out, ours=OWNED).claim(force=args.force)  # refused at once if another run writes there
     args.claimed = folder
@@ -111,7 +111,7 @@ def finish_run(
 
 
 def _finish(args, out: Path, table, varied, by, what: str, objectives, rows, constraints=()) -> None:
-    from pasibot_pin.explore.sweep import best_rows, export_best, write_figures  # heavy: loaded on use
+    from pasibot_pin.explore.sweep import best_rows, export_best, write_figures  # deferred: keeps the CLI's start fast
 
     figures = write_figures(table, out, varied, objectives, constraints)
     feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))

@@ -60,7 +60,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Export the walk; refuses to overwrite without ``--force`` (FileExistsError, exit code 2)."""
-    from pasibot_pin.viz.viewer import export_html  # meshcat: loaded on use, not at the CLI's start
+    from pasibot_pin.viz.viewer import export_html  # deferred: keeps the CLI's start fast
 
     check_output_file(args.out, "--out", args.force)
     design = design_of(args)

@@ -20,6 +20,8 @@ from pasibot_pin.cli.common import (
     file_path,
     given,
 )
+from pasibot_pin.model.design import Design, design_robot, load_design
+from pasibot_pin.report.files import write_text_atomic
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -38,10 +40,8 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Build the design's robot and spring, write the MJCF."""
-    from pasibot_pin.model.design import Design, design_robot, load_design
-    from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
-    from pasibot_pin.report.files import write_text_atomic
-    from pasibot_pin.studies.spring_fit import design_spring
+    from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf  # deferred: keeps the CLI's start fast
+    from pasibot_pin.studies.spring_fit import design_spring  # deferred: keeps the CLI's start fast
 
     check_output_file(args.out, "--out", args.force)
     design = load_design(args.design) if args.design is not None else Design()

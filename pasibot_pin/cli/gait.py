@@ -48,8 +48,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Compute, print a summary, write the CSV and the plot."""
-    from pasibot_pin.report import kinematics as rep
-    from pasibot_pin.studies.kinematics_study import GaitSettings, LegRun, gait_run
+    from pasibot_pin.report import kinematics as rep  # deferred: keeps the CLI's start fast
+    from pasibot_pin.studies.kinematics_study import (  # deferred: keeps the CLI's start fast
+        GaitSettings,
+        LegRun,
+        gait_run,
+    )
 
     steps = args.steps if given(args, "steps") else None  # with --legs 1, --steps is refused, not ignored
     design = design_of(args)

@@ -5,6 +5,8 @@ from __future__ import annotations
 import argparse
 
 from pasibot_pin.cli.common import add_design_option, add_robot_options, design_of
+from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.robot import load
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -17,9 +19,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print the summary of the requested robot."""
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.model.robot import load
-
     design = design_of(args)
     robot = load(args.variant, args.legs) if design is None else design_robot(design, args.legs)
     print(robot.summary())

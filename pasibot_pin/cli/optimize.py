@@ -29,7 +29,12 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check every input, run the optimisation, write the table, figures and the Pareto designs."""
-    from pasibot_pin.explore.optimize import OptimizePlan, objectives_of, parse_constraint, run_optimize
+    from pasibot_pin.explore.optimize import (  # deferred: keeps the CLI's start fast
+        OptimizePlan,
+        objectives_of,
+        parse_constraint,
+        run_optimize,
+    )
 
     base, ranges, by = start_run(args)
     plan = OptimizePlan(

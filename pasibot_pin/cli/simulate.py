@@ -70,14 +70,23 @@ def check_floor_steps(args: argparse.Namespace) -> None:
 def run(args: argparse.Namespace) -> int:
     """Simulate the scenario, write plots and CSV, print the excursions."""
     if args.ground == "floor":
-        from pasibot_pin.cli.simulate_floor import run_floor
+        from pasibot_pin.cli.simulate_floor import run_floor  # deferred: keeps the CLI's start fast
 
         check_floor_steps(args)
 
         return run_floor(args)
-    from pasibot_pin.report.simulation import case_line, prepare_outputs, write_simulation
-    from pasibot_pin.studies.simulation_study import SimulateSettings, check_fps, run_simulation, simulation_setup
-    from pasibot_pin.studies.spring_study import scenario_key
+    from pasibot_pin.report.simulation import (  # deferred: keeps the CLI's start fast
+        case_line,
+        prepare_outputs,
+        write_simulation,
+    )
+    from pasibot_pin.studies.simulation_study import (  # deferred: keeps the CLI's start fast
+        SimulateSettings,
+        check_fps,
+        run_simulation,
+        simulation_setup,
+    )
+    from pasibot_pin.studies.spring_study import scenario_key  # deferred: keeps the CLI's start fast
 
     floor_only = {"--study": args.study, "--duration": args.duration, "--mu": common.given(args, "mu")}
     for flag in (f for f, value in {**floor_only, "--design": args.design}.items() if value not in (None, False)):

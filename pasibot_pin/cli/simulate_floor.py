@@ -11,13 +11,14 @@ from __future__ import annotations
 import argparse
 
 from pasibot_pin.cli.common import check_output_folder, design_of, given
+from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
+from pasibot_pin.studies.floor_static import floor_static_study
+from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
+from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_key
 
 
 def run_floor(args: argparse.Namespace) -> int:
     """The spring cases on the floor: print each outcome, write the CSV and the figure (or the study's files)."""
-    from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
-    from pasibot_pin.studies.spring_study import scenario_key
-
     for flag, value in (
         ("--stiffness", args.stiffness),
         ("--rest-angle", args.rest_angle),
@@ -42,7 +43,10 @@ def run_floor(args: argparse.Namespace) -> int:
         "run1" if design else scenario, duration, args.mu, dt, cases=not args.no_cases, design=design
     )
     check_output_folder(args.out, "--out")
-    from pasibot_pin.report.floor import floor_files, write_floor  # matplotlib: after the flags' checks
+    from pasibot_pin.report.floor import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
+        floor_files,
+        write_floor,
+    )
 
     csv_path, png_path = floor_files(args.out, scenario, args.force)
     study = floor_study(settings, on_case=lambda case: print(case_summary(case), flush=True))
@@ -56,10 +60,11 @@ def _run_study(args: argparse.Namespace, dt: float) -> int:
 
     The quasi-static K_e x beta0 sweep too, unless ``--no-cases``.
     """
-    from pasibot_pin.report.floor import floor_spring_files, floor_spring_line, write_floor_spring
-    from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
-    from pasibot_pin.studies.floor_static import floor_static_study
-    from pasibot_pin.studies.spring_study import SPRING_CASES
+    from pasibot_pin.report.floor import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
+        floor_spring_files,
+        floor_spring_line,
+        write_floor_spring,
+    )
 
     scenarios = WALKING_SCENARIOS if args.scenario == "all" else (args.scenario,)
     duration = 2.0 if args.duration is None else args.duration

@@ -17,12 +17,11 @@ from pasibot_pin.cli.common import (
     check_outputs,
     design_of,
 )
+from pasibot_pin.model.scenarios import ACCELERATION_MODES, PRESETS, SWING_FOOT_MODES, get_scenario
 
 
 def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
-    from pasibot_pin.model.scenarios import ACCELERATION_MODES, PRESETS, SWING_FOOT_MODES
-
     p = sub.add_parser("torques", help="crank/ankle torques of a seed scenario and the fitted ankle spring K_e")
     add_scenario_option(p)
     p.add_argument("--preset", default="default", help=f"modelling preset: {', '.join(PRESETS)} (default default)")
@@ -42,9 +41,11 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Print K_e and write the optional CSV and plot."""
-    from pasibot_pin.model.scenarios import get_scenario
-    from pasibot_pin.report.torques import write_beta_plot, write_result_csv
-    from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
+    from pasibot_pin.report.torques import write_beta_plot, write_result_csv  # deferred: keeps the CLI's start fast
+    from pasibot_pin.studies.torques_study import (  # deferred: keeps the CLI's start fast
+        TorqueSettings,
+        scenario_torques,
+    )
 
     design = design_of(args)
     check_outputs(args, "torques_design" if design is not None else f"torques_{get_scenario(args.scenario).name}")

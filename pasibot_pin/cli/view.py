@@ -12,7 +12,10 @@ import argparse
 import math
 import time
 
+from pasibot_pin.cli.common import design_of
 from pasibot_pin.cli.export_html import add_walk_view_options
+from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.robot import load
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -30,10 +33,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Start the viewer, play the walk live, hold, exit."""
-    from pasibot_pin.cli.common import design_of
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.viewer import (
+    from pasibot_pin.viz.viewer import (  # deferred: keeps the CLI's start fast
         WalkViewer,
         build_walk_scene,
         check_meshcat_server,

@@ -28,7 +28,8 @@ from pasibot_pin.cli.common import (
     design_of,
     given,
 )
-from pasibot_pin.errors import ParameterError
+from pasibot_pin.errors import NoFixedPointError, ParameterError
+from pasibot_pin.model.design import Design, design_robot
 
 MAX_STEPS = 1000
 """Most steps ``--steps`` takes [-]."""
@@ -64,8 +65,6 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Check the flags and files, walk the design, print the answer, write the files."""
-    from pasibot_pin.model.design import Design
-
     steps = check_steps(args.steps)
     if args.omega is not None and not (math.isfinite(args.omega) and 0.05 <= args.omega <= 20.0):
         raise ParameterError(f"--omega must be a crank speed in [0.05, 20] rad/s, got {args.omega!r}")
@@ -80,9 +79,12 @@ def run(args: argparse.Namespace) -> int:
         design = design.with_(variant=args.variant)
     if args.omega is not None:
         design = design.with_(omega=args.omega)
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.report.walking import verdict_json, walk_lines, write_walk_animation
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
+    from pasibot_pin.report.walking import (  # deferred: keeps the CLI's start fast
+        verdict_json,
+        walk_lines,
+        write_walk_animation,
+    )
+    from pasibot_pin.studies.walking import WalkSettings, walk_design  # deferred: keeps the CLI's start fast
 
     settings = WalkSettings(steps=steps, mu=args.mu)
     robot = design_robot(design, 2, visuals=html is not None)
@@ -91,8 +93,7 @@ def run(args: argparse.Namespace) -> int:
     if args.stability and not walk.verdict.walks:
         no_gait = f"stability: no periodic gait to linearise (the design {walk.verdict.outcome})"
     elif args.stability:
-        from pasibot_pin.errors import NoFixedPointError
-        from pasibot_pin.studies.gait_stability import gait_stability
+        from pasibot_pin.studies.gait_stability import gait_stability  # deferred: keeps the CLI's start fast
 
         try:
             stability = gait_stability(design, walk, robot=robot)

@@ -84,11 +84,6 @@ def sweep_stances(thetas: np.ndarray, stance: str = "auto") -> list[str]:
     return sides
 
 
-def wrap_stance(theta: float) -> float:
-    """A stance crank angle mapped to [pi/2, 5 pi/2) [rad]."""
-    return math.pi / 2 + (theta - math.pi / 2) % (2 * math.pi)
-
-
 def check_omega(omega: float) -> float:
     """Return ``omega`` [rad/s] if it is finite and >= 0, else raise ValueError naming it."""
     omega = float(omega)
@@ -426,7 +421,7 @@ class _Columns:
     def result(self, thetas, sides_used, omega: float, mode: str, swing_foot: str, motors: str) -> TorqueResult:
         """The :class:`TorqueResult` of the filled columns."""
         stance_crank = np.where(np.array(sides_used) == "right", thetas, thetas + math.pi)
-        theta_stance = math.pi / 2 + np.remainder(stance_crank - math.pi / 2, 2 * math.pi)  # wrap_stance
+        theta_stance = math.pi / 2 + np.remainder(stance_crank - math.pi / 2, 2 * math.pi)  # in [pi/2, 5 pi/2)
         return TorqueResult(
             t=(thetas - thetas[0]) / (omega if omega > 0 else 1.0),
             theta_right=thetas,

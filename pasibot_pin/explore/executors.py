@@ -20,8 +20,12 @@ from __future__ import annotations
 import logging
 import os
 from collections.abc import Callable, Sequence
+from typing import TypeVar, cast
 
 from pasibot_pin.errors import ParameterError
+from pasibot_pin.extras import require
+
+R = TypeVar("R")
 
 IN_FLIGHT: int = 4
 """Tasks per Dask worker submitted ahead of the results."""
@@ -52,16 +56,14 @@ def check_workers(workers: int | None) -> int:
 
 def check_scheduler(address: str | None) -> None:
     """Before any work: ``address`` is ``None``, ``local``, or a Dask scheduler that answers (ValueError if not)."""
-    from pasibot_pin.extras import require
-
     if address is None:
         return
     require("sweep", ["distributed"], f"--dask {address}")
     if address == "local":
         return
-    from distributed import Client
+    from distributed import Client  # deferred: optional extra (distributed)
 
-    from pasibot_pin.net import tcp_refused
+    from pasibot_pin.net import tcp_refused  # deferred: keeps the CLI's start fast
 
     refused = tcp_refused(address)
     if refused:
@@ -73,9 +75,9 @@ def check_scheduler(address: str | None) -> None:
 
 
 def run_tasks(
-    fn: Callable,
+    fn: Callable[..., R],
     tasks: Sequence[tuple],
-    on_result: Callable[[object], None],
+    on_result: Callable[[R], None],
     workers: int | None = None,
     dask: str | None = None,
 ) -> None:
@@ -100,14 +102,16 @@ def run_tasks(
         for task in tasks:
             on_result(fn(*task))
     else:
-        from pasibot_pin.jobs import Job, run_jobs
+        from pasibot_pin.jobs import Job, run_jobs  # deferred: keeps the CLI's start fast
 
         jobs = [Job(1.0, k, fn, tuple(task)) for k, task in enumerate(tasks)]
-        run_jobs(jobs, lambda _key, result: on_result(result), workers=workers)
+        run_jobs(jobs, lambda _key, result: on_result(cast(R, result)), workers=workers)  # result: fn's, untyped
 
 
-def _run_dask(fn: Callable, tasks: Sequence[tuple], on_result: Callable, workers: int, address: str) -> None:
-    from distributed import Client, LocalCluster, as_completed
+def _run_dask(
+    fn: Callable[..., R], tasks: Sequence[tuple], on_result: Callable[[R], None], workers: int, address: str
+) -> None:
+    from distributed import Client, LocalCluster, as_completed  # deferred: optional extra (distributed)
 
     cluster = None
     if address == "local":

@@ -21,15 +21,19 @@ from __future__ import annotations
 
 import math
 import re
+import warnings
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.explore.executors import check_workers, run_tasks
 from pasibot_pin.explore.plan import DEFAULT_RANGES, Choice, Varied, check_floor, range_record
 from pasibot_pin.explore.store import ResultStore
+from pasibot_pin.explore.sweep import evaluate_designs, floor_columns
 from pasibot_pin.model.design import Design
+from pasibot_pin.progress import progress_bar
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import ALL_METRICS, warm_caches
 
@@ -177,16 +181,14 @@ class OptimizeResult:
 
 def _storage(folder: Path):
     """The study's storage: Optuna's journal file ``optuna.log`` (appends only, fast, survives a crash)."""
-    from optuna.storages import JournalStorage
-    from optuna.storages.journal import JournalFileBackend
+    from optuna.storages import JournalStorage  # deferred: optional extra (optuna)
+    from optuna.storages.journal import JournalFileBackend  # deferred: optional extra (optuna)
 
     return JournalStorage(JournalFileBackend(str(folder / STORAGE)))
 
 
 def _sampler(plan: OptimizePlan):
-    import warnings
-
-    import optuna
+    import optuna  # deferred: optional extra (optuna)
 
     warnings.filterwarnings("ignore", category=optuna.exceptions.ExperimentalWarning)
     return optuna.samplers.NSGAIISampler(
@@ -223,67 +225,21 @@ def run_optimize(
         An :class:`OptimizeResult`.
 
     """
-    import optuna
-
-    from pasibot_pin.explore.executors import check_workers, run_tasks
-    from pasibot_pin.explore.sweep import evaluate_designs, floor_columns
-    from pasibot_pin.progress import progress_bar
-
     workers = check_workers(workers)
     folder = Path(folder)
     record = {k: v for k, v in plan.to_dict().items() if k != "trials"}  # more trials continue the same run
     store = ResultStore(
         folder, {"kind": "optimize", **record}, plan.trials, force=force, extra=floor_columns(plan.floor)
     )
-    optuna.logging.set_verbosity(optuna.logging.WARNING)
-    study = optuna.create_study(
-        study_name=STUDY_NAME,
-        storage=_storage(folder),
-        sampler=_sampler(plan),
-        directions=["minimize" if o.sense == "min" else "maximize" for o in plan.objectives],
-        load_if_exists=True,
-    )
+    study = _open_study(plan, folder)
     done_before = len(store.done)
-    base_values = {r.name: plan.base.values()[r.name] for r in plan.ranges}
-    inside = all(_inside(r, v) for r, v in zip(plan.ranges, base_values.values()))
-    if not study.trials and inside:
-        study.enqueue_trial(base_values)  # trial 0 is the base design: the front is never worse than it
     bar = progress_bar(plan.trials, done_before, progress)
-    base = plan.base.to_dict()
-
-    ids: dict[int, int] = {}  # trial number -> storage id
-
-    def tell(rows: list[dict]) -> None:
-        for row in rows:
-            _tell_row(study, plan, row, ids[int(row["index"])])
-        store.add(rows)
-        bar.update(len(rows))
-
+    trials = _Trials(study, plan, store, bar, workers, dask)
     warm_caches(plan.base)  # forked workers inherit it
-
-    def evaluate(items: list) -> None:  # one design per task: a generation spreads over the workers
-        tasks = [(base, plan.names, [item], plan.floor) for item in items]
-        run_tasks(evaluate_designs, tasks, tell, workers=workers, dask=dask)
-
     try:
-        # trials asked but never finished (an interrupted run): told from the table, or evaluated again
-        running = study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
-        table_rows = {int(r["index"]): r for r in store.table().to_pylist()} if running else {}
-        again = []
-        ids.update({t.number: t._trial_id for t in running})
-        for t in running:
-            if t.number in table_rows:  # finished and saved, not yet told
-                _tell_row(study, plan, table_rows[t.number], t._trial_id)
-            else:
-                again.append((t.number, [t.params[n] for n in plan.names]))
-        if again:
-            evaluate(again)
+        trials.finish_interrupted()
         while len(store.done) < plan.trials:
-            size = min(plan.population, plan.trials - len(store.done))
-            asked = [study.ask() for _ in range(size)]
-            ids.update({t.number: t._trial_id for t in asked})
-            items = [(t.number, [_suggest(t, r) for r in plan.ranges]) for t in asked]
-            evaluate(items)
+            trials.run_generation()
             if on_generation is not None:
                 on_generation(len(store.done), plan.trials)
     finally:
@@ -292,6 +248,70 @@ def run_optimize(
     results = store.finish(csv=csv)
     table = store.table()
     return OptimizeResult(folder, plan, table, len(store.done) - done_before, pareto_rows(table, plan), results)
+
+
+def _open_study(plan: OptimizePlan, folder: Path):
+    """The Optuna study of ``folder`` (created or loaded); a new one's trial 0 is the base design, when it may be."""
+    import optuna  # deferred: optional extra (optuna)
+
+    optuna.logging.set_verbosity(optuna.logging.WARNING)
+    study = optuna.create_study(
+        study_name=STUDY_NAME,
+        storage=_storage(folder),
+        sampler=_sampler(plan),
+        directions=["minimize" if o.sense == "min" else "maximize" for o in plan.objectives],
+        load_if_exists=True,
+    )
+    base_values = {r.name: plan.base.values()[r.name] for r in plan.ranges}
+    inside = all(_inside(r, v) for r, v in zip(plan.ranges, base_values.values()))
+    if not study.trials and inside:
+        study.enqueue_trial(base_values)  # trial 0 is the base design: the front is never worse than it
+    return study
+
+
+class _Trials:
+    """A study's trials on the executor: asked a generation at a time, evaluated, told, saved to the store."""
+
+    def __init__(self, study, plan: OptimizePlan, store: ResultStore, bar, workers: int, dask: str | None):
+        self.study, self.plan, self.store, self.bar = study, plan, store, bar
+        self.workers, self.dask = workers, dask
+        self.base = plan.base.to_dict()
+        self.ids: dict[int, int] = {}  # trial number -> storage id
+
+    def finish_interrupted(self) -> None:
+        """Trials asked but never finished (an interrupted run): told from the table, or evaluated again."""
+        import optuna  # deferred: optional extra (optuna)
+
+        running = self.study.get_trials(deepcopy=False, states=(optuna.trial.TrialState.RUNNING,))
+        table_rows = {int(r["index"]): r for r in self.store.table().to_pylist()} if running else {}
+        again = []
+        self.ids.update({t.number: t._trial_id for t in running})
+        for t in running:
+            if t.number in table_rows:  # finished and saved, not yet told
+                _tell_row(self.study, self.plan, table_rows[t.number], t._trial_id)
+            else:
+                again.append((t.number, [t.params[n] for n in self.plan.names]))
+        if again:
+            self.evaluate(again)
+
+    def run_generation(self) -> None:
+        """Ask the sampler for the next generation (at most the trials left) and evaluate it."""
+        size = min(self.plan.population, self.plan.trials - len(self.store.done))
+        asked = [self.study.ask() for _ in range(size)]
+        self.ids.update({t.number: t._trial_id for t in asked})
+        self.evaluate([(t.number, [_suggest(t, r) for r in self.plan.ranges]) for t in asked])
+
+    def evaluate(self, items: list[tuple[int, list[float | str]]]) -> None:
+        """Evaluate (trial number, values) items, one design per task: a generation spreads over the workers."""
+        tasks = [(self.base, self.plan.names, [item], self.plan.floor) for item in items]
+        run_tasks(evaluate_designs, tasks, self.tell, workers=self.workers, dask=self.dask)
+
+    def tell(self, rows: list[dict]) -> None:
+        """Tell the study the finished rows, and save them."""
+        for row in rows:
+            _tell_row(self.study, self.plan, row, self.ids[int(row["index"])])
+        self.store.add(rows)
+        self.bar.update(len(rows))
 
 
 def _suggest(trial, r: Varied) -> float | str:
@@ -310,7 +330,7 @@ def _inside(r: Varied, value) -> bool:
 
 def _tell_row(study, plan: OptimizePlan, row: dict, trial_id: int) -> None:
     """Tell the study a trial's result: its objectives and constraint violations, or a failure."""
-    import optuna
+    import optuna  # deferred: optional extra (optuna)
 
     number = int(row["index"])
     if row["feasible"]:

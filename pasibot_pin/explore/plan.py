@@ -208,7 +208,7 @@ class SweepPlan:
                 for r in self.ranges
             ]
             return np.stack(np.meshgrid(*axes, indexing="ij"), axis=-1).reshape(-1, len(axes))
-        from scipy.stats import qmc
+        from scipy.stats import qmc  # deferred: optional extra (scipy)
 
         unit = qmc.LatinHypercube(d=len(self.ranges), seed=np.random.default_rng(self.seed)).random(self.n)
         if len(numeric) == len(self.ranges):
@@ -270,11 +270,6 @@ def range_of_record(record: Sequence) -> Varied:
     return Range(str(name), float(low), float(high))
 
 
-def numeric_names(ranges: Sequence[Varied]) -> list[str]:
-    """The names of the numeric (:class:`Range`) parameters among ``ranges``."""
-    return [r.name for r in ranges if isinstance(r, Range)]
-
-
 def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
     """``METRIC[:min|max]`` -> (metric, sense), the sense defaulting to the metric's own.
 
@@ -282,7 +277,7 @@ def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
         ValueError: an unknown metric or sense, naming ``option``.
 
     """
-    from pasibot_pin.studies.design_metrics import ALL_METRICS
+    from pasibot_pin.studies.design_metrics import ALL_METRICS  # deferred: keeps the CLI's start fast
 
     name, _, sense = str(text).partition(":")
     if name not in ALL_METRICS:
@@ -295,7 +290,7 @@ def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
 
 def check_floor(floor: int | None) -> int | None:
     """``floor`` if ``None`` or a step count to walk on the floor, else a one-line error naming ``--floor``."""
-    from pasibot_pin.studies.design_metrics import check_floor_steps
+    from pasibot_pin.studies.design_metrics import check_floor_steps  # deferred: keeps the CLI's start fast
 
     return check_floor_steps(floor, "--floor")
 

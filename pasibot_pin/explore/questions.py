@@ -20,11 +20,21 @@ number and every constraint.
 
 from __future__ import annotations
 
+import argparse
+import json
+import shutil
+import tempfile
+from collections import Counter
 from pathlib import Path
 
-from pasibot_pin.explore.optimize import Constraint, Objective, OptimizePlan
+import numpy as np
+
+from pasibot_pin.explore.optimize import Constraint, Objective, OptimizePlan, run_optimize
 from pasibot_pin.explore.plan import Range
+from pasibot_pin.explore.sweep import design_of_row, write_figures
 from pasibot_pin.model.design import Design
+from pasibot_pin.model.scenarios import get_scenario
+from pasibot_pin.studies.design_metrics import path_metrics
 
 STRIDE_TOLERANCE: float = 0.01
 """Largest relative change of the stride from the seed design's [-]."""
@@ -81,8 +91,6 @@ ANSWERS_DIR: Path = _answers_dir()
 
 def seed_stride_plan(straight: bool = False, trials: int = 600, population: int = 40, seed: int = 0) -> OptimizePlan:
     """Question 1 as an :class:`~pasibot_pin.explore.optimize.OptimizePlan` (see the module's notes)."""
-    from pasibot_pin.studies.design_metrics import path_metrics
-
     base = Design()
     reference = path_metrics(base)
     stride = reference["stride_m"]
@@ -108,8 +116,6 @@ def floor_plan(trials: int = 120, population: int = 24, seed: int = 0) -> Optimi
 
     The base is the fast seed run's body (run 4: 20 kg) on the spring variant.
     """
-    from pasibot_pin.model.scenarios import get_scenario
-
     run4 = get_scenario("run4")
     return OptimizePlan(
         ranges=FLOOR_RANGES,
@@ -148,8 +154,6 @@ def floor_summary(rows: list[dict]) -> dict:
         that cannot be built or turned), ``best_index`` and ``best_outcome``.
 
     """
-    from collections import Counter
-
     walked = [r for r in rows if r["feasible"]]
     best = max(walked, key=lambda r: (r["floor_steps"], r["floor_time_s"]))
     outcomes = Counter(r["floor_outcome"] if r["feasible"] else "infeasible" for r in rows)
@@ -173,8 +177,7 @@ def summarize_tables() -> dict:
         margin of any feasible design of them [m]) and ``floor`` (question 2's :func:`floor_summary`).
 
     """
-    import numpy as np
-    import pyarrow.parquet as pq
+    import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
     tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
     margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
@@ -188,8 +191,6 @@ def summarize_tables() -> dict:
 
 def write_summary() -> Path:
     """Write :func:`summarize_tables` to :data:`RESULTS_DIR` / :data:`SUMMARY` (``make answers`` does)."""
-    import json
-
     path = RESULTS_DIR / SUMMARY
     path.write_text(json.dumps(summarize_tables(), indent=2, sort_keys=True) + "\n")
     return path
@@ -197,18 +198,11 @@ def write_summary() -> Path:
 
 def read_summary() -> dict:
     """:data:`SUMMARY` as written by :func:`write_summary` (no pyarrow needed)."""
-    import json
-
     return json.loads((ANSWERS_DIR / SUMMARY).read_text())
 
 
 def write_answer(straight: bool, folder: Path, workers: int | None = None, force: bool = False) -> Design:
     """Run question 1 into ``folder``; save its least-torque design and its table as :func:`answer_path`."""
-    import shutil
-
-    from pasibot_pin.explore.optimize import run_optimize
-    from pasibot_pin.explore.sweep import design_of_row
-
     result = run_optimize(seed_stride_plan(straight), folder, workers=workers, force=force, progress=False)
     if not result.pareto:
         raise ValueError("no design satisfies the constraints")
@@ -221,10 +215,6 @@ def write_answer(straight: bool, folder: Path, workers: int | None = None, force
 
 def write_floor_answer(folder: Path, workers: int | None = None) -> Path:
     """Run question 2 into ``folder``; copy its table to :data:`RESULTS_DIR` / :data:`FLOOR_TABLE`."""
-    import shutil
-
-    from pasibot_pin.explore.optimize import run_optimize
-
     result = run_optimize(floor_plan(), folder, workers=workers, force=True, progress=True)
     shutil.copyfile(result.results, RESULTS_DIR / FLOOR_TABLE)
     return RESULTS_DIR / FLOOR_TABLE
@@ -235,9 +225,6 @@ def main(argv: list[str] | None = None) -> None:
 
     ``--floor-only``: question 2 alone (and the summary).
     """
-    import argparse
-    import tempfile
-
     parser = argparse.ArgumentParser(description="run the design-exploration questions again (docs/results/)")
     parser.add_argument("--floor-only", action="store_true", help="only question 2 (the spring designs on the floor)")
     parser.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
@@ -250,11 +237,7 @@ def main(argv: list[str] | None = None) -> None:
 
 
 def _question_one(workers: int | None) -> None:
-    import tempfile
-
-    import pyarrow.parquet as pq
-
-    from pasibot_pin.explore.sweep import write_figures
+    import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
     with tempfile.TemporaryDirectory() as tmp:
         for straight in (False, True):

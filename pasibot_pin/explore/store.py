@@ -24,6 +24,8 @@ import time
 from collections.abc import Iterable, Mapping, Sequence
 from pathlib import Path
 
+import numpy as np
+
 from pasibot_pin.files import MARKER, atomic_path, write_text_atomic
 from pasibot_pin.model.design import CHOICES, Design
 from pasibot_pin.studies.design_metrics import METRICS
@@ -47,7 +49,7 @@ def parameter_names() -> list[str]:
 
 def schema(extra: Mapping[str, str] | None = None):
     """The table's pyarrow schema (fixed, so every part and every executor agree)."""
-    import pyarrow as pa
+    import pyarrow as pa  # deferred: optional extra (pyarrow)
 
     types = {"float": pa.float64(), "int": pa.int64(), "str": pa.string(), "bool": pa.bool_()}
     fields = [pa.field("index", pa.int64())]
@@ -134,7 +136,7 @@ class ResultStore:
         return sorted((self.folder / PARTS).glob("part-*.parquet"))
 
     def _done_indices(self) -> set[int]:
-        import pyarrow.parquet as pq
+        import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
         done: set[int] = set()
         for part in self._parts():
@@ -157,8 +159,8 @@ class ResultStore:
 
     def flush(self) -> None:
         """Write the buffered rows as one part (temporary name, then rename)."""
-        import pyarrow as pa
-        import pyarrow.parquet as pq
+        import pyarrow as pa  # deferred: optional extra (pyarrow)
+        import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
         self._last_flush = time.monotonic()
         if not self._buffer:
@@ -173,8 +175,8 @@ class ResultStore:
 
     def table(self):
         """Every row on disk (and buffered), sorted by ``index`` (a pyarrow Table)."""
-        import pyarrow as pa
-        import pyarrow.parquet as pq
+        import pyarrow as pa  # deferred: optional extra (pyarrow)
+        import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
         tables = [pq.read_table(p, schema=self.schema) for p in self._parts()]
         if self._buffer:
@@ -186,8 +188,8 @@ class ResultStore:
 
     def finish(self, csv: bool = False) -> Path:
         """Write ``results.parquet`` (and ``results.csv``) from every part, atomically."""
-        import pyarrow.csv as pcsv
-        import pyarrow.parquet as pq
+        import pyarrow.csv as pcsv  # deferred: optional extra (pyarrow)
+        import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
         self.flush()
         table = self.table()
@@ -200,19 +202,7 @@ class ResultStore:
         return target
 
 
-def read_results(folder: Path):
-    """The results table of a finished run (``results.parquet``), as a pyarrow Table."""
-    import pyarrow.parquet as pq
-
-    path = Path(folder) / RESULTS
-    if not path.is_file():
-        raise ValueError(f"no {RESULTS} in {folder}: run the sweep (or optimisation) to the end first")
-    return pq.read_table(path)
-
-
 def column(table, name: str, rows: Sequence[int] | None = None):
     """One column as a numpy array (optionally only ``rows``)."""
-    import numpy as np
-
     values = np.asarray(table.column(name).to_numpy(zero_copy_only=False))
     return values if rows is None else values[np.asarray(rows, dtype=int)]

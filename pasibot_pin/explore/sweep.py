@@ -16,14 +16,27 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.explore.executors import check_workers, run_tasks
 from pasibot_pin.explore.plan import SweepPlan
-from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column
+from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column, design_row, parameter_names
+from pasibot_pin.files import atomic_path, write_text_atomic
+from pasibot_pin.model.description import render_urdf
+from pasibot_pin.model.design import CHOICES, Design, design_robot
+from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.progress import progress_bar
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import (
+    ALL_METRICS,
+    FLOOR_METRICS,
+    DesignMetrics,
+    design_metrics,
+    infeasible,
     pareto_mask,  # noqa: F401 (re-exported)
     warm_caches,
 )
+from pasibot_pin.studies.spring_fit import design_spring
+from pasibot_pin.viz.figure_files import save_figure_file
+from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity
 
 CHUNK: int = 4
 """Designs per task (a task's result comes back as one piece)."""
@@ -38,10 +51,6 @@ def evaluate_designs(
     A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
     ``floor``: also walk each design this many steps on the floor.
     """
-    from pasibot_pin.explore.store import design_row
-    from pasibot_pin.model.design import Design
-    from pasibot_pin.studies.design_metrics import DesignMetrics, design_metrics, infeasible
-
     base_design = Design.from_dict(base)
     rows = []
     for index, values in items:
@@ -60,8 +69,6 @@ def evaluate_designs(
 
 def floor_columns(floor: int | None) -> dict[str, str]:
     """The table's extra columns with a floor simulation (name -> kind), none without."""
-    from pasibot_pin.studies.design_metrics import FLOOR_METRICS
-
     return {} if floor is None else {**dict.fromkeys(FLOOR_METRICS, "float"), "floor_outcome": "str"}
 
 
@@ -124,8 +131,6 @@ def run_sweep(
         FileExistsError: ``folder`` holds another run or other files and ``force`` is false.
 
     """
-    from pasibot_pin.explore.executors import check_workers, run_tasks
-
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise ValueError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
     workers = check_workers(workers)
@@ -164,16 +169,11 @@ def write_figures(
     ``constraints``: an optimisation's ``--constraint``s; designs that violate one are greyed, off the front.
     The sensitivity map ranks the numeric parameters of ``varied`` only (a varied variant is a column of strings).
     """
-    import matplotlib
-
-    from pasibot_pin.model.design import CHOICES
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     varied = [name for name in varied if name not in CHOICES]
 
     matplotlib.use("Agg")
-    from pasibot_pin.files import atomic_path
-    from pasibot_pin.viz.figure_files import save_figure_file
-    from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity
 
     written = []
     figures = (
@@ -196,10 +196,8 @@ def write_figures(
 
 def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callable | None = None) -> list[int]:
     """Row numbers of the ``count`` best feasible designs by metric ``by`` (``sense`` min or max)."""
-    from pasibot_pin.studies.design_metrics import ALL_METRICS as METRICS
-
-    if by not in METRICS:
-        raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(METRICS)}")
+    if by not in ALL_METRICS:
+        raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(ALL_METRICS)}")
     values = column(table, by).astype(float)
     ok = column(table, "feasible").astype(bool) & np.isfinite(values)
     if where is not None:
@@ -211,9 +209,6 @@ def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callabl
 
 def design_of_row(table, row: int):
     """The :class:`~pasibot_pin.model.design.Design` of one table row."""
-    from pasibot_pin.explore.store import parameter_names
-    from pasibot_pin.model.design import Design
-
     values = {}
     for name in parameter_names():
         value = table.column(name)[row].as_py()
@@ -223,12 +218,6 @@ def design_of_row(table, row: int):
 
 def export_best(table, rows: Sequence[int], folder: Path) -> list[Path]:
     """Write each row's design as ``NN_index<i>.toml``, ``.urdf`` and ``.xml`` (MJCF) into ``folder``."""
-    from pasibot_pin.files import write_text_atomic
-    from pasibot_pin.model.description import render_urdf
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
-    from pasibot_pin.studies.spring_fit import design_spring
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     written = []

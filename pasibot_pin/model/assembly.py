@@ -55,11 +55,15 @@ def _check_meet(d, r1: float, r2: float, loop: str, theta) -> None:
 
 
 def circle_meet(c1, r1: float, c2, r2: float, left: bool, loop: str, theta):
-    """:func:`circle_intersection` on complex points x + i z (scalars, arrays (N,) or jets) [m].
+    """Intersection of two circles, on the left (or right) of the line c1 -> c2, on complex points x + i z [m].
 
-    With d = c2 - c1 and s = |d|^2 the point is c1 + d (alpha +- i beta), alpha = a / |d| =
-    1/2 + (r1^2 - r2^2) / (2 s) and beta = h / |d| = sqrt(r1^2 / s - alpha^2): no square root
-    of s, few operations (each one is the chain rule for jets).
+    The points may be scalars, arrays (N,) or jets. With d = c2 - c1 and s = |d|^2 the point is
+    c1 + d (alpha +- i beta), alpha = a / |d| = 1/2 + (r1^2 - r2^2) / (2 s) and beta = h / |d| =
+    sqrt(r1^2 / s - alpha^2): no square root of s, few operations (each one is the chain rule for jets).
+
+    Raises:
+        ValueError: naming ``loop`` and the (first) crank angle where the circles do not meet.
+
     """
     d_vec = c2 - c1
     s = jet.abs2(d_vec)
@@ -74,17 +78,6 @@ def circle_meet(c1, r1: float, c2, r2: float, left: bool, loop: str, theta):
     beta = jet.sqrt(inner)
     # left of c1 -> c2 is the direction turned by +90 deg: i d
     return c1 + d_vec * (alpha + 1j * beta if left else alpha - 1j * beta)
-
-
-def circle_intersection(c1: Point, r1: float, c2: Point, r2: float, left: bool, loop: str, theta) -> Point:
-    """Intersection of two circles, on the left (or right) of the line c1 -> c2.
-
-    Raises:
-        ValueError: naming ``loop`` and the (first) crank angle where the circles do not meet.
-
-    """
-    meet = circle_meet(_complex(c1), r1, _complex(c2), r2, left, loop, theta)
-    return _real(meet)
 
 
 def _complex(point: Point):
@@ -312,18 +305,13 @@ def joint_angles_complex(p: dict, theta, variant: str | Variant = "spring", foot
     return q
 
 
-def sole_angle(theta, geometry: Geometry | None = None, variant: str | Variant = "spring"):
-    """Direction of the sole (heel -> toe) in the leg frame for a fixed-foot variant [rad].
-
-    ``rigid`` (and ``spring`` with the foot square to the shank): shank direction + 90 deg.
-    ``parallel``: the direction of the stabiliser 10 -> 4. A float for a float ``theta``,
-    an array (N,) for an array.
-    """
-    return sole_angle_from_points(leg_points(theta, geometry, variant), variant)
-
-
 def sole_angle_from_points(p: dict, variant: str | Variant = "spring"):
-    """:func:`sole_angle` from the points of :func:`leg_points` (or complex ones), computed once."""
+    """Direction of the sole (heel -> toe) in the leg frame for a fixed-foot variant [rad], from its points.
+
+    ``p``: the points of :func:`leg_points` (or complex ones). ``rigid`` (and ``spring`` with the foot
+    square to the shank): shank direction + 90 deg. ``parallel``: the direction of the stabiliser
+    10 -> 4. A float for scalar points, an array (N,) for arrays.
+    """
     if get_variant(variant).sole == "stabiliser":
         out = _angle_any(p["p10"], p["p4"])
     else:

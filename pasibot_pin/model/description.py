@@ -178,7 +178,7 @@ RENDER_CACHE = 64
 @functools.lru_cache(maxsize=RENDER_CACHE)
 def _render(mappings: tuple[tuple[str, str], ...]) -> str:
     """The xacro source processed with ``mappings`` (sorted (name, value) pairs), as URDF text."""
-    import xacro  # heavy (ROS xacro and its YAML): loaded on first render, not at the CLI's start
+    import xacro  # deferred: heavy (xacro), keeps the CLI's start fast
 
     document = xacro.process_file(str(XACRO_PATH), mappings=dict(mappings))
     text = document.toprettyxml(indent="  ")

@@ -30,11 +30,15 @@ from __future__ import annotations
 import math
 import xml.etree.ElementTree as ET
 from dataclasses import dataclass
+from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.model.description import sides
+
+if TYPE_CHECKING:
+    from pasibot_pin.model.robot import PasibotRobot
 
 ACTUATORS: tuple[str, ...] = ("position", "velocity", "constraint", "none")
 
@@ -180,23 +184,22 @@ def _hinge_axis(joint) -> np.ndarray:
     raise ValueError(f"joint kind {kind} has no MJCF hinge")
 
 
-def _joints(body: ET.Element, model: pin.Model, j: int) -> list[str]:
-    """Add the MJCF joints of Pinocchio joint ``j`` to ``body``; returns their names."""
+def _joints(body: ET.Element, model: pin.Model, j: int) -> list[ET.Element]:
+    """Add the MJCF joints of Pinocchio joint ``j`` to ``body``; returns them."""
     joint, name = model.joints[j], model.names[j]
     subjoints = joint.extract().joints if joint.shortname() == "JointModelComposite" else [joint]
-    names = []
+    elements = []
     for k, sub in enumerate(subjoints):
         kind = sub.shortname()
         sub_name = name if len(subjoints) == 1 else f"{name}_{k}"
         if kind in ("JointModelPX", "JointModelPY", "JointModelPZ"):
             axis = np.eye(3)["XYZ".index(kind[-1])]
-            ET.SubElement(body, "joint", name=sub_name, type="slide", axis=_vec(axis))
+            elements.append(ET.SubElement(body, "joint", name=sub_name, type="slide", axis=_vec(axis)))
         elif kind == "JointModelPrismaticUnaligned":
-            ET.SubElement(body, "joint", name=sub_name, type="slide", axis=_vec(sub.extract().axis))
+            elements.append(ET.SubElement(body, "joint", name=sub_name, type="slide", axis=_vec(sub.extract().axis)))
         else:
-            ET.SubElement(body, "joint", name=sub_name, type="hinge", axis=_vec(_hinge_axis(sub)))
-        names.append(sub_name)
-    return names
+            elements.append(ET.SubElement(body, "joint", name=sub_name, type="hinge", axis=_vec(_hinge_axis(sub))))
+    return elements
 
 
 def _inertial(body: ET.Element, inertia: pin.Inertia) -> None:
@@ -212,7 +215,12 @@ def _inertial(body: ET.Element, inertia: pin.Inertia) -> None:
     )
 
 
-def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None = None) -> str:
+def _sole_friction(options: MjcfOptions) -> str:
+    """The sole-floor ``friction`` attribute: sliding (mu, or 2 mu with ``planar_noslip``), torsional, rolling."""
+    return f"{options.mu * (2.0 if options.planar_noslip else 1.0)!r} 0.005 0.0001"
+
+
+def to_mjcf(robot: PasibotRobot, options: MjcfOptions | None = None, q_weld: np.ndarray | None = None) -> str:
     """The MJCF text of ``robot`` (any variant, one or two legs).
 
     Args:
@@ -225,16 +233,34 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
 
     """
     options = options or MjcfOptions()
-    model = robot.model
-    spring_joints = {f"{side}_{j}" for side in sides(robot.legs) for j in robot.spec.spring_joints}
-    motors = list(robot.actuated_joints)
-
+    q_home = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
     root = ET.Element("mujoco", model=f"pasibot_{robot.variant}_{robot.legs}leg")
+    _add_settings(root, robot.model, options)
+    world = _add_world(root, options)
+    bodies, joints = _add_bodies(world, robot.model)
+    _add_soles(bodies, robot, options)
+    _set_ankle_springs(joints, robot, options)
+    equality = ET.SubElement(root, "equality")
+    _add_loop_closures(equality, robot)
+    if options.weld_foot is not None:
+        _add_foot_weld(world, equality, robot, options.weld_foot, q_home)
+    _add_home_keyframe(root, robot, options, q_home)
+    if options.actuator == "constraint":
+        _add_crank_drives(equality, robot, q_home)
+    if options.actuator in ("position", "velocity"):
+        _add_crank_servos(root, robot, options)
+    ET.indent(root)
+    return ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _add_settings(root: ET.Element, model: pin.Model, options: MjcfOptions) -> None:
+    """The compiler (radians, ``boundinertia``), the step, gravity and integrator, the defaults."""
     bound = options.boundinertia
     if bound is None:
         bound = stable_boundinertia(options.spring_stiffness, options.timestep)
-    bound = repr(float(bound))
-    ET.SubElement(root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false", boundinertia=bound)
+    ET.SubElement(
+        root, "compiler", angle="radian", autolimits="true", inertiafromgeom="false", boundinertia=repr(float(bound))
+    )
     option = ET.SubElement(
         root, "option", timestep=repr(options.timestep), gravity=_vec(model.gravity.linear), integrator="implicitfast"
     )
@@ -243,6 +269,10 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
     default = ET.SubElement(root, "default")
     ET.SubElement(default, "geom", contype="0", conaffinity="0", rgba="0.6 0.6 0.7 1")
     ET.SubElement(default, "equality", solref=_vec(options.solref), solimp=_vec(options.solimp))
+
+
+def _add_world(root: ET.Element, options: MjcfOptions) -> ET.Element:
+    """The ``worldbody``: a light and the floor plane (colliding with the soles only when ``options.floor``)."""
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", pos="0 -2 3", dir="0 1 -1")
     ET.SubElement(
@@ -253,11 +283,21 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
         size="20 2 0.1",
         contype="1" if options.floor else "0",
         conaffinity="1" if options.floor else "0",
-        friction=f"{options.mu * (2.0 if options.planar_noslip else 1.0)!r} 0.005 0.0001",
+        friction=_sole_friction(options),
         rgba="0.85 0.85 0.8 1",
     )
+    return world
 
+
+def _add_bodies(world: ET.Element, model: pin.Model) -> tuple[dict[int, ET.Element], dict[str, ET.Element]]:
+    """One body per Pinocchio joint, nested as the tree: its joints, inertia, link sticks and frame sites.
+
+    Returns:
+        The bodies by Pinocchio joint index (0: the world) and the MJCF joints by name.
+
+    """
     bodies: dict[int, ET.Element] = {0: world}
+    joints: dict[str, ET.Element] = {}
     frames_by_joint: dict[int, list[pin.Frame]] = {}
     for frame in model.frames:
         if frame.type == pin.FrameType.BODY and frame.parentJoint > 0:
@@ -265,7 +305,7 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
     for j in range(1, model.njoints):
         body = ET.SubElement(bodies[model.parents[j]], "body", name=f"{model.names[j]}_body")
         _pose(body, model.jointPlacements[j])
-        _joints(body, model, j)
+        joints.update((element.attrib["name"], element) for element in _joints(body, model, j))
         _inertial(body, model.inertias[j])
         for child in [k for k in range(j + 1, model.njoints) if model.parents[k] == j]:
             end = model.jointPlacements[child].translation
@@ -275,8 +315,12 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
             site = ET.SubElement(body, "site", name=frame.name, size="0.003")
             _pose(site, frame.placement)
         bodies[j] = body
-    # soles: a capsule from heel to toe on each foot body, the only geoms that collide (with the floor)
-    friction = options.mu * (2.0 if options.planar_noslip else 1.0)
+    return bodies, joints
+
+
+def _add_soles(bodies: dict[int, ET.Element], robot: PasibotRobot, options: MjcfOptions) -> None:
+    """A capsule from heel to toe on each foot body: the only geoms that collide (with the floor)."""
+    model = robot.model
     for side in sides(robot.legs):
         toe, heel = (model.frames[robot.frame_id(f"{side}_{p}")] for p in ("toe", "heel"))
         if toe.parentJoint != heel.parentJoint:
@@ -291,61 +335,64 @@ def to_mjcf(robot, options: MjcfOptions | None = None, q_weld: np.ndarray | None
             contype="1",
             conaffinity="0",
             condim="3",
-            friction=f"{friction!r} 0.005 0.0001",
+            friction=_sole_friction(options),
             solref=_vec(options.contact_solref),
             solimp=_vec(options.contact_solimp),
             rgba="0.2 0.2 0.2 1",
         )
-    for name in spring_joints:  # joint springs: springref where beta = beta0, q = pi/2 - beta
-        joint = root.find(f".//joint[@name='{name}']")
+
+
+def _set_ankle_springs(joints: dict[str, ET.Element], robot: PasibotRobot, options: MjcfOptions) -> None:
+    """The ankle springs as joint stiffness: ``springref`` where beta = beta0 (q = pi/2 - beta), and damping."""
+    for name in robot.spring_joints:
+        joint = joints[name]
         joint.set("stiffness", repr(float(options.spring_stiffness)))
         joint.set("springref", repr(math.pi / 2 - options.spring_rest_angle))
         joint.set("damping", repr(float(options.spring_damping)))
 
-    equality = ET.SubElement(root, "equality")
+
+def _add_loop_closures(equality: ET.Element, robot: PasibotRobot) -> None:
+    """Each loop closure as a ``connect`` of its two cut-joint sites."""
     for loop in robot.loops:
         ET.SubElement(equality, "connect", name=loop.name, site1=loop.frame_a, site2=loop.frame_b)
-    if options.weld_foot is not None:
-        if not robot.floating:
-            raise ValueError("the one-leg model has a fixed hip: it has no foot to weld")
-        q = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
-        data = model.createData()
-        pin.framesForwardKinematics(model, data, q)
-        foot = data.oMf[robot.frame_id(f"{options.weld_foot}_foot")]
-        anchor = ET.SubElement(world, "site", name=f"{options.weld_foot}_foot_anchor", size="0.003")
-        _pose(anchor, foot)
-        ET.SubElement(
-            equality,
-            "weld",
-            name=f"{options.weld_foot}_foot_weld",
-            site1=f"{options.weld_foot}_foot",
-            site2=f"{options.weld_foot}_foot_anchor",
-        )
 
-    # the "home" keyframe: q0, a configuration that closes every loop (MuJoCo's qpos0 = 0 does not)
+
+def _add_foot_weld(world: ET.Element, equality: ET.Element, robot: PasibotRobot, foot: str, q: np.ndarray) -> None:
+    """Weld ``foot`` (``right``/``left``) to a world site where it stands in configuration ``q``."""
+    if not robot.floating:
+        raise ValueError("the one-leg model has a fixed hip: it has no foot to weld")
+    data = robot.model.createData()
+    pin.framesForwardKinematics(robot.model, data, q)
+    anchor = ET.SubElement(world, "site", name=f"{foot}_foot_anchor", size="0.003")
+    _pose(anchor, data.oMf[robot.frame_id(f"{foot}_foot")])
+    ET.SubElement(equality, "weld", name=f"{foot}_foot_weld", site1=f"{foot}_foot", site2=f"{foot}_foot_anchor")
+
+
+def _add_home_keyframe(root: ET.Element, robot: PasibotRobot, options: MjcfOptions, q_home: np.ndarray) -> None:
+    """The ``home`` keyframe: ``q_home`` (it closes every loop; MuJoCo's qpos0 = 0 does not) and the servos' ctrl."""
     keyframe = ET.SubElement(root, "keyframe")
-    home = ET.SubElement(keyframe, "key", name="home", qpos=_vec(robot.q0 if q_weld is None else q_weld))
+    home = ET.SubElement(keyframe, "key", name="home", qpos=_vec(q_home))
+    motors = robot.actuated_joints
     if options.actuator == "position" and motors:
-        q_home = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
         home.set("ctrl", _vec([q_home[robot.idx_q(motor)] for motor in motors]))
     elif options.actuator == "velocity" and motors:
         home.set("ctrl", _vec([0.0] * len(motors)))
-    if options.actuator == "constraint":
-        q_home = robot.q0 if q_weld is None else np.asarray(q_weld, dtype=float)
-        for motor in motors:  # q - qpos0 = polycoef[0] (qpos0 = 0: no joint ref)
-            ET.SubElement(
-                equality,
-                "joint",
-                name=f"{motor}_drive",
-                joint1=motor,
-                polycoef=_vec((q_home[robot.idx_q(motor)], 0, 0, 0, 0)),
-            )
-    if options.actuator in ("position", "velocity") and motors:
-        actuators = ET.SubElement(root, "actuator")
-        for motor in motors:
-            if options.actuator == "position":
-                ET.SubElement(actuators, "position", name=motor, joint=motor, kp=repr(options.kp), kv=repr(options.kv))
-            else:
-                ET.SubElement(actuators, "velocity", name=motor, joint=motor, kv=repr(options.kv))
-    ET.indent(root)
-    return ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _add_crank_drives(equality: ET.Element, robot: PasibotRobot, q_home: np.ndarray) -> None:
+    """Each crank held on its angle by an ``equality joint`` ``<crank>_drive`` (starting at ``q_home``'s)."""
+    for motor in robot.actuated_joints:  # q - qpos0 = polycoef[0] (qpos0 = 0: no joint ref)
+        polycoef = _vec((q_home[robot.idx_q(motor)], 0, 0, 0, 0))
+        ET.SubElement(equality, "joint", name=f"{motor}_drive", joint1=motor, polycoef=polycoef)
+
+
+def _add_crank_servos(root: ET.Element, robot: PasibotRobot, options: MjcfOptions) -> None:
+    """A position or velocity servo on each crank (no ``actuator`` element without cranks)."""
+    if not robot.actuated_joints:
+        return
+    actuators = ET.SubElement(root, "actuator")
+    for motor in robot.actuated_joints:
+        if options.actuator == "position":
+            ET.SubElement(actuators, "position", name=motor, joint=motor, kp=repr(options.kp), kv=repr(options.kv))
+        else:
+            ET.SubElement(actuators, "velocity", name=motor, joint=motor, kv=repr(options.kv))

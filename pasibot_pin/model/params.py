@@ -251,13 +251,6 @@ class MassModel:
                 f"(the {get_variant(variant).name} variant needs {', '.join(required_mass_links(variant))})"
             )
 
-    def leg_mass(self, variant: str | Variant) -> float:
-        """Total mass of one leg of ``variant``, foot included [kg]."""
-        names = ["l1", "l2", "l3", "l4", "l5", "l6", "l7"]
-        if get_variant(variant).extension:
-            names += ["slider", *EXTENSION_LINKS]
-        return sum(self.links[n] for n in names) + self.foot
-
 
 def _shared_by_length(total: float, names: tuple[str, ...], geometry: Geometry) -> dict[str, float]:
     lengths = {n: geometry.length(int(n[1:])) for n in names}
@@ -335,9 +328,8 @@ def human_description_fractions() -> dict[str, float]:
         [kg] under the key ``'total_mass'``.
 
     """
-    # the human fractions read example-robot-data's URDF: loaded on use, not at the CLI's start
-    import xml.etree.ElementTree as ET
-    from importlib.metadata import PackageNotFoundError, distribution
+    import xml.etree.ElementTree as ET  # deferred: keeps the CLI's start fast
+    from importlib.metadata import PackageNotFoundError, distribution  # deferred: keeps the CLI's start fast
 
     try:
         dist = distribution("example-robot-data")

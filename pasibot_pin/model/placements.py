@@ -41,13 +41,11 @@ CHECK_TOL: float = 1e-12
 """Largest translation error of the map at the check geometry, relative to L [-]."""
 
 
-def length_names() -> tuple[str, ...]:
-    """The lengths the tree's translations are linear in: L, l0 .. l13, foot_toe, foot_heel, hip_half_width."""
-    return ("L", *(f"l{i}" for i in range(14)), "foot_toe", "foot_heel", "hip_half_width")
-
-
 def length_vector(geometry: Geometry, variant: str) -> np.ndarray:
-    """The lengths of :func:`length_names` for ``geometry`` [m]."""
+    """The lengths the tree's translations are linear in, for ``geometry`` [m].
+
+    In order: L, l0 .. l13, foot_toe, foot_heel, hip_half_width.
+    """
     toe, heel = geometry.foot_extent(variant)
     return np.array(
         [geometry.L, *(geometry.length(i) for i in range(14)), toe, heel, geometry.hip_half_width], dtype=float

@@ -12,6 +12,16 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+import numpy as np
+
+from pasibot_pin.files import PART_MARKER, write_text_atomic
+from pasibot_pin.model.closure import constraint_residual
+from pasibot_pin.model.robot import load
+from pasibot_pin.report.markdown import figure
+from pasibot_pin.studies.simulation_study import animation_frames
+from pasibot_pin.viz.animation import save_gif
+from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, export_html, reaction_forces, walk_trajectory
+
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
 
@@ -33,10 +43,6 @@ PLAYBACK_OMEGA = math.pi * FPS / SAMPLES_PER_STEP
 
 def _gif(robot: PasibotRobot, q, ground, path: Path, dpi: int):
     """The stick GIF of the walk ``q`` with its ``ground`` reaction track (every :data:`GIF_STRIDE`-th frame); its q."""
-    import numpy as np
-
-    from pasibot_pin.viz.animation import save_gif
-
     qs = q[::GIF_STRIDE]
     ground = type(ground)(ground.points[::GIF_STRIDE], ground.forces[::GIF_STRIDE], ground.scale, ground.colour)
     times = np.arange(len(q))[::GIF_STRIDE] / FPS
@@ -46,9 +52,6 @@ def _gif(robot: PasibotRobot, q, ground, path: Path, dpi: int):
 
 def write_gait_gif(path: Path, dpi: int = GIF_DPI) -> Path:
     """The ``analyze`` walk's stick GIF alone (no HTML written), at ``dpi`` [dots per inch]."""
-    from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.viewer import reaction_forces, walk_trajectory
-
     robot = load(VARIANT, legs=2)
     walk = walk_trajectory(robot, steps=STEPS, samples_per_step=SAMPLES_PER_STEP)
     ground = reaction_forces(robot, walk, omega=PLAYBACK_OMEGA)["ground"]
@@ -80,25 +83,18 @@ def export_animation(
         The files written (GIF first).
 
     """
-    from pasibot_pin.studies.simulation_study import animation_frames
-
     frames = animation_frames(result, fps)
     title = SIMULATION_TITLE
     written = []
     if gif is not None:
-        from pasibot_pin.viz.animation import save_gif
-
         written.append(save_gif(robot, frames, gif, fps=fps, force=True, title=title))
     if html is not None:
-        from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene
-
         viewer = WalkViewer(robot, offline=True)
         try:
             build_walk_scene(viewer, frames, fps, title=title)
             text = viewer.static_html()
         finally:
             viewer.close()
-        from pasibot_pin.files import PART_MARKER, write_text_atomic
 
         if PART_MARKER in Path(html).name:  # the caller writes to a temporary name already
             Path(html).write_text(text, encoding="utf-8")
@@ -115,13 +111,6 @@ def section(out_dir: Path) -> str:
         The Markdown section.
 
     """
-    import numpy as np
-
-    from pasibot_pin.model.closure import constraint_residual
-    from pasibot_pin.model.robot import load
-    from pasibot_pin.report.markdown import figure
-    from pasibot_pin.viz.viewer import export_html
-
     robot = load(VARIANT, legs=2)
     export = export_html(
         out_dir / "gait.html",

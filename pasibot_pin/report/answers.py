@@ -8,9 +8,9 @@ Three questions, each answered in one bullet whose numbers come from code and ar
 - the spring: :func:`spring_answer_line`, the recommended spring and its margin
   (:func:`~pasibot_pin.studies.spring_choice.recommended_spring`).
 
-:func:`answer_lines` gives the box's lines, :func:`answers_box` its Markdown; :func:`build` is the
-``pasibot analyze`` step (its facts carry the lines; :func:`~pasibot_pin.report.markdown.report_text`
-puts the box first).
+:func:`answer_lines` gives the box's lines; :func:`build` is the ``pasibot analyze`` step (its facts
+carry the lines; :func:`~pasibot_pin.report.markdown.report_text` puts them first, in
+:func:`~pasibot_pin.report.markdown.answers_box`).
 """
 
 from __future__ import annotations
@@ -18,13 +18,20 @@ from __future__ import annotations
 import math
 from pathlib import Path
 
+from pasibot_pin.model.design import Design
+from pasibot_pin.model.scenarios import get_scenario
+from pasibot_pin.report.markdown import Section
+from pasibot_pin.report.walking_answer import walking_answer
+from pasibot_pin.studies.contact_energy_study import single_motor_study
+from pasibot_pin.studies.spring_choice import recommended_spring
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking_map import load_map
+
 WALKING_SLOT = "<!-- walking answer: the lines of pasibot_pin.report.answers.walking_answer_lines() -->"
 """The marker of the walking answer's slot in the box."""
 
 
 def _walk_line(name: str, design, settings) -> str:
-    from pasibot_pin.studies.walking import walk_design
-
     walk = walk_design(design, settings)
     sole = f"toe {design.parallel_toe:g} L, heel {design.parallel_heel:g} L"
     return f"{name} ({design.variant}, {sole}) at {design.omega:g} rad/s: {walk.verdict.summary()}."
@@ -38,11 +45,6 @@ def walking_answer_lines() -> list[str]:
     Then a parallel design whose sole reaches 4.5 L ahead of and behind joint 13, and the seed's
     parallel design, both at 2 rad/s, judged over 4 steps (:class:`WalkSettings`).
     """
-    from pasibot_pin.model.design import Design
-    from pasibot_pin.report.walking_answer import walking_answer
-    from pasibot_pin.studies.walking import WalkSettings
-    from pasibot_pin.studies.walking_map import load_map
-
     a = walking_answer(load_map())
     walking = [f"{v} ({n})" for v, n in a.walkers.items() if n]
     smallest = ", ".join(f"{sole:g} L at {omega:g} rad/s" for omega, (sole, _) in sorted(a.smallest_sole.items()))
@@ -65,8 +67,6 @@ def walking_answer_lines() -> list[str]:
 
 def motor_answer_line(motor) -> str:
     """The motor's bullet from a :class:`~pasibot_pin.studies.contact_energy_study.SingleMotorStudy`."""
-    from pasibot_pin.model.scenarios import get_scenario
-
     scenario = get_scenario(motor.scenario)
     return (
         f"- **The motor**: one motor driving both cranks ({motor.scenario}: body {scenario.body_mass:g} kg, "
@@ -96,28 +96,11 @@ def answer_lines(walking: list[str], motor, spring) -> list[str]:
 
 def answers() -> list[str]:
     """The box's lines, every study run afresh (:func:`answer_lines`)."""
-    from pasibot_pin.studies.contact_energy_study import single_motor_study
-    from pasibot_pin.studies.spring_choice import recommended_spring
-
     return answer_lines(
         walking_answer_lines(), motor_answer_line(single_motor_study()), spring_answer_line(recommended_spring())
     )
 
 
-def answers_box(lines: list[str]) -> str:
-    """The ``## Answers`` section: the lines in a quoted box, with the definitions below it."""
-    body = "\n".join(f"> {line}" if line else ">" for line in lines)
-    return (
-        "## Answers\n\n"
-        + body
-        + "\n\nThe walks are judged by `pasibot_pin.dynamics.verdict` on the floor (heel and toe contacts); the "
-        "motor's numbers come from the single-motor section below, the spring's from "
-        "`pasibot_pin.studies.spring_choice`.\n"
-    )
-
-
 def build(out_dir: Path):
     """``pasibot analyze``'s answers step: no files, no text of its own; its facts carry the box's lines."""
-    from pasibot_pin.report.markdown import Section
-
     return Section("", {"lines": answers()})

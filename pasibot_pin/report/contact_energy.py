@@ -26,6 +26,8 @@ from pasibot_pin.studies.contact_energy_study import (
     run,
 )
 from pasibot_pin.studies.energy import StepEnergy
+from pasibot_pin.units import with_unit
+from pasibot_pin.viz import plots_contact
 
 SUBDIR: str = "contact_energy"
 """Folder of the section's files, inside the analyze output folder."""
@@ -36,10 +38,9 @@ DPI: int = FIGURE_DPI
 
 def _plots():
     """:mod:`pasibot_pin.viz.plots_contact`, headless (Agg backend)."""
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    from pasibot_pin.viz import plots_contact
 
     return plots_contact
 
@@ -53,7 +54,7 @@ def save_figure(fig, path: Path, dpi: int = DPI) -> None:
         dpi: resolution [dots per inch].
 
     """
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -79,8 +80,6 @@ def write_energy_csv(path: Path, rows: Sequence[StepEnergy]) -> None:
         rows: :class:`pasibot_pin.studies.energy.StepEnergy` rows.
 
     """
-    from pasibot_pin.units import with_unit
-
     table = [{with_unit(k): v for k, v in r.row().items()} for r in rows]  # omega_rad_s, W_crank_net_J, ...
     keys = list(dict.fromkeys(k for row in table for k in row))
     with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:

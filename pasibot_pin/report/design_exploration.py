@@ -11,8 +11,24 @@ import math
 from dataclasses import dataclass
 from pathlib import Path
 
+from pasibot_pin.dynamics.verdict import GaitCriteria
 from pasibot_pin.explore.plan import Range
-from pasibot_pin.model.design import Design
+from pasibot_pin.explore.questions import (
+    FLOOR_STEPS,
+    QUESTION_RANGES,
+    STRAIGHTNESS_FACTOR,
+    STRIDE_TOLERANCE,
+    answer_path,
+    floor_plan,
+    read_summary,
+    seed_stride_plan,
+)
+from pasibot_pin.model.design import SPECS, Design, design_robot, load_design
+from pasibot_pin.report.markdown import Section
+from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
+from pasibot_pin.studies.design_metrics import dynamic_metrics, path_metrics
+from pasibot_pin.studies.walking import WALK_MU
+from pasibot_pin.studies.walking_map import MAP_CSV, load_map
 
 COLUMNS: tuple[tuple[str, str, float, str], ...] = (
     ("peak_crank_torque_Nm", "peak crank torque [N.m]", 1.0, "{:.2f}"),
@@ -47,10 +63,6 @@ class Answer:
 
 def answers() -> list[Answer]:
     """The seed design and the two answers of question 1, evaluated now (xacro-built robots)."""
-    from pasibot_pin.explore.questions import answer_path
-    from pasibot_pin.model.design import design_robot, load_design
-    from pasibot_pin.studies.design_metrics import dynamic_metrics, path_metrics
-
     rows = []
     for label, design in (
         ("seed design", Design()),
@@ -65,8 +77,6 @@ def answers() -> list[Answer]:
 
 def explored() -> tuple[int, float]:
     """(designs evaluated in the two runs, the best CoP margin of any feasible one [m]), from the answers' summary."""
-    from pasibot_pin.explore.questions import read_summary
-
     summary = read_summary()
     return int(summary["designs_explored"]), float(summary["best_cop_margin_m"])
 
@@ -77,8 +87,6 @@ def _cell(value: float, scale: float, fmt: str) -> str:
 
 def markdown(rows: list[Answer] | None = None) -> str:
     """The section's Markdown: the question, a table with units, and the verdicts."""
-    from pasibot_pin.explore.questions import STRAIGHTNESS_FACTOR, STRIDE_TOLERANCE
-
     rows = rows or answers()
     seed, free, straight = rows
     head = "| design | " + " | ".join(t for _, t, _, _ in COLUMNS) + " |"
@@ -135,29 +143,15 @@ class FloorAnswer:
     best_outcome: str
 
 
-def floor_answer_of_rows(rows: list[dict]) -> FloorAnswer:
-    """Question 2's summary from its table's rows (:func:`~pasibot_pin.explore.questions.floor_summary`)."""
-    from pasibot_pin.explore.questions import floor_summary
-
-    return FloorAnswer(**floor_summary(rows))
-
-
 def floor_answer() -> FloorAnswer:
     """The summary of question 2's run, as ``make answers`` stored it (no pyarrow needed)."""
-    from pasibot_pin.explore.questions import read_summary
-
     return FloorAnswer(**read_summary()["floor"])
 
 
 def floor_markdown(answer: FloorAnswer | None = None) -> str:
     """Question 2's verdict, one paragraph (the walking verdict's outcomes, counted)."""
-    from pasibot_pin.dynamics.verdict import GaitCriteria
-    from pasibot_pin.explore.questions import FLOOR_STEPS, floor_plan
-    from pasibot_pin.studies.walking import WALK_MU as FLOOR_MU
-
     a = answer or floor_answer()
     plan = floor_plan()
-    from pasibot_pin.model.design import SPECS
 
     units = {r.name: "" if SPECS[r.name].unit == "-" else f" {SPECS[r.name].unit}" for r in plan.ranges}
     names = ", ".join(
@@ -166,7 +160,7 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
     counts = ", ".join(f"{n} {o}" for o, n in sorted(a.outcomes.items(), key=lambda kv: (-kv[1], kv[0])))
     pitch = math.degrees(GaitCriteria().max_hip_pitch)
     head = (
-        f"On the floor (heel and toe contacts, mu = {FLOOR_MU:g}, body {plan.base.body_mass:g} kg, each design asked "
+        f"On the floor (heel and toe contacts, mu = {WALK_MU:g}, body {plan.base.body_mass:g} kg, each design asked "
         f"to walk {FLOOR_STEPS} steps and judged by the walking verdict: fell = |hip pitch| past {pitch:.0f} deg), "
         f"NSGA-II over the spring designs, varying {names} ({a.trials} designs)"
     )
@@ -181,9 +175,6 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
 
 def walking_text() -> str:
     """The walking map's answer (:func:`~pasibot_pin.report.walking_answer.walking_paragraph` of the committed map)."""
-    from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
-    from pasibot_pin.studies.walking_map import MAP_CSV, load_map
-
     if not MAP_CSV.is_file():  # an installed wheel: the map's table stays in the source repository
         return "The walking map's table (docs/results/walking_map.csv) is in the source repository (make walking-map)."
     return walking_paragraph(walking_answer(load_map()))
@@ -191,8 +182,6 @@ def walking_text() -> str:
 
 def question() -> str:
     """The question and how it was answered (one paragraph)."""
-    from pasibot_pin.explore.questions import QUESTION_RANGES, seed_stride_plan
-
     plan = seed_stride_plan()
     names = ", ".join(r.name for r in QUESTION_RANGES)
     return (
@@ -204,8 +193,6 @@ def question() -> str:
 
 def build(out_dir: Path):
     """The report section (no files of its own) and the facts the summary quotes."""
-    from pasibot_pin.report.markdown import Section
-
     rows = answers()
     seed, free, straight = rows
     floor = floor_answer()

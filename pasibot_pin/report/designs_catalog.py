@@ -17,12 +17,21 @@ Units: SI; soles over L; crank speed [rad/s].
 
 from __future__ import annotations
 
+import argparse
 import math
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
-from pasibot_pin.studies.walking_map import MapCell, WalkingMap, map_design
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.files import atomic_path, write_text_atomic
+from pasibot_pin.model.design import design_robot, load_design
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking_map import MapCell, WalkingMap, load_map, map_design
+from pasibot_pin.viz.figure_files import save_figure_file
+from pasibot_pin.viz.plots import plot_robot, robot_segments
 
 DESIGNS_DIR = Path(__file__).resolve().parents[2] / "designs"
 """Where the found designs of a source checkout are kept."""
@@ -123,25 +132,16 @@ def catalog_markdown(entries: Sequence[Entry], steps: int) -> str:
 
 def draw_design(e: Entry, path: Path, steps: int = PICTURE_STEPS) -> Path:
     """Stick snapshots of the design's first ``steps`` steps (or up to its failure) and the hip's path, as PNG."""
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-    import numpy as np
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    from pasibot_pin.files import atomic_path
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-    from pasibot_pin.viz.figure_files import save_figure_file
-    from pasibot_pin.viz.plots import plot_robot
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     robot = design_robot(e.design, 2, visuals=False)
     walk = walk_design(e.design, WalkSettings(steps=steps), robot)
     res = walk.result
-    import pinocchio as pin
-
-    from pasibot_pin.viz.plots import robot_segments
 
     fig, ax = subplots(figsize=(7.5, 5.0))
     snapshots = [res.q[min(np.searchsorted(res.t, t), len(res.t) - 1)] for t in np.linspace(0.0, res.t[-1], 7)]
@@ -167,8 +167,6 @@ def draw_design(e: Entry, path: Path, steps: int = PICTURE_STEPS) -> Path:
 
 def write_catalog(wmap: WalkingMap, folder: Path = DESIGNS_DIR, pictures: bool = True) -> list[Path]:
     """Write every picked design's TOML (and picture) and ``README.md`` into ``folder``."""
-    from pasibot_pin.files import write_text_atomic
-
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
     entries = pick_designs(wmap)
@@ -183,9 +181,6 @@ def write_catalog(wmap: WalkingMap, folder: Path = DESIGNS_DIR, pictures: bool =
 
 def check_catalog(wmap: WalkingMap, folder: Path = DESIGNS_DIR) -> list[str]:
     """Re-simulate every committed design for the map's steps; the differences from the table (empty: none)."""
-    from pasibot_pin.model.design import load_design
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-
     problems = []
     for e in pick_designs(wmap):
         v = walk_design(load_design(folder / f"{e.name}.toml"), WalkSettings(steps=wmap.steps)).verdict
@@ -199,10 +194,6 @@ def check_catalog(wmap: WalkingMap, folder: Path = DESIGNS_DIR) -> list[str]:
 
 def main(argv: Sequence[str] | None = None) -> None:
     """Write ``designs/`` from the committed walking map, or ``--check`` it."""
-    import argparse
-
-    from pasibot_pin.studies.walking_map import load_map
-
     parser = argparse.ArgumentParser(description="write designs/ from docs/results/walking_map.csv")
     parser.add_argument("--check", action="store_true", help="re-simulate every design (full steps) and compare")
     args = parser.parse_args(argv)

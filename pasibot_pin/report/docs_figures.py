@@ -19,6 +19,24 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pasibot_pin.kinematics.gait import walk
+from pasibot_pin.kinematics.leg import crank_grid, leg_cycle
+from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.model.params import VARIANTS
+from pasibot_pin.model.robot import load
+from pasibot_pin.report import animation
+from pasibot_pin.report.files import save_figure_file
+from pasibot_pin.report.walking import write_walk_animation
+from pasibot_pin.studies.simulation_study import scenario_study
+from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking_map import load_map
+from pasibot_pin.viz.plots import plot_robot
+from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
+from pasibot_pin.viz.plots_gait import plot_leg_paths, plot_walk
+from pasibot_pin.viz.plots_simulation import plot_hip_pitch, plot_spring_sweep
+from pasibot_pin.viz.plots_walking import walking_map_figure
+
 DOCS_DPI: int = 100
 """The resolution of the README's pictures [dots per inch], the report's."""
 GIF_DPI: int = 60
@@ -27,9 +45,7 @@ GIF_DPI: int = 60
 
 
 def _save(fig, path: Path) -> Path:
-    import matplotlib.pyplot as plt
-
-    from pasibot_pin.report.files import save_figure_file
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     try:
         save_figure_file(fig, Path(path), DOCS_DPI)
@@ -39,20 +55,16 @@ def _save(fig, path: Path) -> Path:
 
 
 def _subplots(*args, **kwargs):
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     return subplots(*args, **kwargs)
 
 
 def write_variants_figure(path: Path) -> Path:
     """``docs/variants.png``: rigid, parallel and spring (two legs) at their q0, side by side."""
-    from pasibot_pin.model.params import VARIANTS
-    from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.plots import plot_robot
-
     fig, axes = _subplots(1, len(VARIANTS), figsize=(10, 5))
     for ax, variant in zip(axes, VARIANTS):
         plot_robot(load(variant, 2), ax=ax)
@@ -61,11 +73,6 @@ def write_variants_figure(path: Path) -> Path:
 
 def write_kinematics_figure(path: Path) -> Path:
     """``docs/kinematics.png``: the parallel leg's foot paths (leg frame) | the spring biped's three steps."""
-    from pasibot_pin.kinematics.gait import walk
-    from pasibot_pin.kinematics.leg import crank_grid, leg_cycle
-    from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.plots_gait import plot_leg_paths, plot_walk
-
     fig, axes = _subplots(1, 2, figsize=(11.5, 4.6))
     plot_leg_paths(leg_cycle(load("parallel", 1), crank_grid()), ax=axes[0])
     plot_walk(walk(load("spring", 2), 3, 36), ax=axes[1], snapshots=4, points=("ankle",))
@@ -74,9 +81,6 @@ def write_kinematics_figure(path: Path) -> Path:
 
 def write_simulation_figure(path: Path, scenario: str = "run1") -> Path:
     """``docs/simulation.png``: the scenario's hip pitch for its four springs | its (K_e, beta0) sweep."""
-    from pasibot_pin.studies.simulation_study import scenario_study
-    from pasibot_pin.viz.plots_simulation import plot_hip_pitch, plot_spring_sweep
-
     study = scenario_study(scenario).study
     fig, axes = _subplots(1, 2, figsize=(12, 4.8))
     plot_hip_pitch(study.runs, ax=axes[0])
@@ -93,9 +97,7 @@ def write_simulation_figure(path: Path, scenario: str = "run1") -> Path:
 
 def write_gait_gif(path: Path) -> Path:
     """``docs/gait.gif``: the stick GIF of ``pasibot analyze``'s walk (its frames), at :data:`GIF_DPI`."""
-    from pasibot_pin.report.animation import write_gait_gif as write
-
-    return write(Path(path), dpi=GIF_DPI)
+    return animation.write_gait_gif(Path(path), dpi=GIF_DPI)
 
 
 WALKER_GIF_FPS: float = 8.0
@@ -104,10 +106,6 @@ WALKER_GIF_FPS: float = 8.0
 
 def write_walker_gif(path: Path) -> Path:
     """``docs/walking.gif``: the long-soled parallel walker (4.5 L soles, 2 rad/s) walking four steps on the floor."""
-    from pasibot_pin.model.design import Design, design_robot
-    from pasibot_pin.report.walking import write_walk_animation
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-
     design = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
     robot = design_robot(design, 2, visuals=False)
     walk = walk_design(design, WalkSettings(steps=4), robot)
@@ -117,9 +115,6 @@ def write_walker_gif(path: Path) -> Path:
 
 def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
     """``docs/torques.png``: T_a, T_e, T_a', T_e' against beta with the fit, default model | seed preset."""
-    from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
-    from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
-
     fig, axes = _subplots(1, 2, figsize=(13, 4.5))
     for ax, preset in zip(axes, ("default", "seed")):
         run = scenario_torques(TorqueSettings(scenario=scenario, preset=preset))
@@ -129,11 +124,9 @@ def write_torques_figure(path: Path, scenario: str = "run2") -> Path:
 
 def write_walking_map_figure(path: Path) -> Path:
     """``docs/walking_map.png``: the committed walking map (:func:`.plots_walking.walking_map_figure`)."""
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    from pasibot_pin.studies.walking_map import load_map
-    from pasibot_pin.viz.plots_walking import walking_map_figure
 
     return _save(walking_map_figure(load_map()), path)
 

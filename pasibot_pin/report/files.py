@@ -38,7 +38,7 @@ def write_columns_csv(path: Path, cols: dict[str, np.ndarray]) -> None:
             column with its unit (:func:`pasibot_pin.units.with_unit`: ``theta`` -> ``theta_rad``).
 
     """
-    from pasibot_pin.units import with_unit
+    from pasibot_pin.units import with_unit  # deferred: keeps the CLI's start fast
 
     with atomic_path(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)

@@ -16,10 +16,24 @@ from pathlib import Path
 import matplotlib.pyplot as plt
 
 from pasibot_pin.files import atomic_paths, check_replaceable
+from pasibot_pin.jobs import Job
+from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.report.floor_static import cases_markdown, floor_text, static_files, sweep_markdown, write_static_into
-from pasibot_pin.studies.floor_spring_study import CaseComparison, FloorSpringStudy
+from pasibot_pin.report.markdown import Section
+from pasibot_pin.studies.floor_spring_study import (
+    CaseComparison,
+    FloorSpringSettings,
+    FloorSpringStudy,
+    compare_case,
+    floor_spring_study,
+    quasi_static_of,
+)
+from pasibot_pin.studies.floor_static import floor_static_study
 from pasibot_pin.studies.floor_study import FloorStudy, floor_columns
+from pasibot_pin.studies.simulation_study import cached_inputs
+from pasibot_pin.studies.spring_study import SPRING_CASES
+from pasibot_pin.units import with_unit
 from pasibot_pin.viz.plots_floor import plot_floor_study, plot_weld_vs_floor
 
 CSV_NAME = "floor_{scenario}.csv"
@@ -39,8 +53,6 @@ def floor_files(out: Path, scenario: str, force: bool = False) -> tuple[Path, Pa
 
 def write_floor(study: FloorStudy, csv_path: Path, png_path: Path) -> list[Path]:
     """Write the fitted case's CSV and the study's figure; returns the paths."""
-    from pasibot_pin.units import with_unit
-
     cols = floor_columns(study.cases[0].result)
     with atomic_paths(csv_path, png_path) as (csv_tmp, png_tmp):
         with csv_tmp.open("w", newline="") as handle:
@@ -66,8 +78,6 @@ def _deg(angle: float) -> str:
 
 def outcome_text(row: CaseComparison) -> str:
     """The floor run's outcome in words; an ``undecided`` run says why (shorter than two step periods)."""
-    from pasibot_pin.model.scenarios import get_scenario
-
     if not row.floor_outcome.startswith("undecided"):
         return row.floor_outcome
     omega = get_scenario(row.scenario).omega
@@ -215,8 +225,6 @@ def _section_files(out_dir: Path, study: FloorSpringStudy) -> None:
 
 def static_others(scenarios: tuple[str, ...]) -> list:
     """The quasi-static floor answers of :data:`STATIC_SCENARIOS` not in ``scenarios`` (exact statics, no grid)."""
-    from pasibot_pin.studies.floor_static import floor_static_study
-
     others = tuple(s for s in STATIC_SCENARIOS if s not in scenarios)
     return floor_static_study(others, sweep=False) if others else []
 
@@ -226,9 +234,6 @@ def _section(study: FloorSpringStudy, others: list):
 
     ``others``: :func:`static_others` of the study's scenarios.
     """
-    from pasibot_pin.report.markdown import Section
-    from pasibot_pin.studies.floor_spring_study import quasi_static_of
-
     statics = quasi_static_of(study) + others
     runs = ", ".join(study.settings.scenarios)
     note = (
@@ -255,8 +260,6 @@ def build(out_dir: Path):
     Writes the CSV and the figure; returns the text and the facts the report's summary quotes
     (:class:`~pasibot_pin.report.markdown.Section`). :class:`FloorPlan` does the same in pool jobs.
     """
-    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
-
     study = floor_spring_study(FloorSpringSettings(scenarios=REPORT_SCENARIOS))
     _section_files(out_dir, study)
     return _section(study, static_others(REPORT_SCENARIOS))
@@ -273,10 +276,6 @@ def floor_case_task(scenario: str, label: str, settings) -> CaseComparison:
     The cases of a scenario that run in the same process share its quasi-static cache (the
     assembly at each crank angle and the projections: the same numbers, solved once).
     """
-    from pasibot_pin.studies.floor_spring_study import compare_case
-    from pasibot_pin.studies.simulation_study import cached_inputs
-    from pasibot_pin.studies.spring_study import SPRING_CASES
-
     cache = _STATIC_CACHES.setdefault(scenario, {})
     return compare_case(cached_inputs(scenario), label, dict(SPRING_CASES)[label], settings, cache)
 
@@ -295,8 +294,6 @@ class FloorPlan:
     """
 
     def __init__(self, out_dir: Path, settings=None):
-        from pasibot_pin.studies.floor_spring_study import FloorSpringSettings
-
         self.out_dir = Path(out_dir)
         self.settings = settings or FloorSpringSettings(scenarios=REPORT_SCENARIOS)
         self.rows: dict = {}
@@ -304,14 +301,10 @@ class FloorPlan:
         self.study: FloorSpringStudy | None = None
 
     def _keys(self) -> list[tuple[str, str]]:
-        from pasibot_pin.studies.spring_study import SPRING_CASES
-
         return [(scenario, label) for scenario in self.settings.scenarios for label, _ in SPRING_CASES]
 
     def jobs(self) -> list:
         """One job per (scenario, spring case), and one for the other runs' quasi-static answers."""
-        from pasibot_pin.jobs import Job
-
         cases = [
             Job(_CASE_ESTIMATE[label], ("case", scenario, label), floor_case_task, (scenario, label, self.settings))
             for scenario, label in self._keys()
@@ -320,8 +313,6 @@ class FloorPlan:
 
     def done(self, key, result) -> list:
         """Take a job's result; return the file-writing job once every case is in."""
-        from pasibot_pin.jobs import Job
-
         if key[0] == "static":
             self.others = result
             return []

@@ -165,7 +165,9 @@ def static_files(out: Path, force: bool = False) -> tuple[Path, Path]:
 
 def write_static_into(sweeps: Sequence[FloorStaticSweep], csv_path: Path, png_path: Path) -> None:
     """Write the sweep's CSV and figure straight to these paths (the caller renames them)."""
-    from pasibot_pin.viz.plots_floor import plot_floor_static_maps
+    from pasibot_pin.viz.plots_floor import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
+        plot_floor_static_maps,
+    )
 
     write_dict_rows(csv_path, cell_rows(sweeps))
     fig = plot_floor_static_maps(sweeps)

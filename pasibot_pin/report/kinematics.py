@@ -14,6 +14,7 @@ from pathlib import Path
 import numpy as np
 
 from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, writing
+from pasibot_pin.report.markdown import Section, figure, figure_links
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
     KinematicsSurvey,
@@ -24,6 +25,8 @@ from pasibot_pin.studies.kinematics_study import (
     walk_columns,
     walk_rows,
 )
+from pasibot_pin.units import with_unit
+from pasibot_pin.viz.plots_gait import plot_foot_pitch, plot_k_sweep, plot_leg_summary, plot_walk, plot_walk_hip
 
 
 # --------------------------------------------------------------------------- files
@@ -36,8 +39,6 @@ def write_rows_csv(path: Path, columns: list[str] | tuple[str, ...], rows: np.nd
         rows: one sequence of cells per row.
 
     """
-    from pasibot_pin.units import with_unit
-
     with writing(Path(path)) as tmp, tmp.open("w", newline="") as handle:
         writer = csv.writer(handle)
         writer.writerow([with_unit(name) for name in columns])
@@ -56,7 +57,7 @@ def write_walk_csv(path: Path, run: WalkRun) -> None:
 
 
 def _save(fig, path: Path, dpi: int = FIGURE_DPI) -> None:
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -65,10 +66,10 @@ def _save(fig, path: Path, dpi: int = FIGURE_DPI) -> None:
 
 
 def _pyplot():
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     return plt
 
@@ -83,7 +84,6 @@ def write_leg_plot(path: Path, run: LegRun, dpi: int = FIGURE_DPI) -> None:
 
     """
     _pyplot()
-    from pasibot_pin.viz.plots_gait import plot_leg_summary
 
     _save(plot_leg_summary(run.cycle), path, dpi)
 
@@ -99,8 +99,7 @@ def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11
 
     """
     _pyplot()
-    from pasibot_pin.viz.plots_gait import plot_walk, plot_walk_hip
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig, axes = subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]})
     plot_walk(run.walk, ax=axes[0])
@@ -171,8 +170,6 @@ def _walk_rows(result: KinematicsSurvey) -> list[str]:
 
 
 def _markdown(result: KinematicsSurvey) -> str:
-    from pasibot_pin.report.markdown import figure, figure_links
-
     s = result.settings
     ks = ", ".join(f"{k:g}" for k in result.sweep.K)
     lines = [
@@ -263,7 +260,6 @@ def section(out_dir: Path) -> str:
 
 def _write(out_dir: Path):
     _pyplot()
-    from pasibot_pin.viz.plots_gait import plot_foot_pitch, plot_k_sweep
 
     out_dir = Path(out_dir)
     out_dir.mkdir(parents=True, exist_ok=True)
@@ -281,8 +277,6 @@ def _write(out_dir: Path):
 
 def build(out_dir: Path):
     """:func:`section` with the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
-    from pasibot_pin.report.markdown import Section
-
     markdown, result = _write(out_dir)
     spring = result.legs["spring"].metrics.in_L()
     facts = {

@@ -231,14 +231,24 @@ def summary(facts: Mapping[str, Mapping]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def answers_box(lines: list[str]) -> str:
+    """The ``## Answers`` section: the lines in a quoted box, with the definitions below it."""
+    body = "\n".join(f"> {line}" if line else ">" for line in lines)
+    return (
+        "## Answers\n\n"
+        + body
+        + "\n\nThe walks are judged by `pasibot_pin.dynamics.verdict` on the floor (heel and toe contacts); the "
+        "motor's numbers come from the single-motor section below, the spring's from "
+        "`pasibot_pin.studies.spring_choice`.\n"
+    )
+
+
 def report_text(sections: Iterable[str], facts: Mapping[str, Mapping]) -> str:
     """``report.md``: the title, the answers box, the :func:`summary` of verdicts, then the sections in order.
 
-    The answers box (:func:`~pasibot_pin.report.answers.answers_box`) comes from ``facts["answers"]["lines"]``;
-    without them the report opens with the summary.
+    The answers box (:func:`answers_box`) holds ``facts["answers"]["lines"]`` (from
+    :mod:`pasibot_pin.report.answers`); without them the report opens with the summary.
     """
-    from pasibot_pin.report.answers import answers_box
-
     lines = facts.get("answers", {}).get("lines")
     head = [answers_box(lines)] if lines else []
     body = [f"{text}\n" for text in sections if text]

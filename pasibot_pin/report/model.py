@@ -7,15 +7,15 @@ from pathlib import Path
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
 from pasibot_pin.report.files import save_figure_file, write_text_atomic
+from pasibot_pin.report.markdown import figure
+from pasibot_pin.viz.plots import plot_robot
 
 
 def section(out_dir: Path) -> str:
     """Write ``info.txt`` and ``robot_<variant>.png`` into ``out_dir``; return the Markdown section."""
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    from pasibot_pin.report.markdown import figure
-    from pasibot_pin.viz.plots import plot_robot
 
     sections = ["## Model", ""]
     for variant in VARIANTS:

@@ -18,9 +18,25 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+import numpy as np
+
 from pasibot_pin.files import check_replaceable
+from pasibot_pin.jobs import Job, run_jobs
+from pasibot_pin.model.scenarios import SCENARIOS
 from pasibot_pin.report.animation import export_animation
 from pasibot_pin.report.files import save_figure_file, write_columns_csv
+from pasibot_pin.report.markdown import Section, figure, figure_links
+from pasibot_pin.studies import simulation_study as sim
+from pasibot_pin.studies.simulation_study import (
+    SimulationStudySettings,
+    SwingFootCheck,
+    cached_inputs,
+    hip_pitch_gap,
+    simulation_columns,
+)
+from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG, sweep_method_for
+from pasibot_pin.studies.statics import StaticEquilibrium
+from pasibot_pin.viz.plots_simulation import fall_window, plot_simulation, plot_spring_sweep, plot_static_equilibrium
 
 PLOT_NAME = "simulation_{scenario}.png"
 CSV_NAME = "simulation_{scenario}.csv"
@@ -88,13 +104,10 @@ def write_simulation(files: SimulateFiles, run, fps: float = 20.0) -> list[Path]
         The animation files written.
 
     """
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from pasibot_pin.studies.simulation_study import simulation_columns
-    from pasibot_pin.viz.plots_simulation import plot_simulation, plot_static_equilibrium
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     if run.setup.quasi_static:
         fig = plot_static_equilibrium(run.statics)
@@ -118,8 +131,6 @@ def case_line(label: str, outcome) -> str:
             :class:`~pasibot_pin.studies.statics.StaticEquilibrium`.
 
     """
-    from pasibot_pin.studies.statics import StaticEquilibrium
-
     if isinstance(outcome, StaticEquilibrium):
         exc = outcome.max_excursion
         text = "no stable equilibrium" if math.isinf(exc) else f"{math.degrees(exc):.3f} deg"
@@ -145,10 +156,6 @@ def study_table(studies: Sequence) -> list[str]:
         studies: :class:`~pasibot_pin.studies.simulation_study.ScenarioStudy` per scenario.
 
     """
-    import numpy as np
-
-    from pasibot_pin.studies.spring_study import SPRING_CASES
-
     head = "| scenario | omega [rad/s] | fit K_e [N.m/rad] | fit beta0 [deg] | R^2 [-] | k_g [N.m/rad] | "
     head += "K_e - k_g [N.m/rad] | " + " | ".join(f"{label} [deg]" for label, _ in SPRING_CASES)
     head += " | most level (K_e [N.m/rad], beta0 [deg]) | its max abs pitch [deg] |"
@@ -205,17 +212,10 @@ def write_scenario_figures(out_dir: Path, study) -> list[tuple[str, str]]:
         study: the scenario's :class:`~pasibot_pin.studies.spring_study.SpringStudy`.
 
     """
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from pasibot_pin.viz.plots_simulation import (
-        fall_window,
-        plot_simulation,
-        plot_spring_sweep,
-        plot_static_equilibrium,
-    )
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     figures = []
     name = study.name
@@ -276,8 +276,6 @@ def write_figures(out_dir: Path, studies: Sequence) -> list[tuple[str, str]]:
 
 def write_check_animation(out_dir: Path, name: str, base) -> str:
     """The animation files of the check scenario's fitted walk ``base``; returns the report's note on them."""
-    from pasibot_pin.studies.simulation_study import cached_inputs
-
     gif, html = out_dir / GIF_NAME.format(scenario=name), out_dir / HTML_NAME.format(scenario=name)
     try:
         anim = export_animation(cached_inputs(name).robot, base, html=html, gif=gif, fps=ANIMATION_FPS)
@@ -311,8 +309,6 @@ class SimulationPlan:
     """
 
     def __init__(self, out_dir: Path, settings=None):
-        from pasibot_pin.studies.simulation_study import SimulationStudySettings
-
         self.out_dir = Path(out_dir)
         self.settings = settings or SimulationStudySettings()
         self.meta: dict = {}
@@ -325,11 +321,6 @@ class SimulationPlan:
 
     def jobs(self) -> list:
         """The first jobs: inputs, spring cases and sweep rows per scenario, the check."""
-        from pasibot_pin.jobs import Job
-        from pasibot_pin.model.scenarios import SCENARIOS
-        from pasibot_pin.studies import simulation_study as sim
-        from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG, sweep_method_for
-
         st = self.settings
         out = []
         for name in st.scenarios:
@@ -353,10 +344,6 @@ class SimulationPlan:
 
     def done(self, key, result) -> list:
         """Take a job's result; return the jobs it releases (a scenario's figures, the animation)."""
-        from pasibot_pin.jobs import Job
-        from pasibot_pin.studies import simulation_study as sim
-        from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG
-
         kind, name = key[0], key[1] if len(key) > 1 else None
         released = []
         if kind == "meta":
@@ -401,8 +388,6 @@ class SimulationPlan:
 
     def markdown(self) -> str:
         """The section, once every job is done."""
-        from pasibot_pin.studies.simulation_study import SwingFootCheck, hip_pitch_gap
-
         studies = [self.studies[name] for name in self.settings.scenarios]
         figures = [f for name in self.settings.scenarios for f in self.figures[name]]
         check = None
@@ -414,8 +399,6 @@ class SimulationPlan:
 
     def section(self):
         """:meth:`markdown` and :meth:`facts` as a :class:`~pasibot_pin.report.markdown.Section`."""
-        from pasibot_pin.report.markdown import Section
-
         return Section(self.markdown(), self.facts())
 
     def facts(self) -> dict:
@@ -440,8 +423,6 @@ class SimulationPlan:
 
 def section_markdown(settings, studies: Sequence, check, anim_note: str | None, figures: list[tuple[str, str]]) -> str:
     """The ``simulation`` section's Markdown; ``figures`` are (file, caption) pairs, the first one embedded."""
-    from pasibot_pin.report.markdown import figure, figure_links
-
     main = next((f for f in figures if f[0].startswith("simulation_run")), figures[0] if figures else None)
     shown = [] if main is None else [figure(*main)]
     rest = [f for f in figures if f is not main]
@@ -498,8 +479,6 @@ def section(out_dir: Path) -> str:
         The Markdown section.
 
     """
-    from pasibot_pin.jobs import run_jobs
-
     plan = SimulationPlan(Path(out_dir))
     start = time.perf_counter()
     run_jobs(plan.jobs(), plan.done, POOL_WORKERS)

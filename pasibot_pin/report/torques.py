@@ -13,7 +13,11 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.model.scenarios import SCENARIOS, SEED_CHOICE_NAMES
 from pasibot_pin.report.files import save_figure_file, write_columns_csv
+from pasibot_pin.report.markdown import Section, figure
+from pasibot_pin.studies.torques_study import SURVEY_PRESETS, torque_survey
+from pasibot_pin.viz.plots_dynamics import plot_stiffness_table, plot_torques_vs_beta, plot_torques_vs_time
 
 
 def write_result_csv(path: Path, result) -> None:
@@ -35,12 +39,10 @@ def write_beta_plot(path: Path, run) -> None:
         run: a :class:`~pasibot_pin.studies.torques_study.ScenarioTorques`.
 
     """
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig = plot_torques_vs_beta(run.result, run.fit, title=f"{run.scenario.description} [{run.preset}]")
     path = Path(path)
@@ -87,12 +89,9 @@ def _stiffness_figures(survey, sub: Path) -> tuple[list[str], list[str]]:
         The table's rows (one per scenario) and the fits' warnings.
 
     """
-    import matplotlib.pyplot as plt  # with its backend set by build(); kept out of the CLI's start
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    from pasibot_pin.model.scenarios import SCENARIOS
-    from pasibot_pin.studies.torques_study import SURVEY_PRESETS
-    from pasibot_pin.viz.plots_dynamics import plot_stiffness_table, plot_torques_vs_beta
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     lines, warnings_text = [], []
     table: dict[str, list] = {"default": [], "seed preset": [], "seed stored": []}
@@ -124,10 +123,9 @@ def _stiffness_figures(survey, sub: Path) -> tuple[list[str], list[str]]:
 
 def _two_turns_figure(survey, sub: Path) -> None:
     """Run 4's two crank turns as CSV; the torques over time of run 4 and run 2."""
-    import matplotlib.pyplot as plt  # with its backend set by build(); kept out of the CLI's start
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    from pasibot_pin.viz.plots_dynamics import plot_torques_vs_time
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     write_result_csv(sub / "torques_run4_two_turns.csv", survey.walk)
     fig, (ax1, ax2) = subplots(2, 1, figsize=(10, 8))
@@ -139,8 +137,6 @@ def _two_turns_figure(survey, sub: Path) -> None:
 
 def _summary_facts(survey) -> dict:
     """What the report's summary quotes: K_e of the dynamic runs, run 4's R^2, the fit window's share."""
-    from pasibot_pin.model.scenarios import SCENARIOS, SEED_CHOICE_NAMES
-
     dynamic = [n for n in SCENARIOS if n in dict(survey.attribution)]
     window = {
         n: row.delta for n in dynamic for row in survey.attribution[n] if row.label == SEED_CHOICE_NAMES["fit_thetas"]
@@ -156,13 +152,9 @@ def _summary_facts(survey) -> dict:
 
 def build(out_dir: Path):
     """:func:`section` with the facts the report's summary quotes (:class:`~pasibot_pin.report.markdown.Section`)."""
-    import matplotlib
-
-    from pasibot_pin.report.markdown import Section, figure
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-
-    from pasibot_pin.studies.torques_study import torque_survey
 
     survey = torque_survey()
     sub = out_dir / "dynamics"

@@ -14,7 +14,12 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.constraints import frame_rows
+from pasibot_pin.dynamics.floor import POINTS
+from pasibot_pin.files import atomic_path
 from pasibot_pin.model.coordinates import SIDES
+from pasibot_pin.viz.animation import save_gif
+from pasibot_pin.viz.viewer import ForceTrack, WalkViewer, build_walk_scene
 
 FORCE_SCALE = 5e-4
 """Arrow length per newton of floor force [m/N]."""
@@ -31,10 +36,6 @@ def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
 
     The heel and toe points of every frame are evaluated in one batch (:func:`~pasibot_pin.constraints.frame_rows`).
     """
-    from pasibot_pin.constraints import frame_rows
-    from pasibot_pin.dynamics.floor import POINTS
-    from pasibot_pin.viz.viewer import ForceTrack
-
     frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
     xz = frame_rows(robot.model, frames, range(len(frames))).positions(result.q[index])  # (N, 4) x + i z [m]
     tracks = {}
@@ -67,8 +68,6 @@ def write_walk_animation(
         The files written.
 
     """
-    from pasibot_pin.files import atomic_path
-
     result = walk.result
     index = walk_frames(result, fps)
     qs, times = result.q[index], result.t[index]
@@ -77,16 +76,12 @@ def write_walk_animation(
     title = f"{robot.variant} on the floor, {walk.omega:g} rad/s: {walk.verdict.short()}"
     written = []
     if gif is not None:
-        from pasibot_pin.viz.animation import save_gif
-
         with atomic_path(gif) as temp:
             save_gif(
                 robot, qs, temp, fps=fps, dpi=dpi, force=True, title=title, forces=forces, modes=modes, times=times
             )
         written.append(gif)
     if html is not None:
-        from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene
-
         viewer = WalkViewer(robot, offline=True)
         try:
             build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes)

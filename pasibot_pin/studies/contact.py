@@ -34,7 +34,9 @@ import numpy as np
 import pinocchio as pin
 import proxsuite
 
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
+from pasibot_pin.model.scenarios import get_preset, get_scenario
 from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
@@ -494,9 +496,8 @@ def scenario_contact(
         (the inverse-dynamics result, :class:`ContactResult`).
 
     """
-    from pasibot_pin.dynamics.inverse import inverse_dynamics
-    from pasibot_pin.model.scenario_robots import scenario_robot
-    from pasibot_pin.model.scenarios import get_preset, get_scenario
+    from pasibot_pin.dynamics.inverse import inverse_dynamics  # deferred: keeps the CLI's start fast
+    from pasibot_pin.model.scenario_robots import scenario_robot  # deferred: keeps the CLI's start fast
 
     if samples < 2:
         raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
@@ -515,8 +516,7 @@ def design_contact(design, mu: float = CONTACT_MU, samples: int = CONTACT_SAMPLE
         (the inverse-dynamics result, :class:`ContactResult`).
 
     """
-    from pasibot_pin.dynamics.inverse import inverse_dynamics
-    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.dynamics.inverse import inverse_dynamics  # deferred: keeps the CLI's start fast
 
     if samples < 2:
         raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")

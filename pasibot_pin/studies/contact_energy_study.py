@@ -17,7 +17,10 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS
+from pasibot_pin.dynamics.inverse import inverse_dynamics
+from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.scenario_robots import scenario_robot
+from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS, get_preset, get_scenario
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies import energy, single_motor
 from pasibot_pin.studies.contact import CONTACT_MU, CONTACT_SAMPLES, ContactResult, scenario_contact
@@ -279,9 +282,6 @@ def single_motor_study(settings: ContactEnergySettings | None = None) -> SingleM
 
     """
     settings = settings or ContactEnergySettings()
-    from pasibot_pin.dynamics.inverse import inverse_dynamics
-    from pasibot_pin.model.scenario_robots import scenario_robot
-    from pasibot_pin.model.scenarios import get_preset, get_scenario
 
     scenario = get_scenario(settings.motor_scenario)
     robot = scenario_robot(scenario, get_preset(settings.preset))
@@ -335,8 +335,6 @@ def energy_sweep(settings: ContactEnergySettings | None = None) -> EnergySweep:
     """Energy per step over ``settings.omegas`` for ``settings.energy_variants`` (:func:`energy.omega_table`)."""
     settings = settings or ContactEnergySettings()
     if settings.design is not None:
-        from pasibot_pin.model.design import design_robot
-
         robot, motors = design_robot(settings.design, 2), settings.design.motors
         rows = [energy.robot_step_energy(robot, w, settings.nodes, motors=motors)[0] for w in settings.omegas]
         return EnergySweep(rows)

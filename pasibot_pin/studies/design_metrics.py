@@ -50,10 +50,18 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.model.design import Design
-from pasibot_pin.model.variants import get_variant
+from pasibot_pin.model.assembly import leg_joint_angles, leg_points, sole_angle_from_points, transmission_angles, wrap
+from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.model.placements import placement_map
+from pasibot_pin.model.variants import get_motor_layout, get_variant
 from pasibot_pin.reprs import short_repr
+from pasibot_pin.studies.contact import cop_metrics, sole_geometry
+from pasibot_pin.studies.energy import STEP_END, STEP_START, gauss_legendre, robot_step_energy
+from pasibot_pin.studies.spring_fit import fit_spring
+from pasibot_pin.studies.spring_study import toppling_stiffness
+from pasibot_pin.studies.walking import WalkSettings, walk_design
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -183,8 +191,6 @@ def path_metrics(design: Design, samples: int = PATH_SAMPLES) -> dict[str, float
         Infeasible: ``assembly`` (a loop cannot close) or ``singular`` (a dead point).
 
     """
-    from pasibot_pin.model.assembly import leg_points, sole_angle_from_points, transmission_angles, wrap
-
     try:
         geometry = design.geometry()
     except ValueError as err:
@@ -223,8 +229,6 @@ def path_metrics(design: Design, samples: int = PATH_SAMPLES) -> dict[str, float
 
 def _check_branch(robot: PasibotRobot, result) -> None:
     """Raise ``Infeasible('branch')`` if a solved knee angle differs from the analytic assembly's."""
-    from pasibot_pin.model.assembly import leg_joint_angles
-
     q = np.asarray(result.q)
     for side, offset in (("right", 0.0), ("left", math.pi)):
         analytic = leg_joint_angles(np.asarray(result.theta_right) + offset, robot.geometry, robot.spec)["j4"]
@@ -250,14 +254,6 @@ def dynamic_metrics(design: Design, robot: PasibotRobot | None = None) -> dict[s
         Infeasible: ``assembly``, ``singular`` or ``branch``.
 
     """
-    from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.model.variants import get_motor_layout
-    from pasibot_pin.studies.contact import cop_metrics, sole_geometry
-    from pasibot_pin.studies.energy import robot_step_energy
-    from pasibot_pin.studies.spring_fit import fit_spring
-    from pasibot_pin.studies.spring_study import toppling_stiffness
-
     try:
         robot = design_robot(design, 2, visuals=False) if robot is None else robot
         omega = design.omega
@@ -316,8 +312,6 @@ def dynamic_metrics(design: Design, robot: PasibotRobot | None = None) -> dict[s
 
 
 def _gl_weights(n: int) -> np.ndarray:
-    from pasibot_pin.studies.energy import STEP_END, STEP_START, gauss_legendre
-
     return gauss_legendre(STEP_START, STEP_END, n)[1]
 
 
@@ -326,8 +320,6 @@ def warm_caches(design: Design) -> None:
 
     Call it before forking workers: they inherit it instead of each building their own.
     """
-    from pasibot_pin.model.placements import placement_map
-
     placement_map(get_variant(design.variant).name, 2)
 
 
@@ -337,8 +329,6 @@ def floor_metrics(design: Design, steps: int, robot: PasibotRobot | None = None)
     :func:`~pasibot_pin.studies.walking.walk_design`: both feet on the floor from a consistent
     start, the cranks at the design's speed, stopped as soon as the verdict is decided.
     """
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-
     walk = walk_design(design, WalkSettings(steps=steps), robot)
     v = walk.verdict
     values = {

@@ -40,12 +40,15 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.dynamics.inverse import check_omega, inverse_dynamics
 from pasibot_pin.kinematics.gait import stride_advance
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, other
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
-from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+from pasibot_pin.model.scenario_robots import scenario_robot
+from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, PRESETS, Scenario
 from pasibot_pin.reprs import short_repr
+from pasibot_pin.studies.spring_fit import fit_spring
 
 if TYPE_CHECKING:
     from pasibot_pin.dynamics.inverse import TorqueResult
@@ -77,9 +80,6 @@ def variant_robot(variant: str, body_mass: float, body_com_dx: float = 0.0) -> P
     offset ahead of joint 8 replace the rule's. The same robot as
     :func:`pasibot_pin.model.scenario_robots.scenario_robot` with the default modelling choices.
     """
-    from pasibot_pin.model.scenario_robots import scenario_robot
-    from pasibot_pin.model.scenarios import PRESETS, Scenario
-
     if not (math.isfinite(body_mass) and body_mass > 0):
         raise ValueError(f"parameter 'body_mass' must be positive [kg], got {body_mass!r}")
     scenario = Scenario("body", 0.0, float(body_mass), float(body_mass), float(body_com_dx), None, None, "body")
@@ -286,8 +286,6 @@ def step_energy(
         (StepEnergy, the TorqueResult at [start, nodes..., end]).
 
     """
-    from pasibot_pin.dynamics.inverse import check_omega
-
     omega = check_omega(omega)
     if omega == 0:
         raise ValueError("parameter 'omega' must be > 0 for energy per step (a quasi-static step takes forever)")
@@ -320,9 +318,6 @@ def robot_step_energy(
         (StepEnergy, the TorqueResult at [start, nodes..., end]).
 
     """
-    from pasibot_pin.dynamics.inverse import inverse_dynamics
-    from pasibot_pin.studies.spring_fit import fit_spring
-
     th, w = gauss_legendre(STEP_START, theta_end, nodes)
     thetas = np.concatenate(([STEP_START], th, [theta_end]))
     result = inverse_dynamics(robot, thetas, omega, stance="right", reactions=False, motors=motors)

@@ -29,6 +29,7 @@ import numpy as np
 from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
 from pasibot_pin.model.coordinates import HIP_PITCH
+from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.studies.floor_static import FloorStatic, FloorStaticSweep, floor_static_path, stance_thetas
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs
 
@@ -57,8 +58,6 @@ class FloorSpringSettings:
     static_samples: int = 19
 
     def __post_init__(self) -> None:
-        from pasibot_pin.model.scenarios import get_scenario
-
         keys = tuple(get_scenario(s).name for s in self.scenarios)  # names an unknown scenario
         if not keys or any(get_scenario(k).omega <= 0 for k in keys):
             raise ValueError(f"parameter 'scenarios' must name walking runs (run1 .. run4), got {self.scenarios!r}")

@@ -21,6 +21,8 @@ import numpy as np
 
 from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.model.variants import get_variant
 from pasibot_pin.studies.spring_study import SPRING_CASES, design_inputs, scenario_inputs
 
@@ -55,8 +57,6 @@ class FloorStudySettings:
     design: Design | None = None
 
     def __post_init__(self) -> None:
-        from pasibot_pin.model.scenarios import get_scenario
-
         if self.design is not None:
             if self.design.omega <= 0:
                 raise ValueError("the design does not walk (omega = 0): set its crank speed 'omega' > 0")
@@ -129,8 +129,6 @@ def _springless_design(
     settings: FloorStudySettings, design: Design, on_case: Callable[[FloorCase], None] | None
 ) -> FloorStudy:
     """The one case of a design without ankle springs (``settings.design``)."""
-    from pasibot_pin.model.design import design_robot
-
     robot = design_robot(design, 2, visuals=False)
     floor = FloorSettings(omega=design.omega, mu=settings.mu, dt=settings.dt, motors=design.motors)
     study = FloorStudy("design", design.omega, None, settings=settings)

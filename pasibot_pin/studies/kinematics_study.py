@@ -22,6 +22,7 @@ import numpy as np
 from pasibot_pin.kinematics import leg as kin
 from pasibot_pin.kinematics import path_metrics
 from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, step_advances, walk
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
 from pasibot_pin.reprs import short_repr
@@ -341,8 +342,6 @@ def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
     if settings.design is None:
         robot = load(settings.variant, settings.legs)
     else:
-        from pasibot_pin.model.design import design_robot
-
         robot = design_robot(settings.design, settings.legs)
     if settings.legs == 1:
         if settings.steps is not None:

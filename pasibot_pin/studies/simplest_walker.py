@@ -79,7 +79,7 @@ class Stride:
 def _solve_ivp():
     """``scipy.integrate.solve_ivp``, or :class:`MissingExtraError` naming the extra."""
     try:
-        from scipy.integrate import solve_ivp
+        from scipy.integrate import solve_ivp  # deferred: optional extra (scipy)
     except ImportError as err:  # pragma: no cover - scipy ships with the sweep extra
         raise MissingExtraError("the simplest walker needs scipy: pip install 'pasibot_pin[sweep]'") from err
     return solve_ivp

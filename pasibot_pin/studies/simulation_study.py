@@ -23,6 +23,7 @@ import math
 from collections.abc import Callable, Iterable, Iterator, Sequence
 from dataclasses import dataclass, field
 from functools import cache as _memo
+from functools import partial
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -520,8 +521,6 @@ def scenario_studies(settings: SimulationStudySettings | None = None, map: MapFu
             results come back in scenario order, identical to the builtin ``map``.
 
     """
-    from functools import partial
-
     settings = settings or SimulationStudySettings()
     return list(map(partial(scenario_study, settings=settings), settings.scenarios))
 

@@ -26,7 +26,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from pasibot_pin.dynamics.simulator import AnkleSpring
 from pasibot_pin.reprs import short_repr
+from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
+from pasibot_pin.studies.static_batch import static_equilibria
 
 MAX_PITCH = math.radians(20.0)
 """The stated limit on the welded hip's quasi-static |pitch| [rad] (20 deg)."""
@@ -80,9 +83,6 @@ class SpringChoice:
 
 def _excursions(robot, stiffness: np.ndarray, rests: np.ndarray, damping: float, cache: dict) -> np.ndarray:
     """Largest quasi-static |hip pitch| [rad] of each (K_e, beta0) pair (inf: no stable equilibrium)."""
-    from pasibot_pin.dynamics.simulator import AnkleSpring
-    from pasibot_pin.studies.static_batch import static_equilibria
-
     thetas = np.linspace(math.pi / 2, 1.5 * math.pi, STATIC_SAMPLES, endpoint=False)
     springs = [AnkleSpring(float(k), float(b), damping) for k, b in zip(stiffness, rests)]
     return np.array([eq.max_excursion for eq in static_equilibria(robot, springs, thetas, cache=cache)])
@@ -102,8 +102,6 @@ def recommended_spring(scenario: str = "run1", limit: float = MAX_PITCH) -> Spri
         ValueError: no spring up to :data:`HIGHEST_FACTOR` times the fit holds within ``limit``.
 
     """
-    from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
-
     inputs = scenario_inputs(scenario)
     fit, robot = inputs.fit, inputs.robot
     cache: dict = {}

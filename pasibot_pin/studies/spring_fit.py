@@ -15,6 +15,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pasibot_pin.dynamics.inverse import STANCE_RANGE, check_fit_window, crank_grid, inverse_dynamics
+from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
@@ -128,8 +131,6 @@ def fit_result(result, fit_thetas=None, warn: bool = True) -> SpringFit:
         ValueError: a window outside stance, or angles that are not samples of the result.
 
     """
-    from pasibot_pin.dynamics.inverse import check_fit_window
-
     if fit_thetas is None:
         mask = np.ones(len(result.t), dtype=bool)
     else:
@@ -157,10 +158,6 @@ def design_spring(design, robot: PasibotRobot | None = None):
         robot: its two-legged robot, if already loaded (:func:`~pasibot_pin.model.design.design_robot`).
 
     """
-    from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
-    from pasibot_pin.dynamics.simulator import AnkleSpring
-    from pasibot_pin.model.design import design_robot
-
     robot = design_robot(design, 2) if robot is None or robot.legs != 2 else robot
     if not robot.spec.free_ankle:
         return None

@@ -24,6 +24,8 @@ from typing import TYPE_CHECKING, Any
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics, run_scenario
+from pasibot_pin.dynamics.lockstep import simulate_many
 from pasibot_pin.dynamics.simulator import (
     AnkleSpring,
     SimulationResult,
@@ -32,7 +34,12 @@ from pasibot_pin.dynamics.simulator import (
     critical_foot_damping,
     simulate,
 )
+from pasibot_pin.model.closure import assemble
+from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.scenario_robots import scenario_robot
+from pasibot_pin.model.scenarios import get_preset, get_scenario
 from pasibot_pin.reprs import short_repr
+from pasibot_pin.studies.spring_fit import design_spring, fit_result
 from pasibot_pin.studies.static_batch import static_equilibria
 from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
 
@@ -193,8 +200,6 @@ def sweep_cells(
         _walk_settings(omega, sp, swing_ankle, dt, standing_pitch(robot, sp, math.pi / 2, cache)) for sp in springs
     ]
     if swing_ankle == "rest" and settings:
-        from pasibot_pin.dynamics.lockstep import simulate_many
-
         runs = simulate_many(robot, settings, steps)
     else:
         runs = [simulate(robot, st, steps=steps) for st in settings]
@@ -331,8 +336,6 @@ class ScenarioInputs:
 
 def scenario_key(name: str) -> str:
     """``1`` -> ``run1``; ``quasi-static`` and ``runN`` unchanged (ValueError for unknown ones)."""
-    from pasibot_pin.model.scenarios import get_scenario
-
     return get_scenario(name).name
 
 
@@ -345,11 +348,6 @@ def scenario_inputs(name: str, preset: str = "default", damping: float | None = 
         damping: ankle damping [N.m.s/rad] (default :func:`critical_foot_damping` of the fit).
 
     """
-    from pasibot_pin.dynamics.inverse import run_scenario
-    from pasibot_pin.model.scenario_robots import scenario_robot
-    from pasibot_pin.model.scenarios import get_preset, get_scenario
-    from pasibot_pin.studies.spring_fit import fit_result
-
     key = scenario_key(name)
     scenario, choices = get_scenario(key), get_preset(preset)
     result = run_scenario(scenario, choices)
@@ -366,10 +364,6 @@ def design_inputs(design) -> ScenarioInputs:
     them, else the stance fit of its inverse dynamics; the damping is the design's
     (:func:`~pasibot_pin.studies.spring_fit.design_spring`).
     """
-    from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.studies.spring_fit import design_spring, fit_result
-
     robot = design_robot(design, 2)
     result = inverse_dynamics(robot, crank_grid(*STANCE_RANGE, 61), design.omega, stance="right", reactions=False)
     fit = fit_result(result, None, warn=False)
@@ -387,8 +381,6 @@ def toppling_stiffness(robot: PasibotRobot, theta: float = math.pi) -> float:
     at all, and the static margin is K_e - k_g. Evaluated with the hip level at crank angle
     ``theta`` (default mid-stance).
     """
-    from pasibot_pin.model.closure import assemble
-
     stance = "right" if (theta - math.pi / 2) % (2 * math.pi) < math.pi else "left"
     q = assemble(robot, theta, stance=stance)
     model, data = robot.model, robot.data

@@ -1,7 +1,7 @@
 """The quasi-static limit omega -> 0 of a welded walk: the hip pitch where the robot stands still.
 
 At each crank angle (cranks held, the swing foot at the spring's rest angle) the hip-holding
-torque tau(pitch) (:class:`StaticProblem`, :func:`static_hip_torque`) is driven to zero by the
+torque tau(pitch) (:meth:`StaticProblem.torque`) is driven to zero by the
 secant method (:func:`static_equilibrium`), with its stability d^2V/dpitch^2. A whole sweep of
 springs and angles at once: :func:`pasibot_pin.studies.static_batch.static_equilibria`. Used by the
 spring study (:mod:`pasibot_pin.studies.spring_study`) and the floor's quasi-static answer
@@ -152,19 +152,6 @@ class StaticProblem:
         return float(x.dot(gravity)), tuple((i, float(x[i])) for i in self.sim.ankles.values())
 
 
-def static_hip_torque(robot: PasibotRobot, spring: AnkleSpring | None, theta: float, pitch: float, q_guess=None):
-    """Torque needed on the hip pitch to hold the robot still at crank angle ``theta`` and ``pitch``.
-
-    The cranks are locked (the motor holds them), the swing ankle sits at the spring's rest
-    angle, the stance foot (from ``theta``) is welded flat. Zero at a static equilibrium.
-
-    Returns:
-        (torque [N.m], q).
-
-    """
-    return StaticProblem(robot, spring, theta).torque(pitch, q_guess)
-
-
 def static_equilibrium(
     robot: PasibotRobot,
     spring: AnkleSpring | None,
@@ -174,7 +161,7 @@ def static_equilibrium(
 ) -> StaticEquilibrium:
     """Equilibrium hip pitch at each crank angle (the quasi-static limit omega -> 0).
 
-    For each crank angle, the hip-holding torque tau(pitch) of :func:`static_hip_torque` is
+    For each crank angle, the hip-holding torque tau(pitch) of :meth:`StaticProblem.torque` is
     driven to zero by the secant method from pitch = 0, within +-``search`` [rad]. ``cache``
     (a dict, filled on first use) shares the assembly of each crank angle between calls.
     """

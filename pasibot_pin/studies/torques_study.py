@@ -18,7 +18,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
-from pasibot_pin.dynamics.inverse import STANCE_RANGE, TorqueResult, crank_grid, run_scenario
+from pasibot_pin.dynamics.inverse import STANCE_RANGE, TorqueResult, crank_grid, inverse_dynamics, run_scenario
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.scenarios import (
     PRESETS,
     SCENARIOS,
@@ -240,9 +241,6 @@ def design_torques(settings: TorqueSettings) -> ScenarioTorques:
     The result's ``scenario`` is named ``design`` and carries the design's crank speed, body mass
     and COM (no seed values).
     """
-    from pasibot_pin.dynamics.inverse import inverse_dynamics
-    from pasibot_pin.model.design import design_robot
-
     design = settings.design
     if design is None:
         raise ValueError("design_torques needs settings.design")

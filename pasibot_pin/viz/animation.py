@@ -19,6 +19,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.files import PART_MARKER, atomic_path
+from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUP_COLOURS, robot_segments
 
 if TYPE_CHECKING:
@@ -112,8 +114,8 @@ def _stick_scene(
     walked part, the clock and the legend) are listed in the order the axes draw them (z-order,
     then order of creation). ``update(k)`` moves them to frame ``k``.
     """
-    import matplotlib.pyplot as plt
-    from matplotlib.collections import LineCollection
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    from matplotlib.collections import LineCollection  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     qs = _check(robot, qs)
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
@@ -141,8 +143,6 @@ def _stick_scene(
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
     marks, arrows, contacts = [], {}, None
     if robot.floating:
-        from pasibot_pin.viz.contacts import foot_contacts
-
         contacts = foot_contacts(robot, qs)
         modes = contacts.modes if modes is None else modes
         (dots,) = ax.plot([], [], "o", color=CONTACT_COLOUR, ms=5, zorder=3, label="sole on the ground")
@@ -192,7 +192,7 @@ def stick_animation(robot: PasibotRobot, qs: np.ndarray, fps: float = 20.0, ax=N
         The animation; its figure is ``anim._fig`` (also ``ax.figure``).
 
     """
-    from matplotlib.animation import FuncAnimation
+    from matplotlib.animation import FuncAnimation  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig, update, _ = _stick_scene(robot, qs, fps, ax, title)
     return FuncAnimation(fig, update, frames=len(qs), interval=1000.0 / fps, blit=False)
@@ -204,9 +204,9 @@ def _clock_painter(fig, clock):
     matplotlib lays out and rasterises a text glyph by glyph each frame; Pillow draws the same
     font (the clock's monospace face, at its size in pixels) at the same anchor far faster.
     """
-    from matplotlib.colors import to_rgba
-    from matplotlib.font_manager import findfont
-    from PIL import ImageDraw, ImageFont
+    from matplotlib.colors import to_rgba  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    from matplotlib.font_manager import findfont  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    from PIL import ImageDraw, ImageFont  # deferred: heavy (PIL), keeps the CLI's start fast
 
     props = clock.get_fontproperties()
     size = props.get_size_in_points() * fig.dpi / 72.0
@@ -235,10 +235,12 @@ def _frame_arrays(
     drawn last and the same in every frame, is rendered once as a transparent layer and
     composited over each frame; the clock's text is drawn last, with Pillow.
     """
-    import matplotlib.pyplot as plt
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
-    from matplotlib.text import Text
-    from PIL import Image
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    from matplotlib.backends.backend_agg import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
+        FigureCanvasAgg,
+    )
+    from matplotlib.text import Text  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    from PIL import Image  # deferred: heavy (PIL), keeps the CLI's start fast
 
     fig, update, moving = _stick_scene(robot, qs, fps, title=title, **marks)
     try:
@@ -280,7 +282,7 @@ def stick_frames(
 
     Drawn by blitting over the still part (see :func:`_frame_arrays`).
     """
-    from PIL import Image
+    from PIL import Image  # deferred: heavy (PIL), keeps the CLI's start fast
 
     images = []
     for rgba in _frame_arrays(robot, qs, fps, dpi, title, **marks):
@@ -324,7 +326,7 @@ def save_gif(
         FileExistsError: ``out`` exists and ``force`` is false.
 
     """
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
 
@@ -339,10 +341,9 @@ def save_gif(
     if all(f[..., 3].min() == 255 for f in frames):
         images = _shared_palette(frames)
     else:
-        from PIL import Image
+        from PIL import Image  # deferred: heavy (PIL), keeps the CLI's start fast
 
         images = [Image.fromarray(f, "RGBA") for f in frames]
-    from pasibot_pin.files import PART_MARKER, atomic_path
 
     duration = max(1, round(1000 / fps))  # [ms] per frame
     if PART_MARKER in out.name:  # the caller writes to a temporary name already
@@ -361,7 +362,7 @@ def _shared_palette(frames: list[np.ndarray]) -> list:
     mapping to a given palette goes through a coarse colour cache: white would become grey).
     The colours are keyed by their 24 RGB bits, read in place from the RGBA bytes.
     """
-    from PIL import Image
+    from PIL import Image  # deferred: heavy (PIL), keeps the CLI's start fast
 
     h, w = frames[0].shape[:2]
     sample = [frames[0], frames[len(frames) // 2], frames[-1]]

@@ -8,6 +8,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pasibot_pin.files import PART_MARKER, atomic_path
+
 PNG_COMPRESS_LEVEL = 1
 """zlib level of the report's PNGs: faster to write than Pillow's default 6 (the plots' flat colours
 compress well at any level)."""
@@ -39,8 +41,6 @@ def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
         dpi: resolution [dots per inch].
 
     """
-    from pasibot_pin.files import PART_MARKER, atomic_path
-
     if PART_MARKER not in Path(path).name:  # a figure appears whole under its name, or not at all
         with atomic_path(Path(path)) as tmp:
             _save_figure(fig, tmp, dpi)
@@ -50,13 +50,15 @@ def save_figure_file(fig, path: Path, dpi: float = FIGURE_DPI) -> None:
 
 def _save_figure(fig, path: Path, dpi: float) -> None:
     """:func:`save_figure_file` straight to ``path``."""
-    import matplotlib as mpl
-    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    import matplotlib as mpl  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    from matplotlib.backends.backend_agg import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
+        FigureCanvasAgg,
+    )
 
     if Path(path).suffix.lower() != ".png" or not isinstance(fig.canvas, FigureCanvasAgg):
         fig.savefig(path, dpi=dpi)
         return
-    from PIL import Image
+    from PIL import Image  # deferred: heavy (PIL), keeps the CLI's start fast
 
     original_dpi = fig.dpi
     try:

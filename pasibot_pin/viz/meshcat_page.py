@@ -97,7 +97,7 @@ def command_type(packed: bytes) -> str:
     """
     if len(packed) > 6 and packed[1:6] == b"\xa4type" and 0xA0 <= packed[6] <= 0xBF:
         return packed[7 : 7 + (packed[6] & 0x1F)].decode("utf-8")
-    import umsgpack
+    import umsgpack  # deferred: heavy (umsgpack), keeps the CLI's start fast
 
     return umsgpack.unpackb(packed)["type"]
 

@@ -38,8 +38,10 @@ class OfflineWindow:
     web_url = ""
 
     def __init__(self) -> None:
-        from meshcat.servers.tree import SceneTree
-        from meshcat.servers.zmqserver import ZMQWebSocketBridge
+        from meshcat.servers.tree import SceneTree  # deferred: heavy (meshcat), keeps the CLI's start fast
+        from meshcat.servers.zmqserver import (  # deferred: heavy (meshcat), keeps the CLI's start fast
+            ZMQWebSocketBridge,
+        )
 
         self._handle = ZMQWebSocketBridge.handle_zmq
         bridge = object.__new__(ZMQWebSocketBridge)  # the state handle_zmq uses, without sockets
@@ -57,7 +59,7 @@ class OfflineWindow:
 
     def send(self, command) -> None:
         """Apply one meshcat command (``SetObject``, ``SetTransform``, ...) to the scene."""
-        import umsgpack
+        import umsgpack  # deferred: heavy (umsgpack), keeps the CLI's start fast
 
         data = command.lower()
         self._request([data["type"].encode("utf-8"), data["path"].encode("utf-8"), umsgpack.packb(data)])

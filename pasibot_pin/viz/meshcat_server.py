@@ -10,10 +10,17 @@ its parent dies, even on SIGKILL (Linux), and the parent stops it at exit.
 from __future__ import annotations
 
 import atexit
+import ctypes
+import ctypes.util
+import functools
+import os
+import signal
 import subprocess
 import sys
 import time
 from dataclasses import dataclass
+
+from pasibot_pin.net import tcp_refused
 
 __all__ = ["LOOPBACK", "ZMQ_TIMEOUT", "ServerProcess", "check_meshcat_server", "serve_loopback", "start_server"]
 
@@ -65,7 +72,7 @@ class ServerProcess:
 
 def serve_loopback() -> None:
     """Run meshcat's ZMQ/web bridge with both sockets on 127.0.0.1 (child-process entry point)."""
-    from meshcat.servers.zmqserver import ZMQWebSocketBridge
+    from meshcat.servers.zmqserver import ZMQWebSocketBridge  # deferred: heavy (meshcat), keeps the CLI's start fast
 
     class LoopbackBridge(ZMQWebSocketBridge):
         def make_app(self):  # noqa: D102 - meshcat API
@@ -90,11 +97,6 @@ def _die_with_parent(parent: int) -> None:
     Linux's ``prctl(PR_SET_PDEATHSIG)``; elsewhere a no-op (the parent's ``atexit`` still stops the
     server on a normal exit). ``parent`` is the parent's pid: had it died before the call, exit at once.
     """
-    import ctypes
-    import ctypes.util
-    import os
-    import signal
-
     if not sys.platform.startswith("linux"):
         return
     pr_set_pdeathsig = 1
@@ -119,8 +121,6 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
     """
     if not timeout > 0:
         raise ValueError(f"parameter 'timeout' must be > 0 s, got {timeout!r}")
-    import functools
-    import os
 
     code = "from pasibot_pin.viz.meshcat_server import serve_loopback; serve_loopback()"
     process = subprocess.Popen(
@@ -167,9 +167,7 @@ def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
         ValueError: nothing answered at ``zmq_url`` within ``timeout``.
 
     """
-    import zmq
-
-    from pasibot_pin.net import tcp_refused
+    import zmq  # deferred: heavy (zmq), keeps the CLI's start fast
 
     refused = tcp_refused(zmq_url)
     if refused:

@@ -40,7 +40,7 @@ def figure_axes(ax=None, figsize: tuple[float, float] = (5, 7)):
     and legends stay inside it) with :func:`~pasibot_pin.viz.plots_layout.fewer_ticks`.
     """
     if ax is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         fig, ax = subplots(figsize=figsize)
         return fig, ax
@@ -85,7 +85,7 @@ GROUP_LABELS = {
 
 def robot_legend(ax, groups, pivots: bool, ground: bool) -> None:
     """A legend below ``ax`` naming every symbol :func:`plot_robot` drew: link groups, pivots, hip, ground."""
-    from matplotlib.lines import Line2D
+    from matplotlib.lines import Line2D  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     handles = [
         Line2D([], [], color=GROUP_COLOURS[g], lw=3, label=GROUP_LABELS[g]) for g in GROUP_COLOURS if g in groups
@@ -121,7 +121,7 @@ def plot_robot(
         The matplotlib figure.
 
     """
-    from matplotlib.collections import LineCollection
+    from matplotlib.collections import LineCollection  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig, ax = figure_axes(ax)
     q = robot.q0 if q is None else q

@@ -88,7 +88,7 @@ def plot_friction(res, ax=None):
 
 def contact_figure(res, title: str = ""):
     """Three stacked panels: forces, CoP, friction. Returns the figure."""
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig, axes = subplots(3, 1, figsize=(7.5, 10.0), sharex=True)
     plot_contact_forces(res, axes[0])

@@ -6,6 +6,8 @@ Angles in degrees, time in s.
 
 from __future__ import annotations
 
+import math
+
 import matplotlib.pyplot as plt
 import numpy as np
 
@@ -55,7 +57,7 @@ def plot_contact_modes(result, ax=None, title: str = "contact mode of each foot"
 def plot_floor_study(study, axes=None):
     """Hip pitch of every case above the fitted case's contact modes; returns the figure."""
     if axes is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         fig, axes = subplots(2, 1, figsize=(7, 5.5), height_ratios=(3, 1.4))
     else:
@@ -78,7 +80,7 @@ def plot_weld_vs_floor(study, ax=None):
     The legend names the colours and the hatch; the ticks name the spring case (and the run when
     there are several).
     """
-    from matplotlib.patches import Patch
+    from matplotlib.patches import Patch  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     rows = study.rows
     fig, ax = figure_axes(ax, (max(9.0, 2.5 + 1.0 * len(rows)), 3.8))  # about an inch per spring case
@@ -127,8 +129,6 @@ def plot_floor_static_map(sweep, what: str = "floor", ax=None):
     along the stance [deg]; grey cells have none, their text says why (weld: ``none``; floor: the
     first failure, its crank angle, and the crank angles held flat). Star: the fitted spring.
     """
-    import math
-
     fig, ax = figure_axes(ax, (6, 4.5))
     grid = np.degrees(sweep.grid(what))
     k, b = np.asarray(sweep.stiffness), np.degrees(np.asarray(sweep.rest))
@@ -164,7 +164,7 @@ def plot_floor_static_maps(sweeps, axes=None):
     """The K_e x beta0 maps of every run (rows), weld (left) beside floor (right); returns the figure."""
     sweeps = [s for s in sweeps if s.stiffness is not None]
     if axes is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         fig, axes = subplots(len(sweeps), 2, figsize=(10, 3.2 * len(sweeps)), squeeze=False)
     else:

@@ -158,7 +158,7 @@ def _plot_motion(cycle: LegCycle, attr: str, ylabel: str, names: tuple[str, str]
 
 def plot_leg_summary(cycle: LegCycle):
     """Four panels: foot paths, foot pitch, ankle velocity and acceleration (needs ``omega``)."""
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig, axes = subplots(2, 2, figsize=(12, 9))
     plot_leg_paths(cycle, ax=axes[0, 0])

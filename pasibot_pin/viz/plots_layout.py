@@ -271,8 +271,8 @@ def subplots(nrows: int = 1, ncols: int = 1, **kwargs):
         (figure, axes) as ``plt.subplots`` returns them.
 
     """
-    import matplotlib as mpl
-    import matplotlib.pyplot as plt
+    import matplotlib as mpl  # deferred: heavy (matplotlib), keeps the CLI's start fast
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     with mpl.rc_context({"axes.titley": 1.0}):  # titles at the top edge + pad, not moved at draw time (see below)
         fig, axes = plt.subplots(nrows, ncols, layout=MarginLayout(), **kwargs)

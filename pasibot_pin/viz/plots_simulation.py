@@ -128,7 +128,7 @@ def plot_simulation(
     """
     window = fall_window(results)
     if axes is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         rows = 3 if window is None else 4
         ratios = (3, 3, 3) if window is None else (2.4, 3, 3, 3)

@@ -6,16 +6,15 @@ from collections.abc import Sequence
 
 import numpy as np
 
+from pasibot_pin.model.design import SPECS
+from pasibot_pin.studies.design_metrics import ALL_METRICS, pareto_mask
+
 
 def _metrics() -> dict:
-    from pasibot_pin.studies.design_metrics import ALL_METRICS
-
     return dict(ALL_METRICS)
 
 
 def _label(name: str) -> str:
-    from pasibot_pin.model.design import SPECS
-
     METRICS = _metrics()
 
     if name in METRICS:
@@ -45,8 +44,6 @@ def pareto_masks(table, x: str, y: str, constraints: Sequence = ()) -> tuple[np.
         ``feasible`` and ``front`` implies ``satisfied`` (a design that violates a constraint is never on it).
 
     """
-    from pasibot_pin.studies.design_metrics import pareto_mask
-
     metrics = _metrics()
     feasible = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
     satisfied = feasible.copy()
@@ -87,7 +84,7 @@ def plot_pareto(
     """
     metrics = _metrics()
     if ax is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         fig, ax = subplots(figsize=(6.4, 4.6))
     fig = ax.figure
@@ -115,7 +112,7 @@ def plot_pareto(
 
 def rank_correlations(table, varied: Sequence[str], metrics: Sequence[str]) -> np.ndarray:
     """Spearman rank correlation of each varied parameter (rows) with each metric (columns), feasible designs."""
-    from scipy.stats import spearmanr
+    from scipy.stats import spearmanr  # deferred: optional extra (scipy)
 
     ok = np.asarray(table.column("feasible").to_numpy(zero_copy_only=False), dtype=bool)
     out = np.full((len(varied), len(metrics)), np.nan)
@@ -140,7 +137,7 @@ def plot_sensitivity(table, varied: Sequence[str], metrics: Sequence[str] | None
     metrics = list(metrics or [m for m in names if np.isfinite(_values(table, m)).any()])
     rho = rank_correlations(table, varied, metrics)
     if ax is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         fig, ax = subplots(figsize=(1.0 + 0.55 * len(metrics), 3.0 + 0.4 * len(varied)))
     fig = ax.figure

@@ -11,6 +11,9 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.files import atomic_path
+from pasibot_pin.viz.figure_files import save_figure_file
+
 OUTCOME_COLOURS: dict[str, str] = {
     "walks": "#2ca02c",
     "fell": "#d62728",
@@ -38,10 +41,10 @@ def plot_walking_map(wmap, variant: str, ax=None, twin: bool = True):
         The figure.
 
     """
-    from matplotlib.patches import Circle, Rectangle
+    from matplotlib.patches import Circle, Rectangle  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     if ax is None:
-        from pasibot_pin.viz.plots_layout import subplots
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
         _fig, ax = subplots(figsize=(4.6, 4.2))
     soles, omegas = wmap.soles, wmap.omegas
@@ -72,9 +75,9 @@ def walking_map_figure(wmap):
         The figure.
 
     """
-    from matplotlib.patches import Patch
+    from matplotlib.patches import Patch  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    from pasibot_pin.viz.plots_layout import subplots
+    from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     variants = wmap.variants
     fig, axes = subplots(1, len(variants), figsize=(4.2 * len(variants), 4.6), squeeze=False)
@@ -92,13 +95,10 @@ def walking_map_figure(wmap):
 
 def save_walking_map_figure(wmap, path: Path, dpi: float = 110) -> Path:
     """Draw :func:`walking_map_figure` and write it to ``path`` (PNG)."""
-    import matplotlib
+    import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     matplotlib.use("Agg")
-    import matplotlib.pyplot as plt
-
-    from pasibot_pin.files import atomic_path
-    from pasibot_pin.viz.figure_files import save_figure_file
+    import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig = walking_map_figure(wmap)
     with atomic_path(Path(path)) as tmp:

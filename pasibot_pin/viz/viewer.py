@@ -33,8 +33,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.files import write_text_atomic
+from pasibot_pin.model.robot import load
 from pasibot_pin.studies.walk_forces import walk_trajectory
+from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.meshcat_page import SEEK_SCRIPT, Hud, command_type, finish_page
+from pasibot_pin.viz.meshcat_scene import OfflineWindow
 from pasibot_pin.viz.meshcat_server import LOOPBACK, ServerProcess, check_meshcat_server, start_server
 from pasibot_pin.viz.viewer_scene import (
     CONTACT_COLOUR,
@@ -125,12 +129,10 @@ class WalkViewer:
     server: ServerProcess | None = field(init=False, default=None)
 
     def __post_init__(self) -> None:
-        import meshcat
-        from pinocchio.visualize import MeshcatVisualizer
+        import meshcat  # deferred: heavy (meshcat), keeps the CLI's start fast
+        from pinocchio.visualize import MeshcatVisualizer  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         if self.offline:
-            from pasibot_pin.viz.meshcat_scene import OfflineWindow
-
             if self.zmq_url is not None or self.open:
                 raise ValueError("an offline viewer has no server: pass neither 'zmq_url' nor open=True")
             self.meshcat = meshcat.Visualizer(window=OfflineWindow())
@@ -179,10 +181,6 @@ class WalkViewer:
         for node in ("visuals", "joints", "contacts"):
             self.meshcat[f"{ROOT}/{node}"].set_property("visible", bool(visible))
 
-    def visual_nodes(self) -> list[str]:
-        """Scene path of every visual object of the robot (under the viewer's root)."""
-        return [self.viz.getViewerNodeName(obj, pin.GeometryType.VISUAL) for obj in self.visual_model.geometryObjects]
-
     def visual_poses(self, q: np.ndarray) -> dict[str, np.ndarray]:
         """World pose (4x4) of every visual node at ``q``, as sent to the viewer."""
         q = check_trajectory(self.robot, q)[0]
@@ -209,7 +207,7 @@ class WalkViewer:
                 sits under it instead of hiding the stance foot.
 
         """
-        import meshcat.geometry as mg
+        import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         x0, x1 = float(x_range[0]), float(x_range[1])
         if not (math.isfinite(x0) and math.isfinite(x1) and x1 > x0):
@@ -226,7 +224,7 @@ class WalkViewer:
 
     def add_path(self, name: str, points: np.ndarray, colour: str) -> None:
         """A polyline through ``points`` (N, 3) [m], world frame."""
-        import meshcat.geometry as mg
+        import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         points = np.asarray(points, dtype=float)
         if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2 or not np.all(np.isfinite(points)):
@@ -245,7 +243,7 @@ class WalkViewer:
 
     def add_markers(self, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> None:
         """Joint markers (dark spheres) and contact points (green spheres) along ``qs`` (see :func:`marker_tracks`)."""
-        import meshcat.geometry as mg
+        import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         self.marks = marker_tracks(self.robot, qs, modes)
         joint = mg.MeshLambertMaterial(color=hex_int(JOINT_COLOUR))
@@ -258,7 +256,7 @@ class WalkViewer:
 
     def add_force(self, name: str, track: ForceTrack) -> None:
         """An arrow (unit length along its local x, stretched per frame) for a force track."""
-        import meshcat.geometry as mg
+        import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         if not isinstance(track, ForceTrack):
             raise ValueError("parameter 'track' must be a ForceTrack")
@@ -338,7 +336,7 @@ class WalkViewer:
 
     def walk_animation(self, qs: np.ndarray, fps: float = 30.0):
         """A meshcat ``Animation`` of the trajectory: one keyframe per row of ``qs``, at ``fps``."""
-        from meshcat.animation import Animation
+        from meshcat.animation import Animation  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         qs = check_trajectory(self.robot, qs)
         fps = check_fps(fps)
@@ -454,8 +452,6 @@ def build_walk_scene(
     viewer.display(qs[0])
     viewer.set_walk_animation(qs, fps=fps, repetitions=repetitions, play=play)
     if viewer.robot.floating:
-        from pasibot_pin.viz.contacts import foot_contacts
-
         contacts = foot_contacts(viewer.robot, qs)
         viewer.hud = Hud(
             title=title or f"PASIBOT {viewer.robot.variant} biped",
@@ -515,8 +511,6 @@ def export_html(
         raise ValueError(f"parameter 'out' must end in .html, got {out}")
     fps = check_fps(fps)
     if robot is None:
-        from pasibot_pin.model.robot import load
-
         robot = load(variant, legs=2)
     walk = walk_trajectory(robot, steps=steps, samples_per_step=samples_per_step)
     if ground_reaction:
@@ -533,7 +527,6 @@ def export_html(
         html = viewer.static_html()
     finally:
         viewer.close()
-    from pasibot_pin.files import write_text_atomic
 
     write_text_atomic(out, html)
     return Export(path=out, q=walk.q.copy(), fps=fps, walk=walk, paths=paths, forces=dict(forces or {}))

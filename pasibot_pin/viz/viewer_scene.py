@@ -18,6 +18,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.studies.walk_forces import quasi_static_ground_force, walk_reaction_forces
+from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
 
 if TYPE_CHECKING:
@@ -88,8 +90,6 @@ def marker_tracks(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Seque
         cut joint, ``contacts/<side>_<heel|toe>`` shown where that point touches the ground.
 
     """
-    from pasibot_pin.viz.contacts import foot_contacts
-
     qs = check_trajectory(robot, qs)
     model, data = robot.model, robot.model.createData()
     joints = {model.names[j]: j for j in range(1, model.njoints)}
@@ -224,8 +224,6 @@ def quasi_static_ground_reaction(
     The ground pushes up with the whole weight, along the vertical through the centre of mass; the
     arrow starts on the ground below the COM, in the stance leg's plane, ``scale`` [m/N] long per newton.
     """
-    from pasibot_pin.studies.walk_forces import quasi_static_ground_force
-
     return ForceTrack(*quasi_static_ground_force(robot, check_trajectory(robot, qs), stance), scale)
 
 
@@ -249,8 +247,6 @@ def reaction_forces(
         ``{'ground': ..., 'stance_j2': ..., 'swing_j5': ...}`` :class:`ForceTrack` objects.
 
     """
-    from pasibot_pin.studies.walk_forces import walk_reaction_forces
-
     forces = walk_reaction_forces(robot, walk, omega)
     ground = forces.pop("ground")
     tracks = {"ground": ForceTrack(*ground, ground_scale)}
