@@ -37,13 +37,7 @@ REASON = re.compile(
 )
 """The trailing comment of a function-level import (the whole comment)."""
 
-KNOWN_UNCOMMENTED: set[str] = {
-    "pasibot_pin/dynamics/floor.py",
-    "pasibot_pin/studies/gait_stability.py",
-    "pasibot_pin/studies/mujoco_walk.py",
-    "pasibot_pin/studies/walking.py",
-    "pasibot_pin/studies/walking_map.py",
-}
+KNOWN_UNCOMMENTED: set[str] = set()
 """Files whose function-level imports are not yet sorted out (moved up or commented): empty it as they are.
 A file listed here that no longer needs to be fails :func:`test_the_known_exceptions_are_still_needed`."""
 

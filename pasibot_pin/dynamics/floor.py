@@ -56,6 +56,7 @@ from pasibot_pin.errors import (
     ParameterError,
     SimulationError,
 )
+from pasibot_pin.model.closure import analytic_configurations
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
@@ -169,9 +170,7 @@ class FloorSimulator:
         scalars = [
             coordinate(name, robot.idx_v(name), settings.theta0 + phase[name], settings.omega) for name in layout.motors
         ]
-        scalars += [
-            coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings
-        ]
+        scalars += [coupling(f"{a}-{b}", robot.idx_v(a), robot.idx_v(b), offset) for a, b, offset in layout.couplings]
         self._motor_index = [robot.idx_v(name) for name in layout.motors]
         if settings.hip == "level":
             scalars.append(coordinate("hip_pitch", HIP_PITCH, 0.0, 0.0))
@@ -297,8 +296,6 @@ class FloorSimulator:
         omega (a least-squares solve of the consistent, redundant rows). With preloaded ankle
         springs this state is *not* one the robot can hold (see :meth:`start_state`).
         """
-        from pasibot_pin.model.closure import analytic_configurations
-
         robot = self.robot
         guess, _ = analytic_configurations(robot, [self.settings.theta0], swing_foot_pitch=swing_pitch)
         q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance

@@ -29,6 +29,7 @@ from pasibot_pin.studies.walking_map import (
     MAP_PNG,
     MapCell,
     WalkingMap,
+    add_twin,
     compute_walking_map,
     load_map,
     save_map,
@@ -323,8 +324,6 @@ def main(argv: Sequence[str] | None = None) -> None:
     )
     args = parser.parse_args(argv)
     if args.twin and not args.compute:
-        from pasibot_pin.studies.walking_map import add_twin
-
         start = time.monotonic()
         save_map(add_twin(load_map(), 0.0, workers=args.workers))
         print(f"{MAP_CSV}: the twin's missing cells walked in {time.monotonic() - start:.0f} s wall")

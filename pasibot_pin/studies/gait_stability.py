@@ -32,7 +32,9 @@ from pasibot_pin.dynamics.floor import FloorSimulator
 from pasibot_pin.dynamics.simulator import ankle_indices
 from pasibot_pin.errors import DivergedError, NoFixedPointError, ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.studies.poincare import BasinEstimate, FixedPoint, basin_estimate, find_fixed_point
+from pasibot_pin.studies.walking import WalkSettings, walk_design
 
 SECTION_THETA = math.pi
 """The right crank's angle on the section: mid-stance of the right leg [rad]."""
@@ -230,9 +232,6 @@ def gait_stability(design, walk=None, settings: StabilitySettings | None = None,
         NoFixedPointError: no periodic gait near the walk (it falls, or Newton does not converge).
 
     """
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-
     settings = StabilitySettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     if walk is None or walk.verdict.steps < settings.warmup_steps:

@@ -68,6 +68,7 @@ from pasibot_pin.dynamics.floor import LOAD_TOL, SPEED_LIMIT, FloorSimulator, cr
 from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
 from pasibot_pin.errors import MissingExtraError, SimulationError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_duration
 
@@ -95,7 +96,7 @@ MISSING = "needs the mujoco extra: pip install 'pasibot-pin[mujoco]'"
 def _mujoco():
     """The ``mujoco`` module, or :class:`MissingExtraError`."""
     try:
-        import mujoco
+        import mujoco  # deferred: optional extra (mujoco)
     except ImportError as err:
         raise MissingExtraError(f"walk_in_mujoco {MISSING}") from err
     return mujoco
@@ -314,8 +315,6 @@ def walk_in_mujoco(
         DesignError: the design cannot be built.
 
     """
-    from pasibot_pin.model.design import design_robot
-
     mujoco = _mujoco()
     settings = WalkSettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot

@@ -363,9 +363,8 @@ def _newton(
 ) -> tuple[np.ndarray, np.ndarray, int, np.ndarray | None]:
     """The damped Newton loop: ``(x*, G(x*), iterations, DF)`` or :class:`NoFixedPointError`.
 
-    ``DF`` is the last iteration's Jacobian when that iteration's step moved every component by
-    less than its difference step ``h`` (a new Jacobian at ``x*`` would differ by less than the
-    differences' own truncation error), else ``None`` (the caller differentiates at ``x*``).
+    ``DF``: the last iteration's Jacobian if its step moved each component less than its difference
+    step ``h`` (a new one at ``x*`` would differ by less than their error), else ``None``.
     """
     try:
         g = f(x) - x

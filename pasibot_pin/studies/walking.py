@@ -22,7 +22,9 @@ from dataclasses import dataclass, replace
 from pasibot_pin.dynamics.floor import FloorResult, FloorSettings, FloorSimulator
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
 from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
+from pasibot_pin.studies.spring_fit import design_spring
 
 WALK_MU = SOLE_FLOOR_MU
 """Sole-floor Coulomb friction of a walk [-] (the project's one sole-floor friction)."""
@@ -111,8 +113,6 @@ def walk_duration(omega: float, steps: int) -> float:
 
 def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
     """The :class:`FloorSettings` of ``design``'s walk: its speed, spring, motors; the ramp and step."""
-    from pasibot_pin.studies.spring_fit import design_spring
-
     omega = design.omega
     if not (math.isfinite(omega) and omega >= MIN_OMEGA):
         raise ParameterError(f"parameter 'omega' must be at least {MIN_OMEGA:g} rad/s to walk, got {omega!r}")
@@ -140,8 +140,6 @@ def walk_design(design, settings: WalkSettings | None = None, robot=None) -> Des
         DesignError: the design cannot be built.
 
     """
-    from pasibot_pin.model.design import design_robot
-
     settings = WalkSettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     floor = floor_settings(design, settings, robot)

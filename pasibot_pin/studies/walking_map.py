@@ -23,15 +23,22 @@ Units: SI; soles over the crank length L; crank speed [rad/s]; angles in degrees
 from __future__ import annotations
 
 import csv
+import importlib.util
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass, fields, replace
 from pathlib import Path
 from typing import Any
 
-from pasibot_pin.model.design import Design
+from pasibot_pin.errors import DesignError
+from pasibot_pin.files import atomic_path
+from pasibot_pin.jobs import Job, run_jobs
+from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.progress import progress_bar
+from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
+from pasibot_pin.studies.spring_fit import design_spring
+from pasibot_pin.studies.walking import WalkSettings, walk_design
 
 SOLES: tuple[float, ...] = (1.5, 3.0, 4.5, 6.0, 8.0, 10.0)
 """Sole extents on each side of the ankle [L]."""
@@ -52,7 +59,7 @@ MAP_CSV = _PACKAGED if _PACKAGED.is_file() else RESULTS_DIR / "walking_map.csv"
 MAP_PNG = RESULTS_DIR.parent / "walking_map.png"
 """The committed picture of the map."""
 
-NO_TWIN = "pasibot_pin.studies.mujoco_walk is not installed on this branch: the twin's columns are empty"
+NO_TWIN = "MuJoCo (the mujoco extra) is not installed: the twin's columns are empty"
 
 
 @dataclass(frozen=True)
@@ -171,10 +178,8 @@ def map_design(variant: str, sole: float, omega: float, base: Design | None = No
 
 
 def twin_walker():
-    """``walk_in_mujoco`` of the MuJoCo twin, or ``None`` when it is not installed."""
-    try:
-        from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
-    except ImportError:
+    """``walk_in_mujoco`` of the MuJoCo twin, or ``None`` when MuJoCo (the ``mujoco`` extra) is not installed."""
+    if importlib.util.find_spec("mujoco") is None:
         return None
     return walk_in_mujoco
 
@@ -196,11 +201,6 @@ def _verdict_values(verdict) -> dict:
 
 def walk_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS, twin: bool = True) -> MapCell:
     """Walk one cell (ours, and the twin's when installed and ``twin``); runs in a worker."""
-    from pasibot_pin.errors import DesignError
-    from pasibot_pin.model.design import design_robot
-    from pasibot_pin.studies.spring_fit import design_spring
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-
     design = map_design(variant, sole, omega)
     settings = WalkSettings(steps=steps)
     start = time.process_time()
@@ -225,15 +225,12 @@ def walk_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS, t
     if walker is None or values["outcome"] == "infeasible":
         return cell
     mujoco = walker(design, settings).verdict
-    from dataclasses import replace
 
     return replace(cell, twin_outcome=mujoco.outcome, twin_steps=float(mujoco.steps), twin_detail=mujoco.detail)
 
 
 def twin_cell(variant: str, sole: float, omega: float, steps: int = MAP_STEPS) -> tuple[tuple, str, float, str]:
     """The MuJoCo twin's walk of one cell: (key, outcome, steps, detail); runs in a worker."""
-    from pasibot_pin.studies.walking import WalkSettings
-
     walker = twin_walker()
     if walker is None:
         raise ImportError(NO_TWIN)
@@ -247,10 +244,6 @@ def add_twin(wmap: WalkingMap, min_omega: float = 0.0, workers: int = 2, progres
     Cells already holding a twin outcome and ``infeasible`` cells are left as they are. The map's
     :attr:`~WalkingMap.twin_note` says which cells the twin ran (empty when it ran on all of them).
     """
-    from dataclasses import replace
-
-    from pasibot_pin.jobs import Job, run_jobs
-
     todo = [c for c in wmap.cells if c.omega >= min_omega and not c.twin_outcome and c.outcome != "infeasible"]
     jobs = [Job(_estimate(c.omega, wmap.steps), (c.variant, c.sole, c.omega), twin_cell,
                 (c.variant, c.sole, c.omega, wmap.steps)) for c in todo]  # fmt: skip
@@ -307,8 +300,6 @@ def compute_walking_map(
         :class:`WalkingMap`, cells in (variant, sole, omega) order.
 
     """
-    from pasibot_pin.jobs import Job, run_jobs
-
     keys = [(v, float(s), float(w)) for v in variants for s in soles for w in omegas]
     done: dict[tuple, MapCell] = {}
     if partial is not None and Path(partial).is_file():
@@ -335,8 +326,6 @@ def compute_walking_map(
 # --------------------------------------------------------------------------- files
 def save_map(wmap: WalkingMap, path: Path = MAP_CSV) -> Path:
     """Write the map as CSV: a ``# steps = N`` line, a ``# twin: ...`` line, then one row per cell."""
-    from pasibot_pin.files import atomic_path
-
     path = Path(path)
     names = [f.name for f in fields(MapCell)]
     with atomic_path(path) as tmp, open(tmp, "w", newline="") as handle:
