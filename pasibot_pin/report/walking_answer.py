@@ -341,10 +341,6 @@ def main(argv: Sequence[str] | None = None) -> None:
         print(written)
 
 
-if __name__ == "__main__":
-    main()
-
-
 _PACKAGED_SWEEP = Path(__file__).resolve().parents[1] / "results" / "walking_sweep.csv"
 SWEEP_CSV = _PACKAGED_SWEEP if _PACKAGED_SWEEP.is_file() else ROOT / "docs" / "results" / "walking_sweep.csv"
 """The committed walking sweep (``pasibot sweep --floor 20 --n 200`` over the variants, omega and the soles)."""
@@ -392,3 +388,7 @@ def sweep_paragraph(rows: list[dict]) -> str:
             else ""
         )
     ).strip()
+
+
+if __name__ == "__main__":
+    main()
