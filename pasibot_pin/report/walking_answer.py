@@ -370,7 +370,8 @@ def sweep_paragraph(rows: list[dict]) -> str:
     variants = Counter(r["variant"] for r in rows)
     design, fast = fastest_sweep_design(rows)
     speeds = sorted(float(r["omega"]) for r in walkers)
-    infeasible = Counter(r["failure"] for r in rows if r["failure"])
+    infeasible = Counter(r["failure"] for r in rows if r["failure"] and not r["floor_outcome"])
+    rejected = [r for r in rows if r["failure"] and r["floor_outcome"]]  # walked all the same
     return (
         f"A Latin-hypercube sweep of {len(rows)} designs ({_list([f'{n} {v}' for v, n in sorted(variants.items())])}; "
         f"omega, foot_toe, foot_heel, parallel_toe and parallel_heel varied; 20 steps each, "
@@ -382,9 +383,15 @@ def sweep_paragraph(rows: list[dict]) -> str:
         f"{float(fast['floor_energy_per_m_J']):.0f} J/m; `docs/results/fastest_sweep_walker.toml`; the map's soles "
         "are symmetric). "
         + (
-            f"{_counts(dict(infeasible))} designs were not walked: the inverse dynamics with the hip held level "
-            "rejects them first (`design_metrics`)."
+            f"{_counts(dict(infeasible))} designs were not walked: their linkage does not work (`design_metrics`). "
             if infeasible
+            else ""
+        )
+        + (
+            f"{len(rejected)} designs that the inverse dynamics with the hip held level rejects "
+            f"({_list(sorted({r['failure'] for r in rejected}))}) were walked all the same: "
+            f"{_counts(dict(Counter(r['floor_outcome'] for r in rejected)))}."
+            if rejected
             else ""
         )
     ).strip()
