@@ -215,27 +215,27 @@ def browser(tmp_path_factory):
     with_robot = viewer.export_html(folder / "walk.html", robot, steps=2, samples_per_step=30, fps=30.0)
     viewer.export_html(folder / "empty.html", robot, steps=2, samples_per_step=30, fps=30.0, show_robot=False)
     shutil.copy(with_robot.path, ARTIFACTS / "walk.html")
-    # The kinematic walk's title bar is read off robot_mid (paused at T_MID); the other kinds at 0.5 s.
-    kinds = {"gait": ("robot_mid", "PASIBOT spring biped, 2 steps (kinematic walk, stance sole welded flat)", T_MID)}
-    pages = exported_pages(folder)
-    for kind, (_, title) in pages.items():
-        kinds[kind] = (f"{kind}_page", title, 0.5)
-    # Two browsers at once: the playing page (every frame drawn; the longest) and one grid of
-    # the paused pages. A paused page (#t=) is drawn once it has loaded: virtual time waits for the
-    # loading, so SEEK_BUDGET_MS is enough (its screenshots equal those after 3000 ms, pixel for pixel).
-    paused = {
-        "robot_start": "walk.html#t=0",
-        "robot_early": f"walk.html#t={T_EARLY}",
-        "robot_mid": f"walk.html#t={T_MID}",
-        "robot_late": f"walk.html#t={T_LATE}",
-        "empty_early": f"empty.html#t={T_EARLY}",
-        "empty_late": f"empty.html#t={T_LATE}",
-        **{f"{kind}_page": f"{page}#t=0.5" for kind, (page, _) in pages.items()},
-    }
+    # Two browsers at once: the playing page (every frame drawn; the longest), started first, while the
+    # other pages are computed, and one grid of the paused pages. A paused page (#t=) is drawn once it has
+    # loaded: virtual time waits for the loading, so SEEK_BUDGET_MS is enough (its screenshots equal those
+    # after 3000 ms, pixel for pixel).
     with ThreadPoolExecutor(max_workers=2) as pool:
         playing = pool.submit(page_shot, with_robot.path, folder / "autoplay.png", "", 1500)
-        grid = pool.submit(grid_shots, paused, folder, SEEK_BUDGET_MS, [frame for frame, _, _ in kinds.values()])
-        tiles, copied = grid.result()
+        pages = exported_pages(folder)
+        paused = {
+            "robot_start": "walk.html#t=0",
+            "robot_early": f"walk.html#t={T_EARLY}",
+            "robot_mid": f"walk.html#t={T_MID}",
+            "robot_late": f"walk.html#t={T_LATE}",
+            "empty_early": f"empty.html#t={T_EARLY}",
+            "empty_late": f"empty.html#t={T_LATE}",
+            **{f"{kind}_page": f"{page}#t=0.5" for kind, (page, _) in pages.items()},
+        }
+        # The kinematic walk's title bar is read off robot_mid (paused at T_MID); the other kinds at 0.5 s.
+        gait_title = "PASIBOT spring biped, 2 steps (kinematic walk, stance sole welded flat)"
+        kinds = {"gait": ("robot_mid", gait_title, T_MID)}
+        kinds.update({kind: (f"{kind}_page", title, 0.5) for kind, (_, title) in pages.items()})
+        tiles, copied = grid_shots(paused, folder, SEEK_BUDGET_MS, [frame for frame, _, _ in kinds.values()])
         images = {"autoplay": playing.result(), **tiles}
     for name in ["autoplay", *paused]:  # kept for a look; written from this run's own folder, never read back
         shutil.copy(folder / f"{name}.png", ARTIFACTS / f"{name}.png")
