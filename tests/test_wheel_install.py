@@ -3,7 +3,8 @@
 The wheel is built from this checkout (``pip wheel --no-deps``, hatchling from PyPI) and installed
 into a fresh ``python -m venv`` (no system site-packages); its base dependencies come from PyPI.
 The venv is cached between runs beside pytest's numbered temporary folders, keyed by the base
-dependencies and the Python version; the wheel itself is reinstalled every run. Each command's
+dependencies and the Python version; the wheel itself is built every run and reinstalled unless
+the venv already holds exactly its files (:func:`_holds`: a run from unchanged sources). Each command's
 smallest invocation runs in a temporary folder outside the repository, with no ``PYTHONPATH``:
 only the installed package can answer. ``sweep`` and ``optimize`` need the ``[sweep]`` extra and
 must say so in one line, before any work, leaving no file. ``analyze`` (the longest, ~30 s) is
@@ -70,6 +71,32 @@ def _timed(name: str, args: list, **kwargs) -> subprocess.CompletedProcess:
     return done
 
 
+def _holds(venv: Path, wheel: Path) -> bool:
+    """Whether ``venv`` has ``wheel`` installed and nothing else of the package: the same files as the wheel's
+    RECORD, each with its SHA-256, and the ``pasibot`` script (pip's own files and byte code aside)."""
+    import base64
+    import zipfile
+
+    with zipfile.ZipFile(wheel) as archive:
+        name = next(n for n in archive.namelist() if n.endswith(".dist-info/RECORD"))
+        wanted = [line.rsplit(",", 2)[:2] for line in archive.read(name).decode().splitlines() if line]
+    sites = list(venv.glob("lib/python*/site-packages"))
+    if len(sites) != 1 or not (sites[0] / name).is_file() or not (venv / "bin" / "pasibot").is_file():
+        return False
+    site, pip_own = sites[0], {f"{name.split('/')[0]}/{f}" for f in ("INSTALLER", "REQUESTED", "direct_url.json")}
+    installed = {line.split(",", 1)[0] for line in (site / name).read_text().splitlines() if line}
+    installed = {p for p in installed if not p.startswith("../") and "__pycache__" not in p} - pip_own
+    if installed != {path for path, _ in wanted}:
+        return False
+    for path, digest in wanted:
+        if digest:  # the RECORD itself has none
+            algorithm, value = digest.split("=", 1)
+            actual = hashlib.new(algorithm, (site / path).read_bytes()).digest()
+            if base64.urlsafe_b64encode(actual).rstrip(b"=").decode() != value:
+                return False
+    return True
+
+
 class Installed:
     """The venv with the wheel installed, and where the commands run."""
 
@@ -110,11 +137,12 @@ def installed(tmp_path_factory) -> Installed:
             done = _timed("pip install (base deps from PyPI)", [*pip, str(wheel)], env=env, timeout=1200)
             assert done.returncode == 0, done.stderr
             (venv / ".complete").touch()
-        else:
+        elif not _holds(venv, wheel):
             done = _timed(
                 "pip install (wheel only, cached venv)", [*pip, "--no-deps", "--force-reinstall", str(wheel)], env=env
             )
             assert done.returncode == 0, done.stderr
+        assert _holds(venv, wheel)
     work = tmp_path_factory.mktemp("outside")
     assert ROOT not in work.parents
     yield Installed(venv, work)
