@@ -74,8 +74,10 @@ def test_torques_of_a_design_equal_the_scenario_it_copies(_cli, tmp_path):
 
 
 def test_simulate_walks_the_design_on_the_floor(_cli, tmp_path):
-    path = Design().with_(omega=5.0, body_mass=20.0, spring_stiffness=450.0, spring_rest_angle=1.6).save(
-        tmp_path / "d.toml"
+    path = (
+        Design()
+        .with_(omega=5.0, body_mass=20.0, spring_stiffness=450.0, spring_rest_angle=1.6)
+        .save(tmp_path / "d.toml")
     )
     res = _cli("simulate", "--design", str(path), "--duration", "0.2", "--no-cases", "--out", str(tmp_path / "o"))
     assert res.returncode == 0, res.stderr

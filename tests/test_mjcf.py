@@ -114,8 +114,9 @@ def test_loops_stay_closed_through_ten_seconds_on_the_floor():
     model, data = _model(robot, MjcfOptions(spring_stiffness=306.45, spring_rest_angle=1.3073, spring_damping=1.0))
     mujoco.mj_resetDataKeyframe(model, data, model.key("home").id)
     worst = 0.0
+    cranks = robot.q0[[robot.idx_q(m) for m in robot.actuated_joints]]  # once, not at each of the 100 000 steps
     for k in range(100_000):  # 10 s at 0.1 ms
-        data.ctrl[:] = robot.q0[[robot.idx_q(m) for m in robot.actuated_joints]] + 0.1 * data.time
+        data.ctrl[:] = cranks + 0.1 * data.time
         mujoco.mj_step(model, data)
         if k % 200 == 0:
             worst = max(worst, _loop_error(robot, data))

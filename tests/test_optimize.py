@@ -125,9 +125,7 @@ def test_the_pareto_figure_draws_only_constraint_satisfying_designs_on_its_front
     margin = [0.9, 0.5, 0.8, 0.1, 0.2, 0.95]  # rows 0 and 5 would be best, but violate the constraint
     stride = [0.40, 0.46, 0.47, 0.50, 0.46, 0.30]
     feasible = [True, True, True, True, True, False]
-    table = pa.table(
-        {"peak_crank_torque_Nm": torque, "cop_margin_m": margin, "stride_m": stride, "feasible": feasible}
-    )
+    table = pa.table({"peak_crank_torque_Nm": torque, "cop_margin_m": margin, "stride_m": stride, "feasible": feasible})
     plan = OptimizePlan(
         ranges=PLAN.ranges, objectives=PLAN.objectives, constraints=PLAN.constraints, trials=1, population=2, seed=1
     )

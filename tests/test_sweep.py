@@ -3,8 +3,6 @@
 from __future__ import annotations
 
 import json
-import subprocess
-import sys
 
 import numpy as np
 import pyarrow as pa
@@ -140,22 +138,24 @@ def test_best_rows_are_sorted_and_feasible(reference):
     assert all(reference.table.column("feasible")[r].as_py() for r in rows)
 
 
-def _cli(*args, cwd=None):
-    return subprocess.run([sys.executable, "-m", "pasibot_pin", *args], capture_output=True, text=True, cwd=cwd)
+def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path, capsys):
+    """In this process (``main``): tests/test_cli_signals.py runs ``pasibot sweep`` as its own process (its workers,
+    its exit codes), tests/test_wheel_install.py from the installed console script."""
+    from pasibot_pin.__main__ import main
 
-
-def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path):
     out = tmp_path / "run"
-    res = _cli("sweep", "--n", "4", "--vary", "K=1.8:2.2", "--out", str(out), "--csv", "--best", "2", "--no-progress")
-    assert res.returncode == 0, res.stderr
+    args = ["sweep", "--n", "4", "--vary", "K=1.8:2.2", "--out", str(out), "--csv", "--best", "2", "--no-progress"]
+    assert main(args) == 0, capsys.readouterr().err
     for name in ("results.parquet", "results.csv", "pareto.png", "sensitivity.png", "plan.json"):
         assert (out / name).is_file(), name
     best = sorted((out / "best").iterdir())
     assert [p.suffix for p in best] == [".toml", ".urdf", ".xml"] * 2
     design = load_design(best[0])
     assert 1.8 <= design.K <= 2.2
-    again = _cli("sweep", "--n", "5", "--vary", "K=1.8:2.2", "--out", str(out), "--no-progress")
-    assert again.returncode == 2 and "different run" in again.stderr and again.stderr.count("\n") == 1
+    capsys.readouterr()
+    again = main(["sweep", "--n", "5", "--vary", "K=1.8:2.2", "--out", str(out), "--no-progress"])
+    err = capsys.readouterr().err
+    assert again == 2 and "different run" in err and err.count("\n") == 1
 
 
 @pytest.mark.parametrize(
@@ -172,7 +172,7 @@ def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path):
     ],
 )
 def test_cli_bad_input_is_one_line_before_any_work(tmp_path, args, capsys):
-    """In this process (``main``): the subprocess above already checks the entry point's exit code 2."""
+    """In this process (``main``), as the test above."""
     from pasibot_pin.__main__ import main
 
     out = tmp_path / "never"
