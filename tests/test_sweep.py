@@ -228,3 +228,19 @@ def test_sweep_over_variants_records_each_variant_and_the_walking_outcome(tmp_pa
         verdict = walk_design(design, WalkSettings(steps=2)).verdict
         assert table.column("floor_outcome")[row].as_py() == verdict.outcome
         assert table.column("floor_steps")[row].as_py() == verdict.steps
+
+
+def test_a_walking_sweep_runs_its_slow_walks_first():
+    """A task's cost: 1 per design without a floor walk; with one, the simulated time its walk may
+    need, (steps + 3) pi / omega plus the ramp, so the two workers finish together."""
+    import math
+
+    from pasibot_pin.explore.sweep import task_cost
+    from pasibot_pin.studies.walking import RAMP_MAX
+
+    assert task_cost(PLAN, [[2.0, 1.5], [2.1, 2.0]]) == 2.0
+    walking = SweepPlan(ranges=(Range("omega", 0.5, 5.0), Choice("variant", ("parallel",))), n=4, seed=1, floor=20)
+    slow, fast = task_cost(walking, [[0.5, "parallel"]]), task_cost(walking, [[5.0, "parallel"]])
+    assert slow == pytest.approx(23 * math.pi / 0.5 + RAMP_MAX) and fast == pytest.approx(23 * math.pi / 5.0 + RAMP_MAX)
+    fixed = SweepPlan(ranges=(Range("K", 1.7, 2.5),), n=2, floor=3)
+    assert task_cost(fixed, [[2.0]]) == pytest.approx(6 * math.pi / fixed.base.omega + RAMP_MAX)

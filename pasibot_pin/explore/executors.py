@@ -80,6 +80,7 @@ def run_tasks(
     on_result: Callable[[R], None],
     workers: int | None = None,
     dask: str | None = None,
+    costs: Sequence[float] | None = None,
 ) -> None:
     """Run ``fn(*task)`` for every task; ``on_result(result)`` in this process as each one finishes.
 
@@ -90,6 +91,8 @@ def run_tasks(
         workers: processes (default one per core, at most :data:`MAX_WORKERS`, never more than the
             tasks); 1 runs in this process (without ``dask``).
         dask: ``None`` (local processes), ``"local"`` (a Dask LocalCluster) or a scheduler address.
+        costs: each task's expected cost (local processes start the costly ones first, so the
+            workers finish together); default all equal, in order.
 
     Raises:
         ValueError: a Dask scheduler that cannot be reached (before any task runs).
@@ -104,7 +107,7 @@ def run_tasks(
     else:
         from pasibot_pin.jobs import Job, run_jobs  # deferred: keeps the CLI's start fast
 
-        jobs = [Job(1.0, k, fn, tuple(task)) for k, task in enumerate(tasks)]
+        jobs = [Job(1.0 if costs is None else float(costs[k]), k, fn, tuple(task)) for k, task in enumerate(tasks)]
         run_jobs(jobs, lambda _key, result: on_result(cast(R, result)), workers=workers)  # result: fn's, untyped
 
 

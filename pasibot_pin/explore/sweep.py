@@ -35,6 +35,7 @@ from pasibot_pin.studies.design_metrics import (
     warm_caches,
 )
 from pasibot_pin.studies.spring_fit import design_spring
+from pasibot_pin.studies.walking import MIN_OMEGA, walk_duration
 from pasibot_pin.viz.figure_files import save_figure_file
 from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity
 
@@ -99,6 +100,19 @@ class SweepResult:
         return int(np.sum(column(self.table, "feasible")))
 
 
+def task_cost(plan: SweepPlan, designs: Sequence[Sequence[float | str]]) -> float:
+    """A task's expected cost, to run the costly ones first.
+
+    1 per design [-], or with a floor walk the simulated time a walk of ``plan.floor`` steps may
+    need [s] (it grows as 1 / omega).
+    """
+    if not plan.floor:
+        return float(len(designs))
+    index = plan.names.index("omega") if "omega" in plan.names else None
+    omegas = [plan.base.omega if index is None else float(values[index]) for values in designs]
+    return sum(walk_duration(max(omega, MIN_OMEGA), plan.floor) for omega in omegas)
+
+
 def run_sweep(
     plan: SweepPlan,
     folder: Path,
@@ -108,7 +122,7 @@ def run_sweep(
     force: bool = False,
     csv: bool = False,
     progress: bool = True,
-    chunk: int = CHUNK,
+    chunk: int | None = None,
     on_progress: Callable[[int, int], None] | None = None,
 ) -> SweepResult:
     """Evaluate every design of ``plan`` into ``folder``; resume what an earlier run left.
@@ -121,7 +135,7 @@ def run_sweep(
         force: start over in a folder that holds another run or other files.
         csv: also write ``results.csv``.
         progress: show a progress bar (tqdm) with the ETA.
-        chunk: designs per task.
+        chunk: designs per task (default :data:`CHUNK`; 1 with a floor walk).
         on_progress: called with (done, total) after each finished task.
 
     Returns:
@@ -131,6 +145,8 @@ def run_sweep(
         FileExistsError: ``folder`` holds another run or other files and ``force`` is false.
 
     """
+    if chunk is None:
+        chunk = 1 if plan.floor else CHUNK  # a walk outweighs a task's overhead: one per task, balanced by cost
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
         raise ValueError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
     workers = check_workers(workers)
@@ -140,6 +156,7 @@ def run_sweep(
     )
     todo = [(i, plan.values(row)) for i, row in enumerate(points) if i not in store.done]
     tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor) for k in range(0, len(todo), chunk)]
+    costs = [task_cost(plan, [values for _, values in task[2]]) for task in tasks]
     bar = progress_bar(len(points), len(points) - len(todo), progress)
 
     def on_result(rows: list[dict]) -> None:
@@ -150,7 +167,7 @@ def run_sweep(
 
     warm_caches(plan.base)  # forked workers inherit it
     try:
-        run_tasks(evaluate_designs, tasks, on_result, workers=workers, dask=dask)
+        run_tasks(evaluate_designs, tasks, on_result, workers=workers, dask=dask, costs=costs)
     finally:
         store.flush()  # every finished design is kept, even when interrupted
         bar.close()
