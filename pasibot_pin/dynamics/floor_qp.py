@@ -75,6 +75,8 @@ class ContactQP:
         active: indices of the cone rows active at the last solve (``None`` before the first).
         fast: solves answered by the exact active-set step.
         fallback: solves answered by proxsuite.
+        order: the choice of the rows left out of redundant groups that solved the last step (tried
+            first next time: a flat foot keeps its choice while it sticks).
 
     """
 
@@ -84,6 +86,7 @@ class ContactQP:
         self.active: list[int] | None = None
         self.fast = 0
         self.fallback = 0
+        self.order = 0  # the choice of left-out rows that solved the last step: tried first at the next
 
     def solve(
         self,
@@ -145,9 +148,10 @@ class ContactQP:
         n, m = hessian.shape[0], len(b_eq)
         self.data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
         self.data.nle[:] = 0.0
-        for order in range(MAX_CHOICES):
+        for order in (self.order, *(k for k in range(MAX_CHOICES) if k != self.order)):
             out = self._passes(list(self.active or []), order, n - m, g, a_eq, b_eq, c_in, lower)
             if out is not None:
+                self.order = order
                 return out
         return None
 
