@@ -206,3 +206,24 @@ def test_one_motor_coupling_row_and_errors(robots):
     far = ConstraintSystem(robot.model, robot.data, robot.constraint_models, [coordinate("x", 0, 100.0)])
     with pytest.raises(ValueError, match="cannot assemble"):
         far.project(robot.q0, max_iter=3)
+
+
+@pytest.mark.parametrize("key", MODELS, ids=[f"{v}-{n}" for v, n in MODELS])
+def test_frame_rows_of_one_sample_equal_the_batched_ones(robots, key):
+    """frame_rows' one-sample path (terms summed per phase, slider terms by the product rule, the
+    floor's contact rows every step) against a batch of one, and its Jacobian against finite differences."""
+    from pasibot_pin.constraints import frame_rows
+
+    robot = robots[key]
+    model = robot.model
+    frames = [f for f in range(model.nframes) if model.frames[f].parentJoint > 0][::7]
+    rows = frame_rows(model, frames, range(len(frames)), range(len(frames)))
+    q, _ = _moving_state(robot, 7)
+    one, batch = rows.evaluate(q), rows.evaluate(q[None])
+    for a, b in zip((one[0], one[1], one[3]), (batch[0], batch[1], batch[3])):
+        np.testing.assert_allclose(a, b[0], atol=1e-14)
+    eps = 1e-6
+    fd = np.column_stack(
+        [(rows.evaluate(q + eps * e)[0] - rows.evaluate(q - eps * e)[0]) / (2 * eps) for e in np.eye(model.nv)]
+    )
+    np.testing.assert_allclose(one[1], fd, atol=1e-8)

@@ -214,6 +214,39 @@ class PlanarRowBlocks:
         self._phase_AT = rows.T.copy()  # (nv, distinct pitches)
         self._group = group.reshape(-1)
         self._c_turned = self.moving_c * np.exp(1j * self.moving_a0)
+        self._one_sample_tables()
+
+    def _one_sample_tables(self) -> None:
+        """Tables of :meth:`_evaluate_one`: each row's terms summed per distinct phase.
+
+        The rows are W e (W: each term's D C, C = c exp(i a0), summed over the terms a pitch row
+        turns alike; e = exp(i A q)) and the Jacobian (W * e) B, B the rows i A. A term a slider
+        scales, C exp(i A q) q_s, takes two columns: phase e q_s with the row i A, and phase e
+        with the row e_s (the product rule) and no value.
+        """
+        big_c = self.moving_c * np.exp(1j * self.moving_a0)
+        slid = np.flatnonzero(self.moving_slide_T.any(axis=0))
+        plain = np.setdiff1d(np.arange(len(big_c)), slid)
+        pitches, group = np.unique(self.moving_AT.T[plain], axis=0, return_inverse=True)
+        weights = np.zeros((self.D.shape[0], len(pitches)), dtype=complex)
+        np.add.at(weights.T, group.reshape(-1), (self.D_moving[:, plain] * big_c[plain]).T)
+        slid_weights = self.D_moving[:, slid] * big_c[slid]
+        self._w = np.hstack((weights, slid_weights, slid_weights))  # (n, columns)
+        slid_A = self.moving_AT.T[slid]
+        self._exp_A = np.vstack((pitches, slid_A, slid_A))  # (columns, nv): e = exp(i A q)
+        self._b = np.vstack((1j * pitches, 1j * slid_A, self.moving_slide_T.T[slid])).astype(complex)
+        self._value = np.concatenate((np.ones(len(pitches) + len(slid)), np.zeros(len(slid)))).astype(complex)
+        self._slid_a = np.arange(len(pitches), len(pitches) + len(slid))
+        self._slid_index = np.argmax(self.moving_slide_T[:, slid], axis=0)
+
+    def _evaluate_one(self, q: np.ndarray):
+        """:meth:`evaluate` of one sample without its drift, in a dozen numpy calls."""
+        phase = np.exp(1j * self._exp_A.dot(q))
+        if len(self._slid_a):
+            phase[self._slid_a] *= q[self._slid_index]
+        weighted = self._w * phase
+        rows = weighted.dot(self._value) + self.fixed_jac.dot(q) + self.fixed_rows
+        return rows, weighted.dot(self._b) + self.fixed_jac, None, q.dot(self._pitch_AT) + self.pitch_a0
 
     def _turned(self, q: np.ndarray):
         """(c exp(i phi), the slider factor or None) of every moving term."""
@@ -267,6 +300,8 @@ class PlanarRowBlocks:
 
     def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
         """Complex point rows P (..., n), their Jacobian (..., n, nv), drift (..., n) or None, pitch rows (..., p)."""
+        if v is None and np.ndim(q) == 1:
+            return self._evaluate_one(np.asarray(q, dtype=float))
         value, jac_t, term_drift = self.terms(q, v)
         rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
         jac = np.swapaxes(jac_t @ self._DT, -1, -2) + self.fixed_jac
