@@ -214,7 +214,7 @@ class PlanarRowBlocks:
         self._phase_AT = rows.T.copy()  # (nv, distinct pitches)
         self._group = group.reshape(-1)
         self._c_turned = self.moving_c * np.exp(1j * self.moving_a0)
-        self._one_sample_tables()
+        self._w: np.ndarray | None = None  # the one-sample tables, built at the first one-sample call
 
     def _one_sample_tables(self) -> None:
         """Tables of :meth:`_evaluate_one`: each row's terms summed per distinct phase.
@@ -301,6 +301,8 @@ class PlanarRowBlocks:
     def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
         """Complex point rows P (..., n), their Jacobian (..., n, nv), drift (..., n) or None, pitch rows (..., p)."""
         if v is None and np.ndim(q) == 1:
+            if self._w is None:
+                self._one_sample_tables()
             return self._evaluate_one(np.asarray(q, dtype=float))
         value, jac_t, term_drift = self.terms(q, v)
         rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
