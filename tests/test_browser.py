@@ -8,13 +8,9 @@ The page is loaded from the filesystem, with the network-quieting flags, and scr
   where a page that does not play would keep it).
 
 Every kind of exported page (``export_html``'s kinematic walk, the report's simulated walk
-``simulation_<run>.html``, ``pasibot walk``'s floor walk) is also loaded, paused, and its title bar
-(``#pasibot-hud``) read from the DOM after its scripts ran: it reads the page's title, then the time
-it was paused at, the crank angle and each foot's mode.
-
-Two Chromium runs at once hold every page (a start and a page load cost seconds of CPU each): the
-playing page alone, and one grid of the paused pages, screenshotted and its DOM dumped, into which
-the grid's own script copies each page's title and title bar.
+``simulation_<run>.html``, ``pasibot walk``'s floor walk) is also loaded and its DOM dumped: its
+title bar (``#pasibot-hud``) reads the page's title, then the time it was paused at, the crank
+angle and each foot's mode.
 
 Chromium must be installed (``make browser-deps``, run by ``make test``). A missing browser is
 a failure, never a skip. Screenshots are kept in tests/artifacts/browser/.
@@ -22,10 +18,8 @@ a failure, never a skip. Screenshots are kept in tests/artifacts/browser/.
 
 from __future__ import annotations
 
-import json
 import math
 import os
-import re
 import shutil
 import subprocess
 import tempfile
@@ -71,32 +65,21 @@ def chromium() -> str:
     return path
 
 
-def screenshot(
-    html: Path, png: Path, fragment: str = "", budget_ms: int = 3000, size=(WIDTH, HEIGHT), flags=(), dom=False
-):
-    """Load ``html`` from the filesystem in headless Chromium and save a screenshot; returns RGB (rows, cols, 3).
-
-    ``dom``: also dump the DOM after the scripts ran (``--dump-dom``, the same run); returns (image, DOM) then.
-    """
+def screenshot(html: Path, png: Path, fragment: str = "", budget_ms: int = 3000, size=(WIDTH, HEIGHT)) -> np.ndarray:
+    """Load ``html`` from the filesystem in headless Chromium and save a screenshot; returns RGB (rows, cols, 3)."""
     with tempfile.TemporaryDirectory(prefix="chromium-profile-") as profile:
         cmd = [
             chromium(),
             *FLAGS,
-            *flags,
             f"--window-size={size[0]},{size[1]}",
             f"--user-data-dir={profile}",
             f"--virtual-time-budget={budget_ms}",
             f"--screenshot={png}",
-            *(["--dump-dom"] if dom else []),
             html.resolve().as_uri() + fragment,
         ]
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=90)
     assert proc.returncode == 0 and png.exists(), f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
-    image = np.asarray(Image.open(png).convert("RGB")).astype(int)
-    if dom:
-        assert "<html" in proc.stdout, f"chromium dumped no DOM:\n{proc.stderr[-2000:]}"
-        return image, proc.stdout
-    return image
+    return np.asarray(Image.open(png).convert("RGB")).astype(int)
 
 
 def page_shot(html: Path, png: Path, fragment: str = "", budget_ms: int = 3000) -> np.ndarray:
@@ -104,109 +87,37 @@ def page_shot(html: Path, png: Path, fragment: str = "", budget_ms: int = 3000) 
     return screenshot(html, png, fragment, budget_ms)[HUD_ROWS:]
 
 
-COPY_TITLE_BARS = """<script>
-(function () {
-  // Each listed frame's <title> and title bar (#pasibot-hud), copied at every animation frame into
-  // <pre id="dom-NAME">, so that the grid's dumped DOM holds them (the frames are files of one folder:
-  // --allow-file-access-from-files lets this page read their documents).
-  var names = %s;
-  function copy() {
-    names.forEach(function (name) {
-      var doc = document.getElementById(name).contentDocument;
-      var parts = doc ? [doc.querySelector("title"), doc.getElementById("pasibot-hud")] : [];
-      document.getElementById("dom-" + name).textContent = parts.map(function (e) {
-        return e ? e.outerHTML : "";
-      }).join("");
-    });
-    window.requestAnimationFrame(copy);
-  }
-  window.requestAnimationFrame(copy);
-})();
-</script>"""
-
-
-def grid_shots(
-    pages: dict[str, str], folder: Path, budget_ms: int, title_bars=()
-) -> tuple[dict[str, np.ndarray], dict[str, str]]:
+def grid_shots(pages: dict[str, str], folder: Path, budget_ms: int) -> dict[str, np.ndarray]:
     """Several pages in one browser: a grid of WIDTH x HEIGHT iframes, one screenshot, cut into tiles.
 
     Each page is the exported file itself (``address`` relative to ``folder``, with its fragment) in
     a frame of the window's size, so it draws what it draws alone in such a window; one Chromium
     start (about a second of CPU) instead of one per page.
-
-    ``title_bars``: the pages whose ``<title>`` and title bar (``#pasibot-hud``) are read, as their DOM
-    holds them when the screenshot is taken (:data:`COPY_TITLE_BARS`). Returns the tiles below the
-    title bar, and those pages' title and title bar elements (HTML).
     """
-    from html import unescape
-
     cols = 3
     rows = -(-len(pages) // cols)
     frames = "\n".join(
-        f'<iframe id="{name}" src="{address}" style="position:absolute;left:{(k % cols) * WIDTH}px;'
-        f'top:{(k // cols) * HEIGHT}px;width:{WIDTH}px;height:{HEIGHT}px;border:0"></iframe>'
-        for k, (name, address) in enumerate(pages.items())
+        f'<iframe src="{address}" style="position:absolute;left:{(k % cols) * WIDTH}px;top:{(k // cols) * HEIGHT}px;'
+        f'width:{WIDTH}px;height:{HEIGHT}px;border:0"></iframe>'
+        for k, address in enumerate(pages.values())
     )
-    copies = "".join(f'<pre id="dom-{name}" style="display:none"></pre>' for name in title_bars)
-    script = COPY_TITLE_BARS % json.dumps(list(title_bars)) if title_bars else ""
     grid = folder / "grid.html"
-    grid.write_text(f'<html><body style="margin:0;overflow:hidden">{frames}\n{copies}{script}</body></html>')
-    flags = ["--allow-file-access-from-files"] if title_bars else []
-    size = (cols * WIDTH, rows * HEIGHT)
-    image, dom = screenshot(grid, folder / "grid.png", "", budget_ms, size, flags, dom=True)
+    grid.write_text(f'<html><body style="margin:0;overflow:hidden">{frames}</body></html>')
+    image = screenshot(grid, folder / "grid.png", "", budget_ms, (cols * WIDTH, rows * HEIGHT))
     tiles = {}
     for k, name in enumerate(pages):
         top, left = (k // cols) * HEIGHT, (k % cols) * WIDTH
         tiles[name] = image[top + HUD_ROWS : top + HEIGHT, left : left + WIDTH]
         Image.fromarray(image[top : top + HEIGHT, left : left + WIDTH].astype(np.uint8)).save(folder / f"{name}.png")
-    copied = {}
-    for name in title_bars:
-        found = re.search(rf'<pre id="dom-{name}"[^>]*>(.*?)</pre>', dom, re.S)
-        assert found, f"no copy of {name}'s title bar in the grid's DOM"
-        copied[name] = unescape(found.group(1))
-    return tiles, copied
+    return tiles
 
 
 def changed(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     return np.abs(a - b).max(axis=2) > CHANGED
 
 
-def exported_pages(folder: Path) -> dict[str, tuple[str, str]]:
-    """The report's simulated walk and ``pasibot walk``'s floor walk, written into ``folder``: kind -> (file, title).
-
-    The third kind, ``export_html``'s kinematic walk, is the screenshotted ``walk.html``.
-    """
-    from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
-    from pasibot_pin.model.design import Design, design_robot
-    from pasibot_pin.report.animation import SIMULATION_TITLE, export_animation
-    from pasibot_pin.report.walking import write_walk_animation
-    from pasibot_pin.studies.spring_study import scenario_inputs, standing_pitch
-    from pasibot_pin.studies.walking import WalkSettings, walk_design
-
-    pages = {}
-    run4 = scenario_inputs("run4")  # the report's simulation page: pasibot analyze's simulation_run4.html
-    pitch = standing_pitch(run4.robot, run4.fit, math.pi / 2)  # started where it stands, as the report starts it
-    settings = SimulationSettings(omega=run4.omega, spring=run4.fit, swing_ankle="rest", dt=0.01, initial_pitch=pitch)
-    result = simulate(run4.robot, settings, duration=1.0)
-    assert not result.fell
-    export_animation(run4.robot, result, html=folder / "simulation_run4.html", fps=20.0)
-    pages["simulation"] = ("simulation_run4.html", SIMULATION_TITLE)
-    design = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
-    walker = design_robot(design, 2)  # with its visuals: the page draws them
-    walk = walk_design(design, WalkSettings(steps=1), walker)  # pasibot walk's page
-    write_walk_animation(walk, walker, html=folder / "floor_walk.html", fps=20.0)
-    pages["walk"] = ("floor_walk.html", f"parallel on the floor, 2 rad/s: {walk.verdict.short()}")
-    return pages
-
-
 @pytest.fixture(scope="module")
-def browser(tmp_path_factory):
-    """Every page of the module, in two browsers at once.
-
-    Returns the screenshots (name -> RGB rows below the title bar), the screenshotted walk's
-    :class:`~pasibot_pin.viz.viewer.Export`, and for each kind of exported page: (its title, the time it
-    is paused at [s], its ``<title>`` and title bar elements as the DOM holds them then).
-    """
+def shots(tmp_path_factory):
     import pasibot_pin as pp
 
     ARTIFACTS.mkdir(parents=True, exist_ok=True)
@@ -215,37 +126,24 @@ def browser(tmp_path_factory):
     with_robot = viewer.export_html(folder / "walk.html", robot, steps=2, samples_per_step=30, fps=30.0)
     viewer.export_html(folder / "empty.html", robot, steps=2, samples_per_step=30, fps=30.0, show_robot=False)
     shutil.copy(with_robot.path, ARTIFACTS / "walk.html")
-    # Two browsers at once: the playing page (every frame drawn; the longest), started first, while the
-    # other pages are computed, and one grid of the paused pages. A paused page (#t=) is drawn once it has
-    # loaded: virtual time waits for the loading, so SEEK_BUDGET_MS is enough (its screenshots equal those
-    # after 3000 ms, pixel for pixel).
+    # Two browsers at once: the playing page (every frame drawn; the longest) and one grid of
+    # the paused pages. A paused page (#t=) is drawn once it has loaded: virtual time waits for the
+    # loading, so SEEK_BUDGET_MS is enough (its screenshots equal those after 3000 ms, pixel for pixel).
+    paused = {
+        "robot_start": "walk.html#t=0",
+        "robot_early": f"walk.html#t={T_EARLY}",
+        "robot_mid": f"walk.html#t={T_MID}",
+        "robot_late": f"walk.html#t={T_LATE}",
+        "empty_early": f"empty.html#t={T_EARLY}",
+        "empty_late": f"empty.html#t={T_LATE}",
+    }
     with ThreadPoolExecutor(max_workers=2) as pool:
         playing = pool.submit(page_shot, with_robot.path, folder / "autoplay.png", "", 1500)
-        pages = exported_pages(folder)
-        paused = {
-            "robot_start": "walk.html#t=0",
-            "robot_early": f"walk.html#t={T_EARLY}",
-            "robot_mid": f"walk.html#t={T_MID}",
-            "robot_late": f"walk.html#t={T_LATE}",
-            "empty_early": f"empty.html#t={T_EARLY}",
-            "empty_late": f"empty.html#t={T_LATE}",
-            **{f"{kind}_page": f"{page}#t=0.5" for kind, (page, _) in pages.items()},
-        }
-        # The kinematic walk's title bar is read off robot_mid (paused at T_MID); the other kinds at 0.5 s.
-        gait_title = "PASIBOT spring biped, 2 steps (kinematic walk, stance sole welded flat)"
-        kinds = {"gait": ("robot_mid", gait_title, T_MID)}
-        kinds.update({kind: (f"{kind}_page", title, 0.5) for kind, (_, title) in pages.items()})
-        tiles, copied = grid_shots(paused, folder, SEEK_BUDGET_MS, [frame for frame, _, _ in kinds.values()])
-        images = {"autoplay": playing.result(), **tiles}
-    for name in ["autoplay", *paused]:  # kept for a look; written from this run's own folder, never read back
+        grid = pool.submit(grid_shots, paused, folder, SEEK_BUDGET_MS)
+        images = {"autoplay": playing.result(), **grid.result()}
+    jobs = ["autoplay", *paused]
+    for name in jobs:  # kept for a look; written from this run's own folder, never read back
         shutil.copy(folder / f"{name}.png", ARTIFACTS / f"{name}.png")
-    bars = {kind: (title, paused_at, copied[frame]) for kind, (frame, title, paused_at) in kinds.items()}
-    return images, with_robot, bars
-
-
-@pytest.fixture(scope="module")
-def shots(browser):
-    images, with_robot, _ = browser
     return images, with_robot
 
 
@@ -322,6 +220,25 @@ def test_the_page_plays_by_itself(shots):
 
 
 # --------------------------------------------------------------------------- every exported page's title bar
+def dump_dom(html: Path, budget_ms: int = SEEK_BUDGET_MS) -> str:
+    """The page's DOM after its scripts ran (headless Chromium's ``--dump-dom``), paused at t = 0.5 s."""
+    with tempfile.TemporaryDirectory(prefix="chromium-profile-") as profile:
+        cmd = [
+            chromium(),
+            *FLAGS,
+            f"--window-size={WIDTH},{HEIGHT}",
+            f"--user-data-dir={profile}",
+            f"--virtual-time-budget={budget_ms}",
+            "--dump-dom",
+            html.resolve().as_uri() + "#t=0.5",
+        ]
+        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=90)
+    assert proc.returncode == 0 and "<html" in proc.stdout, (
+        f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
+    )
+    return proc.stdout
+
+
 def title_bar(dom: str) -> list[str]:
     """The lines of the title bar's text (``#pasibot-hud``) in a dumped DOM, read by the HTML parser."""
     from html.parser import HTMLParser
@@ -347,15 +264,49 @@ def title_bar(dom: str) -> list[str]:
     return "".join(parser.text).splitlines()
 
 
-def test_every_exported_page_shows_its_title_bar(browser):
-    """Each page type, loaded in Chromium and paused: the title bar (#pasibot-hud) holds the page's title, then
-    the time, the crank angle and each foot's contact mode; the document's title is the same title."""
-    _, _, bars = browser
-    for kind, (title, paused_at, dom) in bars.items():
-        lines = title_bar(dom)
+@pytest.fixture(scope="module")
+def exported_pages(tmp_path_factory):
+    """One page of each kind the package exports: (file, the title its bar must show)."""
+    import pasibot_pin as pp
+    from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.report.animation import SIMULATION_TITLE, export_animation
+    from pasibot_pin.report.walking import write_walk_animation
+    from pasibot_pin.studies.spring_study import scenario_inputs, standing_pitch
+    from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+    folder = tmp_path_factory.mktemp("pages")
+    robot = pp.load("spring", legs=2)
+    pages = {}
+    viewer.export_html(folder / "gait.html", robot, steps=1, samples_per_step=20, fps=30.0)
+    pages["gait"] = (folder / "gait.html", "PASIBOT spring biped, 1 steps (kinematic walk, stance sole welded flat)")
+    run4 = scenario_inputs("run4")  # the report's simulation page: pasibot analyze's simulation_run4.html
+    pitch = standing_pitch(run4.robot, run4.fit, math.pi / 2)  # started where it stands, as the report starts it
+    settings = SimulationSettings(omega=run4.omega, spring=run4.fit, swing_ankle="rest", dt=0.01, initial_pitch=pitch)
+    result = simulate(run4.robot, settings, duration=1.0)
+    assert not result.fell
+    export_animation(run4.robot, result, html=folder / "simulation_run4.html", fps=20.0)
+    pages["simulation"] = (folder / "simulation_run4.html", SIMULATION_TITLE)
+    design = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
+    walker = design_robot(design, 2)  # with its visuals: the page draws them
+    walk = walk_design(design, WalkSettings(steps=1), walker)  # pasibot walk's page
+    write_walk_animation(walk, walker, html=folder / "walk.html", fps=20.0)
+    pages["walk"] = (folder / "walk.html", f"parallel on the floor, 2 rad/s: {walk.verdict.short()}")
+    return pages
+
+
+def test_every_exported_page_shows_its_title_bar(exported_pages):
+    """Each page type, loaded in Chromium: the title bar (#pasibot-hud) holds the page's title, then the time,
+    the crank angle and each foot's contact mode; the document's title is the same title."""
+    import re
+
+    with ThreadPoolExecutor(max_workers=2) as pool:
+        doms = dict(zip(exported_pages, pool.map(lambda item: dump_dom(item[0]), exported_pages.values())))
+    for kind, (_, title) in exported_pages.items():
+        lines = title_bar(doms[kind])
         assert lines and lines[0] == title, (kind, lines)
         clock = re.fullmatch(
             r"t = (\d+\.\d\d) s   crank angle = -?\d+\.\d deg   right: [\w ]+   left: [\w ]+", lines[1]
         )
-        assert clock and abs(float(clock.group(1)) - paused_at) <= 0.05, (kind, lines)  # the frame #t= paused at
-        assert re.search(r"<title>([^<]*)</title>", dom).group(1) in (title, f"pasibot t={paused_at}"), kind
+        assert clock and abs(float(clock.group(1)) - 0.5) <= 0.05, (kind, lines)  # the frame #t=0.5 paused at
+        assert re.search(r"<title>([^<]*)</title>", doms[kind]).group(1) in (title, "pasibot t=0.5"), kind
