@@ -301,8 +301,8 @@ class FloorSimulator:
         q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance
         # the lowest sole point on the floor, none below it: a foot the linkage tilts (the rigid
         # variant's, square to its shank) touches at one point instead of sinking into the floor
-        q[HIP_Z] -= float(np.min(self.contact_rows(q)[0]))
-        _, _, jn, jt = self.contact_rows(q)
+        gap, _, jn, jt = self.contact_rows(q)  # the rows' Jacobians do not depend on the hip's height
+        q[HIP_Z] -= float(np.min(gap))
         rows = self.bilateral.evaluate(q, None, 0.0)
         jac = np.vstack((rows.jac, jn, jt, np.eye(q.size)[2:3]))
         rate = crank_advance(0.0, self.settings.crank_ramp)[1]  # 0 with a ramp: the cranks start at rest
