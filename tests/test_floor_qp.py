@@ -46,7 +46,8 @@ def test_the_exact_step_and_proxsuite_give_the_closed_form_answer(robot):
     assert qp.active == [0, 2]
     second = qp.solve(*args)  # from the active set: the exact KKT solve
     assert (qp.fast, qp.fallback) == (1, 1)
-    for got, tol in ((first, 1e-8), (second, 1e-12)):
+    third = floor_qp.reduced_qp(*args)  # every subset of the bound rows on the free coordinates
+    for got, tol in ((first, 1e-8), (second, 1e-12), (third, 1e-12)):
         np.testing.assert_allclose(got[0], x, atol=tol)
         np.testing.assert_allclose(got[1], y, atol=tol)
         np.testing.assert_allclose(got[2], z, atol=tol)
@@ -62,7 +63,7 @@ def test_a_wrong_guess_is_corrected_or_left_to_proxsuite(robot):
         np.testing.assert_allclose(got[2], z, atol=1e-8)
         assert qp.fast + qp.fallback == 1
     qp = ContactQP(robot.model, redundant=[[0, 2]])  # a declared group that is not redundant here:
-    qp.active = [0, 2]  # leaving either row out violates it, so proxsuite decides
+    qp.active = [0, 2]  # leaving either row out violates it: proxsuite (too many freedoms for reduced_qp)
     qp.solve(*args)
     assert (qp.fast, qp.fallback) == (0, 1)
     assert qp._reduced([0, 1], 2, 0) == [0, 1] and qp._reduced([0, 1, 3], 2, 0) is None  # more rows than freedoms
@@ -124,6 +125,7 @@ def test_a_floor_run_is_proxsuites_run_to_its_tolerance(monkeypatch):
     exact = sim.run(0.1, q0, v0)
     assert sim._qp.fast > 0.8 * len(exact.t)
     monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
+    monkeypatch.setattr(floor_qp, "reduced_qp", lambda *args: None)
     sim = FloorSimulator(inputs.robot, settings)
     reference = sim.run(0.1, q0, v0)
     assert sim._qp.fast == 0
@@ -131,3 +133,81 @@ def test_a_floor_run_is_proxsuites_run_to_its_tolerance(monkeypatch):
     assert len(set(reference.modes["right"])) > 1
     np.testing.assert_allclose(exact.q, reference.q, atol=1e-7)
     np.testing.assert_allclose(exact.normal, reference.normal, rtol=1e-6, atol=1e-3)
+
+
+def test_dependent_rows_give_the_unique_motion_and_the_least_norm_cone_impulses():
+    """Cone rows with a dependent one (row 3 = row 1 + row 2), all binding: the least-norm split.
+
+    References: the KKT of the independent rows alone (numpy's dense solve) for the motion, and the
+    one-parameter family of multipliers minimised in closed form for the impulses. Then bounds no
+    motion meets with equality: the answer is the QP's (the KKT conditions, checked directly).
+    """
+    rng = np.random.default_rng(7)
+    n = 6
+    root = rng.normal(size=(n, n))
+    hessian = root @ root.T + n * np.eye(n)
+    a_eq = rng.normal(size=(2, n))
+    cone = rng.normal(size=(2, n))
+    c_in = np.vstack((cone, cone[0] + cone[1]))  # the last cone row depends on the two before
+    b_eq, lower = rng.normal(size=2), rng.normal(size=3)
+    lower[2] = lower[0] + lower[1]  # consistent
+    rows = np.vstack((a_eq, c_in))
+    # g chosen so that the three rows bind with multipliers (1, 2, 0) at the answer
+    kkt = np.block([[hessian, -rows[:4].T], [rows[:4], np.zeros((4, 4))]])
+    g = rng.normal(size=n)
+    x_free = np.linalg.solve(kkt, np.concatenate((-g, b_eq, lower[:2])))[:n]
+    g = a_eq.T @ np.array([0.5, -0.5]) + cone.T @ np.array([1.0, 2.0]) - hessian @ x_free
+    x_ref, lam_ref = np.split(np.linalg.solve(kkt, np.concatenate((-g, b_eq, lower[:2]))), [n])
+    x, y, z = floor_qp.reduced_qp(hessian, g, a_eq, b_eq, c_in, lower)
+    np.testing.assert_allclose(x, x_ref, atol=1e-12)
+    np.testing.assert_allclose(hessian @ x + g, a_eq.T @ y + c_in.T @ z, atol=1e-12)
+    # every valid split: z_ref + s (-1, -1, 1); its norm is least at s = (z1 + z2 - z3) / 3
+    z_ref = np.append(lam_ref[2:], 0.0)
+    s = (z_ref[0] + z_ref[1] - z_ref[2]) / 3.0
+    np.testing.assert_allclose(z, z_ref + s * np.array([-1.0, -1.0, 1.0]), atol=1e-12)
+    inconsistent = lower.copy()
+    inconsistent[2] += 0.3  # the three rows cannot all bind: the QP's answer all the same
+    out = floor_qp.reduced_qp(hessian, g, a_eq, b_eq, c_in, inconsistent)
+    err = _kkt_error((hessian, g, a_eq, b_eq, c_in, inconsistent), out)
+    assert max(err.values()) < 1e-10
+
+
+def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
+    """The parallel walker's flat double support (both feet flat and sticking: over-constrained).
+
+    Every QP meets the KKT conditions; proxsuite is left only the first step; the motion is
+    proxsuite's (every QP left to it) to its tolerance, while the impulses are the least-norm ones.
+    """
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.studies.walking import WalkSettings, floor_settings
+
+    walker = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=1.0)
+    robot = design_robot(walker, 2, visuals=False)
+    settings = floor_settings(walker, WalkSettings(steps=4), robot)
+    seen: list = []
+    solve = ContactQP.solve
+
+    def recording(self, *args):
+        out = solve(self, *args)
+        seen.append((args, out))
+        return out
+
+    monkeypatch.setattr(ContactQP, "solve", recording)
+    sim = FloorSimulator(robot, settings)
+    start = sim.start_state()
+    exact = sim.run(0.4, start.q, start.v)
+    assert exact.modes["left"][:40] == ["flat"] * 40 == exact.modes["right"][:40]
+    assert sim._qp.fallback <= 3 and sim._qp.fast > 390
+    for args, out in seen:
+        err = _kkt_error(args, out)
+        scale = 1.0 + float(np.max(np.abs(args[1])))
+        assert err["stationarity"] < 1e-8 * scale and err["equality"] < 1e-9
+        assert err["feasibility"] < 1e-8 and err["sign"] == 0.0 and err["complementarity"] < 1e-8
+    monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
+    monkeypatch.setattr(floor_qp, "reduced_qp", lambda *args: None)
+    sim = FloorSimulator(robot, settings)
+    reference = sim.run(0.4, start.q, start.v)
+    assert sim._qp.fast == 0
+    np.testing.assert_allclose(exact.q, reference.q, atol=1e-7)
+    support = exact.normal.sum(axis=1)  # the total normal force is unique (the robot's weight and motion)
+    np.testing.assert_allclose(support, reference.normal.sum(axis=1), rtol=1e-5)

@@ -16,21 +16,19 @@ import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError, SingularPoseError
 
-_LOWER: dict[int, tuple[np.ndarray, np.ndarray]] = {}
-"""The strict lower triangle's indices, per nv."""
-
+_STRICT_LOWER: dict[int, np.ndarray] = {}
+"""The strict lower triangle's mask, per nv."""
 
 def symmetric_mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
     """Joint-space mass matrix M(q), both triangles filled [kg, kg.m, kg.m^2].
 
     ``pin.crba`` fills the upper triangle; the lower one is copied from it.
     """
-    mass = np.array(pin.crba(model, data, q))
-    lower = _LOWER.get(model.nv)
+    upper = pin.crba(model, data, q)
+    lower = _STRICT_LOWER.get(model.nv)
     if lower is None:
-        lower = _LOWER[model.nv] = np.tril_indices(model.nv, -1)
-    mass[lower] = mass.T[lower]
-    return mass
+        lower = _STRICT_LOWER[model.nv] = np.tri(model.nv, k=-1, dtype=bool)
+    return np.where(lower, upper.T, upper)  # a new array: exact copies of the upper triangle
 
 
 def kkt_solve(model: pin.Model, data: pin.Data, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):

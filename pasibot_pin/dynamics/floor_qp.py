@@ -17,15 +17,21 @@ factors of H and of E H^-1 E^T), and keeps that
 answer only if it *is* the QP's solution:
 every active cone multiplier >= 0, every other cone row satisfied (to :data:`FEASIBILITY_TOL`),
 the rows met to :data:`RESIDUAL_TOL`. A negative multiplier drops its row, a violated row joins
-the set, and the solve repeats (at most :data:`MAX_PASSES` times). Where the active rows are
-redundant (more rows than the robot has freedoms, or a flat foot that sticks at heel and toe:
-four rows met with equality on a body of three freedoms, whether or not all four are in the
-set) the multipliers are not unique; there, and wherever the guess does not settle, proxsuite
-solves the QP as before (cold start, the same settings), so its choice of multipliers stands.
-The exact answer is the point proxsuite converges to: on run 1's floor runs (2 s, four spring
-cases) proxsuite at its eps_abs = 1e-10 differs from itself at 1e-12 by as much as it differs
-from the exact answer (q 6e-9, forces 1e-4 N), while the exact answer and proxsuite at 1e-12
-agree to q 3e-11.
+the set, and the solve repeats (at most :data:`MAX_PASSES` times).
+
+Where the active rows are redundant the multipliers are not unique. A flat foot that sticks at
+heel and toe has four cone rows on a body of three freedoms: one row is left out (the KKT above
+on the other three). Both feet flat and sticking (the flat double support) hold six such rows
+of rank three on the three freedoms the loops and cranks leave: the motion is unique, the
+impulses are not. There :func:`reduced_qp` solves the QP exactly on those few freedoms
+and takes, of the impulses that produce the motion, the one of least norm in the cone rows
+(each cone edge an equal stiff spring: the least-work split of a statically indeterminate
+support). Where the last active set does not settle (the first step, a change of contact
+that the passes do not follow), :func:`reduced_qp` solves the QP exactly in the same way;
+proxsuite (cold start) only where it cannot (more than :data:`MAX_FREE` freedoms).
+On run 1's floor runs (2 s, four spring cases) proxsuite at its eps_abs = 1e-10 differs from
+itself at 1e-12 by as much as it differs from the exact answer (q 6e-9, forces 1e-4 N), while
+the exact answer and proxsuite at 1e-12 agree to q 3e-11.
 
 Units: as the caller's (the floor step: x [m/s, rad/s], multipliers [N.s, N.m.s]).
 """
@@ -33,6 +39,7 @@ Units: as the caller's (the floor step: x [m/s, rad/s], multipliers [N.s, N.m.s]
 from __future__ import annotations
 
 from collections.abc import Sequence
+from itertools import combinations
 
 import numpy as np
 import pinocchio as pin
@@ -46,6 +53,9 @@ QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 300), (1e-9, 3_000), (1e-8
 ~20 iterations; a degenerate double support that does not is retried looser at once rather than iterated 10^4 times)."""
 MAX_PASSES = 4
 """Active-set passes (one KKT solve each) before the step falls back to proxsuite."""
+MAX_FREE = 6
+"""Most freedoms (unknowns less equality rows) on which :func:`reduced_qp` tries every subset of cone rows
+(247 subsets of 8 rows at 6); beyond, proxsuite."""
 MAX_CHOICES = 16
 """Choices of the row each fully active redundant group leaves out (4 rows per flat foot, two feet)."""
 FEASIBILITY_TOL = 1e-11
@@ -53,11 +63,10 @@ FEASIBILITY_TOL = 1e-11
 error of 1e-11 m/s, i.e. 1e-14 m of penetration per millisecond step)."""
 RESIDUAL_TOL = 1e-10
 """Largest residual of the active rows in the exact solve (proxsuite's eps_abs) [m/s, rad/s]."""
+SIGN_TOL = 1e-12
+"""A least-norm cone impulse this far below zero, relative to the largest, is round-off (set to 0) [-]."""
 TOUCH_TOL = 1e-9
-"""A cone row outside the active set that its bound holds to this [m/s] is met with equality: if
-it completes a redundant group (a flat foot that sticks at heel and toe), the friction split
-between the two points is not unique and proxsuite, as before, picks it."""
-"""Largest residual of the active rows in the exact solve (proxsuite's eps_abs) [m/s, rad/s]."""
+"""A cone row that its bound holds to this [m/s] touches: it may carry impulse in the least-norm split."""
 UNBOUNDED = 1e20
 """proxsuite's upper bound of a cone row (no upper bound)."""
 
@@ -73,8 +82,8 @@ class ContactQP:
 
     Attributes:
         active: indices of the cone rows active at the last solve (``None`` before the first).
-        fast: solves answered by the exact active-set step.
-        fallback: solves answered by proxsuite.
+        fast: solves answered exactly (the active-set step, or :func:`reduced_qp`).
+        fallback: solves answered by proxsuite (more than :data:`MAX_FREE` freedoms, or no subset qualified).
         order: the choice of the rows left out of redundant groups that solved the last step (tried
             first next time: a flat foot keeps its choice while it sticks).
 
@@ -115,11 +124,14 @@ class ContactQP:
             ValueError: proxsuite did not solve the QP.
 
         """
-        if self.active is not None:
-            out = self._active_set(hessian, g, a_eq, b_eq, c_in, lower)
+        out = None if self.active is None else self._active_set(hessian, g, a_eq, b_eq, c_in, lower)
+        if out is None and hessian.shape[0] - len(b_eq) <= MAX_FREE:
+            out = reduced_qp(hessian, g, a_eq, b_eq, c_in, lower)  # every subset: dependent rows too
             if out is not None:
-                self.fast += 1
-                return out
+                self.active = np.flatnonzero(out[2] > 0.0).tolist()
+        if out is not None:
+            self.fast += 1
+            return out
         x, y, z = self._proxsuite(hessian, g, a_eq, b_eq, c_in, lower)
         self.fallback += 1
         self.active = np.flatnonzero(z > 0.0).tolist()
@@ -144,12 +156,15 @@ class ContactQP:
         return rows
 
     def _active_set(self, hessian, g, a_eq, b_eq, c_in, lower):
-        """The exact solve from the last active set, or ``None`` (no active set found, a singular KKT)."""
+        """The exact solve from the last active set, or ``None`` (no active set found)."""
         n, m = hessian.shape[0], len(b_eq)
+        active = list(self.active or [])
+        if self._reduced(active, n - m, 0) is None:  # over-constrained (a flat double support): reduced_qp
+            return None
         self.data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
         self.data.nle[:] = 0.0
         for order in (self.order, *(k for k in range(MAX_CHOICES) if k != self.order)):
-            out = self._passes(list(self.active or []), order, n - m, g, a_eq, b_eq, c_in, lower)
+            out = self._passes(list(active), order, n - m, g, a_eq, b_eq, c_in, lower)
             if out is not None:
                 self.order = order
                 return out
@@ -208,3 +223,115 @@ class ContactQP:
         else:
             raise ContactSolveError(f"the contact QP did not solve ({result.info.status})")
         return np.array(result.x), -np.array(result.y), -np.array(result.z)
+
+
+def equality_space(a_eq: np.ndarray, b_eq: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+    """The motions that meet the equality rows A x = b: (Q_1, R_1, N, x_A).
+
+    From the QR factors of A^T = [Q_1 Q_2] [R_1; 0]: x = x_A + N w for any w, x_A = Q_1 R_1^-T b
+    and N = Q_2 (an orthonormal basis of A's null space). A must have full row rank.
+    """
+    q, r = np.linalg.qr(a_eq.T, mode="complete")
+    m = a_eq.shape[0]
+    q_1, r_1 = q[:, :m], r[:m]
+    return q_1, r_1, q[:, m:], q_1 @ np.linalg.solve(r_1.T, b_eq)
+
+
+_SUBSETS: dict[tuple[int, int], list[np.ndarray]] = {}
+"""The row subsets :func:`reduced_qp` tries, per (rows, freedoms): arrays (count, size), smallest first."""
+
+
+def _subsets(k: int, free: int) -> list[np.ndarray]:
+    key = (k, free)
+    if key not in _SUBSETS:
+        _SUBSETS[key] = [
+            np.array(list(combinations(range(k), size)), dtype=int).reshape(-1, size)
+            for size in range(1, min(k, free) + 1)
+        ]
+    return _SUBSETS[key]
+
+
+def reduced_qp(
+    hessian: np.ndarray, g: np.ndarray, a_eq: np.ndarray, b_eq: np.ndarray, c_in: np.ndarray, lower: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The contact QP exactly, on the few freedoms the equality rows leave, for rows that may be dependent.
+
+    The motions that meet A x = b are x = x_A + N w (:func:`equality_space`; w has n - m
+    components, three for the two-legged biped with its cranks driven). With H_r = N^T H N = L L^T
+    and u = L^T w, the QP is the projection of u_0 = -L^-1 N^T (H x_A + g) onto the polyhedron
+    G u >= d (G = C N L^-T, d = l - C x_A). The projection is u_0 + G_S^T mu for the subset S of
+    independent rows that hold with equality, mu >= 0, every row met: every subset of at most
+    n - m rows is tried at once (a batched solve; 92 subsets for 8 cone rows and 3 freedoms),
+    and the first that qualifies gives the unique u. Of the cone impulses z >= 0 that give it
+    (G^T z = u - u_0 on the rows that touch), the least-norm one is taken when it is >= 0 (each
+    cone edge an equal stiff spring: the least-work split of a statically indeterminate
+    support, Menabrea), else the subset's mu. The equality multipliers follow from
+    A^T y = H x + g - C^T z.
+
+    Args:
+        hessian: H (n, n), symmetric positive definite.
+        g: linear term (n,).
+        a_eq: A (m, n), full row rank.
+        b_eq: b (m,).
+        c_in: the cone rows C (k, n).
+        lower: l (k,).
+
+    Returns:
+        (x, y, z) signed so that H x + g = A^T y + C^T z, z >= 0; ``None`` when no subset
+        qualifies (left to proxsuite).
+
+    """
+    q_1, r_1, null, x_a = equality_space(a_eq, b_eq)
+    free = null.shape[1]
+    try:
+        chol = np.linalg.cholesky(null.T @ hessian @ null)
+    except np.linalg.LinAlgError:
+        return None
+    base = hessian @ x_a + g
+    u_0 = -np.linalg.solve(chol, null.T @ base)
+    to_w = np.linalg.inv(chol).T  # w = L^-T u
+    rows = c_in @ null @ to_w  # G (k, free)
+    rhs = lower - c_in @ x_a  # d
+    need = rhs - rows @ u_0  # G_S mu' = d_S - G_S u_0 on a subset
+    slack_0 = -need
+    found = None
+    if slack_0.min() >= -FEASIBILITY_TOL:
+        found = (np.zeros(0, dtype=int), np.zeros(0))
+    for subset in _subsets(len(lower), free) if found is None else ():
+        g_s = rows[subset]  # (count, size, free)
+        gram = g_s @ np.swapaxes(g_s, 1, 2)
+        ok = np.abs(np.linalg.det(gram)) > 1e-12
+        if not ok.any():
+            continue
+        subset, g_s = subset[ok], g_s[ok]
+        mu = np.linalg.solve(gram[ok], need[subset][..., None])[..., 0]
+        u = u_0 + np.einsum("csf,cs->cf", g_s, mu)
+        slack = u @ rows.T - rhs
+        good = (mu.min(axis=1) >= -SIGN_TOL * (1.0 + np.abs(mu).max(axis=1))) & (slack.min(axis=1) >= -FEASIBILITY_TOL)
+        if good.any():
+            pick = int(np.argmax(good))
+            found = (subset[pick], np.maximum(mu[pick], 0.0))
+            break
+    if found is None:
+        return None
+    subset, mu = found
+    u = u_0 + rows[subset].T @ mu
+    slack = rows @ u - rhs
+    touching = np.flatnonzero(slack <= TOUCH_TOL)
+    z = np.zeros(len(lower))
+    if len(touching):
+        least = np.linalg.lstsq(rows[touching].T, u - u_0, rcond=None)[0]
+        if _signed(least):
+            z[touching] = np.maximum(least, 0.0)
+        else:
+            z[subset] = mu
+    x = x_a + null @ (to_w @ u)
+    y = np.linalg.solve(r_1, q_1.T @ (base + hessian @ (x - x_a) - c_in.T @ z))
+    if not np.all(np.isfinite(x)):
+        return None
+    return x, y, z
+
+
+def _signed(z: np.ndarray) -> bool:
+    """True when no impulse is below zero beyond round-off (:data:`SIGN_TOL`)."""
+    return not len(z) or float(z.min()) >= -SIGN_TOL * (1.0 + float(np.abs(z).max()))
