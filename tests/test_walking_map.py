@@ -204,3 +204,25 @@ def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
     assert v.outcome == "walks" and v.steps == SHORT_STEPS
     # the design comes back from CSV text (its floats rounded in the last digits): the walk agrees to round-off
     assert math.degrees(v.max_hip_pitch) <= float(row["floor_max_hip_pitch_deg"]) + 1e-3
+
+
+def test_our_engine_walked_again_keeps_the_committed_twin(wmap):
+    """``--compute --keep-twin``: the twin's columns and note come back cell by cell, our columns stay ours."""
+    from dataclasses import replace
+
+    from pasibot_pin.studies.walking_map import WalkingMap, with_twin_of
+
+    ours = WalkingMap(
+        [replace(c, twin_outcome="", twin_steps=math.nan, twin_detail="", cpu_s=1.0) for c in reversed(wmap.cells)],
+        wmap.steps,
+        "",
+    )
+    merged = with_twin_of(ours, wmap)
+    assert merged.twin_note == wmap.twin_note
+    by_key = {(c.variant, c.sole, c.omega): c for c in wmap.cells}
+    assert len(merged.cells) == len(wmap.cells)
+    for cell in merged.cells:
+        old = by_key[(cell.variant, cell.sole, cell.omega)]
+        assert (cell.twin_outcome, cell.twin_detail) == (old.twin_outcome, old.twin_detail)
+        assert cell.twin_steps == old.twin_steps or (math.isnan(cell.twin_steps) and math.isnan(old.twin_steps))
+        assert cell.cpu_s == 1.0  # ours, not the old map's

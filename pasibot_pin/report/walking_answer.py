@@ -33,6 +33,7 @@ from pasibot_pin.studies.walking_map import (
     compute_walking_map,
     load_map,
     save_map,
+    with_twin_of,
 )
 from pasibot_pin.viz.plots_walking import save_walking_map_figure
 
@@ -322,6 +323,11 @@ def main(argv: Sequence[str] | None = None) -> None:
     parser.add_argument(
         "--twin", action="store_true", help="walk the MuJoCo twin in every cell of the map that has no twin outcome yet"
     )
+    parser.add_argument(
+        "--keep-twin",
+        action="store_true",
+        help="with --compute: walk our engine only and keep the committed twin's outcomes (our engine changed)",
+    )
     args = parser.parse_args(argv)
     if args.twin and not args.compute:
         start = time.monotonic()
@@ -330,7 +336,9 @@ def main(argv: Sequence[str] | None = None) -> None:
     if args.compute:
         start = time.monotonic()
         partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
-        wmap = compute_walking_map(workers=args.workers, partial=partial)
+        wmap = compute_walking_map(workers=args.workers, partial=partial, twin=not args.keep_twin)
+        if args.keep_twin:
+            wmap = with_twin_of(wmap, load_map())
         save_map(wmap)
         partial.unlink()
         cpu = sum(c.cpu_s for c in wmap.cells)

@@ -186,7 +186,6 @@ class _Twin:
         self.one_motor = self.floor.motors == "one"
         self.model.eq_data[self.drives, 0] = self.theta0
         self._drive_rows: np.ndarray | None = None
-        self._edges = np.arange(4)  # condim 3, pyramidal: four edge rows per contact
         self._foot_of_geom = np.full(model.ngeom, -1)
         self._foot_of_geom[self.soles] = np.arange(len(SIDES))
         self._ends = np.array(self.sites).ravel()
@@ -224,16 +223,21 @@ class _Twin:
         ncon = data.ncon
         if not ncon:
             return
+        # a few contacts: scalar arithmetic on lists is cheaper than numpy's per-call cost here
         contact = data.contact
-        address = contact.efc_address[:ncon]
-        foot = self._foot_of_geom[np.maximum(contact.geom1[:ncon], contact.geom2[:ncon])]
-        if address.min() < 0 or foot.min() < 0:
-            raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
-        normal = efc_force[address[:, None] + self._edges].sum(axis=1)  # the pyramid's edges sum to the normal
-        ends = data.site_xpos[self._ends, 0]  # x of right heel, right toe, left heel, left toe
-        heel, toe = ends[2 * foot], ends[2 * foot + 1]
-        toe_half = (contact.pos[:ncon, 0] - 0.5 * (heel + toe)) * (toe - heel) >= 0.0  # along the sole, in x
-        self._force += np.bincount(2 * foot + toe_half, normal, minlength=4)
+        address = contact.efc_address[:ncon].tolist()
+        geoms = np.maximum(contact.geom1[:ncon], contact.geom2[:ncon]).tolist()
+        along = contact.pos[:ncon, 0].tolist()
+        ends = data.site_xpos[self._ends, 0].tolist()  # x of right heel, right toe, left heel, left toe
+        force = [0.0, 0.0, 0.0, 0.0]  # this step's sums, then added to the window's (as one bincount)
+        for a, geom, x in zip(address, geoms, along):
+            foot = int(self._foot_of_geom[geom])
+            if a < 0 or foot < 0:
+                raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
+            normal = float(efc_force[a] + efc_force[a + 1] + efc_force[a + 2] + efc_force[a + 3])  # the edges
+            heel, toe = ends[2 * foot], ends[2 * foot + 1]
+            force[2 * foot + ((x - 0.5 * (heel + toe)) * (toe - heel) >= 0.0)] += normal  # the toe half in x
+        self._force += force
 
     def sample(self, t: float) -> GaitSample:
         """The judge's sample at ``t`` [s]: this instant's pose, the forces averaged (:data:`LOAD_WINDOW`)."""

@@ -268,6 +268,23 @@ def add_twin(wmap: WalkingMap, min_omega: float = 0.0, workers: int = 2, progres
     return WalkingMap(cells, wmap.steps, note)
 
 
+def with_twin_of(wmap: WalkingMap, old: WalkingMap) -> WalkingMap:
+    """``wmap`` (our engine walked again, no twin) with the twin's columns and note of ``old``, cell by cell.
+
+    For a change of our engine alone: MuJoCo's outcome of each cell does not depend on it.
+    """
+    twin = {(c.variant, c.sole, c.omega): c for c in old.cells}
+    cells = []
+    for c in wmap.cells:
+        before = twin.get((c.variant, c.sole, c.omega))
+        if before is not None:
+            c = replace(
+                c, twin_outcome=before.twin_outcome, twin_steps=before.twin_steps, twin_detail=before.twin_detail
+            )
+        cells.append(c)
+    return WalkingMap(cells, wmap.steps, old.twin_note)
+
+
 def _estimate(omega: float, steps: int) -> float:
     """A walk's CPU time if it walks, for ordering only (slow walks first) [s]."""
     return steps * math.pi / omega
