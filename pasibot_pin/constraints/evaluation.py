@@ -205,34 +205,29 @@ class RowSystem:
         are summed, so the biped's 28 terms need 16 phases.
         """
         nv, n0 = self.model.nv, self.n_constraint_rows
-        big_c = blocks.moving_c * np.exp(1j * blocks.moving_a0)
+        cols = blocks.phase_columns()
+        big_c, plain, slid = cols.turn, cols.plain, cols.slid
         px, pz = self._pick_T[0::2], self._pick_T[1::2]
         weights = np.empty_like(self._pick_T)
         weights[0::2] = big_c.real[:, None] * px + big_c.imag[:, None] * pz
         weights[1::2] = -big_c.imag[:, None] * px + big_c.real[:, None] * pz
         # terms turned by the same pitch share one phase: their picked constants add up
-        slid = np.flatnonzero(blocks.moving_slide_T.any(axis=0))
-        plain = np.setdiff1d(np.arange(len(big_c)), slid)
-        pitches, group = np.unique(blocks.moving_AT.T[plain], axis=0, return_inverse=True)
-        merged = np.zeros((2 * len(pitches), self.nrows))
-        np.add.at(merged, 2 * group.reshape(-1), weights[0::2][plain])
-        np.add.at(merged, 2 * group.reshape(-1) + 1, weights[1::2][plain])
-        # a term a slider scales, C exp(i A q) q_s (the pantograph's slide), takes two columns of its
-        # own: phase e q_s with the plain coefficients, and phase e with e_s as its Jacobian's (the
-        # product rule), no value, and 2 i w v_s for its drift (filled per call)
+        merged = np.zeros((2 * len(cols.pitches), self.nrows))
+        np.add.at(merged, 2 * cols.group, weights[0::2][plain])
+        np.add.at(merged, 2 * cols.group + 1, weights[1::2][plain])
+        # a slid term's two columns (e q_s and e) both carry its plain coefficients; the e column's
+        # Jacobian row is e_s (the product rule), no value, and 2 i w v_s for its drift (filled per call)
         slid_weights = np.stack((weights[0::2][slid], weights[1::2][slid]), axis=1).reshape(2 * len(slid), self.nrows)
         self._weights_T = np.vstack((merged, slid_weights, slid_weights))
-        slid_AT = blocks.moving_AT[:, slid]
-        self._phase_T = np.ascontiguousarray(np.hstack((pitches.T, slid_AT, slid_AT)))  # (nv, columns): w = A v
+        self._phase_T = np.ascontiguousarray(cols.exponents.T)  # (nv, columns): w = A v
         self._exponent = 1j * self._phase_T  # exp(q . exponent) = exp(i A q)
-        n_plain, n_slid = len(pitches), len(slid)
-        self._slid_a = np.arange(n_plain, n_plain + n_slid)  # the e q_s columns
-        self._slid_b = self._slid_a + n_slid  # the e columns
-        self._slid_index = np.argmax(blocks.moving_slide_T[:, slid], axis=0)  # each term's slider coordinate
+        n_slid = len(slid)
+        self._slid_a, self._slid_b = cols.slid_a, cols.slid_b  # the e q_s and the e columns
+        self._slid_index = cols.slider  # each slid term's slider coordinate
         self.batch_tables = not n_slid  # the batch path merges every term by its phase
         # rows: i A^T (the Jacobian), 1 (the value), then w^2 (the drift, filled per call: a buffer)
         jac_coef = 1j * self._phase_T
-        jac_coef[:, self._slid_b] = blocks.moving_slide_T[:, slid]
+        jac_coef[:, self._slid_b] = cols.slid_slide.T
         value_coef = np.ones(self._phase_T.shape[1])
         value_coef[self._slid_b] = 0.0
         self._coef = np.ascontiguousarray(np.vstack((jac_coef, value_coef, np.zeros(len(value_coef)))))

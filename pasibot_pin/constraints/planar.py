@@ -19,6 +19,7 @@ Pitch is counter-clockwise seen from the robot's right side (about -y). Units: S
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
@@ -150,6 +151,55 @@ class PlanarEnds:
             self.S[e, idx] = 1.0
 
 
+@dataclass(frozen=True)
+class PhaseColumns:
+    """The moving terms laid out as the phase columns of a one-sample evaluation.
+
+    Terms turned by the same pitch row A (the points of one body) share one phase exp(i A q):
+    the plain terms are grouped by their distinct rows. A term a slider scales, C exp(i A q) q_s
+    (the pantograph's slide), takes two columns of its own: phase e q_s (its value, with i A as
+    its Jacobian's row) and phase e (the product rule: e_s as its Jacobian's row, no value). The
+    columns are the distinct plain pitches, then the slid terms' ``a`` columns, then their ``b``
+    columns. Built by :meth:`PlanarRowBlocks.phase_columns`; both one-sample paths
+    (:class:`PlanarRowBlocks` and :class:`~pasibot_pin.constraints.evaluation.RowSystem`) use it.
+
+    Attributes:
+        turn: C = c exp(i a0) of each moving term (K,), complex [m].
+        plain: indices of the terms no slider scales.
+        slid: indices of the terms a slider scales.
+        pitches: the distinct pitch rows A of the plain terms (P, nv).
+        group: each plain term's row in ``pitches``.
+        slider: each slid term's slider coordinate (a velocity index).
+        slid_A: the slid terms' pitch rows (S, nv).
+        slid_slide: the slid terms' rows e_s (S, nv).
+
+    """
+
+    turn: np.ndarray
+    plain: np.ndarray
+    slid: np.ndarray
+    pitches: np.ndarray
+    group: np.ndarray
+    slider: np.ndarray
+    slid_A: np.ndarray
+    slid_slide: np.ndarray
+
+    @property
+    def exponents(self) -> np.ndarray:
+        """The rows A of every column (columns, nv): the phases are exp(i A q)."""
+        return np.vstack((self.pitches, self.slid_A, self.slid_A))
+
+    @property
+    def slid_a(self) -> np.ndarray:
+        """The columns of phase e q_s (one per slid term)."""
+        return np.arange(len(self.pitches), len(self.pitches) + len(self.slid))
+
+    @property
+    def slid_b(self) -> np.ndarray:
+        """The columns of phase e (one per slid term)."""
+        return self.slid_a + len(self.slid)
+
+
 class PlanarRowBlocks:
     """The point-coincidence and pitch rows of a constraint system, as complex products.
 
@@ -216,28 +266,40 @@ class PlanarRowBlocks:
         self._c_turned = self.moving_c * np.exp(1j * self.moving_a0)
         self._w: np.ndarray | None = None  # the one-sample tables, built at the first one-sample call
 
-    def _one_sample_tables(self) -> None:
-        """Tables of :meth:`_evaluate_one`: each row's terms summed per distinct phase.
-
-        The rows are W e (W: each term's D C, C = c exp(i a0), summed over the terms a pitch row
-        turns alike; e = exp(i A q)) and the Jacobian (W * e) B, B the rows i A. A term a slider
-        scales, C exp(i A q) q_s, takes two columns: phase e q_s with the row i A, and phase e
-        with the row e_s (the product rule) and no value.
-        """
-        big_c = self.moving_c * np.exp(1j * self.moving_a0)
+    def phase_columns(self) -> PhaseColumns:
+        """The moving terms as the phase columns of a one-sample evaluation (:class:`PhaseColumns`)."""
+        turn = self.moving_c * np.exp(1j * self.moving_a0)
         slid = np.flatnonzero(self.moving_slide_T.any(axis=0))
-        plain = np.setdiff1d(np.arange(len(big_c)), slid)
+        plain = np.setdiff1d(np.arange(len(turn)), slid)
         pitches, group = np.unique(self.moving_AT.T[plain], axis=0, return_inverse=True)
-        weights = np.zeros((self.D.shape[0], len(pitches)), dtype=complex)
-        np.add.at(weights.T, group.reshape(-1), (self.D_moving[:, plain] * big_c[plain]).T)
-        slid_weights = self.D_moving[:, slid] * big_c[slid]
+        return PhaseColumns(
+            turn=turn,
+            plain=plain,
+            slid=slid,
+            pitches=pitches,
+            group=group.reshape(-1),
+            slider=np.argmax(self.moving_slide_T[:, slid], axis=0),
+            slid_A=self.moving_AT.T[slid],
+            slid_slide=self.moving_slide_T.T[slid],
+        )
+
+    def _one_sample_tables(self) -> None:
+        """Tables of :meth:`_evaluate_one`: each row's terms summed per phase column (:meth:`phase_columns`).
+
+        The rows are W e (W: each term's D C, summed over the terms of one column; e the columns'
+        phases) and the Jacobian (W * e) B, B each column's row (i A, or e_s for a ``b`` column).
+        """
+        cols = self.phase_columns()
+        plain, slid, turn = cols.plain, cols.slid, cols.turn
+        weights = np.zeros((self.D.shape[0], len(cols.pitches)), dtype=complex)
+        np.add.at(weights.T, cols.group, (self.D_moving[:, plain] * turn[plain]).T)
+        slid_weights = self.D_moving[:, slid] * turn[slid]
         self._w = np.hstack((weights, slid_weights, slid_weights))  # (n, columns)
-        slid_A = self.moving_AT.T[slid]
-        self._exp_A = np.vstack((pitches, slid_A, slid_A))  # (columns, nv): e = exp(i A q)
-        self._b = np.vstack((1j * pitches, 1j * slid_A, self.moving_slide_T.T[slid])).astype(complex)
-        self._value = np.concatenate((np.ones(len(pitches) + len(slid)), np.zeros(len(slid)))).astype(complex)
-        self._slid_a = np.arange(len(pitches), len(pitches) + len(slid))
-        self._slid_index = np.argmax(self.moving_slide_T[:, slid], axis=0)
+        self._exp_A = cols.exponents  # (columns, nv): e = exp(i A q)
+        self._b = np.vstack((1j * cols.pitches, 1j * cols.slid_A, cols.slid_slide)).astype(complex)
+        self._value = np.concatenate((np.ones(len(cols.pitches) + len(slid)), np.zeros(len(slid)))).astype(complex)
+        self._slid_a = cols.slid_a
+        self._slid_index = cols.slider
 
     def _evaluate_one(self, q: np.ndarray):
         """:meth:`evaluate` of one sample without its drift, in a dozen numpy calls."""
