@@ -92,9 +92,8 @@ def _kkt_error(args, out) -> dict[str, float]:
     }
 
 
-def test_floor_steps_meet_the_kkt_conditions_and_mostly_take_the_exact_step(monkeypatch):
-    """Every QP of a floor run (fitted spring, cranks turning, heel and toe contacts changing) is solved."""
-    inputs = spring_study.scenario_inputs("run1")
+def _record_solves(monkeypatch) -> list:
+    """Every (QP, answer) a :class:`ContactQP` gives from now on, in a list that fills as they come."""
     seen: list = []
     solve = ContactQP.solve
 
@@ -104,16 +103,28 @@ def test_floor_steps_meet_the_kkt_conditions_and_mostly_take_the_exact_step(monk
         return out
 
     monkeypatch.setattr(ContactQP, "solve", recording)
+    return seen
+
+
+def _assert_kkt(seen: list, tol: float) -> None:
+    """Each recorded answer meets its QP's KKT conditions: rows to 1e-9, bounds and complementarity to ``tol``."""
+    for args, out in seen:
+        err = _kkt_error(args, out)
+        scale = 1.0 + float(np.max(np.abs(args[1])))
+        assert err["stationarity"] < 1e-8 * scale and err["equality"] < 1e-9
+        assert err["feasibility"] < tol and err["sign"] == 0.0 and err["complementarity"] < tol
+
+
+def test_floor_steps_meet_the_kkt_conditions_and_mostly_take_the_exact_step(monkeypatch):
+    """Every QP of a floor run (fitted spring, cranks turning, heel and toe contacts changing) is solved."""
+    inputs = spring_study.scenario_inputs("run1")
+    seen = _record_solves(monkeypatch)
     sim = FloorSimulator(inputs.robot, FloorSettings(omega=inputs.omega, spring=inputs.fit))
     q0, v0 = sim.initial_state()  # the flat start: the preload throws the feet, modes change
     res = sim.run(0.15, q0, v0)
     assert len(res.t) == 150 and len(set(res.modes["right"])) > 1
     assert sim._qp.fast > 0.8 * len(res.t)
-    for args, out in seen:
-        err = _kkt_error(args, out)
-        scale = 1.0 + float(np.max(np.abs(args[1])))
-        assert err["stationarity"] < 1e-8 * scale and err["equality"] < 1e-9
-        assert err["feasibility"] < 1e-9 and err["sign"] == 0.0 and err["complementarity"] < 1e-9
+    _assert_kkt(seen, 1e-9)
 
 
 def test_a_floor_run_is_proxsuites_run_to_its_tolerance(monkeypatch):
@@ -175,8 +186,9 @@ def test_dependent_rows_give_the_unique_motion_and_the_least_norm_cone_impulses(
 def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
     """The parallel walker's flat double support (both feet flat and sticking: over-constrained).
 
-    Every QP meets the KKT conditions; proxsuite is left only the first step; the motion is
-    proxsuite's (every QP left to it) to its tolerance, while the impulses are the least-norm ones.
+    Every QP meets the KKT conditions; proxsuite is left at most a few steps; the motion is
+    proxsuite's (every QP left to it) to its tolerance, and so is the total normal force (the
+    weight and the motion's), while the split between the points is the least-norm one.
     """
     from pasibot_pin.model.design import Design, design_robot
     from pasibot_pin.studies.walking import WalkSettings, floor_settings
@@ -184,25 +196,13 @@ def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
     walker = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=1.0)
     robot = design_robot(walker, 2, visuals=False)
     settings = floor_settings(walker, WalkSettings(steps=4), robot)
-    seen: list = []
-    solve = ContactQP.solve
-
-    def recording(self, *args):
-        out = solve(self, *args)
-        seen.append((args, out))
-        return out
-
-    monkeypatch.setattr(ContactQP, "solve", recording)
+    seen = _record_solves(monkeypatch)
     sim = FloorSimulator(robot, settings)
     start = sim.start_state()
     exact = sim.run(0.4, start.q, start.v)
     assert exact.modes["left"][:40] == ["flat"] * 40 == exact.modes["right"][:40]
     assert sim._qp.fallback <= 3 and sim._qp.fast > 390
-    for args, out in seen:
-        err = _kkt_error(args, out)
-        scale = 1.0 + float(np.max(np.abs(args[1])))
-        assert err["stationarity"] < 1e-8 * scale and err["equality"] < 1e-9
-        assert err["feasibility"] < 1e-8 and err["sign"] == 0.0 and err["complementarity"] < 1e-8
+    _assert_kkt(seen, 1e-8)
     monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
     monkeypatch.setattr(floor_qp, "reduced_qp", lambda *args: None)
     sim = FloorSimulator(robot, settings)
