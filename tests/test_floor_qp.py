@@ -201,6 +201,14 @@ def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
     start = sim.start_state()
     exact = sim.run(0.4, start.q, start.v)
     assert exact.modes["left"][:40] == ["flat"] * 40 == exact.modes["right"][:40]
+    # the first steps, both feet sticking, the robot rigid with its cranks: equal springs under a rigid
+    # body, i.e. normal forces linear in the points' x along the floor, tangential forces all equal
+    weight = sim.weight
+    for k in range(10):
+        along = sim.contact_rows(exact.q[k])[1]
+        line = np.polyval(np.polyfit(along, exact.normal[k], 1), along)
+        assert np.abs(line - exact.normal[k]).max() < 1e-9 * weight
+        assert np.ptp(exact.tangential[k]) < 1e-9 * weight
     assert sim._qp.fallback <= 3 and sim._qp.fast > 390
     _assert_kkt(seen, 1e-8)
     monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)

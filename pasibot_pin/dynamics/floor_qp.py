@@ -26,8 +26,13 @@ of rank three on the three freedoms the loops and cranks leave: the motion is un
 impulses are not. There :func:`reduced_qp` solves the QP exactly on those few freedoms
 and takes, of the impulses that produce the motion, the one of least norm in the cone rows
 (each cone edge an equal stiff spring: the least-work split of a statically indeterminate
-support). Where the last active set does not settle (the first step, a change of contact
-that the passes do not follow), :func:`reduced_qp` solves the QP exactly in the same way;
+support). A cone row's impulse is z = (n +- t / mu) / 2, so the norm is the sum of
+(n^2 + t^2 / mu^2) / 2 over the points; while both feet stick and the loops and the cranks
+leave the robot a rigid body (the parallel and rigid variants), the normal impulses come out
+linear in the points' position along the floor, as under a rigid body on equal springs, and the
+tangential ones equal.
+Where the last active set does not settle (the first step, a change of contact that the passes
+do not follow), :func:`reduced_qp` solves the QP exactly in the same way;
 proxsuite (cold start) only where it cannot (more than :data:`MAX_FREE` freedoms).
 On run 1's floor runs (2 s, four spring cases) proxsuite at its eps_abs = 1e-10 differs from
 itself at 1e-12 by as much as it differs from the exact answer (q 6e-9, forces 1e-4 N), while
