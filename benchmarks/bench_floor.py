@@ -5,8 +5,9 @@ Measured in one run, on run 1 with the fitted ankle spring (the ``spring`` biped
 1. one step of :class:`~pasibot_pin.dynamics.simulator.BipedSimulator` (stance foot welded,
    RK4 with projection and velocity impulse, its 2 ms step);
 2. one step of :class:`~pasibot_pin.dynamics.floor.FloorSimulator` (the contact QP,
-   :mod:`~pasibot_pin.dynamics.floor_qp`; implicit springs, projection, its 1 ms step) from the consistent start with the
-   cranks turning, heel and toe contacts active; per step and per simulated second;
+   :mod:`~pasibot_pin.dynamics.floor_qp`; implicit springs, projection, its 1 ms step) from the
+   consistent start with the cranks turning, heel and toe contacts active; per step and per
+   simulated second;
 3. ``FloorSimulator.run(10.0)`` from the consistent start (settling included): its wall time
    and outcome (goals: a floor step <= 2 x the welded step; 10 s simulated < 10 s wall).
 
