@@ -221,10 +221,8 @@ class RowSystem:
         self._weights_T = np.vstack((merged, slid_weights, slid_weights))
         self._phase_T = np.ascontiguousarray(cols.exponents.T)  # (nv, columns): w = A v
         self._exponent = 1j * self._phase_T  # exp(q . exponent) = exp(i A q)
-        n_slid = len(slid)
         self._slid_a, self._slid_b = cols.slid_a, cols.slid_b  # the e q_s and the e columns
         self._slid_index = cols.slider  # each slid term's slider coordinate
-        self.batch_tables = not n_slid  # the batch path merges every term by its phase
         # rows: i A^T (the Jacobian), 1 (the value), then w^2 (the drift, filled per call: a buffer)
         jac_coef = 1j * self._phase_T
         jac_coef[:, self._slid_b] = cols.slid_slide.T
@@ -359,7 +357,7 @@ class RowSystem:
         if coef is not None:
             if q.ndim == 1:
                 return self._evaluate_one(q, v, t, targets, coef)
-            if q.ndim == 2 and self.batch_tables:
+            if q.ndim == 2:
                 return self._evaluate_batch(q, v, t, targets, coef)
         value, jac_t, term_drift = self._blocks.terms(q, v)
         phi = value.view(float) @ self._pick_T + q @ self._linear_T + self._linear_0
@@ -424,16 +422,23 @@ class RowSystem:
         phase = np.empty(angle.shape, dtype=complex)  # exp(i A q) (N, P), by cos and sin (cheaper)
         np.cos(angle, out=phase.real)
         np.sin(angle, out=phase.imag)
+        slid_a, slid_b = self._slid_a, self._slid_b
+        if len(slid_a):  # a slid term's e q_s column; its e column has no value (coef[nv] is 0 there)
+            phase[:, slid_a] *= q[:, self._slid_index]
         weights = self._weights_T
         n_phase = phase.shape[1]
         jac_t = (coef[:nv] * phase[:, None, :]).view(float).reshape(n * nv, 2 * n_phase) @ weights
         jac_t = jac_t.reshape(n, nv, self.nrows) + self._constant[:nv]
-        phi = phase.view(float) @ weights + (q @ self._linear_T + self._constant[nv])
+        value = phase * coef[nv] if len(slid_a) else phase
+        phi = value.view(float) @ weights + (q @ self._linear_T + self._constant[nv])
         if v is None:
             drift = np.zeros((n, self.nrows))
         else:
             w = v @ self._phase_T
-            drift = (w * w * phase).view(float) @ weights
+            drift_coef = w * w + 0j
+            if len(slid_b):  # the product rule's 2 i w v_s on a slid term's e column
+                drift_coef[:, slid_b] = -2j * w[:, slid_b] * v[:, self._slid_index]
+            drift = (drift_coef * phase).view(float) @ weights
             np.negative(drift, out=drift)
         n0 = self.n_constraint_rows
         if targets is None:
