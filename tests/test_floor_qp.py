@@ -85,7 +85,7 @@ def _kkt_error(args, out) -> dict[str, float]:
     slack = c_in @ x - lower
     return {
         "stationarity": float(np.max(np.abs(hessian @ x + g - a_eq.T @ y - c_in.T @ z))),
-        "equality": float(np.max(np.abs(a_eq @ x - b_eq))),
+        "equality": float(np.max(np.abs(a_eq @ x - b_eq), initial=0.0)),
         "feasibility": float(max(0.0, -slack.min())),
         "sign": float(max(0.0, -z.min())),
         "complementarity": float(np.max(np.abs(z * slack))),
@@ -93,17 +93,34 @@ def _kkt_error(args, out) -> dict[str, float]:
 
 
 def _record_solves(monkeypatch) -> list:
-    """Every (QP, answer) a :class:`ContactQP` gives from now on, in a list that fills as they come."""
+    """Every (QP, answer) a :class:`ContactQP` gives from now on, in a list that fills as they come.
+
+    A QP on the free coordinates (``solve_free``) is kept as one with no equality rows.
+    """
     seen: list = []
-    solve = ContactQP.solve
+    solve, solve_free = ContactQP.solve, ContactQP.solve_free
 
     def recording(self, *args):
         out = solve(self, *args)
         seen.append((args, out))
         return out
 
+    def recording_free(self, hessian, g, c_in, lower, inverse=None):
+        x, z = solve_free(self, hessian, g, c_in, lower, inverse)
+        seen.append(((hessian, g, np.zeros((0, len(g))), np.zeros(0), c_in, lower), (x, np.zeros(0), z)))
+        return x, z
+
     monkeypatch.setattr(ContactQP, "solve", recording)
+    monkeypatch.setattr(ContactQP, "solve_free", recording_free)
     return seen
+
+
+def _proxsuite_only(monkeypatch) -> None:
+    """From now on every floor step takes the general path (the QP on every coordinate, Newton's
+    projection) and leaves its QP to proxsuite: the floor before the exact solves and the shape track."""
+    monkeypatch.setattr(FloorSimulator, "_shape_split", lambda self: None)
+    monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
+    monkeypatch.setattr(floor_qp, "reduced_qp", lambda *args: None)
 
 
 def _assert_kkt(seen: list, tol: float) -> None:
@@ -123,7 +140,7 @@ def test_floor_steps_meet_the_kkt_conditions_and_mostly_take_the_exact_step(monk
     q0, v0 = sim.initial_state()  # the flat start: the preload throws the feet, modes change
     res = sim.run(0.15, q0, v0)
     assert len(res.t) == 150 and len(set(res.modes["right"])) > 1
-    assert sim._qp.fast > 0.8 * len(res.t)
+    assert sim._qp.fast > 0.8 * len(res.t) and len(seen) == 150
     _assert_kkt(seen, 1e-9)
 
 
@@ -135,8 +152,7 @@ def test_a_floor_run_is_proxsuites_run_to_its_tolerance(monkeypatch):
     q0, v0 = sim.initial_state()  # the flat start: the preload throws the feet, modes change
     exact = sim.run(0.1, q0, v0)
     assert sim._qp.fast > 0.8 * len(exact.t)
-    monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
-    monkeypatch.setattr(floor_qp, "reduced_qp", lambda *args: None)
+    _proxsuite_only(monkeypatch)
     sim = FloorSimulator(inputs.robot, settings)
     reference = sim.run(0.1, q0, v0)
     assert sim._qp.fast == 0
@@ -210,9 +226,9 @@ def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
         assert np.abs(line - exact.normal[k]).max() < 1e-9 * weight
         assert np.ptp(exact.tangential[k]) < 1e-9 * weight
     assert sim._qp.fallback <= 3 and sim._qp.fast > 390
+    assert len(seen) == 401  # the start's rest check and the 400 steps
     _assert_kkt(seen, 1e-8)
-    monkeypatch.setattr(floor_qp.ContactQP, "_active_set", lambda self, *args: None)
-    monkeypatch.setattr(floor_qp, "reduced_qp", lambda *args: None)
+    _proxsuite_only(monkeypatch)
     sim = FloorSimulator(robot, settings)
     reference = sim.run(0.4, start.q, start.v)
     assert sim._qp.fast == 0

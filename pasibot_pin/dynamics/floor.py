@@ -20,7 +20,10 @@ holds by construction (the planar cone is exactly two half-planes). A point that
 floor stops there in one step (an inelastic touchdown, found by the step rather than
 scheduled); a point leaves the floor when its normal impulse is zero. Positions are then
 projected back onto the loops (mass metric), so the loops drift by less than Newton's
-tolerance. Each step reports the contact mode of each foot: ``flat`` (heel and toe load),
+tolerance. With the cranks driven the loops fix every leg coordinate, so a run solves the same
+step on the free coordinates (the hip, a free ankle), the legs' shape known ahead in closed form
+(:mod:`pasibot_pin.dynamics.shape_track`, :meth:`FloorSimulator._track_step`). Each step reports
+the contact mode of each foot: ``flat`` (heel and toe load),
 ``heel``, ``toe``, ``sliding`` or ``air`` (:func:`mode_runs` run-length encodes a sequence).
 The cranks turn at omega from t = 0, or start smoothly over ``FloorSettings.crank_ramp``
 (:func:`crank_advance`).
@@ -32,6 +35,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, replace
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -48,6 +52,7 @@ from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_
     foot_mode,
     mode_runs,
 )
+from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack, TrackStep
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample
 from pasibot_pin.errors import (
@@ -97,6 +102,37 @@ def crank_advance(t: float, ramp: float) -> tuple[float, float]:
         return t - 0.5 * ramp, 1.0
     x = t / ramp
     return ramp * x**3 * (1.0 - 0.5 * x), x * x * (3.0 - 2.0 * x)
+
+
+def crank_advances(times: np.ndarray, ramp: float) -> np.ndarray:
+    """:func:`crank_advance`'s advance [s] at each of ``times`` (N,) [s], at once."""
+    t = np.maximum(np.asarray(times, dtype=float), 0.0)
+    if ramp <= 0:
+        return t
+    x = np.minimum(t / ramp, 1.0)
+    return np.where(t >= ramp, t - 0.5 * ramp, ramp * x**3 * (1.0 - 0.5 * x))
+
+
+class _StepTerms(NamedTuple):
+    """The QP terms of one floor step (:meth:`FloorSimulator._terms`)."""
+
+    mass: np.ndarray
+    hessian: np.ndarray
+    g: np.ndarray
+    cone: np.ndarray
+    lower: np.ndarray
+    mu: float
+
+    def impulses(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """Normal and tangential impulses (4,) [N.s] of the cone multipliers z (8,)."""
+        k = len(z) // 2
+        return z[:k] + z[k:], self.mu * (z[:k] - z[k:])
+
+
+def _check_speed(v: np.ndarray) -> None:
+    fastest = float(np.max(np.abs(v)))
+    if not fastest <= SPEED_LIMIT:  # also catches NaN
+        raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
 
 
 def _check(name: str, value: float, low: float, high: float = math.inf, low_open: bool = False) -> float:
@@ -180,6 +216,8 @@ class FloorSimulator:
         frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
         self.points = frame_rows(model, frames, range(len(frames)))
         self._crank_rows = [self.bilateral.labels.index(name) for name in layout.motors]
+        self._motor_targets = [row - self.bilateral.n_constraint_rows for row in self._crank_rows]
+        self._split: ShapeSplit | None | bool = False  # False: not looked for yet (:meth:`_shape_split`)
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
         self._zero_v = np.zeros(model.nv)
@@ -196,6 +234,18 @@ class FloorSimulator:
     def targets(self, t: float) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad]: the cranks at theta0 + omega advance (:func:`crank_advance`)."""
         return self._target_offsets + self._target_rates * crank_advance(t, self.settings.crank_ramp)[0]
+
+    def targets_many(self, times: np.ndarray) -> np.ndarray:
+        """:meth:`targets` at each of ``times`` (N,) [s]: (N, scalar rows) [rad]."""
+        advance = crank_advances(times, self.settings.crank_ramp)
+        return self._target_offsets + self._target_rates * advance[:, None]
+
+    def _shape_split(self) -> ShapeSplit | None:
+        """The free coordinates and the shape of the bilateral rows (found once; ``None``: no such split)."""
+        if self._split is False:
+            q, _ = self.initial_state()
+            self._split = ShapeSplit.of(self.robot, self.bilateral, q, self.targets(0.0), self._target_rates)
+        return self._split
 
     # ---- one step
     def contact_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -217,22 +267,75 @@ class FloorSimulator:
     def step(
         self, t: float, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None
     ):
-        """One step: (q+, v+, normal and tangential impulses (4,) [N.s], bilateral impulses).
+        """One step: (q+, v+, normal and tangential impulses (4,) [N.s], the motors' impulses [N.m.s]).
 
         The ankle springs and dampers are linearly implicit: their torque at the end of the step,
         tau(q + h v+, v+) = tau(q, 0) - (K h + c) v+, so the stiff foot-on-spring mode is stable at
         any step. ``spring_scale`` scales the springs (the settling ramps it), ``mu`` overrides the
-        friction coefficient.
+        friction coefficient. The QP on every coordinate, then Newton's projection (the general
+        path; :meth:`run` takes :meth:`_track_step` where the shape is known ahead).
 
         Raises:
             ValueError: the QP failed, a loop cannot close, or the state diverged (non-finite or
                 faster than :data:`SPEED_LIMIT`).
 
         """
+        terms = self._terms(q, v, h, spring_scale, mu)
+        targets = self.targets(t + h) if self.settings.crank_ramp > 0 else None  # None: offset + rate t, as before
+        phi, jac = self._bilateral_rows(q, t + h, targets)
+        # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
+        v_new, bilateral, z = self._qp.solve(terms.hessian, terms.g, jac, -phi / h, terms.cone, terms.lower)
+        _check_speed(v_new)
+        normal, tangential = terms.impulses(z)
+        q_new, after, _ = self.bilateral.project_rows(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
+        self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets))  # the rows at q_new, t + h
+        return q_new, v_new, normal, tangential, bilateral[self._crank_rows]
+
+    def _track_step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep, split: ShapeSplit):
+        """:meth:`step` with the shape known ahead (:mod:`pasibot_pin.dynamics.shape_track`): the same answer.
+
+        The bilateral rows fix x_S = ``shape.velocity``; the QP is left on the free coordinates
+        (:meth:`~pasibot_pin.dynamics.floor_qp.ContactQP.solve_free`); the projection puts the
+        shape on ``shape.end`` and moves the free coordinates by the mass metric's answer,
+        -M_FF^-1 M_FS dS; the motors' multipliers follow by virtual work, y = D^T r_S with
+        r = H x + g - C^T z. ``None`` where H has no inverse on the free coordinates (the general
+        path's proxsuite takes it).
+        """
+        free, cut = split.free, split.shape
+        terms = self._terms(q, v, h)
+        hessian = terms.hessian
+        x_s = shape.velocity
+        h_ff, h_fs = split.blocks(hessian)
+        try:
+            inverse = np.linalg.inv(h_ff)
+        except np.linalg.LinAlgError:  # a free coordinate without inertia (a foot's mass on its ankle axis)
+            return None  # the general path (proxsuite takes a singular H)
+        g_free = terms.g[free] + h_fs.dot(x_s)
+        lower = terms.lower - terms.cone[:, cut].dot(x_s)
+        u, z = self._qp.solve_free(h_ff, g_free, terms.cone[:, free], lower, inverse)
+        _check_speed(u)  # x_S is the linkage's own, bounded by the crank speed
+        x = np.empty(len(q))
+        x[free], x[cut] = u, x_s
+        normal, tangential = terms.impulses(z)
+        residual = hessian.dot(x) + terms.g - terms.cone.T.dot(z)
+        motor = residual[cut].dot(shape.tangent)[self._motor_targets]
+        q_new = q + h * x
+        moved = shape.end - q_new[cut]
+        q_new[cut] = shape.end
+        if hessian is terms.mass:
+            q_new[free] -= inverse.dot(h_fs.dot(moved))
+        else:  # the springs' terms: the projection's metric is M alone
+            m_ff, m_fs = split.blocks(terms.mass)
+            try:
+                q_new[free] -= np.linalg.solve(m_ff, m_fs.dot(moved))
+            except np.linalg.LinAlgError:  # M singular: as the general projection, the least-norm correction,
+                pass  # which leaves the free coordinates (no row holds them)
+        return q_new, x, normal, tangential, motor
+
+    def _terms(self, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None):
+        """The step's QP terms at (q, v): H, g, the cone rows and their bounds (:class:`_StepTerms`)."""
         model, data, s = self.robot.model, self.robot.data, self.settings
         mu = s.mu if mu is None else mu
-        targets = self.targets(t + h) if s.crank_ramp > 0 else None  # None: offset + rate t, as before
-        phi, jac = self._bilateral_rows(q, t + h, targets)
         gap, _, jn, jt = self._contact_at(q)
         mass = symmetric_mass_matrix(model, data, q)
         bias = pin.nonLinearEffects(model, data, q, v)
@@ -247,17 +350,7 @@ class FloorSimulator:
         g = -(mass @ v + h * (tau - bias))
         cone = np.concatenate((jn + mu * jt, jn - mu * jt))
         lower = -gap / h
-        lower = np.concatenate((lower, lower))
-        # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
-        v_new, bilateral, z = self._qp.solve(hessian, g, jac, -phi / h, cone, lower)
-        fastest = float(np.max(np.abs(v_new)))
-        if not fastest <= SPEED_LIMIT:  # also catches NaN
-            raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
-        k = len(gap)  # z: impulses of the cone rows (>= 0)
-        normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
-        q_new, after, _ = self.bilateral.project_rows(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
-        self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets))  # the rows at q_new, t + h
-        return q_new, v_new, normal, tangential, bilateral
+        return _StepTerms(mass, hessian, g, cone, np.concatenate((lower, lower)), mu)
 
     def _goal(self, t: float, targets: np.ndarray | None) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad] (``targets``, or offset + rate t)."""
@@ -426,23 +519,28 @@ class FloorSimulator:
         criteria = GaitCriteria() if criteria is None else criteria
         q, v, begin, start_kind, note = self._begin(q0, v0, start)
         h = duration / n
-        log = RunLog(self._contact_at, self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows))
+        log = RunLog(self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows))
         judge = None
         if s.omega > 0:
             judge = GaitJudge(s.omega, self.robot.geometry.L, self.weight, criteria, self._sample(0.0, q, v, None))
+        split = self._shape_split()
+        track = None if split is None else ShapeTrack(self.robot, split, self.targets_many, h)
         t = 0.0
         for _ in range(n):
             try:
-                q, v, normal, tangential, bilateral = self.step(t, q, v, h)
+                out = None
+                if track is not None and (shape := track.step(t, q)) is not None:
+                    out = self._track_step(q, v, h, shape, track.split)
+                q, v, normal, tangential, motor = self.step(t, q, v, h) if out is None else out
             except SimulationError as err:
                 log.stop_on(err, t)
                 if judge is not None:
                     judge.diverged(t, str(err))
                 break
             t += h
-            forces = (normal / h, tangential / h, bilateral[self._crank_rows] / h)
-            sample = self._sample(t, q, v, forces)
-            log.record(t, q, v, sample, forces)
+            forces = (normal / h, tangential / h, motor / h)
+            sample, loaded, slip = self._points(t, q, v, forces)
+            log.record(t, q, v, sample, forces, loaded, slip)
             if judge is not None and judge.update(sample) and stop_on_verdict:
                 break
             if not stop_on_verdict and log.stopped(t, q):
@@ -471,12 +569,18 @@ class FloorSimulator:
 
     def _sample(self, t: float, q: np.ndarray, v: np.ndarray, forces: tuple | None) -> GaitSample:
         """The :class:`GaitSample` at ``t`` from the step's forces (normal, tangential [N], motor torques [N.m])."""
+        return self._points(t, q, v, forces)[0]
+
+    def _points(self, t: float, q: np.ndarray, v: np.ndarray, forces: tuple | None):
+        """(:meth:`_sample`, each point's load flag, each point's tangential speed [m/s])."""
         gap, along, _, jt = self._contact_at(q)
-        normal = np.zeros(len(gap)) if forces is None else forces[0]
-        f_n, slip, gaps, xs = normal.tolist(), (jt @ v).tolist(), gap.tolist(), along.tolist()
-        loaded = [f > LOAD_TOL for f in f_n]
+        slip, gaps, xs = jt.dot(v).tolist(), gap.tolist(), along.tolist()
         if forces is None:  # the start: a point on the floor counts as loaded
+            f_n = [0.0] * len(gaps)
             loaded = [g < 1e-6 for g in gaps]
+        else:
+            f_n = forces[0].tolist()
+            loaded = [f > LOAD_TOL for f in f_n]
         feet = []
         for i in range(len(SIDES)):
             heel, toe = 2 * i, 2 * i + 1
@@ -486,11 +590,12 @@ class FloorSimulator:
                     x=0.5 * (xs[heel] + xs[toe]),
                     pitch=math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
                     normal=f_n[heel] + f_n[toe],
-                    slip=max(abs(slip[k]) if loaded[k] else 0.0 for k in (heel, toe)),
+                    slip=max(abs(slip[heel]) if loaded[heel] else 0.0, abs(slip[toe]) if loaded[toe] else 0.0),
                     on_point=loaded[heel] != loaded[toe],
                 )
             )
         power = (0.0, 0.0)
         if forces is not None:
-            power = tuple(float(tau * v[i]) for tau, i in zip(forces[2], self._motor_index))
-        return GaitSample(t, float(q[HIP_X]), float(q[HIP_PITCH]), (feet[0], feet[1]), power)
+            power = tuple(tau * rate for tau, rate in zip(forces[2].tolist(), v.take(self._motor_index).tolist()))
+        q_list = q[:3].tolist()
+        return GaitSample(t, q_list[HIP_X], q_list[HIP_PITCH], (feet[0], feet[1]), power), loaded, slip

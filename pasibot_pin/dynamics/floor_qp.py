@@ -34,6 +34,11 @@ tangential ones equal.
 Where the last active set does not settle (the first step, a change of contact that the passes
 do not follow), :func:`reduced_qp` solves the QP exactly in the same way;
 proxsuite (cold start) only where it cannot (more than :data:`MAX_FREE` freedoms).
+
+:meth:`ContactQP.solve_free` is the same QP written on the free coordinates alone (no equality
+rows: the floor's shape track has solved them, :mod:`pasibot_pin.dynamics.shape_track`): the
+same passes, their KKT through H^-1 on three unknowns, and :func:`free_qp` (the core of
+:func:`reduced_qp`) where they do not settle.
 On run 1's floor runs (2 s, four spring cases) proxsuite at its eps_abs = 1e-10 differs from
 itself at 1e-12 by as much as it differs from the exact answer (q 6e-9, forces 1e-4 N), while
 the exact answer and proxsuite at 1e-12 agree to q 3e-11.
@@ -160,35 +165,108 @@ class ContactQP:
             return None
         return rows
 
+    def solve_free(
+        self, hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray, inverse: np.ndarray | None = None
+    ) -> tuple[np.ndarray, np.ndarray]:
+        """The QP without equality rows, min 1/2 x^T H x + g^T x s.t. C x >= l, on few freedoms.
+
+        The floor's QP on the coordinates its bilateral rows leave free (the hip, a free ankle):
+        the same warm-started active set as :meth:`solve` (the last step's rows, each redundant
+        group reduced), its KKT solved through H^-1 (a few freedoms: 3 x 3 for the biped), then
+        :func:`free_qp` (every subset) and proxsuite where the passes do not settle.
+
+        Args:
+            hessian: H (n, n), symmetric positive definite.
+            g: linear term (n,).
+            c_in: inequality rows C (k, n).
+            lower: their lower bounds (k,).
+            inverse: H^-1 if the caller has it.
+
+        Returns:
+            (x, z): the solution and the cone multipliers (>= 0), H x + g = C^T z.
+
+        """
+        n = len(g)
+        out = None
+        if self.active is not None and self._reduced(self.active, n, 0) is not None:
+            h_inv = np.linalg.inv(hessian) if inverse is None else inverse
+            x_0 = -h_inv.dot(g)  # the unconstrained minimum
+
+            def kkt(rows: list[int]):
+                if not rows:
+                    return x_0, np.zeros(0), None, bool(np.isfinite(x_0).all())
+                c_w = c_in[rows]
+                y_w = h_inv.dot(c_w.T)
+                try:
+                    z_w = np.linalg.solve(c_w.dot(y_w), lower[rows] - c_w.dot(x_0))
+                except np.linalg.LinAlgError:  # dependent rows
+                    return None
+                x = x_0 + y_w.dot(z_w)
+                return x, z_w, None, np.abs(c_w.dot(x) - lower[rows]).max() <= RESIDUAL_TOL
+
+            out = self._first_order(kkt, n, c_in, lower)
+        if out is None:
+            found = free_qp(hessian, g, c_in, lower)
+            if found is not None:
+                self.active = np.flatnonzero(found[1] > 0.0).tolist()
+                out = (*found, None)
+        if out is not None:
+            self.fast += 1
+            return out[0], out[1]
+        x, _, z = self._proxsuite(hessian, g, np.zeros((0, n)), np.zeros(0), c_in, lower)
+        self.fallback += 1
+        self.active = np.flatnonzero(z > 0.0).tolist()
+        return x, z
+
     def _active_set(self, hessian, g, a_eq, b_eq, c_in, lower):
         """The exact solve from the last active set, or ``None`` (no active set found)."""
         n, m = hessian.shape[0], len(b_eq)
-        active = list(self.active or [])
-        if self._reduced(active, n - m, 0) is None:  # over-constrained (a flat double support): reduced_qp
+        if self._reduced(list(self.active or []), n - m, 0) is None:  # over-constrained (a flat double support)
             return None
         self.data.M[:] = hessian  # forwardDynamics factorises data.M (its upper triangle, the tree's pattern)
         self.data.nle[:] = 0.0
-        for order in (self.order, *(k for k in range(MAX_CHOICES) if k != self.order)):
-            out = self._passes(list(active), order, n - m, g, a_eq, b_eq, c_in, lower)
-            if out is not None:
-                self.order = order
-                return out
+
+        def kkt(rows: list[int]):
+            e_rows = np.concatenate((a_eq, c_in[rows]))
+            rhs = np.concatenate((b_eq, lower[rows]))
+            try:  # H x - E^T lam = -g, E x = r
+                x, lam = kkt_solve(self.model, self.data, -g, e_rows, -rhs)
+            except ValueError:  # singular, or not finite
+                return None
+            return x, lam[m:], lam[:m].copy(), np.abs(e_rows @ x - rhs).max() <= RESIDUAL_TOL
+
+        out = self._first_order(kkt, n - m, c_in, lower)
+        return None if out is None else (out[0], out[2], out[1])
+
+    def _first_order(self, kkt, n_free, c_in, lower):
+        """The passes from the last active set, each choice of left-out rows in turn: (x, z, y) or ``None``."""
+        active = list(self.active or [])
+        out = self._passes(list(active), self.order, n_free, kkt, c_in, lower)  # nearly always
+        if out is not None:
+            return out
+        for order in range(MAX_CHOICES):
+            if order != self.order:
+                out = self._passes(list(active), order, n_free, kkt, c_in, lower)
+                if out is not None:
+                    self.order = order
+                    return out
         return None
 
-    def _passes(self, active, order, n_free, g, a_eq, b_eq, c_in, lower):
-        """Active-set passes from ``active`` (redundant groups reduced by ``order``), or ``None``."""
-        m = len(b_eq)
+    def _passes(self, active, order, n_free, kkt, c_in, lower):
+        """Active-set passes from ``active`` (redundant groups reduced by ``order``), or ``None``.
+
+        ``kkt(rows)`` solves the KKT system with the cone rows ``rows`` held: (x, their
+        multipliers, the equality multipliers or None, whether the held rows are met to
+        :data:`RESIDUAL_TOL`), or ``None`` (singular).
+        """
         for _ in range(MAX_PASSES):
             solved = self._reduced(active, n_free, order)
             if solved is None:
                 return None
-            rows = np.concatenate((a_eq, c_in[solved]))
-            rhs = np.concatenate((b_eq, lower[solved]))
-            try:  # H x - E^T lam = -g, E x = r
-                x, lam = kkt_solve(self.model, self.data, -g, rows, -rhs)
-            except ValueError:  # singular, or not finite
+            out = kkt(solved)
+            if out is None:
                 return None
-            z_active = lam[m:]
+            x, z_active, y, accurate = out
             if solved and z_active.min() < 0.0:
                 active.remove(solved[int(np.argmin(z_active))])
                 continue
@@ -200,12 +278,12 @@ class ContactQP:
                     return None
                 active.append(worst)
                 continue
-            if not np.abs(rows @ x - rhs).max() <= RESIDUAL_TOL:  # also catches NaN
+            if not accurate:  # also NaN
                 return None
             z = np.zeros(len(lower))
             z[solved] = z_active
             self.active = active
-            return x, lam[:m].copy(), z
+            return x, z, y
         return None
 
     @staticmethod
@@ -287,16 +365,49 @@ def reduced_qp(
 
     """
     q_1, r_1, null, x_a = equality_space(a_eq, b_eq)
-    free = null.shape[1]
+    base = hessian @ x_a + g
+    found = free_qp(null.T @ hessian @ null, null.T @ base, c_in @ null, lower - c_in @ x_a)
+    if found is None:
+        return None
+    w, z = found
+    x = x_a + null @ w
+    y = np.linalg.solve(r_1, q_1.T @ (base + hessian @ (x - x_a) - c_in.T @ z))
+    return x, y, z
+
+
+def free_qp(
+    hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The QP min 1/2 x^T H x + g^T x s.t. C x >= l, exactly, on a few freedoms, rows perhaps dependent.
+
+    With H = L L^T and u = L^T x, the QP is the projection of u_0 = -L^-1 g onto the polyhedron
+    G u >= l (G = C L^-T). The projection is u_0 + G_S^T mu for the subset S of independent rows
+    that hold with equality, mu >= 0, every row met: every subset of at most n rows is tried at
+    once (a batched solve; 92 subsets for 8 cone rows and 3 freedoms), and the first that
+    qualifies gives the unique u. Of the cone impulses z >= 0 that give it (G^T z = u - u_0 on
+    the rows that touch), the least-norm one is taken when it is >= 0 (each cone edge an equal
+    stiff spring: the least-work split of a statically indeterminate support, Menabrea), else
+    the subset's mu.
+
+    Args:
+        hessian: H (n, n), symmetric positive definite.
+        g: linear term (n,).
+        c_in: the cone rows C (k, n).
+        lower: l (k,).
+
+    Returns:
+        (x, z) with H x + g = C^T z, z >= 0; ``None`` when no subset qualifies (left to proxsuite).
+
+    """
+    free = len(g)
     try:
-        chol = np.linalg.cholesky(null.T @ hessian @ null)
+        chol = np.linalg.cholesky(hessian)
     except np.linalg.LinAlgError:
         return None
-    base = hessian @ x_a + g
-    u_0 = -np.linalg.solve(chol, null.T @ base)
-    to_w = np.linalg.inv(chol).T  # w = L^-T u
-    rows = c_in @ null @ to_w  # G (k, free)
-    rhs = lower - c_in @ x_a  # d
+    u_0 = -np.linalg.solve(chol, g)
+    to_w = np.linalg.inv(chol).T  # x = L^-T u
+    rows = c_in @ to_w  # G (k, free)
+    rhs = lower  # d
     need = rhs - rows @ u_0  # G_S mu' = d_S - G_S u_0 on a subset
     slack_0 = -need
     found = None
@@ -330,11 +441,10 @@ def reduced_qp(
             z[touching] = np.maximum(least, 0.0)
         else:
             z[subset] = mu
-    x = x_a + null @ (to_w @ u)
-    y = np.linalg.solve(r_1, q_1.T @ (base + hessian @ (x - x_a) - c_in.T @ z))
+    x = to_w @ u
     if not np.all(np.isfinite(x)):
         return None
-    return x, y, z
+    return x, z
 
 
 def _signed(z: np.ndarray) -> bool:

@@ -188,18 +188,17 @@ class RunLog:
     fixed-length run (``stop_on_verdict=False``); the walking verdict is the judge's.
     """
 
-    def __init__(self, contact_at, weight: float, fall_limit: float, nq: int, n_motors: int) -> None:
+    def __init__(self, weight: float, fall_limit: float, nq: int, n_motors: int) -> None:
         """A log for one run.
 
         Args:
-            contact_at: the simulator's contact rows at q (gap, along, J_n, J_t).
             weight: the robot's weight [N].
             fall_limit: |hip pitch| that ends a run without a verdict [rad].
             nq: configuration size.
             n_motors: motors (columns of the motor torque).
 
         """
-        self.contact_at, self.weight, self.fall_limit = contact_at, weight, fall_limit
+        self.weight, self.fall_limit = weight, fall_limit
         self.nq, self.n_motors = nq, n_motors
         self.rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
         self.modes: dict[str, list[str]] = {side: [] for side in SIDES}
@@ -220,12 +219,14 @@ class RunLog:
             cause = "the contact problem failed"
         self.stop_reason = f"{cause} at t = {t:.3f} s ({err})"
 
-    def record(self, t: float, q: np.ndarray, v: np.ndarray, sample: GaitSample, force: tuple) -> None:
-        """Keep the step's state, forces (normal, tangential, motor torques), modes, touchdowns and landings."""
+    def record(
+        self, t: float, q: np.ndarray, v: np.ndarray, sample: GaitSample, force: tuple, loaded: list, slip: list
+    ) -> None:
+        """Keep the step's state, forces (normal, tangential, motor torques), modes, touchdowns and landings.
+
+        ``loaded`` and ``slip``: each point's load flag and tangential speed [m/s] (as the sample's).
+        """
         h = t - (self.rec["t"][-1] if self.rec["t"] else 0.0)
-        jt = self.contact_at(q)[3]
-        f_n, slip = force[0].tolist(), (jt @ v).tolist()
-        loaded = [f > LOAD_TOL for f in f_n]
         for k, now in enumerate(loaded):
             if now and not self.loaded_before[k]:
                 self.touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))

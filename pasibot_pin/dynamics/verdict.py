@@ -38,6 +38,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 
@@ -114,9 +115,8 @@ class GaitCriteria:
                 raise ParameterError(f"parameter {name!r} must be a number in [{low:g}, {high:g}], got {value!r}")
 
 
-@dataclass(frozen=True)
-class FootSample:
-    """One foot at one instant.
+class FootSample(NamedTuple):
+    """One foot at one instant (a named tuple: the floor builds two per time step).
 
     Attributes:
         loaded: the floor pushes on it (heel, toe or both).
@@ -136,9 +136,8 @@ class FootSample:
     on_point: bool
 
 
-@dataclass(frozen=True)
-class GaitSample:
-    """The biped at one instant, as the judge needs it.
+class GaitSample(NamedTuple):
+    """The biped at one instant, as the judge needs it (a named tuple: one per time step).
 
     Attributes:
         t: time [s].

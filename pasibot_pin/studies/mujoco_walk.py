@@ -281,8 +281,8 @@ class _Twin:
         for i, foot in enumerate(sample.feet):
             heights = [self.data.site_xpos[s][2] - self.options.sole_radius for s in self.sites[i]]
             on = [h < 1e-6 for h in heights]
-            feet.append(replace(foot, loaded=any(on), on_point=on[0] != on[1], normal=0.0, slip=0.0))
-        return replace(sample, feet=(feet[0], feet[1]), motor_power=tuple(0.0 for _ in sample.motor_power))
+            feet.append(foot._replace(loaded=any(on), on_point=on[0] != on[1], normal=0.0, slip=0.0))
+        return sample._replace(feet=(feet[0], feet[1]), motor_power=tuple(0.0 for _ in sample.motor_power))
 
     def broken(self) -> str:
         """Why MuJoCo's state is not to be trusted (empty: it is fine)."""
