@@ -105,10 +105,11 @@ def _record_solves(monkeypatch) -> list:
         seen.append((args, out))
         return out
 
-    def recording_free(self, hessian, g, c_in, lower, inverse=None):
-        x, z = solve_free(self, hessian, g, c_in, lower, inverse)
+    def recording_free(self, hessian, g, c_in, lower, extra):
+        x, z, shift = solve_free(self, hessian, g, c_in, lower, extra)
         seen.append(((hessian, g, np.zeros((0, len(g))), np.zeros(0), c_in, lower), (x, np.zeros(0), z)))
-        return x, z
+        np.testing.assert_allclose(hessian @ shift, extra, atol=1e-12 * (1.0 + np.abs(extra).max()))
+        return x, z, shift
 
     monkeypatch.setattr(ContactQP, "solve", recording)
     monkeypatch.setattr(ContactQP, "solve_free", recording_free)
@@ -235,3 +236,44 @@ def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
     np.testing.assert_allclose(exact.q, reference.q, atol=1e-7)
     support = exact.normal.sum(axis=1)  # the total normal force is unique (the robot's weight and motion)
     np.testing.assert_allclose(support, reference.normal.sum(axis=1), rtol=1e-5)
+
+
+def test_the_small_solves_are_numpys():
+    """The closed-form inverses and solves of the free-coordinate QP against LAPACK's, and their singular cases."""
+    from pasibot_pin.constraints.solves import small_inverse
+
+    rng = np.random.default_rng(11)
+    for n in (1, 2, 3, 4):
+        for _ in range(20):
+            a = rng.normal(size=(n, n)) + n * np.eye(n)
+            b = rng.normal(size=n)
+            np.testing.assert_allclose(small_inverse(a), np.linalg.inv(a), rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(floor_qp._solve_small(a.tolist(), b.tolist()), np.linalg.solve(a, b), atol=1e-12)
+        singular = np.ones((n, n)) if n > 1 else np.zeros((1, 1))
+        assert floor_qp._solve_small(singular.tolist(), [1.0] * n) is None
+        with pytest.raises(np.linalg.LinAlgError):
+            small_inverse(singular)
+
+
+def test_the_free_qp_is_the_equality_qp_on_its_free_coordinates():
+    """solve_free on the free coordinates against solve on all of them with the others held by equality rows."""
+    rng = np.random.default_rng(5)
+    n, free = 7, [0, 1, 2]
+    root = rng.normal(size=(n, n))
+    hessian = root @ root.T + n * np.eye(n)
+    g, c_in = rng.normal(size=n), rng.normal(size=(8, n))
+    fixed = rng.normal(size=n - len(free))
+    inside = np.concatenate((rng.normal(size=len(free)), fixed))  # a feasible point: every row holds there
+    lower = c_in @ inside - np.abs(rng.normal(size=8)) * np.array([0, 0, 1, 1, 0, 1, 1, 1])  # some rows bind
+    a_eq = np.eye(n)[len(free) :]
+    full = ContactQP(pp.load("spring", 2).model)
+    x, _, z = full.solve(hessian, g, a_eq, fixed, c_in, lower)
+    h_ff, h_fs = hessian[:3, :3], hessian[:3, 3:]
+    extra = rng.normal(size=3)
+    qp = ContactQP(pp.load("spring", 2).model)
+    for _ in range(2):  # cold (every subset), then warm (the active set)
+        u, z_free, shift = qp.solve_free(h_ff, g[:3] + h_fs @ fixed, c_in[:, :3], lower - c_in[:, 3:] @ fixed, extra)
+        np.testing.assert_allclose(u, x[:3], atol=1e-9)
+        np.testing.assert_allclose(z_free, z, atol=1e-9)
+        np.testing.assert_allclose(h_ff @ shift, extra, atol=1e-12)
+    assert qp.fast == 2 and qp.fallback == 0

@@ -85,17 +85,20 @@ def test_the_closed_form_shapes_are_closed_and_their_tangents_solve_the_rows(cas
         t = k * h
         step = track.step(t, q)
         assert step is not None
-        np.testing.assert_array_equal(step.start, q[split.shape])
+        np.testing.assert_array_equal(step.start[split.shape], q[split.shape])
+        assert not step.start[split.free].any() and not step.products[split.free].any()
         if k % 37 == 0:
             rows = sim.bilateral.evaluate(q, None, t, sim.targets(t))
             assert np.abs(rows.phi).max() < 1e-12
             jac_s = rows.jac[:, split.shape]
-            np.testing.assert_allclose(jac_s @ step.tangent, identity, atol=1e-10)
+            np.testing.assert_allclose(jac_s @ step.tangent[split.shape], identity, atol=1e-10)
             # x_S solves the step's velocity row: J_S x_S = -Phi(q, t + h) / h
             ahead = sim.bilateral.evaluate(q, None, t + h, sim.targets(t + h))
-            np.testing.assert_allclose(jac_s @ step.velocity, -ahead.phi / h, atol=1e-9)
+            np.testing.assert_allclose(jac_s @ step.velocity[split.shape], -ahead.phi / h, atol=1e-9)
+            # the projection's move: the next closed shape less the step's first-order one
+            np.testing.assert_allclose(step.moved, step.end - step.start - h * step.velocity, atol=1e-15)
         q = q.copy()
-        q[split.shape] = step.end
+        q[split.shape] = step.end[split.shape]
 
 
 def test_a_tracked_run_is_the_general_run(case, monkeypatch):

@@ -34,13 +34,14 @@ Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, frame_rows, symmetric_mass_matrix
+from pasibot_pin.constraints.solves import small_inverse
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_runs: re-exported)
     LOAD_TOL,
@@ -52,8 +53,14 @@ from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_
     foot_mode,
     mode_runs,
 )
+from pasibot_pin.dynamics.floor_settings import (  # noqa: F401 (crank_advance, crank_advances: re-exported)
+    FloorSettings,
+    check_number,
+    crank_advance,
+    crank_advances,
+)
 from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack, TrackStep
-from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, spring_forces
+from pasibot_pin.dynamics.simulator import ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample
 from pasibot_pin.errors import (
     DivergedError,
@@ -85,34 +92,6 @@ SPEED_LIMIT = 1e3
 """A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
 
 
-def crank_advance(t: float, ramp: float) -> tuple[float, float]:
-    """How far a crank has turned by ``t`` [s] per unit of omega, and its rate over omega [-].
-
-    Over ``ramp`` [s] the rate rises as the smoothstep 3 x^2 - 2 x^3 (x = t / ramp), so neither
-    the rate nor the crank acceleration jumps at either end; then it stays at 1. The advance is
-    ramp (x^3 - x^4 / 2) during the ramp and t - ramp / 2 after it; ``ramp = 0``: t and 1.
-
-    Returns:
-        (advance [s], rate [-]): the crank angle is theta0 + omega advance, its rate omega rate.
-
-    """
-    if t <= 0.0:
-        return 0.0, 0.0 if ramp > 0 else 1.0
-    if t >= ramp:
-        return t - 0.5 * ramp, 1.0
-    x = t / ramp
-    return ramp * x**3 * (1.0 - 0.5 * x), x * x * (3.0 - 2.0 * x)
-
-
-def crank_advances(times: np.ndarray, ramp: float) -> np.ndarray:
-    """:func:`crank_advance`'s advance [s] at each of ``times`` (N,) [s], at once."""
-    t = np.maximum(np.asarray(times, dtype=float), 0.0)
-    if ramp <= 0:
-        return t
-    x = np.minimum(t / ramp, 1.0)
-    return np.where(t >= ramp, t - 0.5 * ramp, ramp * x**3 * (1.0 - 0.5 * x))
-
-
 class _StepTerms(NamedTuple):
     """The QP terms of one floor step (:meth:`FloorSimulator._terms`)."""
 
@@ -133,57 +112,6 @@ def _check_speed(v: np.ndarray) -> None:
     fastest = float(np.max(np.abs(v)))
     if not fastest <= SPEED_LIMIT:  # also catches NaN
         raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
-
-
-def _check(name: str, value: float, low: float, high: float = math.inf, low_open: bool = False) -> float:
-    value = float(value)
-    ok = math.isfinite(value) and (value > low if low_open else value >= low) and value <= high
-    if not ok:
-        bound = f"> {low:g}" if low_open else f">= {low:g}"
-        raise ParameterError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
-    return value
-
-
-@dataclass(frozen=True)
-class FloorSettings:
-    """How to simulate on the floor.
-
-    Attributes:
-        omega: crank rate [rad/s] (rheonomic cranks, theta0 + omega t).
-        crank_ramp: the cranks' rate rises from 0 to omega over this long [s], smoothly
-            (:func:`crank_advance`); 0: they turn at omega from t = 0 (an impulsive start).
-        spring: the ankle springs (``None``: free ankles).
-        mu: sole-floor Coulomb friction [-].
-        dt: time step [s].
-        theta0: initial right crank angle [rad].
-        hip: ``free`` or ``level`` (pitch held at 0).
-        fall_limit: a run without a verdict stops when |hip pitch| passes this [rad].
-        motors: the motor layout (:data:`~pasibot_pin.model.variants.MOTOR_LAYOUTS`): ``two``
-            (each crank on its own motor) or ``one`` (one motor, the cranks coupled pi apart).
-
-    """
-
-    omega: float = 0.1
-    spring: AnkleSpring | None = None
-    crank_ramp: float = 0.0
-    mu: float = 0.8
-    dt: float = 1e-3
-    theta0: float = math.pi / 2
-    hip: str = "free"
-    fall_limit: float = math.radians(60.0)
-    motors: str = "two"
-
-    def __post_init__(self) -> None:
-        _check("omega", self.omega, 0.0)
-        _check("crank_ramp", self.crank_ramp, 0.0, 1e3)
-        _check("mu", self.mu, 0.0)
-        _check("dt", self.dt, 0.0, 0.01, low_open=True)
-        _check("theta0", self.theta0, -1e3, 1e3)
-        _check("fall_limit", self.fall_limit, 0.0, math.pi, low_open=True)
-        if self.hip not in ("free", "level"):
-            raise ParameterError(f"parameter 'hip' must be free or level, got {self.hip!r}")
-        if self.motors not in MOTOR_LAYOUTS:
-            raise ParameterError(f"parameter 'motors' must be one of {', '.join(MOTOR_LAYOUTS)}, got {self.motors!r}")
 
 
 class FloorSimulator:
@@ -230,6 +158,7 @@ class FloorSimulator:
         self._held_sim: FloorSimulator | None = None
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
         self._contact: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
+        self._contact_jac = np.zeros(0, dtype=complex)
 
     def targets(self, t: float) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad]: the cranks at theta0 + omega advance (:func:`crank_advance`)."""
@@ -260,7 +189,9 @@ class FloorSimulator:
         """
         key = np.asarray(q, dtype=float).tobytes()
         if key != self._contact_key:
-            self._contact = self.contact_rows(q)
+            rows, jac, _, _ = self.points.evaluate(q)
+            self._contact = (rows.imag, rows.real, jac.imag, jac.real)
+            self._contact_jac = jac  # complex: J_t + i J_n, one product gives both rows
             self._contact_key = key
         return self._contact
 
@@ -294,43 +225,56 @@ class FloorSimulator:
     def _track_step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep, split: ShapeSplit):
         """:meth:`step` with the shape known ahead (:mod:`pasibot_pin.dynamics.shape_track`): the same answer.
 
-        The bilateral rows fix x_S = ``shape.velocity``; the QP is left on the free coordinates
-        (:meth:`~pasibot_pin.dynamics.floor_qp.ContactQP.solve_free`); the projection puts the
-        shape on ``shape.end`` and moves the free coordinates by the mass metric's answer,
-        -M_FF^-1 M_FS dS; the motors' multipliers follow by virtual work, y = D^T r_S with
-        r = H x + g - C^T z. ``None`` where H has no inverse on the free coordinates (the general
-        path's proxsuite takes it).
+        The bilateral rows fix x_S (``shape.velocity``); the QP is left on the free coordinates F
+        (:meth:`~pasibot_pin.dynamics.floor_qp.ContactQP.solve_free`):
+
+            H_FF u + [M (x_S - v)]_F + h (b - tau)_F = C_F^T z,   C_F u >= -gap / h - C x_S;
+
+        the projection puts the shape on ``shape.end`` and moves F by the mass metric's answer,
+        -M_FF^-1 [M moved]_F; the motors' multipliers follow by virtual work, y = D^T r with
+        r = H x + g - C^T z (D is zero on F, where H and M differ by the springs). M multiplies
+        x_S, the move and D in one product, the contact Jacobian x_S and D in another.
+        ``None`` where H_FF is singular (the general path's proxsuite takes it).
         """
-        free, cut = split.free, split.shape
-        terms = self._terms(q, v, h)
-        hessian = terms.hessian
-        x_s = shape.velocity
-        h_ff, h_fs = split.blocks(hessian)
+        model, data, s = self.robot.model, self.robot.data, self.settings
+        free, f = split.free, len(split.free)
+        gap = self._contact_at(q)[0]
+        mass = symmetric_mass_matrix(model, data, q)
+        pushed = h * pin.nonLinearEffects(model, data, q, v)  # h (b - tau)
+        h_ff = mass.take(split.free_free).reshape(f, f)
+        if s.spring is not None:  # linearly implicit, as in the general step
+            pushed -= h * spring_forces(self.robot, s.spring, q, self._zero_v, self.ankles)
+            ankles = np.isin(free, list(self.ankles.values()))
+            h_ff = h_ff + np.diag(ankles * (h * (h * s.spring.stiffness + s.spring.damping)))
+        products = shape.products
+        moment = mass.dot(v)
+        w = mass.dot(products)  # M [x_S, D, moved]
+        g_free = (w[:, 0] - moment + pushed)[free]
+        # the contact rows: J_F, J x_S and J D in one complex product (real: tangential, imaginary: normal)
+        jac = self._contact_jac
+        rows = np.concatenate((jac[:, free], jac.dot(products[:, :-1])), axis=1)
+        mu = s.mu
+        cone = np.concatenate((rows.imag + mu * rows.real, rows.imag - mu * rows.real))  # (8, f + 1 + scalar rows)
+        bound = -gap / h
+        lower = np.concatenate((bound, bound)) - cone[:, f]
         try:
-            inverse = np.linalg.inv(h_ff)
+            u, z, shift = self._qp.solve_free(h_ff, g_free, cone[:, :f], lower, w[free, -1])
         except np.linalg.LinAlgError:  # a free coordinate without inertia (a foot's mass on its ankle axis)
-            return None  # the general path (proxsuite takes a singular H)
-        g_free = terms.g[free] + h_fs.dot(x_s)
-        lower = terms.lower - terms.cone[:, cut].dot(x_s)
-        u, z = self._qp.solve_free(h_ff, g_free, terms.cone[:, free], lower, inverse)
+            return None
         _check_speed(u)  # x_S is the linkage's own, bounded by the crank speed
-        x = np.empty(len(q))
-        x[free], x[cut] = u, x_s
-        normal, tangential = terms.impulses(z)
-        residual = hessian.dot(x) + terms.g - terms.cone.T.dot(z)
-        motor = residual[cut].dot(shape.tangent)[self._motor_targets]
-        q_new = q + h * x
-        moved = shape.end - q_new[cut]
-        q_new[cut] = shape.end
-        if hessian is terms.mass:
-            q_new[free] -= inverse.dot(h_fs.dot(moved))
-        else:  # the springs' terms: the projection's metric is M alone
-            m_ff, m_fs = split.blocks(terms.mass)
+        x = shape.velocity.copy()
+        x[free] = u
+        k = len(gap)
+        normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
+        motor = (w[:, 0] - moment + pushed).dot(shape.tangent) + u.dot(w[free, 1:-1]) - z.dot(cone[:, f + 1 :])
+        q_new = shape.end.copy()
+        if s.spring is not None:  # the projection's metric is M alone, not H
             try:
-                q_new[free] -= np.linalg.solve(m_ff, m_fs.dot(moved))
+                shift = small_inverse(mass.take(split.free_free).reshape(f, f)).dot(w[free, -1])
             except np.linalg.LinAlgError:  # M singular: as the general projection, the least-norm correction,
-                pass  # which leaves the free coordinates (no row holds them)
-        return q_new, x, normal, tangential, motor
+                shift = 0.0  # which leaves the free coordinates (no row holds them)
+        q_new[free] = q[free] + h * u - shift
+        return q_new, x, normal, tangential, motor[self._motor_targets]
 
     def _terms(self, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None):
         """The step's QP terms at (q, v): H, g, the cone rows and their bounds (:class:`_StepTerms`)."""
@@ -508,7 +452,7 @@ class FloorSimulator:
 
         """
         s = self.settings
-        _check("duration", duration, 0.0, 1e5, low_open=True)
+        check_number("duration", duration, 0.0, 1e5, low_open=True)
         n = max(1, math.ceil(duration / s.dt - 1e-9))
         if n > MAX_STEPS:
             raise ParameterError(

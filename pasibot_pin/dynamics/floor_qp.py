@@ -48,6 +48,7 @@ Units: as the caller's (the floor step: x [m/s, rad/s], multipliers [N.s, N.m.s]
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 from itertools import combinations
 
@@ -55,6 +56,7 @@ import numpy as np
 import pinocchio as pin
 import proxsuite
 
+from pasibot_pin.constraints.solves import small_inverse
 from pasibot_pin.constraints.system import kkt_solve
 from pasibot_pin.errors import ContactSolveError
 
@@ -166,57 +168,50 @@ class ContactQP:
         return rows
 
     def solve_free(
-        self, hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray, inverse: np.ndarray | None = None
-    ) -> tuple[np.ndarray, np.ndarray]:
+        self, hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray, extra: np.ndarray
+    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """The QP without equality rows, min 1/2 x^T H x + g^T x s.t. C x >= l, on few freedoms.
 
         The floor's QP on the coordinates its bilateral rows leave free (the hip, a free ankle):
         the same warm-started active set as :meth:`solve` (the last step's rows, each redundant
-        group reduced), its KKT solved through H^-1 (a few freedoms: 3 x 3 for the biped), then
-        :func:`free_qp` (every subset) and proxsuite where the passes do not settle.
+        group reduced), its KKT through H^-1 in Python floats (three unknowns and eight rows for
+        the biped: numpy's per-call cost would exceed the arithmetic), then :func:`free_qp` (every
+        subset) and proxsuite where the passes do not settle.
 
         Args:
             hessian: H (n, n), symmetric positive definite.
             g: linear term (n,).
             c_in: inequality rows C (k, n).
             lower: their lower bounds (k,).
-            inverse: H^-1 if the caller has it.
+            extra: one more right-hand side (n,) to solve with H (the floor's projection).
 
         Returns:
-            (x, z): the solution and the cone multipliers (>= 0), H x + g = C^T z.
+            (x, z, H^-1 extra): the solution, the cone multipliers (>= 0) with H x + g = C^T z.
+
+        Raises:
+            numpy.linalg.LinAlgError: H is singular (the caller takes another path).
 
         """
         n = len(g)
+        inverse = small_inverse(hessian)
         out = None
         if self.active is not None and self._reduced(self.active, n, 0) is not None:
-            h_inv = np.linalg.inv(hessian) if inverse is None else inverse
-            x_0 = -h_inv.dot(g)  # the unconstrained minimum
-
-            def kkt(rows: list[int]):
-                if not rows:
-                    return x_0, np.zeros(0), None, bool(np.isfinite(x_0).all())
-                c_w = c_in[rows]
-                y_w = h_inv.dot(c_w.T)
-                try:
-                    z_w = np.linalg.solve(c_w.dot(y_w), lower[rows] - c_w.dot(x_0))
-                except np.linalg.LinAlgError:  # dependent rows
-                    return None
-                x = x_0 + y_w.dot(z_w)
-                return x, z_w, None, np.abs(c_w.dot(x) - lower[rows]).max() <= RESIDUAL_TOL
-
-            out = self._first_order(kkt, n, c_in, lower)
-        if out is None:
+            out = self._first_order(_free_kkt(inverse, g, c_in, lower), n)
+        if out is not None:
+            x = np.array(out[0])
+        else:
             found = free_qp(hessian, g, c_in, lower)
             if found is not None:
                 self.active = np.flatnonzero(found[1] > 0.0).tolist()
-                out = (*found, None)
+                out = found
+                x = found[0]
         if out is not None:
             self.fast += 1
-            return out[0], out[1]
+            return x, out[1], inverse.dot(extra)
         x, _, z = self._proxsuite(hessian, g, np.zeros((0, n)), np.zeros(0), c_in, lower)
         self.fallback += 1
         self.active = np.flatnonzero(z > 0.0).tolist()
-        return x, z
+        return x, z, inverse.dot(extra)
 
     def _active_set(self, hessian, g, a_eq, b_eq, c_in, lower):
         """The exact solve from the last active set, or ``None`` (no active set found)."""
@@ -233,31 +228,32 @@ class ContactQP:
                 x, lam = kkt_solve(self.model, self.data, -g, e_rows, -rhs)
             except ValueError:  # singular, or not finite
                 return None
-            return x, lam[m:], lam[:m].copy(), np.abs(e_rows @ x - rhs).max() <= RESIDUAL_TOL
+            accurate = bool(np.abs(e_rows @ x - rhs).max() <= RESIDUAL_TOL)  # also NaN
+            return x, lam[m:].tolist(), lam[:m].copy(), accurate, (c_in @ x - lower).tolist()
 
-        out = self._first_order(kkt, n - m, c_in, lower)
+        out = self._first_order(kkt, n - m)
         return None if out is None else (out[0], out[2], out[1])
 
-    def _first_order(self, kkt, n_free, c_in, lower):
+    def _first_order(self, kkt, n_free):
         """The passes from the last active set, each choice of left-out rows in turn: (x, z, y) or ``None``."""
         active = list(self.active or [])
-        out = self._passes(list(active), self.order, n_free, kkt, c_in, lower)  # nearly always
+        out = self._passes(list(active), self.order, n_free, kkt)  # nearly always
         if out is not None:
             return out
         for order in range(MAX_CHOICES):
             if order != self.order:
-                out = self._passes(list(active), order, n_free, kkt, c_in, lower)
+                out = self._passes(list(active), order, n_free, kkt)
                 if out is not None:
                     self.order = order
                     return out
         return None
 
-    def _passes(self, active, order, n_free, kkt, c_in, lower):
+    def _passes(self, active, order, n_free, kkt):
         """Active-set passes from ``active`` (redundant groups reduced by ``order``), or ``None``.
 
         ``kkt(rows)`` solves the KKT system with the cone rows ``rows`` held: (x, their
-        multipliers, the equality multipliers or None, whether the held rows are met to
-        :data:`RESIDUAL_TOL`), or ``None`` (singular).
+        multipliers (a list), the equality multipliers or None, whether the held rows are met to
+        :data:`RESIDUAL_TOL`, every cone row's slack C x - l (a list)), or ``None`` (singular).
         """
         for _ in range(MAX_PASSES):
             solved = self._reduced(active, n_free, order)
@@ -266,21 +262,24 @@ class ContactQP:
             out = kkt(solved)
             if out is None:
                 return None
-            x, z_active, y, accurate = out
-            if solved and z_active.min() < 0.0:
-                active.remove(solved[int(np.argmin(z_active))])
-                continue
-            slack = c_in @ x - lower
-            slack[solved] = np.inf
-            worst = int(np.argmin(slack))
-            if slack[worst] < -FEASIBILITY_TOL:
+            x, z_active, y, accurate, slack = out
+            if solved:
+                least = min(z_active)
+                if least < 0.0:
+                    active.remove(solved[z_active.index(least)])
+                    continue
+            for row in solved:
+                slack[row] = math.inf
+            least = min(slack)
+            if least < -FEASIBILITY_TOL:
+                worst = slack.index(least)
                 if worst in active:  # a row left out of its group is violated: another choice
                     return None
                 active.append(worst)
                 continue
-            if not accurate:  # also NaN
+            if not accurate:
                 return None
-            z = np.zeros(len(lower))
+            z = np.zeros(len(slack))
             z[solved] = z_active
             self.active = active
             return x, z, y
@@ -306,6 +305,83 @@ class ContactQP:
         else:
             raise ContactSolveError(f"the contact QP did not solve ({result.info.status})")
         return np.array(result.x), -np.array(result.y), -np.array(result.z)
+
+
+def _free_kkt(inverse: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray):
+    """``kkt(rows)`` of :meth:`ContactQP._passes` for the QP without equality rows, in Python floats.
+
+    x = x_0 + H^-1 C_W^T z_W with x_0 = -H^-1 g and (C_W H^-1 C_W^T) z_W = l_W - C_W x_0. One
+    product gives H^-1 [g, C^T] and another C H^-1 [g, C^T] (the Delassus matrix beside C x_0);
+    a pass then only picks entries and solves a system of at most three rows.
+    """
+    solved = inverse.dot(np.column_stack((g, c_in.T)))  # H^-1 [g, C^T]
+    along, seen = solved.tolist(), c_in.dot(solved).tolist()  # and C H^-1 [g, C^T]
+    low = lower.tolist()
+    n = len(along)
+
+    def kkt(rows: list[int]):
+        z_w: list[float] = []
+        x = [-a[0] for a in along]
+        accurate = True
+        if rows:
+            held = [[seen[i][1 + j] for j in rows] for i in rows]
+            rhs = [low[i] + seen[i][0] for i in rows]
+            solution = _solve_small(held, rhs)
+            if solution is None:  # dependent rows
+                return None
+            z_w = solution
+            pairs = [(z, 1 + j) for z, j in zip(z_w, rows)]
+            for d in range(n):
+                a = along[d]
+                for z, col in pairs:
+                    x[d] += z * a[col]
+            for row, r in zip(held, rhs):
+                miss = -r
+                for a, z in zip(row, z_w):
+                    miss += a * z
+                accurate = accurate and abs(miss) <= RESIDUAL_TOL  # False for NaN
+        if not math.isfinite(sum(x)):
+            return None
+        slack = []
+        for c, bound in zip(seen, low):  # C x - l = C x_0 + (C H^-1 C_W^T) z_W - l
+            value = -c[0] - bound
+            if z_w:
+                for z, col in pairs:
+                    value += z * c[col]
+            slack.append(value)
+        return x, z_w, None, accurate, slack
+
+    return kkt
+
+
+def _solve_small(matrix: list[list[float]], rhs: list[float]) -> list[float] | None:
+    """Solve a small square system given as lists (cofactors up to 3 x 3); ``None`` when singular."""
+    n = len(rhs)
+    if n == 1:
+        det = matrix[0][0]
+        return [rhs[0] / det] if det != 0.0 else None
+    if n == 2:
+        (a, b), (c, d) = matrix
+        det = a * d - b * c
+        if det == 0.0:
+            return None
+        return [(d * rhs[0] - b * rhs[1]) / det, (a * rhs[1] - c * rhs[0]) / det]
+    if n == 3:
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = matrix
+        c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
+        det = a00 * c00 + a01 * c01 + a02 * c02
+        if det == 0.0:
+            return None
+        r0, r1, r2 = rhs
+        return [
+            (c00 * r0 + (a02 * a21 - a01 * a22) * r1 + (a01 * a12 - a02 * a11) * r2) / det,
+            (c01 * r0 + (a00 * a22 - a02 * a20) * r1 + (a02 * a10 - a00 * a12) * r2) / det,
+            (c02 * r0 + (a01 * a20 - a00 * a21) * r1 + (a00 * a11 - a01 * a10) * r2) / det,
+        ]
+    try:
+        return small_inverse(np.array(matrix)).dot(rhs).tolist()
+    except np.linalg.LinAlgError:
+        return None
 
 
 def equality_space(a_eq: np.ndarray, b_eq: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:

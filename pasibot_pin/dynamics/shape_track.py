@@ -60,21 +60,36 @@ switch jumps by far more; a smooth step is O(h^2), below 1e-4)."""
 
 
 class TrackStep(NamedTuple):
-    """One step of the shape from t to t + h.
+    """One step of the shape from t to t + h, as full-size vectors (zero on the free coordinates).
 
     Attributes:
-        velocity: x_S, the shape's velocity in the step (m,) [rad/s, m/s].
-        start: s at t (m,): the state's shape.
-        end: s at t + h (m,): the closed shape after the step.
-        tangent: D = J_S^-1 [0; I] (m, scalar rows): the shape's motion per unit of each scalar
-            row's target [rad/rad, m/rad].
+        start: s at t (nv,): the state's shape.
+        end: s at t + h (nv,): the closed shape after the step.
+        products: (nv, 2 + scalar rows) columns that the step multiplies by M: x_S, the shape's
+            velocity in the step [rad/s, m/s]; D = J_S^-1 [0; I], the shape's motion per unit of
+            each scalar row's target [rad/rad, m/rad]; and s_(k+1) - s_k - h x_S, the
+            projection's move of the shape [rad, m].
 
     """
 
-    velocity: np.ndarray
     start: np.ndarray
     end: np.ndarray
-    tangent: np.ndarray
+    products: np.ndarray
+
+    @property
+    def velocity(self) -> np.ndarray:
+        """x_S (nv,)."""
+        return self.products[:, 0]
+
+    @property
+    def moved(self) -> np.ndarray:
+        """s_(k+1) - s_k - h x_S (nv,)."""
+        return self.products[:, -1]
+
+    @property
+    def tangent(self) -> np.ndarray:
+        """D (nv, scalar rows)."""
+        return self.products[:, 1:-1]
 
 
 @dataclass(frozen=True)
@@ -176,10 +191,14 @@ class ShapeTrack:
     """
 
     def __init__(
-        self, robot: PasibotRobot, split: ShapeSplit, targets_at: Callable[[np.ndarray], np.ndarray], h: float
+        self,
+        robot: PasibotRobot,
+        split: ShapeSplit,
+        targets_at: Callable[[np.ndarray], np.ndarray],
+        h: float,
     ) -> None:
         self.robot, self.split, self.targets_at, self.h = robot, split, targets_at, h
-        self._block: tuple[float, np.ndarray, np.ndarray, np.ndarray, int] | None = None  # t0, s, D, x_S, length
+        self._block: tuple[float, np.ndarray, np.ndarray, int] | None = None  # t0, shapes, products, length
         self._declined_until = -math.inf
         self._misses = 0  # blocks declined in a row
 
@@ -188,9 +207,9 @@ class ShapeTrack:
         block = self._block
         if block is not None:
             k = round((t - block[0]) / self.h)
-            if 0 <= k < block[4] and abs(block[0] + k * self.h - t) <= 1e-6 * self.h:
-                shapes, tangents, velocities = block[1], block[2], block[3]
-                return TrackStep(velocities[k], shapes[k], shapes[k + 1], tangents[k])
+            if 0 <= k < block[3] and abs(block[0] + k * self.h - t) <= 1e-6 * self.h:
+                shapes, products = block[1], block[2]
+                return TrackStep(shapes[k], shapes[k + 1], products[k])
         if t < self._declined_until:
             return None
         self._block = self._solve_block(t, q)
@@ -203,24 +222,30 @@ class ShapeTrack:
 
     def _solve_block(self, t: float, q: np.ndarray):
         """The shapes from ``t`` on, in ``q``'s turns, up to the first jump; ``None`` when ``q`` is off them."""
-        split, h = self.split, self.h
+        split, h, cut = self.split, self.h, self.split.shape
         times = t + h * np.arange(BLOCK + 1)
         thetas = split.thetas(self.targets_at(times))
         try:
             q_all, v_all, _, _ = analytic_motion(self.robot, thetas[:, 0], 1.0, None)
         except ValueError:  # a loop that cannot assemble in the block: the general path names it
             return None
-        shapes = q_all[:, split.shape]
+        shapes = q_all[:, cut]
         unwrap_angles(shapes, split.angular)
-        turns = np.round((q[split.shape] - shapes[0]) * (0.5 / math.pi)) * split.angular
+        turns = np.round((q[cut] - shapes[0]) * (0.5 / math.pi)) * split.angular
         shapes += (2 * math.pi) * turns
-        if not np.abs(q[split.shape] - shapes[0]).max() <= MATCH_TOL:
+        if not np.abs(q[cut] - shapes[0]).max() <= MATCH_TOL:
             return None
-        per_crank = v_all[:, split.shape, None] * split.legs[None]  # ds/dtheta of each leg (N, m, 2)
+        per_crank = v_all[:, cut, None] * split.legs[None]  # ds/dtheta of each leg (N, m, 2)
         velocities = np.einsum("kic,kc->ki", per_crank[:-1], np.diff(thetas, axis=0) / h)
-        off = np.abs(shapes[1:] - shapes[:-1] - h * velocities).max(axis=1)
+        moved = shapes[1:] - shapes[:-1] - h * velocities
+        off = np.abs(moved).max(axis=1)
         length = int(np.argmax(off > JUMP_TOL)) if (off > JUMP_TOL).any() else BLOCK
         if length == 0:
             return None
-        tangents = per_crank @ split.crank_of_target  # D = T E^-1
-        return t, shapes, tangents, velocities, length
+        tangents = per_crank[:-1] @ split.crank_of_target  # D = T E^-1
+        nv = len(q)
+        full = np.zeros((BLOCK + 1, nv))
+        full[:, cut] = shapes
+        products = np.zeros((BLOCK, nv, 2 + tangents.shape[2]))
+        products[:, cut, 0], products[:, cut, 1:-1], products[:, cut, -1] = velocities, tangents, moved
+        return t, full, products, length
