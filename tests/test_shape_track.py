@@ -127,21 +127,32 @@ def test_a_tracked_run_is_the_general_run(case, monkeypatch):
     assert np.median(np.abs(tracked.motor_torque - general.motor_torque)) < 1e-6 * np.abs(general.motor_torque).max()
 
 
-def test_the_track_declines_a_state_off_its_shape(monkeypatch):
-    """A start off the closed form's shape takes one general step (its projection closes the loops), then the track."""
+@pytest.fixture(scope="module")
+def walker():
+    """The parallel walker's simulator and its consistent start."""
     design = DESIGNS["parallel"]
     robot = design_robot(design, 2, visuals=False)
-    settings = floor_settings(design, WalkSettings(steps=4), robot)
-    sim = FloorSimulator(robot, settings)
-    start = sim.start_state()
-    general_steps = []
+    sim = FloorSimulator(robot, floor_settings(design, WalkSettings(steps=4), robot))
+    return sim, sim.start_state()
+
+
+def _count_general_steps(monkeypatch) -> list[float]:
+    """The start time of every step the floor takes by its general path, from now on."""
+    times: list[float] = []
     step = FloorSimulator.step
 
     def counting(self, *args, **kwargs):
-        general_steps.append(args[0])
+        times.append(args[0])
         return step(self, *args, **kwargs)
 
     monkeypatch.setattr(FloorSimulator, "step", counting)
+    return times
+
+
+def test_the_track_declines_a_state_off_its_shape(walker, monkeypatch):
+    """A start off the closed form's shape takes one general step (its projection closes the loops), then the track."""
+    sim, start = walker
+    general_steps = _count_general_steps(monkeypatch)
     sim.run(0.05, start.q, start.v)
     assert general_steps == []
     off = start.q.copy()
@@ -150,23 +161,17 @@ def test_the_track_declines_a_state_off_its_shape(monkeypatch):
     assert general_steps == [0.0]
 
 
-def test_a_failing_closed_form_leaves_the_steps_to_the_general_path(monkeypatch):
-    design = DESIGNS["parallel"]
-    robot = design_robot(design, 2, visuals=False)
-    settings = floor_settings(design, WalkSettings(steps=4), robot)
-    sim = FloorSimulator(robot, settings)
-    start = sim.start_state()
+def test_a_failing_closed_form_leaves_the_steps_to_the_general_path(walker, monkeypatch):
+    sim, start = walker
     tracked = sim.run(0.1, start.q, start.v)
 
     def failing(*args, **kwargs):
         raise ValueError("loop j5 cannot assemble")
 
     monkeypatch.setattr(shape_track, "analytic_motion", failing)
-    calls = []
-    step = FloorSimulator.step
-    monkeypatch.setattr(FloorSimulator, "step", lambda self, *a, **k: calls.append(1) or step(self, *a, **k))
-    general = FloorSimulator(robot, settings).run(0.1, start.q, start.v)
-    assert len(calls) == 100
+    general_steps = _count_general_steps(monkeypatch)
+    general = FloorSimulator(sim.robot, sim.settings).run(0.1, start.q, start.v)
+    assert len(general_steps) == 100
     np.testing.assert_allclose(tracked.q, general.q, atol=1e-9)
 
 
