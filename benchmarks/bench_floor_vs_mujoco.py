@@ -13,7 +13,8 @@ start (the flat double support) for :data:`DURATION` simulated seconds, CPU time
 3. MuJoCo, the twin: the same with the judge's samples (``walk_in_mujoco``'s loop: contact
    forces every step, a verdict sample every ms), for the cost of judging in Python.
 
-Each rate is the best of :data:`REPEAT` runs. Prints each rate and the ratio ours / MuJoCo (the
+:data:`REPEAT` rounds of the three, interleaved (the machine's speed drifts by 2x within minutes):
+prints each engine's best rate and the median over the rounds of the ratio ours / MuJoCo (the
 walking issue's goal: ours >= 2 x MuJoCo's).
 
 Run: ``.venv/bin/python benchmarks/bench_floor_vs_mujoco.py``.
@@ -22,6 +23,7 @@ Run: ``.venv/bin/python benchmarks/bench_floor_vs_mujoco.py``.
 from __future__ import annotations
 
 import math
+import statistics
 import time
 
 from pasibot_pin.dynamics.floor import FloorSimulator
@@ -31,8 +33,8 @@ from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
 DURATION = 3.0
 """Simulated time of each run [s] (the ramp, double support and most of the first step)."""
-REPEAT = 3
-"""Each rate is the best of this many runs (the machine is shared: the best is the least disturbed)."""
+REPEAT = 5
+"""Rounds of the three runs, interleaved; a rate is the best round's, a ratio the median of the rounds' ratios."""
 WALKER = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=1.0)
 
 
@@ -71,20 +73,25 @@ def mujoco_rate(robot, settings: WalkSettings, judged: bool) -> tuple[float, flo
 def main() -> None:
     robot = design_robot(WALKER, 2, visuals=False)
     settings = WalkSettings(steps=4)
-    ours, dt = max(ours_rate(robot, settings) for _ in range(REPEAT))
-    bare, h = max(mujoco_rate(robot, settings, judged=False) for _ in range(REPEAT))
-    judged, _ = max(mujoco_rate(robot, settings, judged=True) for _ in range(REPEAT))
+    ours, bare, judged = [], [], []
+    for _ in range(REPEAT):  # interleaved: a pair measured back to back sees the same machine
+        ours.append(ours_rate(robot, settings))
+        bare.append(mujoco_rate(robot, settings, judged=False))
+        judged.append(mujoco_rate(robot, settings, judged=True))
+    dt, h = ours[0][1], bare[0][1]
     print(f"walker: parallel, 4.5 L soles, omega = 1 rad/s; {DURATION:g} s simulated from the flat double support")
-    print(f"each rate the best of {REPEAT} runs, CPU time")
+    print(f"{REPEAT} interleaved rounds, CPU time; a rate is the best round's, a ratio the median of the rounds'")
     rows = (
         (f"ours (FloorSimulator, dt {dt * 1e3:g} ms)", ours),
         (f"MuJoCo bare (mj_step, dt {h * 1e3:g} ms)", bare),
         (f"MuJoCo twin (walk_in_mujoco's loop, dt {h * 1e3:g} ms)", judged),
     )
-    for label, rate in rows:
-        print(f"{label:<46}: {rate:7.3f} simulated s per CPU s")
-    print(f"ours / MuJoCo bare: {ours / bare:6.2f}   (goal >= 2)")
-    print(f"ours / MuJoCo twin: {ours / judged:6.2f}")
+    for label, rates in rows:
+        print(f"{label:<46}: {max(r for r, _ in rates):7.3f} simulated s per CPU s")
+    for label, rates, goal in (("bare", bare, "   (goal >= 2)"), ("twin", judged, "")):
+        ratios = [o / m for (o, _), (m, _) in zip(ours, rates)]
+        spread = f"rounds {min(ratios):.2f}-{max(ratios):.2f}"
+        print(f"ours / MuJoCo {label}: {statistics.median(ratios):6.2f}   ({spread}){goal}")
 
 
 if __name__ == "__main__":
