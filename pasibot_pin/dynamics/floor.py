@@ -247,9 +247,9 @@ class FloorSimulator:
             ankles = np.isin(free, list(self.ankles.values()))
             h_ff = h_ff + np.diag(ankles * (h * (h * s.spring.stiffness + s.spring.damping)))
         products = shape.products
-        moment = mass.dot(v)
         w = mass.dot(products)  # M [x_S, D, moved]
-        g_free = (w[:, 0] - moment + pushed)[free]
+        held = w[:, 0] - mass.dot(v) + pushed  # H x + g with the free coordinates at rest, u = 0
+        g_free = held[free]
         # the contact rows: J_F, J x_S and J D in one complex product (real: tangential, imaginary: normal)
         jac = self._contact_jac
         rows = np.concatenate((jac[:, free], jac.dot(products[:, :-1])), axis=1)
@@ -266,7 +266,7 @@ class FloorSimulator:
         x[free] = u
         k = len(gap)
         normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
-        motor = (w[:, 0] - moment + pushed).dot(shape.tangent) + u.dot(w[free, 1:-1]) - z.dot(cone[:, f + 1 :])
+        motor = held.dot(shape.tangent) + u.dot(w[free, 1:-1]) - z.dot(cone[:, f + 1 :])
         q_new = shape.end.copy()
         if s.spring is not None:  # the projection's metric is M alone, not H
             try:
