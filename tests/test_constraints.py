@@ -227,3 +227,16 @@ def test_frame_rows_of_one_sample_equal_the_batched_ones(robots, key):
         [(rows.evaluate(q + eps * e)[0] - rows.evaluate(q - eps * e)[0]) / (2 * eps) for e in np.eye(model.nv)]
     )
     np.testing.assert_allclose(one[1], fd, atol=1e-8)
+
+
+@pytest.mark.parametrize("key", MODELS, ids=[f"{v}-{n}" for v, n in MODELS])
+def test_the_mass_matrix_is_symmetric_bit_for_bit_and_new(robots, key):
+    """``symmetric_mass_matrix`` is pin.crba's answer: both triangles, exact copies, a fresh array each call."""
+    robot = robots[key]
+    model, data = robot.model, robot.model.createData()
+    q, _ = _moving_state(robot, 3)
+    mass = constraints.symmetric_mass_matrix(model, data, q)
+    assert np.array_equal(mass, mass.T) and np.abs(np.tril(mass, -1)).max() > 0.0
+    np.testing.assert_allclose(np.triu(mass), np.triu(pin.crba(model, model.createData(), q)), rtol=0, atol=0)
+    again = constraints.symmetric_mass_matrix(model, data, q + 0.1)
+    assert not np.shares_memory(mass, again) and not np.array_equal(mass, again)

@@ -17,19 +17,14 @@ import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError, SingularPoseError
 
-_STRICT_LOWER: dict[int, np.ndarray] = {}
-"""The strict lower triangle's mask, per nv."""
 
 def symmetric_mass_matrix(model: pin.Model, data: pin.Data, q: np.ndarray) -> np.ndarray:
-    """Joint-space mass matrix M(q), both triangles filled [kg, kg.m, kg.m^2].
+    """Joint-space mass matrix M(q), both triangles filled, a new array [kg, kg.m, kg.m^2].
 
-    ``pin.crba`` fills the upper triangle; the lower one is copied from it.
+    Pin 4.1's ``crba`` binding returns M with its lower triangle copied from the upper one, in a
+    new array (``tests/test_constraints.py`` holds it to that, bit for bit, on every variant).
     """
-    upper = pin.crba(model, data, q)
-    lower = _STRICT_LOWER.get(model.nv)
-    if lower is None:
-        lower = _STRICT_LOWER[model.nv] = np.tri(model.nv, k=-1, dtype=bool)
-    return np.where(lower, upper.T, upper)  # a new array: exact copies of the upper triangle
+    return pin.crba(model, data, q)
 
 
 def kkt_solve(model: pin.Model, data: pin.Data, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray):
