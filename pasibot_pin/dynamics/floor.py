@@ -529,13 +529,13 @@ class FloorSimulator:
         for i in range(len(SIDES)):
             heel, toe = 2 * i, 2 * i + 1
             feet.append(
-                FootSample(
-                    loaded=loaded[heel] or loaded[toe],
-                    x=0.5 * (xs[heel] + xs[toe]),
-                    pitch=math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
-                    normal=f_n[heel] + f_n[toe],
-                    slip=max(abs(slip[heel]) if loaded[heel] else 0.0, abs(slip[toe]) if loaded[toe] else 0.0),
-                    on_point=loaded[heel] != loaded[toe],
+                FootSample(  # loaded, x, pitch, normal, slip, on_point
+                    loaded[heel] or loaded[toe],
+                    0.5 * (xs[heel] + xs[toe]),
+                    math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
+                    f_n[heel] + f_n[toe],
+                    max(abs(slip[heel]) if loaded[heel] else 0.0, abs(slip[toe]) if loaded[toe] else 0.0),
+                    loaded[heel] != loaded[toe],
                 )
             )
         power = (0.0, 0.0)
