@@ -237,14 +237,14 @@ class FloorSimulator:
         ``None`` where H_FF is singular (the general path's proxsuite takes it).
         """
         model, data, s = self.robot.model, self.robot.data, self.settings
-        free, f = split.free, len(split.free)
+        free, f = split.at, len(split.free)  # a slice for the hip alone: views, not copies
         gap = self._contact_at(q)[0]
         mass = symmetric_mass_matrix(model, data, q)
         pushed = h * pin.nonLinearEffects(model, data, q, v)  # h (b - tau)
-        h_ff = mass.take(split.free_free).reshape(f, f)
+        h_ff = split.free_block(mass)
         if s.spring is not None:  # linearly implicit, as in the general step
             pushed -= h * spring_forces(self.robot, s.spring, q, self._zero_v, self.ankles)
-            ankles = np.isin(free, list(self.ankles.values()))
+            ankles = np.isin(split.free, list(self.ankles.values()))
             h_ff = h_ff + np.diag(ankles * (h * (h * s.spring.stiffness + s.spring.damping)))
         products = shape.products
         w = mass.dot(products)  # M [x_S, D, moved]
@@ -270,7 +270,7 @@ class FloorSimulator:
         q_new = shape.end.copy()
         if s.spring is not None:  # the projection's metric is M alone, not H
             try:
-                shift = small_inverse(mass.take(split.free_free).reshape(f, f)).dot(w[free, -1])
+                shift = small_inverse(split.free_block(mass)).dot(w[free, -1])
             except np.linalg.LinAlgError:  # M singular: as the general projection, the least-norm correction,
                 shift = 0.0  # which leaves the free coordinates (no row holds them)
         q_new[free] = q[free] + h * u - shift

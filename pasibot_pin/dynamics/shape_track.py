@@ -105,7 +105,8 @@ class ShapeSplit:
         legs: (m, 2) masks of the shape coordinates of the right and the left leg.
         angular: (m,) mask of the shape coordinates that are angles.
         free_free: flat indices of the (F, F) block of an (nv, nv) matrix (``take``: cheaper than ``np.ix_``).
-        free_shape: flat indices of its (F, S) block.
+        at: the free coordinates as an index: a slice where they are contiguous (the hip: views,
+            no copies), else ``free``.
 
     """
 
@@ -117,7 +118,7 @@ class ShapeSplit:
     legs: np.ndarray
     angular: np.ndarray
     free_free: np.ndarray
-    free_shape: np.ndarray
+    at: slice | np.ndarray
 
     @classmethod
     def of(
@@ -156,13 +157,17 @@ class ShapeSplit:
             return None
         angular = angular_coordinates(robot.model)[shape]
         nv = jac.shape[1]
-        free_free, free_shape = (free[:, None] * nv + free).ravel(), (free[:, None] * nv + shape).ravel()
-        return cls(free, shape, cranks, e_inv, offset, legs, angular, free_free, free_shape)
+        free_free = (free[:, None] * nv + free).ravel()
+        contiguous = bool(len(free)) and np.array_equal(free, np.arange(free[0], free[0] + len(free)))
+        at = slice(int(free[0]), int(free[0]) + len(free)) if contiguous else free
+        return cls(free, shape, cranks, e_inv, offset, legs, angular, free_free, at)
 
-    def blocks(self, matrix: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The (F, F) and (F, S) blocks of an (nv, nv) ``matrix`` (new arrays)."""
+    def free_block(self, matrix: np.ndarray) -> np.ndarray:
+        """The (F, F) block of an (nv, nv) ``matrix`` (a view where F is contiguous, else a new array)."""
+        if isinstance(self.at, slice):
+            return matrix[self.at, self.at]
         f = len(self.free)
-        return matrix.take(self.free_free).reshape(f, f), matrix.take(self.free_shape).reshape(f, len(self.shape))
+        return matrix.take(self.free_free).reshape(f, f)
 
     def thetas(self, targets: np.ndarray) -> np.ndarray:
         """Crank angles (N, 2) [rad] of the scalar rows' targets (N, scalar rows)."""
