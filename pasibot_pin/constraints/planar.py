@@ -303,12 +303,19 @@ class PlanarRowBlocks:
 
     def _evaluate_one(self, q: np.ndarray):
         """:meth:`evaluate` of one sample without its drift, in a dozen numpy calls."""
+        rows, jac = self.rows_and_jacobian(q)
+        return rows, jac, None, q.dot(self._pitch_AT) + self.pitch_a0
+
+    def rows_and_jacobian(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The point rows P (n,) and their Jacobian (n, nv) of one sample, complex (no drift, no pitch rows)."""
+        if self._w is None:
+            self._one_sample_tables()
         phase = np.exp(1j * self._exp_A.dot(q))
         if len(self._slid_a):
             phase[self._slid_a] *= q[self._slid_index]
         weighted = self._w * phase
         rows = weighted.dot(self._value) + self.fixed_jac.dot(q) + self.fixed_rows
-        return rows, weighted.dot(self._b) + self.fixed_jac, None, q.dot(self._pitch_AT) + self.pitch_a0
+        return rows, weighted.dot(self._b) + self.fixed_jac
 
     def _turned(self, q: np.ndarray):
         """(c exp(i phi), the slider factor or None) of every moving term."""

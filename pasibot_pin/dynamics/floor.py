@@ -189,7 +189,7 @@ class FloorSimulator:
         """
         key = np.asarray(q, dtype=float).tobytes()
         if key != self._contact_key:
-            rows, jac, _, _ = self.points.evaluate(q)
+            rows, jac = self.points.rows_and_jacobian(np.asarray(q, dtype=float))
             self._contact = (rows.imag, rows.real, jac.imag, jac.real)
             self._contact_jac = jac  # complex: J_t + i J_n, one product gives both rows
             self._contact_key = key
