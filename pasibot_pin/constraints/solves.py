@@ -2,7 +2,7 @@
 
 :func:`kkt_solve` is the package's one KKT solve (Pinocchio's ``forwardDynamics`` with our rows);
 :func:`split_torques` splits joint torques into actuator torques and constraint forces;
-:func:`small_inverse` inverts a 3 x 3 without LAPACK's call cost;
+:func:`small_inverse` and :func:`inverse_lists` invert a 3 x 3 without LAPACK's call cost;
 the square solves raise the package's typed errors on a singular pose.
 
 Units: SI.
@@ -132,7 +132,7 @@ def square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
 
 
 def small_inverse(matrix: np.ndarray) -> np.ndarray:
-    """The inverse of a small square matrix; up to 3 x 3 in closed form (cofactors over the determinant).
+    """The inverse of a small square matrix; up to 3 x 3 in closed form (:func:`inverse_lists`).
 
     LAPACK's call costs 20-30 us inside a simulation loop (cold code), far more than a 3 x 3's
     arithmetic: the floor's QP on the hip's three freedoms inverts two or three such matrices per
@@ -142,34 +142,41 @@ def small_inverse(matrix: np.ndarray) -> np.ndarray:
         numpy.linalg.LinAlgError: the matrix is singular (a zero or non-finite determinant).
 
     """
-    n = matrix.shape[0]
-    if n > 3:
+    if matrix.shape[0] > 3:
         return np.linalg.inv(matrix)
+    return np.array(inverse_lists(matrix.tolist()))
+
+
+def inverse_lists(matrix: list[list[float]]) -> list[list[float]]:
+    """The inverse of a 1 x 1, 2 x 2 or 3 x 3 matrix given as lists, by cofactors over the determinant.
+
+    Raises:
+        numpy.linalg.LinAlgError: the matrix is singular (a zero or non-finite determinant).
+
+    """
+    n = len(matrix)
     if n == 1:
-        det = float(matrix[0, 0])
-        if det == 0.0 or not math.isfinite(det):
-            raise np.linalg.LinAlgError("singular matrix")
-        return np.array([[1.0 / det]])
-    if n == 2:
-        (a, b), (c, d) = matrix.tolist()
+        det = matrix[0][0]
+        cofactors = [[1.0]]
+    elif n == 2:
+        (a, b), (c, d) = matrix
         det = a * d - b * c
-        if det == 0.0 or not math.isfinite(det):
-            raise np.linalg.LinAlgError("singular matrix")
-        r = 1.0 / det
-        return np.array([[d * r, -b * r], [-c * r, a * r]])
-    (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = matrix.tolist()
-    c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
-    det = a00 * c00 + a01 * c01 + a02 * c02
+        cofactors = [[d, -b], [-c, a]]
+    elif n == 3:
+        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = matrix
+        c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
+        det = a00 * c00 + a01 * c01 + a02 * c02
+        cofactors = [
+            [c00, a02 * a21 - a01 * a22, a01 * a12 - a02 * a11],
+            [c01, a00 * a22 - a02 * a20, a02 * a10 - a00 * a12],
+            [c02, a01 * a20 - a00 * a21, a00 * a11 - a01 * a10],
+        ]
+    else:
+        raise ValueError(f"inverse_lists takes 1 x 1 to 3 x 3 matrices, got {n} x {n}")
     if det == 0.0 or not math.isfinite(det):
         raise np.linalg.LinAlgError("singular matrix")
     r = 1.0 / det
-    return np.array(
-        [
-            [c00 * r, (a02 * a21 - a01 * a22) * r, (a01 * a12 - a02 * a11) * r],
-            [c01 * r, (a00 * a22 - a02 * a20) * r, (a02 * a10 - a00 * a12) * r],
-            [c02 * r, (a01 * a20 - a00 * a21) * r, (a00 * a11 - a01 * a10) * r],
-        ]
-    )
+    return [[c * r for c in row] for row in cofactors]
 
 
 def frame_jacobian(model: pin.Model, data: pin.Data, q: np.ndarray, frame: int) -> np.ndarray:

@@ -102,10 +102,15 @@ class _StepTerms(NamedTuple):
     lower: np.ndarray
     mu: float
 
-    def impulses(self, z: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """Normal and tangential impulses (4,) [N.s] of the cone multipliers z (8,)."""
-        k = len(z) // 2
-        return z[:k] + z[k:], self.mu * (z[:k] - z[k:])
+
+def _impulses(z: np.ndarray, mu: float) -> tuple[np.ndarray, np.ndarray]:
+    """Normal and tangential impulses (points,) [N.s] of the cone multipliers z (2 points,).
+
+    A point's rows k (n + mu t) and k + points (n - mu t) give n = z_k + z_(k+points) and
+    t = mu (z_k - z_(k+points)).
+    """
+    k = len(z) // 2
+    return z[:k] + z[k:], mu * (z[:k] - z[k:])
 
 
 def _check_speed(v: np.ndarray) -> None:
@@ -217,7 +222,7 @@ class FloorSimulator:
         # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
         v_new, bilateral, z = self._qp.solve(terms.hessian, terms.g, jac, -phi / h, terms.cone, terms.lower)
         _check_speed(v_new)
-        normal, tangential = terms.impulses(z)
+        normal, tangential = _impulses(z, terms.mu)
         q_new, after, _ = self.bilateral.project_rows(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
         self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets))  # the rows at q_new, t + h
         return q_new, v_new, normal, tangential, bilateral[self._crank_rows]
@@ -240,12 +245,11 @@ class FloorSimulator:
         free, f = split.at, len(split.free)  # a slice for the hip alone: views, not copies
         gap = self._contact_at(q)[0]
         mass = symmetric_mass_matrix(model, data, q)
-        pushed = h * pin.nonLinearEffects(model, data, q, v)  # h (b - tau)
+        tau, stiffness = self._springs(q, h)  # linearly implicit, as in the general step
+        pushed = h * (pin.nonLinearEffects(model, data, q, v) - tau)  # h (b - tau)
         h_ff = split.free_block(mass)
-        if s.spring is not None:  # linearly implicit, as in the general step
-            pushed -= h * spring_forces(self.robot, s.spring, q, self._zero_v, self.ankles)
-            ankles = np.isin(split.free, list(self.ankles.values()))
-            h_ff = h_ff + np.diag(ankles * (h * (h * s.spring.stiffness + s.spring.damping)))
+        if stiffness:
+            h_ff = h_ff + np.diag(np.isin(split.free, list(self.ankles.values())) * stiffness)
         products = shape.products
         w = mass.dot(products)  # M [x_S, D, moved]
         held = w[:, 0] - mass.dot(v) + pushed  # H x + g with the free coordinates at rest, u = 0
@@ -264,11 +268,10 @@ class FloorSimulator:
         _check_speed(u)  # x_S is the linkage's own, bounded by the crank speed
         x = shape.velocity.copy()
         x[free] = u
-        k = len(gap)
-        normal, tangential = z[:k] + z[k:], mu * (z[:k] - z[k:])
+        normal, tangential = _impulses(z, mu)
         motor = held.dot(shape.tangent) + u.dot(w[free, 1:-1]) - z.dot(cone[:, f + 1 :])
         q_new = shape.end.copy()
-        if s.spring is not None:  # the projection's metric is M alone, not H
+        if stiffness:  # the projection's metric is M alone, not H
             try:
                 shift = small_inverse(split.free_block(mass)).dot(w[free, -1])
             except np.linalg.LinAlgError:  # M singular: as the general projection, the least-norm correction,
@@ -284,17 +287,28 @@ class FloorSimulator:
         mass = symmetric_mass_matrix(model, data, q)
         bias = pin.nonLinearEffects(model, data, q, v)
         hessian = mass
-        tau = self._zero_v
-        if s.spring is not None and spring_scale > 0:
-            spring = s.spring if spring_scale == 1.0 else s.spring.scaled(spring_scale)
-            tau = spring_forces(self.robot, spring, q, self._zero_v, self.ankles)
+        tau, stiffness = self._springs(q, h, spring_scale)
+        if stiffness:
             hessian = mass.copy()
             for i in self.ankles.values():
-                hessian[i, i] += h * (h * spring.stiffness + spring.damping)
+                hessian[i, i] += stiffness
         g = -(mass @ v + h * (tau - bias))
         cone = np.concatenate((jn + mu * jt, jn - mu * jt))
         lower = -gap / h
         return _StepTerms(mass, hessian, g, cone, np.concatenate((lower, lower)), mu)
+
+    def _springs(self, q: np.ndarray, h: float, scale: float = 1.0) -> tuple[np.ndarray, float]:
+        """The ankle springs' torque at ``q`` (nv,) [N.m] and their implicit term on each ankle's diagonal of H.
+
+        tau(q + h v+, v+) = tau(q, 0) - (K h + c) v+ puts h (h K + c) [kg.m^2] on H. No springs (or
+        ``scale`` 0): zero torque and 0.
+        """
+        spring = self.settings.spring
+        if spring is None or scale <= 0:
+            return self._zero_v, 0.0
+        spring = spring if scale == 1.0 else spring.scaled(scale)
+        tau = spring_forces(self.robot, spring, q, self._zero_v, self.ankles)
+        return tau, h * (h * spring.stiffness + spring.damping)
 
     def _goal(self, t: float, targets: np.ndarray | None) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad] (``targets``, or offset + rate t)."""

@@ -56,7 +56,7 @@ import numpy as np
 import pinocchio as pin
 import proxsuite
 
-from pasibot_pin.constraints.solves import small_inverse
+from pasibot_pin.constraints.solves import inverse_lists, small_inverse
 from pasibot_pin.constraints.system import kkt_solve
 from pasibot_pin.errors import ContactSolveError
 
@@ -356,30 +356,10 @@ def _free_kkt(inverse: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.nd
 
 def _solve_small(matrix: list[list[float]], rhs: list[float]) -> list[float] | None:
     """Solve a small square system given as lists (cofactors up to 3 x 3); ``None`` when singular."""
-    n = len(rhs)
-    if n == 1:
-        det = matrix[0][0]
-        return [rhs[0] / det] if det != 0.0 else None
-    if n == 2:
-        (a, b), (c, d) = matrix
-        det = a * d - b * c
-        if det == 0.0:
-            return None
-        return [(d * rhs[0] - b * rhs[1]) / det, (a * rhs[1] - c * rhs[0]) / det]
-    if n == 3:
-        (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = matrix
-        c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
-        det = a00 * c00 + a01 * c01 + a02 * c02
-        if det == 0.0:
-            return None
-        r0, r1, r2 = rhs
-        return [
-            (c00 * r0 + (a02 * a21 - a01 * a22) * r1 + (a01 * a12 - a02 * a11) * r2) / det,
-            (c01 * r0 + (a00 * a22 - a02 * a20) * r1 + (a02 * a10 - a00 * a12) * r2) / det,
-            (c02 * r0 + (a01 * a20 - a00 * a21) * r1 + (a00 * a11 - a01 * a10) * r2) / det,
-        ]
     try:
-        return small_inverse(np.array(matrix)).dot(rhs).tolist()
+        if len(rhs) > 3:
+            return small_inverse(np.array(matrix)).dot(rhs).tolist()
+        return [sum(a * r for a, r in zip(row, rhs)) for row in inverse_lists(matrix)]
     except np.linalg.LinAlgError:
         return None
 
