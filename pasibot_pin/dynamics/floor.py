@@ -228,7 +228,7 @@ class FloorSimulator:
         return q_new, v_new, normal, tangential, bilateral[self._crank_rows]
 
     def _track_step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep, split: ShapeSplit):
-        """:meth:`step` with the shape known ahead (:mod:`pasibot_pin.dynamics.shape_track`): the same answer.
+        """:meth:`step` with the shape known ahead (:mod:`pasibot_pin.dynamics.shape_track`): the same scheme.
 
         The bilateral rows fix x_S (``shape.velocity``); the QP is left on the free coordinates F
         (:meth:`~pasibot_pin.dynamics.floor_qp.ContactQP.solve_free`):
@@ -239,7 +239,8 @@ class FloorSimulator:
         -M_FF^-1 [M moved]_F; the motors' multipliers follow by virtual work, y = D^T r with
         r = H x + g - C^T z (D is zero on F, where H and M differ by the springs). M multiplies
         x_S, the move and D in one product, the contact Jacobian x_S and D in another.
-        ``None`` where H_FF is singular (the general path's proxsuite takes it).
+        ``None`` where H_FF is singular (the general path's proxsuite takes it). It differs from
+        :meth:`step` by a third-order term: the projection's metric is M at the step's start.
         """
         model, data, s = self.robot.model, self.robot.data, self.settings
         free, f = split.at, len(split.free)  # a slice for the hip alone: views, not copies
