@@ -107,8 +107,10 @@ def _record_solves(monkeypatch) -> list:
 
     def recording_free(self, hessian, g, c_in, lower, extra):
         x, z, shift = solve_free(self, hessian, g, c_in, lower, extra)
-        seen.append(((hessian, g, np.zeros((0, len(g))), np.zeros(0), c_in, lower), (x, np.zeros(0), z)))
-        np.testing.assert_allclose(hessian @ shift, extra, atol=1e-12 * (1.0 + np.abs(extra).max()))
+        n = len(g)  # the floor's cone rows run on past the free coordinates: the QP reads n entries
+        qp = (np.array(hessian), np.array(g), np.zeros((0, n)), np.zeros(0), np.array(c_in)[:, :n], np.array(lower))
+        seen.append((qp, (np.array(x), np.zeros(0), np.array(z))))
+        np.testing.assert_allclose(qp[0] @ shift, extra, atol=1e-12 * (1.0 + np.abs(extra).max()))
         return x, z, shift
 
     monkeypatch.setattr(ContactQP, "solve", recording)
@@ -256,24 +258,32 @@ def test_the_small_solves_are_numpys():
 
 
 def test_the_free_qp_is_the_equality_qp_on_its_free_coordinates():
-    """solve_free on the free coordinates against solve on all of them with the others held by equality rows."""
+    """solve_free on the free coordinates against solve on all of them with the others held by equality rows.
+
+    Random QPs whose active sets hold from one to as many rows as unknowns (where the held rows
+    alone fix x), each solved cold (every subset) and then warm (from its own active set).
+    """
     rng = np.random.default_rng(5)
     n, free = 7, [0, 1, 2]
-    root = rng.normal(size=(n, n))
-    hessian = root @ root.T + n * np.eye(n)
-    g, c_in = rng.normal(size=n), rng.normal(size=(8, n))
-    fixed = rng.normal(size=n - len(free))
-    inside = np.concatenate((rng.normal(size=len(free)), fixed))  # a feasible point: every row holds there
-    lower = c_in @ inside - np.abs(rng.normal(size=8)) * np.array([0, 0, 1, 1, 0, 1, 1, 1])  # some rows bind
-    a_eq = np.eye(n)[len(free) :]
-    full = ContactQP(pp.load("spring", 2).model)
-    x, _, z = full.solve(hessian, g, a_eq, fixed, c_in, lower)
-    h_ff, h_fs = hessian[:3, :3], hessian[:3, 3:]
-    extra = rng.normal(size=3)
-    qp = ContactQP(pp.load("spring", 2).model)
-    for _ in range(2):  # cold (every subset), then warm (the active set)
-        u, z_free, shift = qp.solve_free(h_ff, g[:3] + h_fs @ fixed, c_in[:, :3], lower - c_in[:, 3:] @ fixed, extra)
-        np.testing.assert_allclose(u, x[:3], atol=1e-9)
-        np.testing.assert_allclose(z_free, z, atol=1e-9)
-        np.testing.assert_allclose(h_ff @ shift, extra, atol=1e-12)
-    assert qp.fast == 2 and qp.fallback == 0
+    sizes = set()
+    for _ in range(40):
+        root = rng.normal(size=(n, n))
+        hessian = root @ root.T + n * np.eye(n)
+        g, c_in = rng.normal(size=n), rng.normal(size=(8, n))
+        fixed = rng.normal(size=n - len(free))
+        inside = np.concatenate((rng.normal(size=len(free)), fixed))  # a feasible point: every row holds there
+        lower = c_in @ inside - np.abs(rng.normal(size=8)) * rng.integers(0, 2, 8)  # some rows bind there
+        full = ContactQP(pp.load("spring", 2).model)
+        x, _, z = full.solve(hessian, g, np.eye(n)[len(free) :], fixed, c_in, lower)
+        h_ff, h_fs = hessian[:3, :3], hessian[:3, 3:]
+        extra = rng.normal(size=3)
+        qp = ContactQP(pp.load("spring", 2).model)
+        for _ in range(2):  # cold (every subset), then warm (the active set)
+            args = (h_ff, g[:3] + h_fs @ fixed, c_in[:, :3], lower - c_in[:, 3:] @ fixed, extra)
+            u, z_free, shift = qp.solve_free(*(a.tolist() for a in args))
+            np.testing.assert_allclose(u, x[:3], atol=1e-9)
+            np.testing.assert_allclose(z_free, z, atol=1e-9)
+            np.testing.assert_allclose(h_ff @ shift, extra, atol=1e-12)
+        sizes.add(int(np.count_nonzero(z > 0)))
+        assert qp.fast == 2 and qp.fallback == 0
+    assert {1, 2, 3} <= sizes

@@ -53,8 +53,12 @@ def test_the_split_frees_the_hip_and_the_free_ankles(case):
     assert len(split.shape) == sim.bilateral.nrows
     # the free columns vanish at other closed configurations too (not only where the split was found)
     thetas = settings.theta0 + np.linspace(0.3, 5.0, 7)
-    q = np.array([sim.bilateral.project(qk, 0.0, sim.targets(0.0) + (th - settings.theta0)) for qk, th in zip(
-        np.repeat(sim.initial_state()[0][None], len(thetas), 0), thetas)])
+    q = np.array(
+        [
+            sim.bilateral.project(qk, 0.0, sim.targets(0.0) + (th - settings.theta0))
+            for qk, th in zip(np.repeat(sim.initial_state()[0][None], len(thetas), 0), thetas)
+        ]
+    )
     q[:, HIP_PITCH] += 0.4  # a pitched hip: the rows' zero set does not move
     for qk, th in zip(q, thetas):
         rows = sim.bilateral.evaluate(qk, None, 0.0, sim.targets(0.0) + (th - settings.theta0))
@@ -71,8 +75,10 @@ def test_a_held_hip_has_no_split():
     assert FloorSimulator(robot, replace(settings, hip="level"))._shape_split() is None
 
 
-def test_the_closed_form_shapes_are_closed_and_their_tangents_solve_the_rows(case):
+def test_the_closed_form_shapes_are_closed_and_their_tangents_solve_the_rows(case, monkeypatch):
     _, robot, settings = case
+    monkeypatch.setattr(shape_track, "BLOCK", 250)  # cross blocks, and chunks of the contact rows
+    monkeypatch.setattr(shape_track, "CHUNK", 64)
     sim = FloorSimulator(robot, settings)
     split = sim._shape_split()
     q0 = sim.initial_state()[0]
@@ -86,7 +92,9 @@ def test_the_closed_form_shapes_are_closed_and_their_tangents_solve_the_rows(cas
         step = track.step(t, q)
         assert step is not None
         np.testing.assert_array_equal(step.start[split.shape], q[split.shape])
-        assert not step.start[split.free].any() and not step.products[split.free].any()
+        f = step.free
+        np.testing.assert_array_equal(step.columns[split.free, :f], np.eye(f))  # E_F
+        assert not step.start[split.free].any() and not step.columns[split.free, f:].any()
         if k % 37 == 0:
             rows = sim.bilateral.evaluate(q, None, t, sim.targets(t))
             assert np.abs(rows.phi).max() < 1e-12
@@ -190,3 +198,63 @@ def test_a_split_needs_the_cranks_pi_apart():
     targets = sim.targets(0.0)
     assert ShapeSplit.of(robot, sim.bilateral, q, targets, sim._target_rates) is not None
     assert ShapeSplit.of(robot, sim.bilateral, q, targets, sim._target_rates * np.array([1.0, 2.0])) is None
+
+
+def _hip_posed(q: np.ndarray, pose: np.ndarray) -> np.ndarray:
+    out = q.copy()
+    out[:3] = pose
+    return out
+
+
+def test_the_points_ride_the_hip_rigidly(case):
+    """The floating form rebuilds the planar rows and their Jacobian at any hip pose from the unposed body rows."""
+    name, robot, settings = case
+    sim = FloorSimulator(robot, settings)
+    points = sim.points
+    form = points.floating_form(HIP_PITCH)
+    assert form is not None and form.base == (0, 1) and abs(form.turn) == 1.0
+    crank = robot.idx_v("right_j0_crank")
+    assert points.floating_form(crank) is None  # the crank turns some points only
+    rng = np.random.default_rng(3)
+    q0 = sim.initial_state()[0]
+    for _ in range(5):
+        q = q0 + 0.3 * rng.standard_normal(q0.size)
+        q[:3] = rng.uniform(-2.0, 2.0, 3)
+        rows, jac = points.rows_and_jacobian(q)
+        body = points.rows_and_jacobian(_hip_posed(q, np.zeros(3)))
+        turn = np.exp(1j * form.turn * q[HIP_PITCH])
+        np.testing.assert_allclose(rows, form.fixed + form.slide @ q[:2] + turn * (body[0] - form.fixed), atol=1e-14)
+        np.testing.assert_allclose(jac[:, :2], form.slide, atol=0)
+        np.testing.assert_allclose(jac[:, 2], 1j * form.turn * turn * (body[0] - form.fixed), atol=1e-14)
+        np.testing.assert_allclose(jac[:, 3:], turn * body[1][:, 3:], atol=1e-14)
+
+
+def test_the_tracked_contact_rows_are_the_planar_rows(case, monkeypatch):
+    """The step's cone rows and end points from the track's body rows, against the planar rows at the posed state."""
+    name, robot, settings = case
+    monkeypatch.setattr(shape_track, "BLOCK", 300)
+    monkeypatch.setattr(shape_track, "CHUNK", 64)
+    sim = FloorSimulator(robot, settings)
+    h = settings.dt
+    track, stepper = sim._tracker(h)
+    if name == "spring":  # the free ankles are not the hip's: the rows come from the planar rows at each step
+        assert track.form is None
+        return
+    assert track.form is not None
+    q = sim.initial_state()[0]
+    rng = np.random.default_rng(5)
+    for k in range(400):
+        step = track.step(k * h, q)
+        if k % 23 == 0:
+            posed = _hip_posed(step.start, rng.uniform(-1.0, 1.0, 3))
+            cone, lower = stepper._floating_cone(posed[:3].tolist(), step.contact.start, h)
+            want_cone, want_lower = stepper._cone_rows(posed, step, h)
+            np.testing.assert_allclose(cone, want_cone, rtol=0, atol=1e-12)
+            np.testing.assert_allclose(lower, want_lower, rtol=0, atol=1e-9)  # gap / h: 1e-12 m over 1 ms
+            end = _hip_posed(step.end, rng.uniform(-1.0, 1.0, 3))
+            u = rng.standard_normal(3)
+            x = step.velocity.copy()
+            x[:3] = u
+            got = stepper._floating_points(end[:3].tolist(), u.tolist(), step.contact.end)
+            np.testing.assert_allclose(got, stepper._points_at(end, x), rtol=0, atol=1e-12)
+        q = step.end

@@ -77,6 +77,7 @@ def run_resumable(args: argparse.Namespace, runner, plan, what: str):
     can run again; the lock is held until :func:`finish_run` ends.
     """
     from pasibot_pin.explore.store import OWNED, PARTS  # deferred: keeps the CLI's start fast
+
     out = Path(args.out)
     folder = OutputFolder(out, ours=OWNED).claim(force=args.force)  # refused at once if another run writes there
     args.claimed = folder

@@ -24,6 +24,7 @@ from pasibot_pin.constraints.pinocchio_models import (
     proximal_impulse,
     weld_constraint,
 )
+from pasibot_pin.constraints.planar import FloatingForm
 from pasibot_pin.constraints.system import (
     ANGLE_TOL,
     RELATIVE_TOL,
@@ -45,6 +46,7 @@ __all__ = [
     "ANGLE_TOL",
     "RELATIVE_TOL",
     "ConstraintSystem",
+    "FloatingForm",
     "CoordinateRow",
     "PitchRow",
     "Rows",

@@ -20,6 +20,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from typing import NamedTuple
 
 import numpy as np
 import pinocchio as pin
@@ -200,6 +201,35 @@ class PhaseColumns:
         return self.slid_a + len(self.slid)
 
 
+class FloatingForm(NamedTuple):
+    """Rows of points that ride a planar floating base, as a rigid motion of its body.
+
+    With the base's sliders ``base`` (velocity indices, their Jacobian columns constant) and
+    its pitch ``pitch``, every row is
+
+        P(q) = fixed + slide q_base + exp(i turn q_pitch) B(q_body),
+
+    B being the rows at the same body coordinates with the base at its origin, unpitched, less
+    ``fixed``. So P at any base pose follows from B in a few complex products, and so does the
+    Jacobian: ``slide`` on the sliders, i turn exp(i turn q_pitch) B on the pitch, and
+    exp(i turn q_pitch) J_B on the body (:meth:`PlanarRowBlocks.floating_form`).
+
+    Attributes:
+        base: the sliders' velocity indices.
+        pitch: the pitch's velocity index.
+        turn: +1 or -1, the sign of the pitch in every point's angle.
+        fixed: (n,) complex [m].
+        slide: (n, len(base)) complex, the sliders' Jacobian columns [-].
+
+    """
+
+    base: tuple[int, ...]
+    pitch: int
+    turn: float
+    fixed: np.ndarray
+    slide: np.ndarray
+
+
 class PlanarRowBlocks:
     """The point-coincidence and pitch rows of a constraint system, as complex products.
 
@@ -265,6 +295,25 @@ class PlanarRowBlocks:
         self._group = group.reshape(-1)
         self._c_turned = self.moving_c * np.exp(1j * self.moving_a0)
         self._w: np.ndarray | None = None  # the one-sample tables, built at the first one-sample call
+
+    def floating_form(self, pitch: int) -> FloatingForm | None:
+        """The rows as a rigid motion of a floating base whose pitch is coordinate ``pitch`` (:class:`FloatingForm`).
+
+        ``None`` unless every term some joint turns is turned by the pitch with one sign, and
+        the terms no joint turns are constants or the base's sliders (which turn nothing and
+        scale no moving term).
+        """
+        if not len(self.moving_c):
+            return None
+        turn = self.moving_AT[pitch]
+        base = np.flatnonzero(np.any(self.fixed_jac != 0.0, axis=0))
+        if abs(turn[0]) != 1.0 or not np.all(turn == turn[0]) or pitch in base:
+            return None
+        if np.any(self.moving_AT[base] != 0.0) or np.any(self.moving_slide_T[base] != 0.0):
+            return None
+        return FloatingForm(
+            tuple(int(i) for i in base), pitch, float(turn[0]), self.fixed_rows.copy(), self.fixed_jac[:, base].copy()
+        )
 
     def phase_columns(self) -> PhaseColumns:
         """The moving terms as the phase columns of a one-sample evaluation (:class:`PhaseColumns`)."""
@@ -366,6 +415,25 @@ class PlanarRowBlocks:
             acc += turned * (a @ self.moving_slide_T) + 2j * turned * w * (v @ self.moving_slide_T)
         rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
         return rows, acc @ self._DT + a @ self.fixed_jac.T
+
+    def directional(self, q: np.ndarray, directions: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The rows P (N, n) and their derivatives J d along several directions d at each sample (N, n, d), complex.
+
+        Args:
+            q: configurations (N, nv).
+            directions: (N, nv, d): the directions at each sample, as columns.
+
+        """
+        turned, factor = self._turned(q)
+        value = turned if factor is None else turned * factor
+        count, nv, d = directions.shape
+        flat = np.swapaxes(directions, 1, 2).reshape(count * d, nv)  # one product for every sample's directions
+        change = (value[:, None, :] * (1j * (flat @ self.moving_AT)).reshape(count, d, -1)).reshape(count * d, -1)
+        if factor is not None:
+            change += (turned[:, None, :] * (flat @ self.moving_slide_T).reshape(count, d, -1)).reshape(count * d, -1)
+        rows = value @ self._DT + q @ self.fixed_jac.T + self.fixed_rows
+        along = (change @ self._DT + flat @ self.fixed_jac.T).reshape(count, d, -1)
+        return rows, np.swapaxes(along, 1, 2)
 
     def evaluate(self, q: np.ndarray, v: np.ndarray | None = None):
         """Complex point rows P (..., n), their Jacobian (..., n, nv), drift (..., n) or None, pitch rows (..., p)."""

@@ -148,7 +148,7 @@ def small_inverse(matrix: np.ndarray) -> np.ndarray:
 
 
 def inverse_lists(matrix: list[list[float]]) -> list[list[float]]:
-    """The inverse of a 1 x 1, 2 x 2 or 3 x 3 matrix given as lists, by cofactors over the determinant.
+    """The inverse of a square matrix given as lists: up to 3 x 3 by cofactors over the determinant, larger by LAPACK.
 
     Raises:
         numpy.linalg.LinAlgError: the matrix is singular (a zero or non-finite determinant).
@@ -172,7 +172,10 @@ def inverse_lists(matrix: list[list[float]]) -> list[list[float]]:
             [c02, a01 * a20 - a00 * a21, a00 * a11 - a01 * a10],
         ]
     else:
-        raise ValueError(f"inverse_lists takes 1 x 1 to 3 x 3 matrices, got {n} x {n}")
+        inverse = np.linalg.inv(np.array(matrix, dtype=float))
+        if not np.all(np.isfinite(inverse)):
+            raise np.linalg.LinAlgError("singular matrix")
+        return inverse.tolist()
     if det == 0.0 or not math.isfinite(det):
         raise np.linalg.LinAlgError("singular matrix")
     r = 1.0 / det

@@ -41,7 +41,6 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, frame_rows, symmetric_mass_matrix
-from pasibot_pin.constraints.solves import small_inverse
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_runs: re-exported)
     LOAD_TOL,
@@ -52,6 +51,7 @@ from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_
     StartState,
     foot_mode,
     mode_runs,
+    point_sample,
 )
 from pasibot_pin.dynamics.floor_settings import (  # noqa: F401 (crank_advance, crank_advances: re-exported)
     FloorSettings,
@@ -59,11 +59,11 @@ from pasibot_pin.dynamics.floor_settings import (  # noqa: F401 (crank_advance, 
     crank_advance,
     crank_advances,
 )
-from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack, TrackStep
+from pasibot_pin.dynamics.floor_track import SPEED_LIMIT, FreeStepper, check_speed  # noqa: F401 (SPEED_LIMIT: re-exported)
+from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack
 from pasibot_pin.dynamics.simulator import ankle_indices, spring_forces
-from pasibot_pin.dynamics.verdict import FootSample, GaitCriteria, GaitJudge, GaitSample
+from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample
 from pasibot_pin.errors import (
-    DivergedError,
     NoRestError,
     ParameterError,
     SimulationError,
@@ -88,8 +88,6 @@ SETTLE_MAX = 6.0
 REST_SPEED = 1e-7
 """A state is at rest when no velocity component exceeds this [m/s, rad/s] (the QP and the
 projection leave about 5e-9)."""
-SPEED_LIMIT = 1e3
-"""A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
 
 
 class _StepTerms(NamedTuple):
@@ -111,12 +109,6 @@ def _impulses(z: np.ndarray, mu: float) -> tuple[np.ndarray, np.ndarray]:
     """
     k = len(z) // 2
     return z[:k] + z[k:], mu * (z[:k] - z[k:])
-
-
-def _check_speed(v: np.ndarray) -> None:
-    fastest = float(np.max(np.abs(v)))
-    if not fastest <= SPEED_LIMIT:  # also catches NaN
-        raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
 
 
 class FloorSimulator:
@@ -221,64 +213,11 @@ class FloorSimulator:
         phi, jac = self._bilateral_rows(q, t + h, targets)
         # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
         v_new, bilateral, z = self._qp.solve(terms.hessian, terms.g, jac, -phi / h, terms.cone, terms.lower)
-        _check_speed(v_new)
+        check_speed(v_new)
         normal, tangential = _impulses(z, terms.mu)
         q_new, after, _ = self.bilateral.project_rows(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
         self._rows_at = (q_new.tobytes(), after, self._goal(t + h, targets))  # the rows at q_new, t + h
         return q_new, v_new, normal, tangential, bilateral[self._crank_rows]
-
-    def _track_step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep, split: ShapeSplit):
-        """:meth:`step` with the shape known ahead (:mod:`pasibot_pin.dynamics.shape_track`): the same scheme.
-
-        The bilateral rows fix x_S (``shape.velocity``); the QP is left on the free coordinates F
-        (:meth:`~pasibot_pin.dynamics.floor_qp.ContactQP.solve_free`):
-
-            H_FF u + [M (x_S - v)]_F + h (b - tau)_F = C_F^T z,   C_F u >= -gap / h - C x_S;
-
-        the projection puts the shape on ``shape.end`` and moves F by the mass metric's answer,
-        -M_FF^-1 [M moved]_F; the motors' multipliers follow by virtual work, y = D^T r with
-        r = H x + g - C^T z (D is zero on F, where H and M differ by the springs). M multiplies
-        x_S, the move and D in one product, the contact Jacobian x_S and D in another.
-        ``None`` where H_FF is singular (the general path's proxsuite takes it). It differs from
-        :meth:`step` by a third-order term: the projection's metric is M at the step's start.
-        """
-        model, data, s = self.robot.model, self.robot.data, self.settings
-        free, f = split.at, len(split.free)  # a slice for the hip alone: views, not copies
-        gap = self._contact_at(q)[0]
-        mass = symmetric_mass_matrix(model, data, q)
-        tau, stiffness = self._springs(q, h)  # linearly implicit, as in the general step
-        pushed = h * (pin.nonLinearEffects(model, data, q, v) - tau)  # h (b - tau)
-        h_ff = split.free_block(mass)
-        if stiffness:
-            h_ff = h_ff + np.diag(np.isin(split.free, list(self.ankles.values())) * stiffness)
-        products = shape.products
-        w = mass.dot(products)  # M [x_S, D, moved]
-        held = w[:, 0] - mass.dot(v) + pushed  # H x + g with the free coordinates at rest, u = 0
-        g_free = held[free]
-        # the contact rows: J_F, J x_S and J D in one complex product (real: tangential, imaginary: normal)
-        jac = self._contact_jac
-        rows = np.concatenate((jac[:, free], jac.dot(products[:, :-1])), axis=1)
-        mu = s.mu
-        cone = np.concatenate((rows.imag + mu * rows.real, rows.imag - mu * rows.real))  # (8, f + 1 + scalar rows)
-        bound = -gap / h
-        lower = np.concatenate((bound, bound)) - cone[:, f]
-        try:
-            u, z, shift = self._qp.solve_free(h_ff, g_free, cone[:, :f], lower, w[free, -1])
-        except np.linalg.LinAlgError:  # a free coordinate without inertia (a foot's mass on its ankle axis)
-            return None
-        _check_speed(u)  # x_S is the linkage's own, bounded by the crank speed
-        x = shape.velocity.copy()
-        x[free] = u
-        normal, tangential = _impulses(z, mu)
-        motor = held.dot(shape.tangent) + u.dot(w[free, 1:-1]) - z.dot(cone[:, f + 1 :])
-        q_new = shape.end.copy()
-        if stiffness:  # the projection's metric is M alone, not H
-            try:
-                shift = small_inverse(split.free_block(mass)).dot(w[free, -1])
-            except np.linalg.LinAlgError:  # M singular: as the general projection, the least-norm correction,
-                shift = 0.0  # which leaves the free coordinates (no row holds them)
-        q_new[free] = q[free] + h * u - shift
-        return q_new, x, normal, tangential, motor[self._motor_targets]
 
     def _terms(self, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None):
         """The step's QP terms at (q, v): H, g, the cone rows and their bounds (:class:`_StepTerms`)."""
@@ -481,25 +420,22 @@ class FloorSimulator:
         log = RunLog(self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows))
         judge = None
         if s.omega > 0:
-            judge = GaitJudge(s.omega, self.robot.geometry.L, self.weight, criteria, self._sample(0.0, q, v, None))
-        split = self._shape_split()
-        track = None if split is None else ShapeTrack(self.robot, split, self.targets_many, h)
+            judge = GaitJudge(s.omega, self.robot.geometry.L, self.weight, criteria, self._sample(0.0, q, v))
+        track, stepper = self._tracker(h)
         t = 0.0
         for _ in range(n):
             try:
-                out = None
-                if track is not None and (shape := track.step(t, q)) is not None:
-                    out = self._track_step(q, v, h, shape, track.split)
-                q, v, normal, tangential, motor = self.step(t, q, v, h) if out is None else out
+                q, v, normal, tangential, motor, points = self._advance(t, q, v, h, track, stepper)
             except SimulationError as err:
                 log.stop_on(err, t)
                 if judge is not None:
                     judge.diverged(t, str(err))
                 break
             t += h
-            forces = (normal / h, tangential / h, motor / h)
-            sample, loaded, slip = self._points(t, q, v, forces)
-            log.record(t, q, v, sample, forces, loaded, slip)
+            forces = ([x / h for x in normal], [x / h for x in tangential], [x / h for x in motor])
+            power = tuple(tau * rate for tau, rate in zip(forces[2], v.take(self._motor_index).tolist()))
+            sample, loaded = point_sample(t, (float(q[HIP_X]), float(q[HIP_PITCH])), points, forces[0], power)
+            log.record(t, q, v, sample, forces, loaded, points[2])
             if judge is not None and judge.update(sample) and stop_on_verdict:
                 break
             if not stop_on_verdict and log.stopped(t, q):
@@ -526,35 +462,45 @@ class FloorSimulator:
             return (*self.initial_state(), None, "flat", str(err))
         return begin.q, begin.v, begin, begin.kind, ""
 
-    def _sample(self, t: float, q: np.ndarray, v: np.ndarray, forces: tuple | None) -> GaitSample:
-        """The :class:`GaitSample` at ``t`` from the step's forces (normal, tangential [N], motor torques [N.m])."""
-        return self._points(t, q, v, forces)[0]
+    def _tracker(self, h: float) -> tuple[ShapeTrack | None, FreeStepper | None]:
+        """A run's shape track and its tracked step (``None``, ``None`` where the rows have no split)."""
+        split = self._shape_split()
+        if split is None:
+            return None, None
+        track = ShapeTrack(self.robot, split, self.targets_many, h, self.points)
+        ankles = list(self.ankles.values())
+        stepper = FreeStepper(
+            self.robot,
+            split,
+            self.points,
+            self._qp,
+            self._springs,
+            ankles,
+            self._motor_targets,
+            self.settings.mu,
+            track.form,
+        )
+        return track, stepper
 
-    def _points(self, t: float, q: np.ndarray, v: np.ndarray, forces: tuple | None):
-        """(:meth:`_sample`, each point's load flag, each point's tangential speed [m/s])."""
+    def _advance(self, t: float, q: np.ndarray, v: np.ndarray, h: float, track, stepper):
+        """One step of a run: the tracked one where the track has the shape, else :meth:`step`.
+
+        Returns:
+            (q, v, normal, tangential, motor impulses as lists, the points' (heights, x, tangential
+            speeds) after the step as lists).
+
+        """
+        if track is not None and (shape := track.step(t, q)) is not None:
+            out = stepper.step(q, v, h, shape)
+            if out is not None:
+                return out
+        q, v, normal, tangential, motor = self.step(t, q, v, h)
         gap, along, _, jt = self._contact_at(q)
-        slip, gaps, xs = jt.dot(v).tolist(), gap.tolist(), along.tolist()
-        if forces is None:  # the start: a point on the floor counts as loaded
-            f_n = [0.0] * len(gaps)
-            loaded = [g < 1e-6 for g in gaps]
-        else:
-            f_n = forces[0].tolist()
-            loaded = [f > LOAD_TOL for f in f_n]
-        feet = []
-        for i in range(len(SIDES)):
-            heel, toe = 2 * i, 2 * i + 1
-            feet.append(
-                FootSample(  # loaded, x, pitch, normal, slip, on_point
-                    loaded[heel] or loaded[toe],
-                    0.5 * (xs[heel] + xs[toe]),
-                    math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
-                    f_n[heel] + f_n[toe],
-                    max(abs(slip[heel]) if loaded[heel] else 0.0, abs(slip[toe]) if loaded[toe] else 0.0),
-                    loaded[heel] != loaded[toe],
-                )
-            )
-        power = (0.0, 0.0)
-        if forces is not None:
-            power = tuple(tau * rate for tau, rate in zip(forces[2].tolist(), v.take(self._motor_index).tolist()))
-        q_list = q[:3].tolist()
-        return GaitSample(t, q_list[HIP_X], q_list[HIP_PITCH], (feet[0], feet[1]), power), loaded, slip
+        points = (gap.tolist(), along.tolist(), jt.dot(v).tolist())
+        return q, v, normal.tolist(), tangential.tolist(), motor.tolist(), points
+
+    def _sample(self, t: float, q: np.ndarray, v: np.ndarray) -> GaitSample:
+        """The :class:`GaitSample` at ``t`` without forces (a run's start: a point on the floor counts as loaded)."""
+        gap, along, _, jt = self._contact_at(q)
+        points = (gap.tolist(), along.tolist(), jt.dot(v).tolist())
+        return point_sample(t, (float(q[HIP_X]), float(q[HIP_PITCH])), points, None, (0.0, 0.0))[0]

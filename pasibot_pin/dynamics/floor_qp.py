@@ -51,12 +51,13 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 from itertools import combinations
+from operator import mul
 
 import numpy as np
 import pinocchio as pin
 import proxsuite
 
-from pasibot_pin.constraints.solves import inverse_lists, small_inverse
+from pasibot_pin.constraints.solves import inverse_lists
 from pasibot_pin.constraints.system import kkt_solve
 from pasibot_pin.errors import ContactSolveError
 
@@ -168,50 +169,55 @@ class ContactQP:
         return rows
 
     def solve_free(
-        self, hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray, extra: np.ndarray
-    ) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The QP without equality rows, min 1/2 x^T H x + g^T x s.t. C x >= l, on few freedoms.
+        self,
+        hessian: list[list[float]],
+        g: list[float],
+        c_in: list[list[float]],
+        lower: list[float],
+        extra: list[float],
+    ) -> tuple[list[float], list[float], list[float]]:
+        """The QP without equality rows, min 1/2 x^T H x + g^T x s.t. C x >= l, on few freedoms, in Python floats.
 
         The floor's QP on the coordinates its bilateral rows leave free (the hip, a free ankle):
         the same warm-started active set as :meth:`solve` (the last step's rows, each redundant
-        group reduced), its KKT through H^-1 in Python floats (three unknowns and eight rows for
-        the biped: numpy's per-call cost would exceed the arithmetic), then :func:`free_qp` (every
+        group reduced), its KKT through H^-1 on lists (three unknowns and eight rows for the
+        biped: numpy's per-call cost would exceed the arithmetic), then :func:`free_qp` (every
         subset) and proxsuite where the passes do not settle.
 
         Args:
-            hessian: H (n, n), symmetric positive definite.
+            hessian: H (n, n), symmetric positive definite, as lists.
             g: linear term (n,).
-            c_in: inequality rows C (k, n).
+            c_in: inequality rows C (k, n), as lists; a row may run on past its n-th entry (the
+                floor passes its cone rows whole), the rest is not read.
             lower: their lower bounds (k,).
             extra: one more right-hand side (n,) to solve with H (the floor's projection).
 
         Returns:
-            (x, z, H^-1 extra): the solution, the cone multipliers (>= 0) with H x + g = C^T z.
+            (x, z, H^-1 extra) as lists: the solution, the cone multipliers (>= 0) with H x + g = C^T z.
 
         Raises:
             numpy.linalg.LinAlgError: H is singular (the caller takes another path).
 
         """
         n = len(g)
-        inverse = small_inverse(hessian)
+        inverse = inverse_lists(hessian)
+        shift = [sum(map(mul, row, extra)) for row in inverse]
         out = None
         if self.active is not None and self._reduced(self.active, n, 0) is not None:
-            out = self._first_order(_free_kkt(inverse, g, c_in, lower), n)
-        if out is not None:
-            x = np.array(out[0])
-        else:
-            found = free_qp(hessian, g, c_in, lower)
-            if found is not None:
-                self.active = np.flatnonzero(found[1] > 0.0).tolist()
-                out = found
-                x = found[0]
+            out = self._first_order(_free_kkt(hessian, inverse, g, c_in, lower), n)
         if out is not None:
             self.fast += 1
-            return x, out[1], inverse.dot(extra)
-        x, _, z = self._proxsuite(hessian, g, np.zeros((0, n)), np.zeros(0), c_in, lower)
+            return out[0], out[1], shift
+        arrays = np.array(hessian), np.array(g), np.array(c_in)[:, :n].reshape(len(lower), n), np.array(lower)
+        found = free_qp(*arrays)
+        if found is not None:
+            self.fast += 1
+            self.active = np.flatnonzero(found[1] > 0.0).tolist()
+            return found[0].tolist(), found[1].tolist(), shift
+        x, _, z = self._proxsuite(arrays[0], arrays[1], np.zeros((0, n)), np.zeros(0), arrays[2], arrays[3])
         self.fallback += 1
         self.active = np.flatnonzero(z > 0.0).tolist()
-        return x, z, inverse.dot(extra)
+        return x.tolist(), z.tolist(), shift
 
     def _active_set(self, hessian, g, a_eq, b_eq, c_in, lower):
         """The exact solve from the last active set, or ``None`` (no active set found)."""
@@ -232,7 +238,7 @@ class ContactQP:
             return x, lam[m:].tolist(), lam[:m].copy(), accurate, (c_in @ x - lower).tolist()
 
         out = self._first_order(kkt, n - m)
-        return None if out is None else (out[0], out[2], out[1])
+        return None if out is None else (out[0], out[2], np.array(out[1]))
 
     def _first_order(self, kkt, n_free):
         """The passes from the last active set, each choice of left-out rows in turn: (x, z, y) or ``None``."""
@@ -279,8 +285,9 @@ class ContactQP:
                 continue
             if not accurate:
                 return None
-            z = np.zeros(len(slack))
-            z[solved] = z_active
+            z = [0.0] * len(slack)
+            for row, value in zip(solved, z_active):
+                z[row] = value
             self.active = active
             return x, z, y
         return None
@@ -307,48 +314,53 @@ class ContactQP:
         return np.array(result.x), -np.array(result.y), -np.array(result.z)
 
 
-def _free_kkt(inverse: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray):
+def _free_kkt(
+    hessian: list[list[float]], inverse: list[list[float]], g: list[float], c_in: list[list[float]], lower: list[float]
+):
     """``kkt(rows)`` of :meth:`ContactQP._passes` for the QP without equality rows, in Python floats.
 
-    x = x_0 + H^-1 C_W^T z_W with x_0 = -H^-1 g and (C_W H^-1 C_W^T) z_W = l_W - C_W x_0. One
-    product gives H^-1 [g, C^T] and another C H^-1 [g, C^T] (the Delassus matrix beside C x_0);
-    a pass then only picks entries and solves a system of at most three rows.
+    As many held rows W as unknowns fix x on their own, x = C_W^-1 l_W, and their multipliers
+    follow from H x + g = C_W^T z_W. Fewer: x = x_0 + H^-1 C_W^T z_W with x_0 = -H^-1 g and
+    (C_W H^-1 C_W^T) z_W = l_W - C_W x_0, the columns H^-1 C_j^T formed as a pass first holds
+    row j. A row of ``c_in`` is read to its n-th entry.
     """
-    solved = inverse.dot(np.column_stack((g, c_in.T)))  # H^-1 [g, C^T]
-    along, seen = solved.tolist(), c_in.dot(solved).tolist()  # and C H^-1 [g, C^T]
-    low = lower.tolist()
-    n = len(along)
+    n = len(g)
+    x_0 = [-sum(map(mul, row, g)) for row in inverse]
+    pulled: dict[int, list[float]] = {}
+
+    def toward(j: int) -> list[float]:
+        column = pulled.get(j)
+        if column is None:
+            c = c_in[j]
+            column = pulled[j] = [sum(map(mul, row, c)) for row in inverse]
+        return column
 
     def kkt(rows: list[int]):
-        z_w: list[float] = []
-        x = [-a[0] for a in along]
-        accurate = True
-        if rows:
-            held = [[seen[i][1 + j] for j in rows] for i in rows]
-            rhs = [low[i] + seen[i][0] for i in rows]
-            solution = _solve_small(held, rhs)
-            if solution is None:  # dependent rows
+        if len(rows) == n:  # square: the held rows alone fix x
+            try:
+                held_inverse = inverse_lists([c_in[i][:n] for i in rows])
+            except np.linalg.LinAlgError:  # dependent rows
                 return None
-            z_w = solution
-            pairs = [(z, 1 + j) for z, j in zip(z_w, rows)]
-            for d in range(n):
-                a = along[d]
-                for z, col in pairs:
-                    x[d] += z * a[col]
-            for row, r in zip(held, rhs):
-                miss = -r
-                for a, z in zip(row, z_w):
-                    miss += a * z
-                accurate = accurate and abs(miss) <= RESIDUAL_TOL  # False for NaN
-        if not math.isfinite(sum(x)):
+            bounds = [lower[i] for i in rows]
+            x = [sum(map(mul, row, bounds)) for row in held_inverse]
+            pushed = [sum(map(mul, row, x)) + b for row, b in zip(hessian, g)]  # H x + g = C_W^T z_W
+            z_w = [sum(map(mul, column, pushed)) for column in zip(*held_inverse)]
+        elif rows:
+            columns = [toward(j) for j in rows]
+            held = [[sum(map(mul, c_in[i], column)) for column in columns] for i in rows]
+            solved = _solve_small(held, [lower[i] - sum(map(mul, c_in[i], x_0)) for i in rows])
+            if solved is None:  # dependent rows
+                return None
+            z_w = solved
+            x = list(x_0)
+            for z, column in zip(z_w, columns):
+                x = [a + z * b for a, b in zip(x, column)]
+        else:
+            x, z_w = x_0, []
+        slack = [sum(map(mul, c, x)) - bound for c, bound in zip(c_in, lower)]
+        if not math.isfinite(sum(slack) + sum(x)):
             return None
-        slack = []
-        for c, bound in zip(seen, low):  # C x - l = C x_0 + (C H^-1 C_W^T) z_W - l
-            value = -c[0] - bound
-            if z_w:
-                for z, col in pairs:
-                    value += z * c[col]
-            slack.append(value)
+        accurate = all(abs(slack[i]) <= RESIDUAL_TOL for i in rows)
         return x, z_w, None, accurate, slack
 
     return kkt
@@ -357,9 +369,7 @@ def _free_kkt(inverse: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.nd
 def _solve_small(matrix: list[list[float]], rhs: list[float]) -> list[float] | None:
     """Solve a small square system given as lists (cofactors up to 3 x 3); ``None`` when singular."""
     try:
-        if len(rhs) > 3:
-            return small_inverse(np.array(matrix)).dot(rhs).tolist()
-        return [sum(a * r for a, r in zip(row, rhs)) for row in inverse_lists(matrix)]
+        return [sum(map(mul, row, rhs)) for row in inverse_lists(matrix)]
     except np.linalg.LinAlgError:
         return None
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pasibot_pin.dynamics.verdict import GaitSample, Verdict
+from pasibot_pin.dynamics.verdict import FootSample, GaitSample, Verdict
 from pasibot_pin.errors import ClosureError, DivergedError, SimulationError, SingularPoseError
 from pasibot_pin.model.coordinates import HIP_PITCH, SIDES
 
@@ -61,6 +61,48 @@ def mode_runs(modes: list[str] | tuple[str, ...], dt: float, dwell: float = 0.0)
         else:  # the first run was a blip: the run after it starts at the beginning
             kept[-1] = [run[0], 0, kept[-1][2] + run[2]]
     return [(mode, (first + 1) * dt) for mode, first, _ in kept]
+
+
+def point_sample(
+    t: float,
+    hip: tuple[float, float],
+    points: tuple[list[float], list[float], list[float]],
+    normal: list[float] | None,
+    power: tuple[float, ...],
+) -> tuple[GaitSample, list[bool]]:
+    """The :class:`~pasibot_pin.dynamics.verdict.GaitSample` at ``t`` from the contact points, and their load flags.
+
+    Args:
+        t: time [s].
+        hip: the hip's forward position [m] and pitch [rad].
+        points: each point's height above the floor [m], x [m] and tangential speed [m/s]
+            (right heel, right toe, left heel, left toe).
+        normal: each point's normal force [N]; ``None`` at the start, where a point on the floor
+            (within 1e-6 m) counts as loaded.
+        power: each motor's power [W].
+
+    """
+    gaps, xs, slip = points
+    if normal is None:
+        f_n = [0.0] * len(gaps)
+        loaded = [g < 1e-6 for g in gaps]
+    else:
+        f_n = normal
+        loaded = [f > LOAD_TOL for f in f_n]
+    feet = []
+    for i in range(len(SIDES)):
+        heel, toe = 2 * i, 2 * i + 1
+        feet.append(
+            FootSample(  # loaded, x, pitch, normal, slip, on_point
+                loaded[heel] or loaded[toe],
+                0.5 * (xs[heel] + xs[toe]),
+                math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
+                f_n[heel] + f_n[toe],
+                max(abs(slip[heel]) if loaded[heel] else 0.0, abs(slip[toe]) if loaded[toe] else 0.0),
+                loaded[heel] != loaded[toe],
+            )
+        )
+    return GaitSample(t, hip[0], hip[1], (feet[0], feet[1]), power), loaded
 
 
 def foot_mode(loaded: list[bool], slip: list[float], foot: int) -> str:

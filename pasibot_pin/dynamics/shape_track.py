@@ -40,16 +40,19 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
-from pasibot_pin.constraints import ConstraintSystem
+from pasibot_pin.constraints import ConstraintSystem, FloatingForm
 from pasibot_pin.dynamics.stance_plan import unwrap_angles
 from pasibot_pin.model.closure import analytic_motion, angular_coordinates
-from pasibot_pin.model.coordinates import SIDES
+from pasibot_pin.model.coordinates import HIP_PITCH, SIDES
 
 if TYPE_CHECKING:
+    from pasibot_pin.constraints.planar import PlanarRowBlocks
     from pasibot_pin.model.robot import PasibotRobot
 
-BLOCK = 256
-"""Steps whose shapes one closed-form call computes [-]."""
+BLOCK = 1024
+"""Steps whose shapes one closed-form call computes [-] (its per-call cost is spread over more steps)."""
+CHUNK = 128
+"""Steps whose contact rows one evaluation computes [-] (larger temporaries cost page faults)."""
 FREE_TOL = 1e-9
 """A coordinate is free when no row's Jacobian column exceeds this share of the largest entry [-]."""
 MATCH_TOL = 1e-9
@@ -59,37 +62,58 @@ JUMP_TOL = 1e-2
 switch jumps by far more; a smooth step is O(h^2), below 1e-4)."""
 
 
+class StepContact(NamedTuple):
+    """The contact points' rows of one step, the hip at its origin, unpitched (a :class:`~.constraints.FloatingForm`).
+
+    Attributes:
+        start: each point's [B, J x_S, J D...] at the step's start shape, complex: its body row [m],
+            its speed in the step [m/s] and its motion per unit of each scalar row's target [m/rad].
+        end: each point's [B, J x_S] at the step's end shape (its speed after the step, less the hip's part).
+
+    """
+
+    start: list[list[complex]]
+    end: list[list[complex]]
+
+
 class TrackStep(NamedTuple):
-    """One step of the shape from t to t + h, as full-size vectors (zero on the free coordinates).
+    """One step of the shape from t to t + h, as full-size vectors (zero on the free coordinates but in E_F).
 
     Attributes:
         start: s at t (nv,): the state's shape.
         end: s at t + h (nv,): the closed shape after the step.
-        products: (nv, 2 + scalar rows) columns that the step multiplies by M: x_S, the shape's
-            velocity in the step [rad/s, m/s]; D = J_S^-1 [0; I], the shape's motion per unit of
-            each scalar row's target [rad/rad, m/rad]; and s_(k+1) - s_k - h x_S, the
-            projection's move of the shape [rad, m].
+        columns: P (nv, free + 2 + scalar rows), the columns that the step multiplies by M:
+            E_F, the unit columns of the free coordinates; x_S, the shape's velocity in the step
+            [rad/s, m/s]; D = J_S^-1 [0; I], the shape's motion per unit of each scalar row's
+            target [rad/rad, m/rad]; and s_(k+1) - s_k - h x_S, the projection's move of the
+            shape [rad, m].
+        columns_t: P^T, contiguous.
+        free: the number of free coordinates (P's first columns).
+        contact: the points' rows of the step (:class:`StepContact`), or ``None`` (no floating form).
 
     """
 
     start: np.ndarray
     end: np.ndarray
-    products: np.ndarray
+    columns: np.ndarray
+    columns_t: np.ndarray
+    free: int
+    contact: StepContact | None = None
 
     @property
     def velocity(self) -> np.ndarray:
         """x_S (nv,)."""
-        return self.products[:, 0]
+        return self.columns[:, self.free]
 
     @property
     def moved(self) -> np.ndarray:
         """s_(k+1) - s_k - h x_S (nv,)."""
-        return self.products[:, -1]
+        return self.columns[:, -1]
 
     @property
     def tangent(self) -> np.ndarray:
         """D (nv, scalar rows)."""
-        return self.products[:, 1:-1]
+        return self.columns[:, self.free + 1 : -1]
 
 
 @dataclass(frozen=True)
@@ -192,6 +216,12 @@ class ShapeTrack:
         split: :meth:`ShapeSplit.of` of the floor's rows.
         targets_at: the scalar rows' targets at times (N,) [s]: (N, scalar rows) [rad].
         h: the run's time step [s].
+        points: the contact points' planar rows: with them, each step also carries the points'
+            rows with the hip at its origin (:class:`StepContact`) where the free coordinates are
+            the hip's and the points ride it rigidly (:attr:`form`).
+
+    Attributes:
+        form: the points' :class:`~pasibot_pin.constraints.FloatingForm` on the hip, or ``None``.
 
     """
 
@@ -201,9 +231,16 @@ class ShapeTrack:
         split: ShapeSplit,
         targets_at: Callable[[np.ndarray], np.ndarray],
         h: float,
+        points: PlanarRowBlocks | None = None,
     ) -> None:
         self.robot, self.split, self.targets_at, self.h = robot, split, targets_at, h
-        self._block: tuple[float, np.ndarray, np.ndarray, int] | None = None  # t0, shapes, products, length
+        self.points = points
+        self.form: FloatingForm | None = None
+        if points is not None:
+            form = points.floating_form(HIP_PITCH)
+            if form is not None and [*form.base, form.pitch] == split.free.tolist():
+                self.form = form
+        self._block: _Block | None = None
         self._declined_until = -math.inf
         self._misses = 0  # blocks declined in a row
 
@@ -211,10 +248,13 @@ class ShapeTrack:
         """The shape's step from ``t`` for the state ``q`` (``None``: take the general path)."""
         block = self._block
         if block is not None:
-            k = round((t - block[0]) / self.h)
-            if 0 <= k < block[3] and abs(block[0] + k * self.h - t) <= 1e-6 * self.h:
-                shapes, products = block[1], block[2]
-                return TrackStep(shapes[k], shapes[k + 1], products[k])
+            k = round((t - block.t0) / self.h)
+            if 0 <= k < block.length and abs(block.t0 + k * self.h - t) <= 1e-6 * self.h:
+                contact = None
+                if block.contact is not None:
+                    contact = StepContact(block.contact[0][k], block.contact[1][k])
+                shapes, columns = block.shapes, block.columns
+                return TrackStep(shapes[k], shapes[k + 1], columns[k], block.columns_t[k], block.free, contact)
         if t < self._declined_until:
             return None
         self._block = self._solve_block(t, q)
@@ -225,7 +265,7 @@ class ShapeTrack:
         self._misses = 0
         return self.step(t, q)
 
-    def _solve_block(self, t: float, q: np.ndarray):
+    def _solve_block(self, t: float, q: np.ndarray) -> _Block | None:
         """The shapes from ``t`` on, in ``q``'s turns, up to the first jump; ``None`` when ``q`` is off them."""
         split, h, cut = self.split, self.h, self.split.shape
         times = t + h * np.arange(BLOCK + 1)
@@ -248,9 +288,51 @@ class ShapeTrack:
         if length == 0:
             return None
         tangents = per_crank[:-1] @ split.crank_of_target  # D = T E^-1
-        nv = len(q)
+        nv, f = len(q), len(split.free)
         full = np.zeros((BLOCK + 1, nv))
         full[:, cut] = shapes
-        products = np.zeros((BLOCK, nv, 2 + tangents.shape[2]))
-        products[:, cut, 0], products[:, cut, 1:-1], products[:, cut, -1] = velocities, tangents, moved
-        return t, full, products, length
+        columns = np.zeros((BLOCK, nv, f + 2 + tangents.shape[2]))
+        columns[:, split.free, np.arange(f)] = 1.0
+        columns[:, cut, f], columns[:, cut, f + 1 : -1], columns[:, cut, -1] = velocities, tangents, moved
+        contact = None if self.form is None else self._contact(full, columns[:, :, f:-1])
+        columns_t = np.ascontiguousarray(columns.transpose(0, 2, 1))
+        return _Block(t, full, columns, columns_t, length, f, contact)
+
+    def _contact(self, full: np.ndarray, motions: np.ndarray) -> tuple[list, list]:
+        """The lists of :class:`StepContact` for each step of the block.
+
+        One evaluation of the points' terms at every shape gives the body rows and the
+        directional derivatives J x_S, J D at each step's start and J x_S at its end.
+        """
+        points, form = self.points, self.form
+        assert points is not None and form is not None
+        steps = len(motions)
+        # at shape j: the step j's x_S and D, and the step j - 1's x_S
+        directions = np.zeros((steps + 1, full.shape[1], motions.shape[2] + 1))
+        directions[:-1, :, :-1] = motions
+        directions[1:, :, -1] = motions[:, :, 0]
+        parts = [
+            points.directional(full[i : i + CHUNK + 1], directions[i : i + CHUNK + 1]) for i in range(0, steps, CHUNK)
+        ]  # chunks that overlap by one shape
+        rows = np.concatenate([part[0][:-1] for part in parts[:-1]] + [parts[-1][0]])
+        along = np.concatenate([part[1][:-1] for part in parts[:-1]] + [parts[-1][1]])
+        rows -= form.fixed
+        start = np.concatenate((rows[:-1, :, None], along[:-1, :, :-1]), axis=2)
+        end = np.stack((rows[1:], along[1:, :, -1]), axis=2)
+        return start.tolist(), end.tolist()
+
+
+class _Block(NamedTuple):
+    """One block of a track.
+
+    Its start time [s], shapes (BLOCK + 1, nv), columns and their transposes, the steps it holds,
+    the free coordinates' count and the contact lists of :class:`StepContact` (or ``None``).
+    """
+
+    t0: float
+    shapes: np.ndarray
+    columns: np.ndarray
+    columns_t: np.ndarray
+    length: int
+    free: int
+    contact: tuple[list, list] | None

@@ -154,9 +154,7 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
     plan = floor_plan()
 
     units = {r.name: "" if SPECS[r.name].unit == "-" else f" {SPECS[r.name].unit}" for r in plan.ranges}
-    names = ", ".join(
-        f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges if isinstance(r, Range)
-    )
+    names = ", ".join(f"{r.name} {r.low:g} to {r.high:g}{units[r.name]}" for r in plan.ranges if isinstance(r, Range))
     counts = ", ".join(f"{n} {o}" for o, n in sorted(a.outcomes.items(), key=lambda kv: (-kv[1], kv[0])))
     pitch = math.degrees(GaitCriteria().max_hip_pitch)
     head = (

@@ -191,7 +191,7 @@ def _design_rows(design: Mapping) -> list[tuple[str, str, str, str]]:
             f"peak {design['seed_peak']:.2f} -> {design['free_peak']:.2f} N.m, but a "
             f"{design['straightness_ratio']:.0f} times less straight path; {design['straight_peak']:.2f} N.m "
             f"keeping it straight; on the floor {design.get('floor_walkers', 0) or 'no'} spring design(s) of "
-                f"{design['floor_trials']} walk "
+            f"{design['floor_trials']} walk "
             f"(best {design['floor_best_time']:.2f} s, {design['floor_most_steps']} steps)",
             "new",
         )

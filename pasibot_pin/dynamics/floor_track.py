@@ -1,0 +1,240 @@
+"""The floor step on the free coordinates, the legs' shape known ahead: a few products, then Python floats.
+
+With the cranks driven, the floor step (:mod:`pasibot_pin.dynamics.floor`) is left with the free
+coordinates F (the hip; a free ankle) as unknowns: the shape's velocity x_S, its tangent per
+scalar row D and the projection's move are known ahead (:mod:`pasibot_pin.dynamics.shape_track`).
+The step is the general step's QP written on F,
+
+    H_FF u + [M x_S - r]_F = C_F^T z,   C_F u >= -gap / h - C x_S,   r = M v - h (b - tau),
+
+then the projection, which puts the shape on the next closed one and moves F by the mass
+metric's -M_FF^-1 [M moved]_F, and the motors' multipliers by virtual work,
+y = D^T (M x - r) - (C D)^T z with x = x_S + u on F. With P = [E_F, x_S, D, moved] (E_F the
+unit columns of F) all the mass terms are P^T M P and P^T r: two Pinocchio calls (``crba``, and
+``rnea`` at the acceleration -v / h, which is -(M v - h b) / h) and three products. Every other
+quantity has at most eight rows and six columns (the heel and toe cone rows of two feet), so it
+is computed on Python floats: numpy's per-call cost inside a simulation loop exceeds that
+arithmetic.
+
+The contact rows come from the track where the points ride the floating hip rigidly
+(:class:`~pasibot_pin.constraints.FloatingForm`: the block's body rows turned by the hip's pitch,
+no kinematics in the step), else from the planar rows at the step's configuration.
+
+Units: SI, angles [rad], impulses [N.s].
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from operator import mul
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.constraints import FloatingForm, symmetric_mass_matrix
+from pasibot_pin.constraints.solves import inverse_lists
+from pasibot_pin.dynamics.floor_qp import ContactQP
+from pasibot_pin.dynamics.shape_track import ShapeSplit, TrackStep
+from pasibot_pin.errors import DivergedError
+
+if TYPE_CHECKING:
+    from pasibot_pin.constraints.planar import PlanarRowBlocks
+    from pasibot_pin.model.robot import PasibotRobot
+
+SPEED_LIMIT = 1e3
+"""A velocity component beyond this [m/s, rad/s] means the simulation diverged."""
+
+
+class StepOut(NamedTuple):
+    """One tracked step (:meth:`FreeStepper.step`).
+
+    Attributes:
+        q: configuration after the step (nq,).
+        v: velocity after the step (nv,).
+        normal: each contact point's normal impulse [N.s] (right heel, right toe, left heel, left toe).
+        tangential: each point's tangential impulse [N.s].
+        motor: each motor's angular impulse [N.m.s].
+        points: each point's height [m], x [m] and tangential speed [m/s] after the step.
+
+    """
+
+    q: np.ndarray
+    v: np.ndarray
+    normal: list[float]
+    tangential: list[float]
+    motor: list[float]
+    points: tuple[list[float], list[float], list[float]]
+
+
+def check_speed(u: list[float] | np.ndarray) -> None:
+    """Raise :class:`~pasibot_pin.errors.DivergedError` where a part of ``u`` passes :data:`SPEED_LIMIT` (or is NaN)."""
+    fastest = float(np.max(np.abs(u))) if isinstance(u, np.ndarray) else max(map(abs, u), default=0.0)
+    if not fastest <= SPEED_LIMIT:  # also catches NaN
+        raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
+
+
+class FreeStepper:
+    """The tracked floor step of one simulator (see the module docstring).
+
+    Args:
+        robot: the two-legged robot.
+        split: the free coordinates and the shape (:class:`~pasibot_pin.dynamics.shape_track.ShapeSplit`).
+        points: the contact points' planar rows (heel and toe of each foot).
+        qp: the simulator's contact QP (its active set carries over between the two kinds of step).
+        springs: ``springs(q, h)``: the ankle springs' torque (nv,) [N.m] and their implicit term
+            on each ankle's diagonal of H [kg.m^2].
+        ankles: the free ankles' velocity indices (their springs' implicit term).
+        motor_rows: the scalar rows that are motors (of the rows D spans).
+        mu: Coulomb friction [-].
+        form: the points' rigid motion with the hip when the free coordinates are the hip's
+            (:attr:`~pasibot_pin.dynamics.shape_track.ShapeTrack.form`): the contact rows then come
+            from the track's block; ``None``: from the planar rows at each step.
+
+    """
+
+    def __init__(
+        self,
+        robot: PasibotRobot,
+        split: ShapeSplit,
+        points: PlanarRowBlocks,
+        qp: ContactQP,
+        springs: Callable[[np.ndarray, float], tuple[np.ndarray, float]],
+        ankles: list[int],
+        motor_rows: list[int],
+        mu: float,
+        form: FloatingForm | None = None,
+    ) -> None:
+        self.model, self.data = robot.model, robot.data
+        self.split, self.points, self.qp, self.springs = split, points, qp, springs
+        self.mu, self.motor_rows = mu, motor_rows
+        free = split.free.tolist()
+        self.sprung = [free.index(i) for i in ankles if i in free]
+        self._form = form
+        self._turn = 1.0 if form is None else form.turn
+        if form is not None:  # the free coordinates, in order, are the base's sliders, then its pitch
+            if free != [*form.base, form.pitch]:
+                raise ValueError("the floating form's base and pitch must be the free coordinates, in order")
+            self._fixed = form.fixed.tolist()
+            self._slide = form.slide.tolist()
+            # the cone rows' entries on the sliders: Im(slide (1 +- i mu)), constants
+            self._slide_cone = [
+                [[(c * (1.0 + sign * 1j * mu)).imag for c in row] for row in self._slide] for sign in (1.0, -1.0)
+            ]
+        self._contact_key: bytes | None = None
+        self._contact: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
+
+    def step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep) -> StepOut | None:
+        """One step from (q, v) on ``shape`` (``None`` where H_FF is singular: the general path takes it).
+
+        Raises:
+            DivergedError: a free velocity past :data:`SPEED_LIMIT`.
+
+        """
+        f, at = shape.free, self.split.at
+        mass = symmetric_mass_matrix(self.model, self.data, q)
+        r = pin.rnea(self.model, self.data, q, v, v * (-1.0 / h))  # M (-v / h) + b
+        tau, stiffness = self.springs(q, h)
+        k = shape.columns_t.dot(mass.dot(shape.columns)).tolist()  # P^T M P
+        pr = shape.columns_t.dot(tau - r if stiffness else r).tolist()
+        scale = h if stiffness else -h  # P^T (M v - h b + h tau)
+        hessian = [row[:f] for row in k[:f]]
+        for i in self.sprung:
+            hessian[i][i] += stiffness
+        g = [k[i][f] - scale * pr[i] for i in range(f)]
+        q_free = q[at].tolist()
+        if shape.contact is None or self._form is None:
+            cone, lower = self._cone_rows(q, shape, h)
+        else:
+            cone, lower = self._floating_cone(q_free, shape.contact.start, h)
+        try:
+            u, z, shift = self.qp.solve_free(hessian, g, cone, lower, [row[-1] for row in k[:f]])
+        except np.linalg.LinAlgError:  # a free coordinate without inertia (a foot's mass on its ankle axis)
+            return None
+        check_speed(u)  # x_S is the linkage's own, bounded by the crank speed
+        if stiffness and self.sprung:  # the projection's metric is M alone, not H
+            shift = self._mass_shift(k, f)
+        motor = []
+        for j in self.motor_rows:
+            c = f + 1 + j
+            work = k[c][f] - scale * pr[c] - sum(map(mul, z, [row[c] for row in cone]))
+            motor.append(work + sum(map(mul, u, [row[c] for row in k[:f]])))
+        x = shape.velocity.copy()
+        x[at] = u
+        q_new = shape.end.copy()
+        q_free = [a + h * b - c for a, b, c in zip(q_free, u, shift)]
+        q_new[at] = q_free
+        n_points = len(z) // 2
+        normal = [a + b for a, b in zip(z[:n_points], z[n_points:])]
+        tangential = [self.mu * (a - b) for a, b in zip(z[:n_points], z[n_points:])]
+        if shape.contact is None or self._form is None:
+            points = self._points_at(q_new, x)
+        else:
+            points = self._floating_points(q_free, u, shape.contact.end)
+        return StepOut(q_new, x, normal, tangential, motor, points)
+
+    @staticmethod
+    def _mass_shift(k: list[list[float]], f: int) -> list[float]:
+        """M_FF^-1 [M moved]_F (0 where M_FF is singular: as the general projection's least-norm step)."""
+        try:
+            inverse = inverse_lists([row[:f] for row in k[:f]])
+        except np.linalg.LinAlgError:
+            return [0.0] * f
+        extra = [row[-1] for row in k[:f]]
+        return [sum(map(mul, row, extra)) for row in inverse]
+
+    def _cone_rows(self, q: np.ndarray, shape: TrackStep, h: float) -> tuple[list[list[float]], list[float]]:
+        """The cone rows on [F, x_S, D] and their bounds, from the planar rows at ``q``."""
+        rows, jac = self._rows_at(q)
+        f, mu = shape.free, self.mu
+        jac = np.concatenate((jac[:, self.split.at], jac.dot(shape.columns[:, f:-1])), axis=1)
+        cone = np.concatenate((jac.imag + mu * jac.real, jac.imag - mu * jac.real))
+        bound = rows.imag * (-1.0 / h)
+        return cone.tolist(), (np.concatenate((bound, bound)) - cone[:, f]).tolist()
+
+    def _floating_cone(self, q_free: list[float], start: list[list[complex]], h: float):
+        """:meth:`_cone_rows` from the track's body rows, turned by the hip's pitch (no kinematics).
+
+        A cone row's entry on a complex Jacobian entry c is Im(c) +- mu Re(c) = Im(c (1 +- i mu)).
+        """
+        turn, mu = self._turn, self.mu
+        *base, pitch = q_free
+        e = complex(math.cos(pitch), turn * math.sin(pitch))
+        cone, lower = [], []
+        for sign, slide_cone in zip((1.0, -1.0), self._slide_cone):
+            w = e * complex(1.0, sign * mu)
+            for fixed, slide, plain, (body, *along) in zip(self._fixed, self._slide, slide_cone, start):
+                gap = (fixed + sum(map(mul, slide, base)) + e * body).imag
+                entries = [(w * c).imag for c in along]
+                cone.append([*plain, turn * (w * body).real, *entries])
+                lower.append(-gap / h - entries[0])
+        return cone, lower
+
+    def _floating_points(self, q_free: list[float], u: list[float], end: list[list[complex]]):
+        """Each point's height [m], x [m] and tangential speed [m/s] after the step, from the track's body rows."""
+        turn = self._turn
+        *base, pitch = q_free
+        *rate, spin = u
+        e = complex(math.cos(pitch), turn * math.sin(pitch))
+        heights, xs, slip = [], [], []
+        for fixed, slide, (body, along) in zip(self._fixed, self._slide, end):
+            turned = e * body
+            at = fixed + sum(map(mul, slide, base)) + turned
+            heights.append(at.imag)
+            xs.append(at.real)
+            slip.append((sum(map(mul, slide, rate)) + turn * spin * 1j * turned + e * along).real)
+        return heights, xs, slip
+
+    def _points_at(self, q: np.ndarray, x: np.ndarray) -> tuple[list[float], list[float], list[float]]:
+        """Each point's height [m], x [m] and tangential speed [m/s] at (q, x), from the planar rows."""
+        rows, jac = self._rows_at(q)
+        return rows.imag.tolist(), rows.real.tolist(), jac.dot(x).real.tolist()
+
+    def _rows_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The points' planar rows and Jacobian at ``q`` (the last ones kept: a step's end is the next one's start)."""
+        key = q.tobytes()
+        if key != self._contact_key:
+            self._contact = self.points.rows_and_jacobian(q)
+            self._contact_key = key
+        return self._contact
