@@ -59,7 +59,7 @@ import proxsuite
 
 from pasibot_pin.constraints.solves import inverse_lists
 from pasibot_pin.constraints.system import kkt_solve
-from pasibot_pin.errors import ContactSolveError
+from pasibot_pin.errors import ContactSolveError, ParameterError
 
 QP_ATTEMPTS: tuple[tuple[float, int], ...] = ((1e-10, 300), (1e-9, 3_000), (1e-8, 100_000))
 """(eps_abs, max_iter) of proxsuite, tried in turn until the contact QP solves (the first nearly always does, in
@@ -105,6 +105,9 @@ class ContactQP:
     def __init__(self, model: pin.Model, redundant: Sequence[Sequence[int]] = ()) -> None:
         self.model, self.data = model, pin.Data(model)
         self.redundant = [frozenset(group) for group in redundant]
+        if sum(map(len, self.redundant)) != len(frozenset().union(*self.redundant)):
+            raise ParameterError("parameter 'redundant': the groups of cone rows must be disjoint")
+        self._groups = [(group, sorted(group)) for group in self.redundant]
         self.active: list[int] | None = None
         self.fast = 0
         self.fallback = 0
@@ -159,9 +162,9 @@ class ContactQP:
         holds with equality). ``order`` picks which row each group leaves out (0, 1, ...).
         """
         rows = list(active)
-        for group in self.redundant:
-            if group <= set(rows):
-                members = sorted(group)
+        present = set(rows)  # the groups are disjoint: a removal leaves the others' test alone
+        for group, members in self._groups:
+            if group <= present:
                 rows.remove(members[order % len(members)])
                 order //= len(members)
         if len(rows) > n_free or order:

@@ -286,8 +286,12 @@ class RunLog:
             if self.slid[i] > SLIP_LIMIT:
                 self.stop_reason = f"the {side} foot slipped {1e3 * self.slid[i]:.0f} mm by t = {t:.3f} s"
         self.loaded_before = loaded
-        for key, value in zip(("t", "q", "v", "normal", "tangential", "motor"), (t, q, v, *force)):
-            self.rec[key].append(value)
+        rec = self.rec
+        rec["t"].append(t)
+        rec["q"].append(q)
+        rec["v"].append(v)
+        for key, value in zip(("normal", "tangential", "motor"), force):  # flat: floats, no container per step
+            rec[key].extend(value)
 
     def stopped(self, t: float, q: np.ndarray) -> bool:
         """True when a run without a verdict stops here (see the class docstring)."""

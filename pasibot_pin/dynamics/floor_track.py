@@ -37,7 +37,7 @@ from pasibot_pin.constraints import FloatingForm, symmetric_mass_matrix
 from pasibot_pin.constraints.solves import inverse_lists
 from pasibot_pin.dynamics.floor_qp import ContactQP
 from pasibot_pin.dynamics.shape_track import ShapeSplit, TrackStep
-from pasibot_pin.errors import DivergedError
+from pasibot_pin.errors import DivergedError, ParameterError
 
 if TYPE_CHECKING:
     from pasibot_pin.constraints.planar import PlanarRowBlocks
@@ -115,12 +115,12 @@ class FreeStepper:
         self._turn = 1.0 if form is None else form.turn
         if form is not None:  # the free coordinates, in order, are the base's sliders, then its pitch
             if free != [*form.base, form.pitch]:
-                raise ValueError("the floating form's base and pitch must be the free coordinates, in order")
+                raise ParameterError("parameter 'form': its base and pitch must be the free coordinates, in order")
             self._fixed = form.fixed.tolist()
             self._slide = form.slide.tolist()
-            # the cone rows' entries on the sliders: Im(slide (1 +- i mu)), constants
+            # each point's cone rows' entries on the sliders, Im(slide (1 +- i mu)): constants
             self._slide_cone = [
-                [[(c * (1.0 + sign * 1j * mu)).imag for c in row] for row in self._slide] for sign in (1.0, -1.0)
+                tuple([(c * (1.0 + sign * 1j * mu)).imag for c in row] for sign in (1.0, -1.0)) for row in self._slide
             ]
         self._contact_key: bytes | None = None
         self._contact: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
@@ -136,7 +136,7 @@ class FreeStepper:
         mass = symmetric_mass_matrix(self.model, self.data, q)
         r = pin.rnea(self.model, self.data, q, v, v * (-1.0 / h))  # M (-v / h) + b
         tau, stiffness = self.springs(q, h)
-        k = shape.columns_t.dot(mass.dot(shape.columns)).tolist()  # P^T M P
+        k = shape.columns_t[: f + 1].dot(mass.dot(shape.columns)).tolist()  # P^T M P, its rows on F and x_S
         pr = shape.columns_t.dot(tau - r if stiffness else r).tolist()
         scale = h if stiffness else -h  # P^T (M v - h b + h tau)
         hessian = [row[:f] for row in k[:f]]
@@ -158,7 +158,7 @@ class FreeStepper:
         motor = []
         for j in self.motor_rows:
             c = f + 1 + j
-            work = k[c][f] - scale * pr[c] - sum(map(mul, z, [row[c] for row in cone]))
+            work = k[f][c] - scale * pr[c] - sum(map(mul, z, [row[c] for row in cone]))  # D^T M x_S: K symmetric
             motor.append(work + sum(map(mul, u, [row[c] for row in k[:f]])))
         x = shape.velocity.copy()
         x[at] = u
@@ -196,20 +196,26 @@ class FreeStepper:
     def _floating_cone(self, q_free: list[float], start: list[list[complex]], h: float):
         """:meth:`_cone_rows` from the track's body rows, turned by the hip's pitch (no kinematics).
 
-        A cone row's entry on a complex Jacobian entry c is Im(c) +- mu Re(c) = Im(c (1 +- i mu)).
+        A cone row's entry on a complex Jacobian entry c is Im(c) +- mu Re(c) = Im(c (1 +- i mu)),
+        and the entries on the hip's pitch, x_S and D are each the body's unpitched one turned by
+        the pitch (:class:`~pasibot_pin.dynamics.shape_track.StepContact`).
         """
         turn, mu = self._turn, self.mu
         *base, pitch = q_free
         e = complex(math.cos(pitch), turn * math.sin(pitch))
-        cone, lower = [], []
-        for sign, slide_cone in zip((1.0, -1.0), self._slide_cone):
-            w = e * complex(1.0, sign * mu)
-            for fixed, slide, plain, (body, *along) in zip(self._fixed, self._slide, slide_cone, start):
-                gap = (fixed + sum(map(mul, slide, base)) + e * body).imag
-                entries = [(w * c).imag for c in along]
-                cone.append([*plain, turn * (w * body).real, *entries])
-                lower.append(-gap / h - entries[0])
-        return cone, lower
+        to_body = e * complex(0.0, -turn)  # e B = e (i a B) / (i a)
+        plus, minus = e * complex(1.0, mu), e * complex(1.0, -mu)
+        upper, lower, bound_up, bound_low = [], [], [], []
+        scale = -1.0 / h
+        for fixed, slide, (cone_up, cone_low), row in zip(self._fixed, self._slide, self._slide_cone, start):
+            gap = (fixed + sum(map(mul, slide, base)) + to_body * row[0]).imag
+            up = [(plus * c).imag for c in row]
+            low = [(minus * c).imag for c in row]
+            upper.append(cone_up + up)
+            lower.append(cone_low + low)
+            bound_up.append(gap * scale - up[1])
+            bound_low.append(gap * scale - low[1])
+        return upper + lower, bound_up + bound_low
 
     def _floating_points(self, q_free: list[float], u: list[float], end: list[list[complex]]):
         """Each point's height [m], x [m] and tangential speed [m/s] after the step, from the track's body rows."""
@@ -217,13 +223,13 @@ class FreeStepper:
         *base, pitch = q_free
         *rate, spin = u
         e = complex(math.cos(pitch), turn * math.sin(pitch))
+        to_body = e * complex(0.0, -turn)
         heights, xs, slip = [], [], []
-        for fixed, slide, (body, along) in zip(self._fixed, self._slide, end):
-            turned = e * body
-            at = fixed + sum(map(mul, slide, base)) + turned
+        for fixed, slide, (spun, along) in zip(self._fixed, self._slide, end):
+            at = fixed + sum(map(mul, slide, base)) + to_body * spun
             heights.append(at.imag)
             xs.append(at.real)
-            slip.append((sum(map(mul, slide, rate)) + turn * spin * 1j * turned + e * along).real)
+            slip.append((sum(map(mul, slide, rate)) + spin * e * spun + e * along).real)
         return heights, xs, slip
 
     def _points_at(self, q: np.ndarray, x: np.ndarray) -> tuple[list[float], list[float], list[float]]:

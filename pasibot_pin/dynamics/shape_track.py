@@ -66,9 +66,12 @@ class StepContact(NamedTuple):
     """The contact points' rows of one step, the hip at its origin, unpitched (a :class:`~.constraints.FloatingForm`).
 
     Attributes:
-        start: each point's [B, J x_S, J D...] at the step's start shape, complex: its body row [m],
-            its speed in the step [m/s] and its motion per unit of each scalar row's target [m/rad].
-        end: each point's [B, J x_S] at the step's end shape (its speed after the step, less the hip's part).
+        start: each point's [i a B, J x_S, J D...] at the step's start shape, complex: its body row
+            B turned a right angle by the pitch's sign a (its Jacobian column on the unpitched
+            hip's pitch) [m], its speed in the step [m/s] and its motion per unit of each scalar
+            row's target [m/rad].
+        end: each point's [i a B, J x_S] at the step's end shape (J x_S: its speed after the step,
+            less the hip's part).
 
     """
 
@@ -316,7 +319,7 @@ class ShapeTrack:
         ]  # chunks that overlap by one shape
         rows = np.concatenate([part[0][:-1] for part in parts[:-1]] + [parts[-1][0]])
         along = np.concatenate([part[1][:-1] for part in parts[:-1]] + [parts[-1][1]])
-        rows -= form.fixed
+        rows = (rows - form.fixed) * (1j * form.turn)
         start = np.concatenate((rows[:-1, :, None], along[:-1, :, :-1]), axis=2)
         end = np.stack((rows[1:], along[1:, :, -1]), axis=2)
         return start.tolist(), end.tolist()
