@@ -33,8 +33,6 @@ DURATION = 10.0
 """Simulated time of the floor run [s]."""
 
 
-
-
 def main() -> None:
     inputs = spring_study.scenario_inputs("run1")
     weld = simulate.BipedSimulator(
