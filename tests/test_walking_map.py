@@ -206,6 +206,18 @@ def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
     assert math.degrees(v.max_hip_pitch) <= float(row["floor_max_hip_pitch_deg"]) + 1e-3
 
 
+def test_the_cost_paragraph_is_quoted_and_counts_the_committed_runs(wmap):
+    """docs/walking.md's paragraph on where the time goes is the code's, from the committed map and sweep."""
+    from pasibot_pin.report.walking_answer import cost_paragraph, sweep_rows
+
+    rows = sweep_rows()
+    text = cost_paragraph(wmap, rows)
+    assert text in (ROOT / "docs" / "walking.md").read_text()
+    full = [c for c in wmap.cells if c.steps >= wmap.steps]
+    assert f"the {len(full)} cells that took them all" in text
+    assert f"the other {len(wmap.cells) - len(full)} are decided" in text
+
+
 def test_our_engine_walked_again_keeps_the_committed_twin(wmap):
     """``--compute --keep-twin``: the twin's columns and note come back cell by cell, our columns stay ours."""
     from dataclasses import replace
