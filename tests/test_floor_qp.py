@@ -242,19 +242,19 @@ def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
 
 def test_the_small_solves_are_numpys():
     """The closed-form inverses and solves of the free-coordinate QP against LAPACK's, and their singular cases."""
-    from pasibot_pin.constraints.solves import small_inverse
+    from pasibot_pin.constraints.solves import inverse_lists
 
     rng = np.random.default_rng(11)
     for n in (1, 2, 3, 4):
         for _ in range(20):
             a = rng.normal(size=(n, n)) + n * np.eye(n)
             b = rng.normal(size=n)
-            np.testing.assert_allclose(small_inverse(a), np.linalg.inv(a), rtol=1e-12, atol=1e-12)
+            np.testing.assert_allclose(inverse_lists(a.tolist()), np.linalg.inv(a), rtol=1e-12, atol=1e-12)
             np.testing.assert_allclose(floor_qp._solve_small(a.tolist(), b.tolist()), np.linalg.solve(a, b), atol=1e-12)
         singular = np.ones((n, n)) if n > 1 else np.zeros((1, 1))
         assert floor_qp._solve_small(singular.tolist(), [1.0] * n) is None
         with pytest.raises(np.linalg.LinAlgError):
-            small_inverse(singular)
+            inverse_lists(singular.tolist())
 
 
 def test_the_free_qp_is_the_equality_qp_on_its_free_coordinates():

@@ -256,5 +256,5 @@ def test_the_tracked_contact_rows_are_the_planar_rows(case, monkeypatch):
             x = step.velocity.copy()
             x[:3] = u
             got = stepper._floating_points(end[:3].tolist(), u.tolist(), step.contact.end)
-            np.testing.assert_allclose(got, stepper._points_at(end, x), rtol=0, atol=1e-12)
+            np.testing.assert_allclose(got, stepper.rows.lists(end, x), rtol=0, atol=1e-12)
         q = step.end

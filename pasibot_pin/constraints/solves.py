@@ -2,7 +2,7 @@
 
 :func:`kkt_solve` is the package's one KKT solve (Pinocchio's ``forwardDynamics`` with our rows);
 :func:`split_torques` splits joint torques into actuator torques and constraint forces;
-:func:`small_inverse` and :func:`inverse_lists` invert a 3 x 3 without LAPACK's call cost;
+:func:`inverse_lists` inverts a 3 x 3 on Python floats, without LAPACK's call cost;
 the square solves raise the package's typed errors on a singular pose.
 
 Units: SI.
@@ -129,22 +129,6 @@ def square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
     if not np.all(np.isfinite(sol)):
         raise SingularPoseError(f"{what}: singular pose, the solution is not finite")
     return sol
-
-
-def small_inverse(matrix: np.ndarray) -> np.ndarray:
-    """The inverse of a small square matrix; up to 3 x 3 in closed form (:func:`inverse_lists`).
-
-    LAPACK's call costs 20-30 us inside a simulation loop (cold code), far more than a 3 x 3's
-    arithmetic: the floor's QP on the hip's three freedoms inverts two or three such matrices per
-    step. Larger matrices go to ``numpy.linalg.inv``.
-
-    Raises:
-        numpy.linalg.LinAlgError: the matrix is singular (a zero or non-finite determinant).
-
-    """
-    if matrix.shape[0] > 3:
-        return np.linalg.inv(matrix)
-    return np.array(inverse_lists(matrix.tolist()))
 
 
 def inverse_lists(matrix: list[list[float]]) -> list[list[float]]:

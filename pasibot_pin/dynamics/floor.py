@@ -59,7 +59,7 @@ from pasibot_pin.dynamics.floor_settings import (  # noqa: F401 (crank_advance, 
     crank_advance,
     crank_advances,
 )
-from pasibot_pin.dynamics.floor_track import SPEED_LIMIT, FreeStepper, check_speed  # noqa: F401 (SPEED_LIMIT: re-exported)
+from pasibot_pin.dynamics.floor_track import SPEED_LIMIT, FreeStepper, PointRows, check_speed  # noqa: F401 (SPEED_LIMIT: re-exported)
 from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack
 from pasibot_pin.dynamics.simulator import ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample
@@ -151,11 +151,9 @@ class FloorSimulator:
         n_points = len(frames)
         feet = [[k, k + 1, k + n_points, k + 1 + n_points] for k in range(0, n_points, len(POINTS))]
         self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
-        self._contact_key: bytes | None = None  # the configuration of the cached contact rows
         self._held_sim: FloorSimulator | None = None
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
-        self._contact: tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray] | None = None
-        self._contact_jac = np.zeros(0, dtype=complex)
+        self._contact_rows = PointRows(self.points)  # the contact rows at the last configuration asked
 
     def targets(self, t: float) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad]: the cranks at theta0 + omega advance (:func:`crank_advance`)."""
@@ -180,17 +178,12 @@ class FloorSimulator:
         return rows.imag, rows.real, jac.imag, jac.real
 
     def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`contact_rows`, cached for the last configuration asked (a step's end is the next one's start).
+        """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor_track.PointRows`).
 
-        The arrays are shared with the cache: read them, never write into them.
+        The arrays are views of the cache: read them, never write into them.
         """
-        key = np.asarray(q, dtype=float).tobytes()
-        if key != self._contact_key:
-            rows, jac = self.points.rows_and_jacobian(np.asarray(q, dtype=float))
-            self._contact = (rows.imag, rows.real, jac.imag, jac.real)
-            self._contact_jac = jac  # complex: J_t + i J_n, one product gives both rows
-            self._contact_key = key
-        return self._contact
+        rows, jac = self._contact_rows.at(q)
+        return rows.imag, rows.real, jac.imag, jac.real
 
     def step(
         self, t: float, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None
@@ -472,7 +465,7 @@ class FloorSimulator:
         stepper = FreeStepper(
             self.robot,
             split,
-            self.points,
+            self._contact_rows,
             self._qp,
             self._springs,
             ankles,
@@ -495,12 +488,9 @@ class FloorSimulator:
             if out is not None:
                 return out
         q, v, normal, tangential, motor = self.step(t, q, v, h)
-        gap, along, _, jt = self._contact_at(q)
-        points = (gap.tolist(), along.tolist(), jt.dot(v).tolist())
-        return q, v, normal.tolist(), tangential.tolist(), motor.tolist(), points
+        return q, v, normal.tolist(), tangential.tolist(), motor.tolist(), self._contact_rows.lists(q, v)
 
     def _sample(self, t: float, q: np.ndarray, v: np.ndarray) -> GaitSample:
         """The :class:`GaitSample` at ``t`` without forces (a run's start: a point on the floor counts as loaded)."""
-        gap, along, _, jt = self._contact_at(q)
-        points = (gap.tolist(), along.tolist(), jt.dot(v).tolist())
+        points = self._contact_rows.lists(q, v)
         return point_sample(t, (float(q[HIP_X]), float(q[HIP_PITCH])), points, None, (0.0, 0.0))[0]

@@ -75,13 +75,45 @@ def check_speed(u: list[float] | np.ndarray) -> None:
         raise DivergedError(f"the simulation diverged: a velocity reached {fastest:.3g} (limit {SPEED_LIMIT:g})")
 
 
+class PointRows:
+    """The contact points' planar rows and Jacobian, kept for the configuration asked last.
+
+    A step's end is the next one's start: the floor's general step, its tracked step (where the
+    rows do not ride the hip) and the judge's sample share one evaluation. The arrays are shared
+    with the cache: read them, never write into them.
+
+    Args:
+        points: the heel and toe points' planar rows.
+
+    """
+
+    def __init__(self, points: PlanarRowBlocks) -> None:
+        self.points = points
+        self._key: bytes | None = None
+        self._rows: tuple[np.ndarray, np.ndarray] = (np.zeros(0, dtype=complex), np.zeros((0, 0), dtype=complex))
+
+    def at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The rows x + i z (points,) [m] and their Jacobian (points, nv), complex, at ``q``."""
+        q = np.asarray(q, dtype=float)
+        key = q.tobytes()
+        if key != self._key:
+            self._rows = self.points.rows_and_jacobian(q)
+            self._key = key
+        return self._rows
+
+    def lists(self, q: np.ndarray, v: np.ndarray) -> tuple[list[float], list[float], list[float]]:
+        """Each point's height [m], x [m] and tangential speed [m/s] at (q, v)."""
+        rows, jac = self.at(q)
+        return rows.imag.tolist(), rows.real.tolist(), jac.dot(v).real.tolist()
+
+
 class FreeStepper:
     """The tracked floor step of one simulator (see the module docstring).
 
     Args:
         robot: the two-legged robot.
         split: the free coordinates and the shape (:class:`~pasibot_pin.dynamics.shape_track.ShapeSplit`).
-        points: the contact points' planar rows (heel and toe of each foot).
+        rows: the contact points' planar rows, cached (:class:`PointRows`, shared with the floor's general step).
         qp: the simulator's contact QP (its active set carries over between the two kinds of step).
         springs: ``springs(q, h)``: the ankle springs' torque (nv,) [N.m] and their implicit term
             on each ankle's diagonal of H [kg.m^2].
@@ -98,7 +130,7 @@ class FreeStepper:
         self,
         robot: PasibotRobot,
         split: ShapeSplit,
-        points: PlanarRowBlocks,
+        rows: PointRows,
         qp: ContactQP,
         springs: Callable[[np.ndarray, float], tuple[np.ndarray, float]],
         ankles: list[int],
@@ -107,7 +139,7 @@ class FreeStepper:
         form: FloatingForm | None = None,
     ) -> None:
         self.model, self.data = robot.model, robot.data
-        self.split, self.points, self.qp, self.springs = split, points, qp, springs
+        self.split, self.rows, self.qp, self.springs = split, rows, qp, springs
         self.mu, self.motor_rows = mu, motor_rows
         free = split.free.tolist()
         self.sprung = [free.index(i) for i in ankles if i in free]
@@ -122,8 +154,6 @@ class FreeStepper:
             self._slide_cone = [
                 tuple([(c * (1.0 + sign * 1j * mu)).imag for c in row] for sign in (1.0, -1.0)) for row in self._slide
             ]
-        self._contact_key: bytes | None = None
-        self._contact: tuple[np.ndarray, np.ndarray] = (np.zeros(0), np.zeros(0))
 
     def step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep) -> StepOut | None:
         """One step from (q, v) on ``shape`` (``None`` where H_FF is singular: the general path takes it).
@@ -144,10 +174,11 @@ class FreeStepper:
             hessian[i][i] += stiffness
         g = [k[i][f] - scale * pr[i] for i in range(f)]
         q_free = q[at].tolist()
-        if shape.contact is None or self._form is None:
+        contact = shape.contact if self._form is not None else None  # None: the planar rows at q
+        if contact is None:
             cone, lower = self._cone_rows(q, shape, h)
         else:
-            cone, lower = self._floating_cone(q_free, shape.contact.start, h)
+            cone, lower = self._floating_cone(q_free, contact.start, h)
         try:
             u, z, shift = self.qp.solve_free(hessian, g, cone, lower, [row[-1] for row in k[:f]])
         except np.linalg.LinAlgError:  # a free coordinate without inertia (a foot's mass on its ankle axis)
@@ -168,10 +199,10 @@ class FreeStepper:
         n_points = len(z) // 2
         normal = [a + b for a, b in zip(z[:n_points], z[n_points:])]
         tangential = [self.mu * (a - b) for a, b in zip(z[:n_points], z[n_points:])]
-        if shape.contact is None or self._form is None:
-            points = self._points_at(q_new, x)
+        if contact is None:
+            points = self.rows.lists(q_new, x)
         else:
-            points = self._floating_points(q_free, u, shape.contact.end)
+            points = self._floating_points(q_free, u, contact.end)
         return StepOut(q_new, x, normal, tangential, motor, points)
 
     @staticmethod
@@ -186,7 +217,7 @@ class FreeStepper:
 
     def _cone_rows(self, q: np.ndarray, shape: TrackStep, h: float) -> tuple[list[list[float]], list[float]]:
         """The cone rows on [F, x_S, D] and their bounds, from the planar rows at ``q``."""
-        rows, jac = self._rows_at(q)
+        rows, jac = self.rows.at(q)
         f, mu = shape.free, self.mu
         jac = np.concatenate((jac[:, self.split.at], jac.dot(shape.columns[:, f:-1])), axis=1)
         cone = np.concatenate((jac.imag + mu * jac.real, jac.imag - mu * jac.real))
@@ -231,16 +262,3 @@ class FreeStepper:
             xs.append(at.real)
             slip.append((sum(map(mul, slide, rate)) + spin * e * spun + e * along).real)
         return heights, xs, slip
-
-    def _points_at(self, q: np.ndarray, x: np.ndarray) -> tuple[list[float], list[float], list[float]]:
-        """Each point's height [m], x [m] and tangential speed [m/s] at (q, x), from the planar rows."""
-        rows, jac = self._rows_at(q)
-        return rows.imag.tolist(), rows.real.tolist(), jac.dot(x).real.tolist()
-
-    def _rows_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """The points' planar rows and Jacobian at ``q`` (the last ones kept: a step's end is the next one's start)."""
-        key = q.tobytes()
-        if key != self._contact_key:
-            self._contact = self.points.rows_and_jacobian(q)
-            self._contact_key = key
-        return self._contact

@@ -131,7 +131,6 @@ class ShapeSplit:
         target_offset: c (scalar rows,) [rad].
         legs: (m, 2) masks of the shape coordinates of the right and the left leg.
         angular: (m,) mask of the shape coordinates that are angles.
-        free_free: flat indices of the (F, F) block of an (nv, nv) matrix (``take``: cheaper than ``np.ix_``).
         at: the free coordinates as an index: a slice where they are contiguous (the hip: views,
             no copies), else ``free``.
 
@@ -144,7 +143,6 @@ class ShapeSplit:
     target_offset: np.ndarray
     legs: np.ndarray
     angular: np.ndarray
-    free_free: np.ndarray
     at: slice | np.ndarray
 
     @classmethod
@@ -183,18 +181,9 @@ class ShapeSplit:
         if not legs.any(axis=1).all():
             return None
         angular = angular_coordinates(robot.model)[shape]
-        nv = jac.shape[1]
-        free_free = (free[:, None] * nv + free).ravel()
         contiguous = bool(len(free)) and np.array_equal(free, np.arange(free[0], free[0] + len(free)))
         at = slice(int(free[0]), int(free[0]) + len(free)) if contiguous else free
-        return cls(free, shape, cranks, e_inv, offset, legs, angular, free_free, at)
-
-    def free_block(self, matrix: np.ndarray) -> np.ndarray:
-        """The (F, F) block of an (nv, nv) ``matrix`` (a view where F is contiguous, else a new array)."""
-        if isinstance(self.at, slice):
-            return matrix[self.at, self.at]
-        f = len(self.free)
-        return matrix.take(self.free_free).reshape(f, f)
+        return cls(free, shape, cranks, e_inv, offset, legs, angular, at)
 
     def thetas(self, targets: np.ndarray) -> np.ndarray:
         """Crank angles (N, 2) [rad] of the scalar rows' targets (N, scalar rows)."""
