@@ -155,6 +155,20 @@ class FloorSimulator:
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
         self._contact_rows = PointRows(self.points)  # the contact rows at the last configuration asked
 
+    @property
+    def crank_rows(self) -> list[int]:
+        """The bilateral rows that are motors (their multipliers are the motors' impulses)."""
+        return list(self._crank_rows)
+
+    @property
+    def motor_index(self) -> list[int]:
+        """The motors' velocity indices."""
+        return list(self._motor_index)
+
+    def springs(self, q: np.ndarray, h: float, scale: float = 1.0) -> tuple[np.ndarray, float]:
+        """The ankle springs' torque at ``q`` (nv,) [N.m] and their implicit term on H (see :meth:`step`)."""
+        return self._springs(q, h, scale)
+
     def targets(self, t: float) -> np.ndarray:
         """The scalar rows' targets at ``t`` [rad]: the cranks at theta0 + omega advance (:func:`crank_advance`)."""
         return self._target_offsets + self._target_rates * crank_advance(t, self.settings.crank_ramp)[0]

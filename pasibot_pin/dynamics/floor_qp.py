@@ -297,24 +297,38 @@ class ContactQP:
 
     @staticmethod
     def _proxsuite(hessian, g, a_eq, b_eq, c_in, lower):
-        """The QP by proxsuite's dense solver, cold, with :data:`QP_ATTEMPTS` (a hard step gets more iterations)."""
-        for eps, max_iter in QP_ATTEMPTS:
-            result = proxsuite.proxqp.dense.solve(
-                H=hessian,
-                g=g,
-                A=a_eq,
-                b=b_eq,
-                C=c_in,
-                l=lower,
-                u=np.full(len(lower), UNBOUNDED),
-                eps_abs=eps,
-                max_iter=max_iter,
-            )
-            if result.info.status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
-                break
-        else:
-            raise ContactSolveError(f"the contact QP did not solve ({result.info.status})")
-        return np.array(result.x), -np.array(result.y), -np.array(result.z)
+        return proxsuite_qp(hessian, g, a_eq, b_eq, c_in, lower)
+
+
+def proxsuite_qp(
+    hessian: np.ndarray, g: np.ndarray, a_eq: np.ndarray, b_eq: np.ndarray, c_in: np.ndarray, lower: np.ndarray
+) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The contact QP by proxsuite's dense solver, cold, with :data:`QP_ATTEMPTS` (a hard step gets more iterations).
+
+    Returns:
+        (x, y, z) signed as :meth:`ContactQP.solve`'s: H x + g = A^T y + C^T z, z >= 0.
+
+    Raises:
+        ContactSolveError: no attempt solved it.
+
+    """
+    for eps, max_iter in QP_ATTEMPTS:
+        result = proxsuite.proxqp.dense.solve(
+            H=hessian,
+            g=g,
+            A=a_eq,
+            b=b_eq,
+            C=c_in,
+            l=lower,
+            u=np.full(len(lower), UNBOUNDED),
+            eps_abs=eps,
+            max_iter=max_iter,
+        )
+        if result.info.status == proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+            break
+    else:
+        raise ContactSolveError(f"the contact QP did not solve ({result.info.status})")
+    return np.array(result.x), -np.array(result.y), -np.array(result.z)
 
 
 def _free_kkt(

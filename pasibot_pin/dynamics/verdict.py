@@ -22,6 +22,8 @@ Outcomes (:data:`OUTCOMES`):
   - ``stalled``: no step for two step periods, or the hip's advance per step short of the band;
   - ``hopped``: a foot landed less than :attr:`GaitCriteria.step_advance` L ahead of where it stood
     (it was lifted and put down, not stepped), or both feet left the floor;
+  - ``tipped``: (3-D floor only) the hip rolled past :data:`TIP_LIMIT` sideways;
+  - ``collided``: (3-D floor only) a sole passed through the other foot's sole;
   - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`).
 
 * ``undecided``: the run ended (its given duration) before any of the above was decided, less
@@ -45,13 +47,27 @@ import numpy as np
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import SIDES
 
-OUTCOMES: tuple[str, ...] = ("walks", "fell", "rolled", "slipped", "stalled", "hopped", "diverged", "undecided")
+OUTCOMES: tuple[str, ...] = (
+    "walks",
+    "fell",
+    "rolled",
+    "slipped",
+    "stalled",
+    "hopped",
+    "tipped",
+    "collided",
+    "diverged",
+    "undecided",
+)
 """Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
 the walk needs, see :data:`FAILURES`)."""
 
-FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "diverged")
+FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "tipped", "collided", "diverged")
 """The outcomes that are failures."""
 
+
+TIP_LIMIT = math.radians(10.0)
+"""A 3-D walk whose hip rolls past this is ``tipped`` [rad]."""
 
 MIN_STRIDE_STEPS = 3
 """The advance band is checked over whole strides, which needs at least this many judged steps [-]."""
@@ -287,6 +303,15 @@ class GaitJudge:
     def diverged(self, t: float, detail: str) -> None:
         """The simulation broke at ``t`` [s] (a :class:`~pasibot_pin.errors.SimulationError`)."""
         self._decide("diverged", t, detail)
+
+    def sideways(self, outcome: str, t: float, detail: str) -> None:
+        """A 3-D walk failed sideways at ``t`` [s]: ``tipped`` (the hip rolled past the limit) or ``collided``.
+
+        The planar judge cannot see either: the 3-D floor (:mod:`pasibot_pin.dynamics.floor3d`) decides them.
+        """
+        if outcome not in ("tipped", "collided"):
+            raise ParameterError(f"parameter 'outcome' must be tipped or collided, got {outcome!r}")
+        self._decide(outcome, t, detail)
 
     def update(self, sample: GaitSample) -> bool:
         """Take one sample (in time order); True once the outcome is decided."""

@@ -1,0 +1,378 @@
+"""The biped on a floor in three dimensions: a free hip that can roll, yaw and drift sideways.
+
+The planar floor (:mod:`pasibot_pin.dynamics.floor`) holds the hip in the sagittal plane. Here
+the hip is Pinocchio's free flyer (:func:`~pasibot_pin.model.spatial.free_flyer_model`), the legs
+stay in their planes at y = -/+ ``hip_half_width``, and each sole touches the ground at its
+corners (:class:`~pasibot_pin.model.spatial.Footprint`): unilateral points with Coulomb friction
+in 3-D (a four-sided pyramid, |F_t1| + |F_t2| <= mu F_n, inscribed in the cone).
+
+One step is the planar floor's scheme (Moreau, Anitescu): the velocity after the step solves
+
+    min_u  1/2 (u - u-)^T M (u - u-) - h (tau - b)^T u
+    s.t.   J_b u = -Phi_t           (loops, cranks: the planar rows of each leg)
+           (J_n +- mu J_tk) u >= -gap / h     (each corner, each tangent k of the ground)
+
+then the positions advance by h u and are projected back onto the loops (mass metric). The
+velocity u is the hip's linear and angular velocity *in world axes* (then the legs' rates): with
+the hip's y, roll and yaw held, u is the planar velocity and the step the planar step, term for
+term, so :class:`Floor3D` with ``hold_lateral=True`` and a footprint of no width reproduces the
+planar walk (tests/test_floor3d.py). Free, the QP is solved by proxsuite (its rows are
+redundant as soon as a foot is flat: 16 rows on a foot's six freedoms).
+
+The walk is judged by the planar judge on each foot's heel and toe (the corners summed), plus the
+sideways outcome ``tipped`` (|roll| past :data:`~pasibot_pin.dynamics.verdict.TIP_LIMIT`).
+
+Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.constraints import symmetric_mass_matrix
+from pasibot_pin.constraints.solves import kkt_solve
+from pasibot_pin.dynamics.floor import FloorSimulator
+from pasibot_pin.dynamics.floor_qp import ContactQP, proxsuite_qp
+from pasibot_pin.dynamics.floor_run import point_sample
+from pasibot_pin.dynamics.floor_settings import check_number
+from pasibot_pin.dynamics.floor_track import check_speed
+from pasibot_pin.dynamics.ground import Ground
+from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
+from pasibot_pin.errors import ClosureError, ParameterError, SimulationError
+from pasibot_pin.model.spatial import (
+    NQ_ROOT,
+    NV_ROOT,
+    PLANAR_NQ_ROOT,
+    Footprint,
+    corner_frames,
+    free_flyer_model,
+    planar_to_spatial,
+    planar_velocity_to_spatial,
+    roll_pitch_yaw,
+)
+
+STEP_LIMIT = 0.5
+"""Largest correction of one Newton iteration of the projection [m, rad]."""
+MAX_STEPS = 2_000_000
+"""Most time steps one 3-D run takes."""
+HELD = (1, 3, 5)
+"""The world-aligned velocity entries the planar walk holds: y, roll and yaw."""
+
+
+@dataclass
+class Floor3DResult:
+    """A 3-D floor run, one sample per step.
+
+    Attributes:
+        t: times [s] (n,).
+        q: free-flyer configurations (n, nq).
+        hip: the hip's x, y, z [m] (n, 3).
+        roll, pitch, yaw: the hip's attitude [rad] (n,) (pitch: the planar convention).
+        normal: each corner's normal force [N] (n, corners).
+        verdict: the walk's :class:`~pasibot_pin.dynamics.verdict.Verdict` (``tipped`` among its outcomes).
+        max_hip_roll_deg: largest |roll| [deg].
+        yaw_per_step_deg: the hip's yaw at the end over the steps taken [deg/step].
+        lateral_drift_m: the hip's y at the end [m].
+        roll_margin_deg: the tip limit less the largest |roll| [deg] (negative: tipped).
+        fallback: QP solves answered by proxsuite (the rest exactly).
+
+    """
+
+    t: np.ndarray
+    q: np.ndarray
+    hip: np.ndarray
+    roll: np.ndarray
+    pitch: np.ndarray
+    yaw: np.ndarray
+    normal: np.ndarray
+    verdict: Verdict
+    max_hip_roll_deg: float
+    yaw_per_step_deg: float
+    lateral_drift_m: float
+    roll_margin_deg: float
+    fallback: int
+
+    def summary(self) -> str:
+        """One line: the verdict, then the sideways figures."""
+        return (
+            f"{self.verdict.summary()}; 3-D: max |roll| {self.max_hip_roll_deg:.2f} deg "
+            f"(limit {math.degrees(TIP_LIMIT):g}), yaw {self.yaw_per_step_deg:+.3f} deg/step, "
+            f"lateral drift {1000 * self.lateral_drift_m:+.1f} mm"
+        )
+
+
+class Floor3D:
+    """The two-legged robot on a 3-D ground (see the module docstring).
+
+    Args:
+        planar: the planar floor simulator of the same robot and settings (its loops, cranks,
+            springs, start and targets are this one's).
+        footprint: the soles' lateral shape.
+        ground: the ground (default: the flat floor with the settings' mu).
+        hold_lateral: hold the hip's y, roll and yaw (the planar walk, in 3-D).
+
+    """
+
+    def __init__(
+        self,
+        planar: FloorSimulator,
+        footprint: Footprint,
+        ground: Ground | None = None,
+        hold_lateral: bool = False,
+    ) -> None:
+        if planar.settings.hip != "free":
+            raise ParameterError("the 3-D floor needs settings.hip = 'free' (a level hip is a planar constraint)")
+        self.planar, self.settings = planar, planar.settings
+        self.footprint = footprint
+        self.ground = Ground(0.0, planar.settings.mu) if ground is None else ground
+        self.hold = hold_lateral
+        robot = planar.robot
+        self.model = free_flyer_model(robot.model)
+        self.corners = corner_frames(self.model, planar_to_spatial(robot.q0), footprint)
+        self.data = self.model.createData()
+        self._kkt_data = self.model.createData()
+        self.per_point = len(footprint.offsets)  # corners at each of heel and toe
+        n = len(self.corners)
+        self.n_corners = n
+        if hold_lateral:
+            # cone rows k (n + mu t) and k + n (n - mu t): a foot's four rows of heel and toe, as the planar floor's
+            feet = [[k, k + 1, k + n, k + 1 + n] for k in range(0, n, 2)] if self.per_point == 1 else []
+            self._qp: ContactQP | None = ContactQP(self.model, feet)
+        else:
+            self._qp = None
+        self._shift = NV_ROOT - PLANAR_NQ_ROOT
+        self._crank_rows = planar.crank_rows
+        self._motor_index = [i + self._shift for i in planar.motor_index]
+        self.fallback = 0
+
+    # ---- coordinates
+    def spatial_state(self, q2: np.ndarray, v2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A planar state as a 3-D one: (q, u), u in world-aligned root coordinates."""
+        return planar_to_spatial(q2), planar_velocity_to_spatial(v2)
+
+    def planar_view(self, q: np.ndarray) -> np.ndarray:
+        """The planar configuration of the hip's x, z, pitch and the legs (the loops' rows read only the legs)."""
+        roll, pitch, yaw = roll_pitch_yaw(q)
+        return np.concatenate(([q[0], q[2], pitch], q[NQ_ROOT:]))
+
+    def _rotation(self, q: np.ndarray) -> np.ndarray:
+        return pin.Quaternion(q[3:7]).normalized().toRotationMatrix()
+
+    def _advance(self, q: np.ndarray, du: np.ndarray) -> np.ndarray:
+        """Q moved by du: the hip by du's world-axes translation and rotation, the legs by addition."""
+        out = q.copy()
+        out[:3] += du[:3]
+        rotation = pin.exp3(du[3:6]) @ self._rotation(q)
+        out[3:7] = pin.Quaternion(rotation).coeffs()
+        out[NQ_ROOT:] += du[NV_ROOT:]
+        return out
+
+    def _transform(self, q: np.ndarray) -> np.ndarray:
+        """T (nv, nv) with v = T u: Pinocchio's local root velocity from the world-aligned one."""
+        rotation = self._rotation(q)
+        transform = np.eye(self.model.nv)
+        transform[:3, :3] = rotation.T
+        transform[3:6, 3:6] = rotation.T
+        return transform
+
+    def _mass_and_bias(self, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """M and b in world-aligned coordinates, and T (v = T u, Pinocchio's local root velocity)."""
+        nv = self.model.nv
+        transform = self._transform(q)
+        v = transform @ u
+        mass = symmetric_mass_matrix(self.model, self.data, q)
+        mass_u = transform.T @ mass @ transform
+        # d/dt (R^T p') = R^T p'' - w x v: the local acceleration that a world-aligned u' = 0 means
+        drift = np.zeros(nv)
+        drift[:3] = -np.cross(v[3:6], v[:3])
+        bias = transform.T @ pin.rnea(self.model, self.data, q, v, drift)
+        return mass_u, bias, transform
+
+    def contact(self, q: np.ndarray, transform: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each corner's position (k, 3) [m], its Jacobian in the ground's frame (k, 3, nv), and its gap (k,) [m]."""
+        model, data = self.model, self.data
+        pin.computeJointJacobians(model, data, q)
+        pin.updateFramePlacements(model, data)
+        frame = self.ground.frame()
+        points = np.array([data.oMf[i].translation for i in self.corners])
+        jac = np.array(
+            [
+                frame @ pin.getFrameJacobian(model, data, i, pin.LOCAL_WORLD_ALIGNED)[:3] @ transform
+                for i in self.corners
+            ]
+        )
+        return points, jac, self.ground.gap(points)
+
+    def _bilateral(self, q: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
+        """Phi and J (world-aligned u) of the loops and cranks at ``t``, plus the held rows when held."""
+        planar = self.planar
+        targets = planar.targets(t) if self.settings.crank_ramp > 0 else None
+        rows = planar.bilateral.evaluate(self.planar_view(q), None, t, targets)
+        jac = np.zeros((rows.jac.shape[0], self.model.nv))
+        jac[:, NV_ROOT:] = rows.jac[:, PLANAR_NQ_ROOT:]
+        phi = rows.phi
+        if self.hold:
+            rotation = self._rotation(q)
+            # y, and the rotation's roll and yaw errors (small: the hip turns about y alone)
+            held = np.array([q[1], rotation[2, 1], rotation[1, 0]])
+            phi = np.concatenate((phi, held))
+            jac = np.vstack((jac, np.eye(self.model.nv)[list(HELD)]))
+        return phi, jac
+
+    def _tolerance(self) -> np.ndarray:
+        tol = self.planar.bilateral.tolerance
+        return np.concatenate((tol, np.full(3, 1e-12))) if self.hold else tol
+
+    def project(self, q: np.ndarray, t: float, max_iter: int = 20) -> np.ndarray:
+        """Newton onto the loops (and held rows) from ``q``, minimum mass-norm corrections."""
+        tol = self._tolerance()
+        phi = np.zeros(0)
+        for _ in range(max_iter):
+            phi, jac = self._bilateral(q, t)
+            if (np.abs(phi) < tol).all():
+                return q
+            mass, _, _ = self._mass_and_bias(q, np.zeros(self.model.nv))
+            data = self._kkt_data
+            data.M[:] = mass
+            data.nle[:] = 0.0
+            step, _ = kkt_solve(self.model, data, np.zeros(self.model.nv), jac, phi)
+            largest = np.abs(step).max()
+            if largest > STEP_LIMIT:
+                step *= STEP_LIMIT / largest
+            q = self._advance(q, step)
+        worst = int(np.argmax(np.abs(phi) / tol))
+        raise ClosureError(
+            f"3-D floor: the loops did not close (row {worst} keeps {abs(phi[worst]):.3e}) at t = {t:.4f} s"
+        )
+
+    # ---- one step
+    def step(self, t: float, q: np.ndarray, u: np.ndarray, h: float):
+        """One step from (q, u) at ``t``: (q+, u+, each corner's normal impulse (k,), the motors' impulses) [N.s]."""
+        mass, bias, transform = self._mass_and_bias(q, u)
+        hessian = mass
+        spring_tau, stiffness = self.planar.springs(self.planar_view(q), h)
+        tau = np.zeros(self.model.nv)
+        tau[NV_ROOT:] = spring_tau[PLANAR_NQ_ROOT:]
+        if stiffness:
+            hessian = mass.copy()
+            for i in self.planar.ankles.values():
+                hessian[i + self._shift, i + self._shift] += stiffness
+        g = -(mass @ u + h * (tau - bias))
+        _, jac, gap = self.contact(q, transform)
+        mu = self.ground.mu
+        normal_rows, along, across = jac[:, 0], jac[:, 1], jac[:, 2]
+        blocks = [normal_rows + mu * along, normal_rows - mu * along]
+        if not self.hold:
+            blocks += [normal_rows + mu * across, normal_rows - mu * across]
+        cone = np.concatenate(blocks)
+        lower = np.tile(-gap / h, len(blocks))
+        phi, a_eq = self._bilateral(q, t + h)
+        if self._qp is not None:
+            u_new, bilateral, z = self._qp.solve(hessian, g, a_eq, -phi / h, cone, lower)
+        else:
+            u_new, bilateral, z = proxsuite_qp(hessian, g, a_eq, -phi / h, cone, lower)
+            self.fallback += 1
+        check_speed(u_new)
+        normal = z.reshape(len(blocks), -1).sum(axis=0)
+        q_new = self.project(self._advance(q, h * u_new), t + h)
+        return q_new, u_new, normal, bilateral[self._crank_rows]
+
+    def _points(self, q: np.ndarray, u: np.ndarray, normal: np.ndarray | None):
+        """The judge's view: each foot's heel and toe (heights, x along the ground, speeds) and their loads."""
+        points, jac, gap = self.contact(q, self._transform(q))
+        along = points @ self.ground.tangents[0]
+        speed = jac[:, 1] @ u
+        k = self.per_point
+        # heel and toe of each foot: the mean of their corners (one corner: the point itself)
+        heights = [float(np.min(gap[i : i + k])) for i in range(0, self.n_corners, k)]
+        xs = [float(np.mean(along[i : i + k])) for i in range(0, self.n_corners, k)]
+        speeds = [float(np.mean(speed[i : i + k])) for i in range(0, self.n_corners, k)]
+        loads = None if normal is None else [float(np.sum(normal[i : i + k])) for i in range(0, self.n_corners, k)]
+        return (heights, xs, speeds), loads
+
+    def start(self) -> tuple[np.ndarray, np.ndarray, str]:
+        """The planar floor's consistent start (both feet flat, at rest), in 3-D: (q, u, start kind)."""
+        try:
+            begin = self.planar.start_state()
+            q2, v2, kind = begin.q, begin.v, begin.kind
+        except SimulationError:
+            (q2, v2), kind = self.planar.initial_state(), "flat"
+        q, u = self.spatial_state(q2, v2)
+        return q, u, kind
+
+    def run(
+        self,
+        duration: float,
+        q0: np.ndarray | None = None,
+        u0: np.ndarray | None = None,
+        criteria: GaitCriteria | None = None,
+        stop_on_verdict: bool = True,
+    ) -> Floor3DResult:
+        """Integrate for ``duration`` [s] from the consistent start (or from ``q0``, ``u0``), judging the walk."""
+        s = self.settings
+        check_number("duration", duration, 0.0, 1e5, low_open=True)
+        n = max(1, math.ceil(duration / s.dt - 1e-9))
+        if n > MAX_STEPS:
+            raise ParameterError(
+                f"parameter 'duration' = {duration:g} s needs {n:.3g} steps of {s.dt:g} s; at most {MAX_STEPS:g}"
+            )
+        if s.omega <= 0:
+            raise ParameterError("the 3-D walk needs turning cranks (omega > 0)")
+        if (q0 is None) != (u0 is None):
+            raise ParameterError("give both 'q0' and 'u0' or neither")
+        if q0 is None:
+            q, u, _ = self.start()
+        else:
+            q, u = np.array(q0, dtype=float), np.array(u0, dtype=float)
+        h = duration / n
+        weight = self.planar.weight
+        criteria = GaitCriteria() if criteria is None else criteria
+        points, _ = self._points(q, u, None)
+        first, _ = point_sample(0.0, (float(q[0]), roll_pitch_yaw(q)[1]), points, None, (0.0, 0.0))
+        judge = GaitJudge(s.omega, self.planar.robot.geometry.L, weight, criteria, first)
+        times, qs, normals = [0.0], [q.copy()], [np.zeros(self.n_corners)]
+        t = 0.0
+        for _ in range(n):
+            try:
+                q, u, normal, motor = self.step(t, q, u, h)
+            except SimulationError as err:
+                judge.diverged(t, str(err))
+                break
+            t += h
+            roll, pitch, _ = roll_pitch_yaw(q)
+            points, loads = self._points(q, u, normal / h)
+            power = tuple(float(m / h) * float(u[i]) for m, i in zip(motor, self._motor_index))
+            sample, _ = point_sample(t, (float(q[0]), pitch), points, loads, power)
+            times.append(t)
+            qs.append(q.copy())
+            normals.append(normal / h)
+            if abs(roll) > TIP_LIMIT:
+                judge.sideways("tipped", t, f"the hip rolled {math.degrees(roll):+.1f} deg sideways")
+            if judge.update(sample) and stop_on_verdict:
+                break
+        return self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t))
+
+    def _result(self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, verdict: Verdict) -> Floor3DResult:
+        attitude = np.array([roll_pitch_yaw(x) for x in q])
+        roll, pitch, yaw = attitude.T
+        max_roll = float(np.degrees(np.max(np.abs(roll))))
+        steps = max(1, verdict.steps)
+        return Floor3DResult(
+            t=t,
+            q=q,
+            hip=q[:, :3].copy(),
+            roll=roll,
+            pitch=pitch,
+            yaw=yaw,
+            normal=normal,
+            verdict=verdict,
+            max_hip_roll_deg=max_roll,
+            yaw_per_step_deg=float(np.degrees(yaw[-1])) / steps,
+            lateral_drift_m=float(q[-1, 1]),
+            roll_margin_deg=math.degrees(TIP_LIMIT) - max_roll,
+            fallback=self.fallback,
+        )

@@ -1,0 +1,177 @@
+"""The biped in three dimensions: a free-flyer hip, and the soles' footprint as contact corners.
+
+The planar biped (:mod:`pasibot_pin.model.robot`) has the hip's x, z and pitch as its root. Its
+legs already sit in their own planes, at y = -/+ ``hip_half_width`` (right, left), every leg
+joint turning about the hip's y axis. :func:`free_flyer_model` copies that tree under Pinocchio's
+``JointModelFreeFlyer`` (x, y, z and a unit quaternion; velocity: the hip's spatial velocity in its
+own frame), so the loops stay in the legs' planes and nothing of the legs is written twice.
+
+:class:`Footprint` is a sole's lateral shape: one rectangle or several prongs (a comb), each a
+lateral band measured from the leg's plane, positive toward the midline. Its corners, with the
+foot's heel and toe, are the contact points of the 3-D floor (:func:`corner_frames` adds them to
+the model as frames on the foot).
+
+Units: SI, lengths [m], angles [rad].
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+import pinocchio as pin
+
+from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.coordinates import SIDES
+
+FREE_FLYER_NAME = "hip_free_flyer"
+"""The 3-D biped's root joint."""
+NQ_ROOT, NV_ROOT = 7, 6
+"""Sizes of the free-flyer root in q (x, y, z, quaternion x, y, z, w) and in v."""
+PLANAR_NQ_ROOT = 3
+"""Size of the planar root (x, z, pitch) in q and v."""
+
+
+@dataclass(frozen=True)
+class Footprint:
+    """The sole's lateral shape, the same for both feet (mirrored about the midline).
+
+    Attributes:
+        bands: each prong's lateral band (inner reach, outer reach) from the leg's plane [m]:
+            the prong spans from ``outer`` outside the plane to ``inner`` toward the midline.
+            One band is a plain rectangular sole; several are a comb whose prongs may
+            interleave with the other foot's.
+
+    """
+
+    bands: tuple[tuple[float, float], ...]
+
+    def __post_init__(self) -> None:
+        if not self.bands:
+            raise ParameterError("parameter 'sole': a footprint needs at least one band")
+        for inner, outer in self.bands:
+            for name, value in (("sole_inner", inner), ("sole_outer", outer)):
+                if not math.isfinite(value):
+                    raise ParameterError(f"parameter {name!r} must be finite, got {value!r}")
+            if inner + outer < 0.0:
+                raise ParameterError(f"parameter 'sole_inner' + 'sole_outer' must be >= 0, got {inner:g} + {outer:g}")
+
+    @classmethod
+    def plate(cls, inner: float, outer: float) -> Footprint:
+        """One rectangular sole reaching ``inner`` toward the midline and ``outer`` away from it [m]."""
+        return cls(((float(inner), float(outer)),))
+
+    @property
+    def offsets(self) -> tuple[float, ...]:
+        """The corners' lateral offsets from the leg's plane, toward the midline positive [m] (no duplicates)."""
+        out: list[float] = []
+        for inner, outer in self.bands:
+            for y in (-outer, inner):
+                if not any(abs(y - seen) < 1e-12 for seen in out):
+                    out.append(y)
+        return tuple(out)
+
+
+def lateral_sign(side: str) -> float:
+    """+1 when the midline lies toward +y of ``side``'s leg plane (the right leg, at y < 0), else -1."""
+    return 1.0 if side == SIDES[0] else -1.0
+
+
+def free_flyer_model(planar: pin.Model) -> pin.Model:
+    """The planar biped's tree under a free-flyer root (same bodies, joints, frames and inertias).
+
+    Args:
+        planar: the two-legged model with the planar root (:func:`~pasibot_pin.model.description.planar_root_joint`).
+
+    Returns:
+        A new model: joint 1 the free flyer carrying the hip's inertia, then every leg joint in
+        the same order, so q[7:] and v[6:] are the planar q[3:] and v[3:].
+
+    """
+    if planar.joints[1].nq != PLANAR_NQ_ROOT:
+        raise ParameterError("free_flyer_model needs the two-legged model with its planar floating hip")
+    model = pin.Model()
+    model.name = planar.name + "_3d"
+    model.gravity = planar.gravity
+    ids = {0: 0}
+    for j in range(1, planar.njoints):
+        joint = pin.JointModelFreeFlyer() if j == 1 else planar.joints[j]
+        name = FREE_FLYER_NAME if j == 1 else planar.names[j]
+        kwargs = {}
+        if j > 1:
+            kwargs = dict(
+                max_effort=planar.effortLimit[planar.joints[j].idx_v : planar.joints[j].idx_v + joint.nv],
+                max_velocity=planar.velocityLimit[planar.joints[j].idx_v : planar.joints[j].idx_v + joint.nv],
+                min_config=planar.lowerPositionLimit[planar.joints[j].idx_q : planar.joints[j].idx_q + joint.nq],
+                max_config=planar.upperPositionLimit[planar.joints[j].idx_q : planar.joints[j].idx_q + joint.nq],
+            )
+        ids[j] = model.addJoint(ids[planar.parents[j]], joint, planar.jointPlacements[j], name, **kwargs)
+        model.appendBodyToJoint(ids[j], planar.inertias[j], pin.SE3.Identity())
+    for frame in planar.frames:
+        if frame.name == "universe":
+            continue
+        # frames keep their order, so a frame's parent frame keeps its id
+        model.addFrame(
+            pin.Frame(frame.name, ids[frame.parentJoint], frame.parentFrame, frame.placement, frame.type), False
+        )
+    return model
+
+
+def corner_frames(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list[int]:
+    """Add each foot's sole corners to ``model`` as frames; their ids, right heel first.
+
+    The corners lie at the heel and at the toe of each foot (its frames ``<side>_heel`` and
+    ``<side>_toe``), moved across the leg's plane by each of the footprint's offsets (toward
+    the midline positive). Order: side, then heel and toe, then offset.
+
+    Args:
+        model: the free-flyer model (changed in place).
+        q: a configuration of it (the corners are rigid on the foot: any one serves).
+        footprint: the soles' shape.
+
+    """
+    data = model.createData()
+    pin.forwardKinematics(model, data, q)
+    pin.updateFramePlacements(model, data)
+    ids = []
+    for side in SIDES:
+        sign = lateral_sign(side)
+        for point in ("heel", "toe"):
+            base = model.getFrameId(f"{side}_{point}")
+            parent = model.frames[base].parentJoint
+            world = data.oMf[base]
+            hip = data.oMi[1]
+            for k, offset in enumerate(footprint.offsets):
+                # across the leg's plane: the hip's y axis (every leg joint turns about it)
+                position = world.translation + hip.rotation[:, 1] * (sign * offset)
+                placement = data.oMi[parent].actInv(pin.SE3(world.rotation, position))
+                name = f"{side}_{point}_corner{k}"
+                ids.append(model.addFrame(pin.Frame(name, parent, base, placement, pin.FrameType.OP_FRAME), False))
+    return ids
+
+
+def planar_to_spatial(q: np.ndarray) -> np.ndarray:
+    """A planar configuration (x, z, pitch, legs) as a free-flyer one (x, 0, z, quaternion, legs).
+
+    The planar pitch turns about -y (counter-clockwise seen from the right).
+    """
+    q = np.asarray(q, dtype=float)
+    quat = pin.Quaternion(pin.utils.rpyToMatrix(0.0, -float(q[2]), 0.0)).coeffs()
+    return np.concatenate(([q[0], 0.0, q[1]], quat, q[PLANAR_NQ_ROOT:]))
+
+
+def planar_velocity_to_spatial(v: np.ndarray) -> np.ndarray:
+    """A planar velocity (x', z', pitch', legs) in the 3-D floor's world-aligned root coordinates.
+
+    The root's six are the hip's linear velocity and angular velocity, both in world axes.
+    """
+    v = np.asarray(v, dtype=float)
+    return np.concatenate(([v[0], 0.0, v[1], 0.0, -v[2], 0.0], v[PLANAR_NQ_ROOT:]))
+
+
+def roll_pitch_yaw(q: np.ndarray) -> tuple[float, float, float]:
+    """The hip's roll (about x), pitch (planar convention: nose up positive) and yaw (about z) [rad]."""
+    rotation = pin.Quaternion(np.asarray(q[3:7], dtype=float)).normalized().toRotationMatrix()
+    roll, pitch, yaw = pin.rpy.matrixToRpy(rotation)
+    return float(roll), float(-pitch), float(yaw)
