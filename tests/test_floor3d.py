@@ -111,15 +111,17 @@ def test_held_3d_walk_is_the_planar_walk():
 
 def test_centred_soles_tip_and_soles_past_the_midline_stay_upright():
     """The fast walker on 0.06 m soles centred on its leg planes falls sideways in its first single
-    support; soles reaching 3 cm past the midline keep the hip within a degree of upright (the
-    issue's independent MuJoCo model found the same: roll past 10 deg at 0.52 s, and <= 0.5 deg)."""
+    support; a comb whose inner prong reaches 3 cm past the midline (beside the other foot's, never
+    over it) keeps the hip within a degree of upright (the issue's independent MuJoCo model found
+    the same of plates: roll past 10 deg at 0.52 s, and <= 0.5 deg 3 cm past the midline)."""
     robot, settings = _walker()
     centred = Floor3D(FloorSimulator(robot, settings), Footprint.plate(0.03, 0.03)).run(1.5)
     assert centred.verdict.outcome in FAILURES
     assert centred.max_hip_roll_deg > 5.0
     assert centred.verdict.decided_at < 1.2
     half_width = robot.geometry.hip_half_width
-    wide = Floor3D(FloorSimulator(robot, settings), Footprint.plate(half_width + 0.03, 0.03)).run(1.5)
+    comb = Footprint(((0.03, 0.03), (half_width + 0.03, -(half_width + 0.01))))
+    wide = Floor3D(FloorSimulator(robot, settings), comb).run(1.5)
     assert wide.verdict.outcome not in FAILURES
     assert wide.max_hip_roll_deg < 1.0
 
@@ -155,3 +157,54 @@ def test_ground_frame_and_errors():
         Footprint.plate(-0.05, 0.01)
     with pytest.raises(ParameterError, match="sole_inner"):
         Footprint.plate(float("nan"), 0.01)
+
+
+def test_design_lateral_fields():
+    """sole_inner, sole_outer and hip_half_width are design fields in L; their defaults are the seed's robot."""
+    from pasibot_pin.model.design import Design
+    from pasibot_pin.model.params import Geometry
+
+    design = Design()
+    assert design.geometry().hip_half_width == Geometry().hip_half_width == 0.1
+    assert design.footprint() == Footprint.plate(0.6 * design.L, 0.6 * design.L)
+    wide = design.with_(sole_inner=2.6, hip_half_width=1.5, L=0.04)
+    assert wide.footprint().bands == ((2.6 * 0.04, 0.6 * 0.04),)
+    assert wide.geometry().hip_half_width == pytest.approx(0.06)
+    for name, value in (("sole_inner", -0.1), ("sole_outer", 11.0), ("hip_half_width", 0.0)):
+        with pytest.raises(ParameterError, match=name):
+            design.with_(**{name: value})
+
+
+def test_soles_overlap_only_where_the_plates_meet():
+    """A plate past the midline overlaps the other foot's at the start by the reach past it (both
+    feet flat, side by side); a comb whose inner prong passes the midline beside the other's does not."""
+    robot, settings = _walker()
+    half_width = robot.geometry.hip_half_width
+    for inner, expected in ((0.03, 0.0), (half_width, 0.0), (half_width + 0.03, 0.06)):
+        engine = Floor3D(FloorSimulator(robot, settings), Footprint.plate(inner, 0.03))
+        q, _, _ = engine.start()
+        assert engine.sole_overlap(q) == pytest.approx(expected, abs=1e-9)
+    comb = Footprint(((0.03, 0.03), (half_width + 0.03, -(half_width + 0.01))))
+    engine = Floor3D(FloorSimulator(robot, settings), comb)
+    q, _, _ = engine.start()
+    assert engine.sole_overlap(q) == 0.0
+
+
+def test_walk_3d_command(capsys):
+    """``walk --3d`` prints the verdict and the roll; --json has the sideways figures; overlapping soles are one line."""
+    import json
+
+    from pasibot_pin.__main__ import main
+
+    assert main(["walk", "--design", FAST, "--3d", "--steps", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["model"] == "3d" and out["outcome"] in FAILURES
+    assert out["max_hip_roll_deg"] > 5.0
+    assert out["roll_margin_deg"] == pytest.approx(math.degrees(TIP_LIMIT) - out["max_hip_roll_deg"])
+    for key in ("yaw_per_step_deg", "lateral_drift_m"):
+        assert math.isfinite(out[key])
+    with pytest.raises(ParameterError, match="sole_inner"):
+        from pasibot_pin.model.design import load_design
+        from pasibot_pin.studies.walking import walk_design_3d
+
+        walk_design_3d(load_design(FAST).with_(sole_inner=2.6))

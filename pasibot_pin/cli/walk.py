@@ -54,6 +54,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s]")
     p.add_argument("--steps", default="20", metavar="N", help=f"steps to walk, 1 to {MAX_STEPS} (default 20)")
     add_mu_option(p)
+    p.add_argument(
+        "--3d",
+        dest="spatial",
+        action="store_true",
+        help="walk in 3-D: a free hip that can roll and yaw, the soles' corners (sole_inner, sole_outer)",
+    )
     p.add_argument("--stability", action="store_true", help="also the gait's Floquet multipliers (shooting)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     p.add_argument("--html", action="store_true", help="also write the walk as a meshcat page (walk_NAME.html)")
@@ -79,6 +85,10 @@ def run(args: argparse.Namespace) -> int:
         design = design.with_(variant=args.variant)
     if args.omega is not None:
         design = design.with_(omega=args.omega)
+    if args.spatial:
+        if args.stability or args.html or args.gif:
+            raise ParameterError("--3d walks without --stability, --html or --gif so far")
+        return _run_3d(design, steps, args)
     from pasibot_pin.report.walking import (  # deferred: keeps the CLI's start fast
         verdict_json,
         walk_lines,
@@ -112,4 +122,36 @@ def run(args: argparse.Namespace) -> int:
     for path in write_walk_animation(walk, robot, html, gif):
         if not args.json:
             print(f"wrote {path}")
+    return 0
+
+
+def _run_3d(design: Design, steps: int, args: argparse.Namespace) -> int:
+    """``walk --3d``: the verdict on the 3-D floor and the sideways figures."""
+    from pasibot_pin.studies.walking import WalkSettings, walk_design_3d  # deferred: keeps the CLI's start fast
+
+    walk = walk_design_3d(design, WalkSettings(steps=steps, mu=args.mu))
+    figures = walk.figures()
+    if args.json:
+        verdict = walk.verdict
+        out = {
+            "outcome": verdict.outcome,
+            "walks": verdict.walks,
+            "steps": verdict.steps,
+            "decided_at_s": verdict.decided_at,
+            "detail": verdict.detail,
+            "advance_m": verdict.advance_m,
+            "omega_rad_s": walk.omega,
+            "dt_s": walk.dt,
+            "model": "3d",
+            **figures,
+        }
+        print(json.dumps(out), flush=True)
+        return 0
+    print(walk.verdict.summary(), flush=True)
+    print(
+        f"3-D: max |hip roll| {figures['max_hip_roll_deg']:.2f} deg (margin {figures['roll_margin_deg']:+.2f} deg "
+        f"to tipping), yaw {figures['yaw_per_step_deg']:+.3f} deg/step, "
+        f"lateral drift {1000 * figures['lateral_drift_m']:+.1f} mm",
+        flush=True,
+    )
     return 0

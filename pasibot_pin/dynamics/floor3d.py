@@ -43,6 +43,7 @@ from pasibot_pin.dynamics.floor_track import check_speed
 from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
 from pasibot_pin.errors import ClosureError, ParameterError, SimulationError
+from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import (
     NQ_ROOT,
     NV_ROOT,
@@ -50,6 +51,7 @@ from pasibot_pin.model.spatial import (
     Footprint,
     corner_frames,
     free_flyer_model,
+    lateral_sign,
     planar_to_spatial,
     planar_velocity_to_spatial,
     roll_pitch_yaw,
@@ -294,6 +296,38 @@ class Floor3D:
         loads = None if normal is None else [float(np.sum(normal[i : i + k])) for i in range(0, self.n_corners, k)]
         return (heights, xs, speeds), loads
 
+    def sole_overlap(self, q: np.ndarray) -> float:
+        """How far the two soles' plates overlap at ``q``, seen from the ground's normal [m] (0: clear).
+
+        Each prong of a sole (each band of the footprint) is a rectangle: along the fall line from
+        its heel to its toe, across it over the band. Two prongs overlap by the smaller of their
+        overlaps along and across; the figure is the largest over every pair of the two feet's prongs.
+        """
+        model, data = self.model, self.data
+        pin.framesForwardKinematics(model, data, q)
+        tangents = self.ground.tangents
+        rectangles = []
+        for side in SIDES:
+            ends = np.array([data.oMf[model.getFrameId(f"{side}_{point}")].translation for point in ("heel", "toe")])
+            along = ends @ tangents[0]
+            plane = float(np.mean(ends @ tangents[1]))
+            sign = lateral_sign(side)
+            rectangles.append(
+                [
+                    (
+                        (float(along.min()), float(along.max())),
+                        tuple(sorted((plane - sign * outer, plane + sign * inner))),
+                    )
+                    for inner, outer in self.footprint.bands
+                ]
+            )
+        worst = 0.0
+        for a in rectangles[0]:
+            for b in rectangles[1]:
+                overlap = min(min(a[k][1], b[k][1]) - max(a[k][0], b[k][0]) for k in (0, 1))
+                worst = max(worst, overlap)
+        return worst
+
     def start(self) -> tuple[np.ndarray, np.ndarray, str]:
         """The planar floor's consistent start (both feet flat, at rest), in 3-D: (q, u, start kind)."""
         try:
@@ -326,6 +360,12 @@ class Floor3D:
             raise ParameterError("give both 'q0' and 'u0' or neither")
         if q0 is None:
             q, u, _ = self.start()
+            overlap = self.sole_overlap(q)
+            if overlap > 0.0:
+                raise ParameterError(
+                    f"parameter 'sole_inner': the two soles overlap by {1000 * overlap:.1f} mm at the start "
+                    "(a plate that reaches past the midline meets the other foot's)"
+                )
         else:
             q, u = np.array(q0, dtype=float), np.array(u0, dtype=float)
         h = duration / n

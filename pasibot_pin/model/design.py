@@ -40,6 +40,7 @@ from pasibot_pin.model.params import (
 )
 from pasibot_pin.model.robot import load
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
+from pasibot_pin.model.spatial import Footprint
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 if sys.version_info >= (3, 11):
@@ -84,6 +85,9 @@ SPECS: Mapping[str, ParameterSpec] = {
         ParameterSpec("foot_heel", "L", Geometry.foot_heel, 0.1, 10.0, "ankle to heel along the sole (rigid, spring)"),
         ParameterSpec("parallel_toe", "L", Geometry.parallel_toe, 0.1, 10.0, "toe ahead of joint 13 (parallel)"),
         ParameterSpec("parallel_heel", "L", Geometry.parallel_heel, 0.1, 10.0, "heel behind joint 13 (parallel)"),
+        ParameterSpec("sole_inner", "L", 0.6, 0.0, 10.0, "sole's reach from its leg plane toward the midline (3-D)"),
+        ParameterSpec("sole_outer", "L", 0.6, 0.0, 10.0, "sole's reach from its leg plane away from the midline (3-D)"),
+        ParameterSpec("hip_half_width", "L", Geometry.hip_half_width / Geometry.L, 0.5, 20.0, "leg plane to midline"),
         ParameterSpec("total_mass", "kg", SEED_TOTAL_MASS, 5.0, 500.0, "human mass the percentages refer to"),
         ParameterSpec("thigh_fraction", "-", SEED_MASS_FRACTIONS["thigh"], 0.005, 0.5, "thigh links' share"),
         ParameterSpec("shank_fraction", "-", SEED_MASS_FRACTIONS["shank"], 0.005, 0.5, "shank links' share"),
@@ -151,6 +155,9 @@ class Design:
         K: frame link 0-3 over L [-].
         ratios: link lengths over L, ``r1`` .. ``r13`` [-].
         foot_toe, foot_heel, parallel_toe, parallel_heel: sole extents over L [-].
+        sole_inner, sole_outer: the sole's lateral reach from its leg's plane toward the midline
+            and away from it, over L [-] (the 3-D floor's footprint; the planar floor ignores it).
+        hip_half_width: each leg's plane from the midline, over L [-].
         total_mass: human mass the percentages refer to [kg].
         thigh_fraction, shank_fraction, foot_fraction: shares of ``total_mass`` [-]
             (``None``: the rule's own).
@@ -175,6 +182,9 @@ class Design:
     foot_heel: float = Geometry.foot_heel
     parallel_toe: float = Geometry.parallel_toe
     parallel_heel: float = Geometry.parallel_heel
+    sole_inner: float = 0.6
+    sole_outer: float = 0.6
+    hip_half_width: float = Geometry.hip_half_width / Geometry.L
     total_mass: float = SEED_TOTAL_MASS
     thigh_fraction: float | None = None
     shank_fraction: float | None = None
@@ -213,7 +223,12 @@ class Design:
             foot_heel=self.foot_heel,
             parallel_toe=self.parallel_toe,
             parallel_heel=self.parallel_heel,
+            hip_half_width=self.hip_half_width * self.L,
         )
+
+    def footprint(self) -> Footprint:
+        """The soles' lateral shape [m] (:class:`~pasibot_pin.model.spatial.Footprint`): one plate per foot."""
+        return Footprint.plate(self.sole_inner * self.L, self.sole_outer * self.L)
 
     def fractions(self) -> dict[str, float]:
         """The mass shares of the rule, with the design's overrides [-] (``hip`` is the body: see ``body_mass``)."""

@@ -20,6 +20,8 @@ import math
 from dataclasses import dataclass, replace
 
 from pasibot_pin.dynamics.floor import FloorResult, FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
@@ -147,3 +149,51 @@ def walk_design(design, settings: WalkSettings | None = None, robot=None) -> Des
     result = sim.run(walk_duration(design.omega, settings.steps), criteria=settings.judged_by(), stop_on_verdict=True)
     assert result.verdict is not None  # omega > 0
     return DesignWalk(result.verdict, result, design.omega, floor.dt, floor)
+
+
+@dataclass
+class DesignWalk3D:
+    """A design on the 3-D floor: its verdict, the run and its sideways figures.
+
+    Attributes:
+        verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict` (``tipped`` among its outcomes).
+        result: the 3-D run (:class:`~pasibot_pin.dynamics.floor3d.Floor3DResult`).
+        omega: crank speed [rad/s].
+        dt: the time step used [s].
+
+    """
+
+    verdict: Verdict
+    result: Floor3DResult
+    omega: float
+    dt: float
+
+    def figures(self) -> dict[str, float]:
+        """Largest |roll| [deg], its margin to the tip limit [deg], yaw per step [deg], lateral drift [m]."""
+        r = self.result
+        return {
+            "max_hip_roll_deg": r.max_hip_roll_deg,
+            "roll_margin_deg": r.roll_margin_deg,
+            "yaw_per_step_deg": r.yaw_per_step_deg,
+            "lateral_drift_m": r.lateral_drift_m,
+        }
+
+
+def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> DesignWalk3D:
+    """Put ``design`` on the 3-D floor (free hip, its soles' footprint) and judge its walk.
+
+    The same start, cranks, ramp and time step as :func:`walk_design`; the soles are
+    ``design.footprint()`` and the legs sit at ``design.hip_half_width``.
+
+    Raises:
+        ParameterError: bad settings, a crank speed below :data:`MIN_OMEGA`, or soles that overlap
+            at the start (naming ``sole_inner``).
+        DesignError: the design cannot be built.
+
+    """
+    settings = WalkSettings() if settings is None else settings
+    robot = design_robot(design, 2, visuals=False) if robot is None else robot
+    floor = floor_settings(design, settings, robot)
+    engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), Ground(0.0, floor.mu))
+    result = engine.run(walk_duration(design.omega, settings.steps), criteria=settings.judged_by())
+    return DesignWalk3D(result.verdict, result, design.omega, floor.dt)
