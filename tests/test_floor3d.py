@@ -191,7 +191,7 @@ def test_soles_overlap_only_where_the_plates_meet():
 
 
 def test_walk_3d_command(capsys):
-    """``walk --3d`` prints the verdict and the roll; --json has the sideways figures; overlapping soles are one line."""
+    """``walk --3d`` prints the verdict and the roll; --json has the sideways figures; overlapping soles: one line."""
     import json
 
     from pasibot_pin.__main__ import main

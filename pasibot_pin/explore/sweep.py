@@ -225,9 +225,16 @@ def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callabl
 
 
 def design_of_row(table, row: int):
-    """The :class:`~pasibot_pin.model.design.Design` of one table row."""
+    """The :class:`~pasibot_pin.model.design.Design` of one table row.
+
+    A parameter the table has no column for (a table written before the parameter existed) keeps
+    the design record's default.
+    """
     values = {}
+    present = set(table.column_names)
     for name in parameter_names():
+        if name not in present:
+            continue
         value = table.column(name)[row].as_py()
         values[name] = None if isinstance(value, float) and math.isnan(value) else value
     return Design.from_dict(values)
