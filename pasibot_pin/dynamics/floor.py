@@ -58,6 +58,7 @@ from pasibot_pin.dynamics.floor_settings import (  # noqa: F401 (crank_advance, 
     check_number,
     crank_advance,
     crank_advances,
+    step_count,
 )
 from pasibot_pin.dynamics.floor_track import SPEED_LIMIT, FreeStepper, PointRows, check_speed  # noqa: F401 (SPEED_LIMIT: re-exported)
 from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack
@@ -413,12 +414,7 @@ class FloorSimulator:
 
         """
         s = self.settings
-        check_number("duration", duration, 0.0, 1e5, low_open=True)
-        n = max(1, math.ceil(duration / s.dt - 1e-9))
-        if n > MAX_STEPS:
-            raise ParameterError(
-                f"parameter 'duration' = {duration:g} s needs {n:.3g} steps of {s.dt:g} s; at most {MAX_STEPS:g}"
-            )
+        n = step_count(duration, s.dt, MAX_STEPS)
         if start not in STARTS:
             raise ParameterError(f"parameter 'start' must be one of {', '.join(STARTS)}, got {start!r}")
         criteria = GaitCriteria() if criteria is None else criteria

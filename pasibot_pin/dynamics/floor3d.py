@@ -38,7 +38,7 @@ from pasibot_pin.constraints.solves import kkt_solve
 from pasibot_pin.dynamics.floor import FloorSimulator
 from pasibot_pin.dynamics.floor_qp import ContactQP, proxsuite_qp
 from pasibot_pin.dynamics.floor_run import point_sample
-from pasibot_pin.dynamics.floor_settings import check_number
+from pasibot_pin.dynamics.floor_settings import step_count
 from pasibot_pin.dynamics.floor_track import check_speed
 from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
@@ -348,12 +348,7 @@ class Floor3D:
     ) -> Floor3DResult:
         """Integrate for ``duration`` [s] from the consistent start (or from ``q0``, ``u0``), judging the walk."""
         s = self.settings
-        check_number("duration", duration, 0.0, 1e5, low_open=True)
-        n = max(1, math.ceil(duration / s.dt - 1e-9))
-        if n > MAX_STEPS:
-            raise ParameterError(
-                f"parameter 'duration' = {duration:g} s needs {n:.3g} steps of {s.dt:g} s; at most {MAX_STEPS:g}"
-            )
+        n = step_count(duration, s.dt, MAX_STEPS)
         if s.omega <= 0:
             raise ParameterError("the 3-D walk needs turning cranks (omega > 0)")
         if (q0 is None) != (u0 is None):

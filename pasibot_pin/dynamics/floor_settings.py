@@ -96,3 +96,17 @@ class FloorSettings:
             raise ParameterError(f"parameter 'hip' must be free or level, got {self.hip!r}")
         if self.motors not in MOTOR_LAYOUTS:
             raise ParameterError(f"parameter 'motors' must be one of {', '.join(MOTOR_LAYOUTS)}, got {self.motors!r}")
+
+
+def step_count(duration: float, dt: float, most: int) -> int:
+    """The time steps of ``dt`` [s] a run of ``duration`` [s] takes, checked: at least 1, at most ``most``.
+
+    Raises:
+        ParameterError: a duration that is not a positive number up to 1e5 s, or that needs more than ``most`` steps.
+
+    """
+    check_number("duration", duration, 0.0, 1e5, low_open=True)
+    n = max(1, math.ceil(duration / dt - 1e-9))
+    if n > most:
+        raise ParameterError(f"parameter 'duration' = {duration:g} s needs {n:.3g} steps of {dt:g} s; at most {most:g}")
+    return n
