@@ -36,13 +36,13 @@ import pinocchio as pin
 from pasibot_pin.constraints import symmetric_mass_matrix
 from pasibot_pin.constraints.solves import kkt_solve
 from pasibot_pin.dynamics.floor import FloorSimulator
-from pasibot_pin.dynamics.floor_qp import ContactQP, proxsuite_qp
+from pasibot_pin.dynamics.floor_qp import ContactQP, proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor_run import point_sample
 from pasibot_pin.dynamics.floor_settings import step_count
 from pasibot_pin.dynamics.floor_track import check_speed
 from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
-from pasibot_pin.errors import ClosureError, ParameterError, SimulationError
+from pasibot_pin.errors import ClosureError, ContactSolveError, ParameterError, SimulationError
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import (
     NQ_ROOT,
@@ -137,6 +137,7 @@ class Floor3D:
         self.corners = corner_frames(self.model, planar_to_spatial(robot.q0), footprint)
         self.data = self.model.createData()
         self._kkt_data = self.model.createData()
+        self._contact_cache: tuple[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
         self.per_point = len(footprint.offsets)  # corners at each of heel and toe
         n = len(self.corners)
         self.n_corners = n
@@ -181,33 +182,40 @@ class Floor3D:
         transform[3:6, 3:6] = rotation.T
         return transform
 
+    def _mass(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """M in world-aligned coordinates, and T (v = T u, Pinocchio's local root velocity)."""
+        transform = self._transform(q)
+        mass = symmetric_mass_matrix(self.model, self.data, q)
+        return transform.T @ mass @ transform, transform
+
     def _mass_and_bias(self, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """M and b in world-aligned coordinates, and T (v = T u, Pinocchio's local root velocity)."""
-        nv = self.model.nv
-        transform = self._transform(q)
+        mass_u, transform = self._mass(q)
         v = transform @ u
-        mass = symmetric_mass_matrix(self.model, self.data, q)
-        mass_u = transform.T @ mass @ transform
         # d/dt (R^T p') = R^T p'' - w x v: the local acceleration that a world-aligned u' = 0 means
-        drift = np.zeros(nv)
+        drift = np.zeros(self.model.nv)
         drift[:3] = -np.cross(v[3:6], v[:3])
         bias = transform.T @ pin.rnea(self.model, self.data, q, v, drift)
         return mass_u, bias, transform
 
-    def contact(self, q: np.ndarray, transform: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """Each corner's position (k, 3) [m], its Jacobian in the ground's frame (k, 3, nv), and its gap (k,) [m]."""
+    def contact(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """Each corner's position (k, 3) [m], its Jacobian in the ground's frame (k, 3, nv) on u, its gap (k,) [m].
+
+        Kept for the configuration asked last (a step's end is the judge's sample and the next
+        step's start): read the arrays, never write into them.
+        """
+        key = q.tobytes()
+        if self._contact_cache is not None and self._contact_cache[0] == key:
+            return self._contact_cache[1]
         model, data = self.model, self.data
         pin.computeJointJacobians(model, data, q)
         pin.updateFramePlacements(model, data)
-        frame = self.ground.frame()
         points = np.array([data.oMf[i].translation for i in self.corners])
-        jac = np.array(
-            [
-                frame @ pin.getFrameJacobian(model, data, i, pin.LOCAL_WORLD_ALIGNED)[:3] @ transform
-                for i in self.corners
-            ]
-        )
-        return points, jac, self.ground.gap(points)
+        local = np.array([pin.getFrameJacobian(model, data, i, pin.LOCAL_WORLD_ALIGNED)[:3] for i in self.corners])
+        jac = np.einsum("ij,kjn->kin", self.ground.frame(), local) @ self._transform(q)
+        out = (points, jac, self.ground.gap(points))
+        self._contact_cache = (key, out)
+        return out
 
     def _bilateral(self, q: np.ndarray, t: float) -> tuple[np.ndarray, np.ndarray]:
         """Phi and J (world-aligned u) of the loops and cranks at ``t``, plus the held rows when held."""
@@ -237,7 +245,7 @@ class Floor3D:
             phi, jac = self._bilateral(q, t)
             if (np.abs(phi) < tol).all():
                 return q
-            mass, _, _ = self._mass_and_bias(q, np.zeros(self.model.nv))
+            mass, _ = self._mass(q)
             data = self._kkt_data
             data.M[:] = mass
             data.nle[:] = 0.0
@@ -254,7 +262,7 @@ class Floor3D:
     # ---- one step
     def step(self, t: float, q: np.ndarray, u: np.ndarray, h: float):
         """One step from (q, u) at ``t``: (q+, u+, each corner's normal impulse (k,), the motors' impulses) [N.s]."""
-        mass, bias, transform = self._mass_and_bias(q, u)
+        mass, bias, _ = self._mass_and_bias(q, u)
         hessian = mass
         spring_tau, stiffness = self.planar.springs(self.planar_view(q), h)
         tau = np.zeros(self.model.nv)
@@ -264,7 +272,7 @@ class Floor3D:
             for i in self.planar.ankles.values():
                 hessian[i + self._shift, i + self._shift] += stiffness
         g = -(mass @ u + h * (tau - bias))
-        _, jac, gap = self.contact(q, transform)
+        _, jac, gap = self.contact(q)
         mu = self.ground.mu
         normal_rows, along, across = jac[:, 0], jac[:, 1], jac[:, 2]
         blocks = [normal_rows + mu * along, normal_rows - mu * along]
@@ -276,7 +284,11 @@ class Floor3D:
         if self._qp is not None:
             u_new, bilateral, z = self._qp.solve(hessian, g, a_eq, -phi / h, cone, lower)
         else:
-            u_new, bilateral, z = proxsuite_qp(hessian, g, a_eq, -phi / h, cone, lower)
+            # on the free motions the loops and cranks leave (the hip's six, a free ankle): 32 rows, few unknowns
+            solved = reduced_qp(hessian, g, a_eq, -phi / h, cone, lower, solver=proxsuite_free_qp)
+            if solved is None:  # pragma: no cover - proxsuite answers or raises
+                raise ContactSolveError("the 3-D contact QP did not solve")
+            u_new, bilateral, z = solved
             self.fallback += 1
         check_speed(u_new)
         normal = z.reshape(len(blocks), -1).sum(axis=0)
@@ -285,7 +297,7 @@ class Floor3D:
 
     def _points(self, q: np.ndarray, u: np.ndarray, normal: np.ndarray | None):
         """The judge's view: each foot's heel and toe (heights, x along the ground, speeds) and their loads."""
-        points, jac, gap = self.contact(q, self._transform(q))
+        points, jac, gap = self.contact(q)
         along = points @ self.ground.tangents[0]
         speed = jac[:, 1] @ u
         k = self.per_point

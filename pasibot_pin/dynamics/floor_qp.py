@@ -49,7 +49,7 @@ Units: as the caller's (the floor step: x [m/s, rad/s], multipliers [N.s, N.m.s]
 from __future__ import annotations
 
 import math
-from collections.abc import Sequence
+from collections.abc import Callable, Sequence
 from itertools import combinations
 from operator import mul
 
@@ -418,7 +418,13 @@ def _subsets(k: int, free: int) -> list[np.ndarray]:
 
 
 def reduced_qp(
-    hessian: np.ndarray, g: np.ndarray, a_eq: np.ndarray, b_eq: np.ndarray, c_in: np.ndarray, lower: np.ndarray
+    hessian: np.ndarray,
+    g: np.ndarray,
+    a_eq: np.ndarray,
+    b_eq: np.ndarray,
+    c_in: np.ndarray,
+    lower: np.ndarray,
+    solver: Callable[..., tuple[np.ndarray, np.ndarray] | None] | None = None,
 ) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
     """The contact QP exactly, on the few freedoms the equality rows leave, for rows that may be dependent.
 
@@ -442,6 +448,9 @@ def reduced_qp(
         c_in: the cone rows C (k, n).
         lower: l (k,).
 
+        solver: the QP on the free motions, ``solver(H_r, g_r, C_r, l_r) -> (w, z) or None``:
+            :func:`free_qp` (every subset, exact; the default) or :func:`proxsuite_free_qp` (many rows).
+
     Returns:
         (x, y, z) signed so that H x + g = A^T y + C^T z, z >= 0; ``None`` when no subset
         qualifies (left to proxsuite).
@@ -449,13 +458,25 @@ def reduced_qp(
     """
     q_1, r_1, null, x_a = equality_space(a_eq, b_eq)
     base = hessian @ x_a + g
-    found = free_qp(null.T @ hessian @ null, null.T @ base, c_in @ null, lower - c_in @ x_a)
+    found = (solver or free_qp)(null.T @ hessian @ null, null.T @ base, c_in @ null, lower - c_in @ x_a)
     if found is None:
         return None
     w, z = found
     x = x_a + null @ w
     y = np.linalg.solve(r_1, q_1.T @ (base + hessian @ (x - x_a) - c_in.T @ z))
     return x, y, z
+
+
+def proxsuite_free_qp(
+    hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray
+) -> tuple[np.ndarray, np.ndarray]:
+    """The QP min 1/2 x^T H x + g^T x s.t. C x >= l by proxsuite (:func:`proxsuite_qp`): (x, z >= 0).
+
+    For :func:`reduced_qp` where the rows are too many for :func:`free_qp`'s subsets (the 3-D
+    floor: four pyramid rows at each sole corner).
+    """
+    x, _, z = proxsuite_qp(hessian, g, np.zeros((0, len(g))), np.zeros(0), c_in, lower)
+    return x, z
 
 
 def free_qp(
