@@ -55,6 +55,8 @@ def test_a_silent_meshcat_port_still_times_out(silent_port):
 
 
 def test_a_closed_dask_port_is_refused_before_dasks_own_timeout():
+    import distributed  # noqa: F401 (imported before the clock starts: its import alone took 1.2 s on a loaded machine)
+
     from pasibot_pin.explore.executors import check_scheduler
 
     port = _closed_port()

@@ -4,7 +4,9 @@ The tree, masses and COMs are the Pinocchio model's; the loop closures are ``equ
 connect`` constraints at the cut joints; the ankle springs are joint stiffness and damping
 about their rest angle (the design's, or fitted by the torque analysis where the design
 leaves them unset); the cranks have position (default) or velocity servos; the soles are
-capsules on a floor plane. The ``home`` keyframe closes every loop.
+capsules on a floor plane. The ``home`` keyframe closes every loop. ``--3d`` writes the hip as a
+``freejoint`` and each sole as boxes of the design's footprint (``sole_inner``, ``sole_outer``,
+its gap), the two-legged robot only.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from pasibot_pin.cli.common import (
     file_path,
     given,
 )
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design, design_robot, load_design
 from pasibot_pin.report.files import write_text_atomic
 
@@ -33,6 +36,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--actuator", default="position", choices=("position", "velocity", "none"), help="crank servos")
     p.add_argument("--weld", default="none", choices=("none", "right", "left"), help="weld this foot where it stands")
     p.add_argument("--no-floor", action="store_true", help="no floor contact (e.g. with --weld)")
+    p.add_argument(
+        "--3d",
+        dest="spatial",
+        action="store_true",
+        help="a free hip (freejoint) and the soles as boxes of the design's footprint (two legs)",
+    )
     add_mu_option(p)
     add_force_option(p, "overwrite an existing file")
     p.set_defaults(func=run)
@@ -44,6 +53,8 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.studies.spring_fit import design_spring  # deferred: keeps the CLI's start fast
 
     check_output_file(args.out, "--out", args.force)
+    if args.spatial and (args.legs != 2 or args.weld != "none"):
+        raise ParameterError("--3d exports the two-legged robot on the floor: drop --legs 1 and --weld")
     design = load_design(args.design) if args.design is not None else Design()
     if given(args, "variant"):
         design = design.with_(variant=args.variant)
@@ -54,6 +65,7 @@ def run(args: argparse.Namespace) -> int:
         weld_foot=None if args.weld == "none" else args.weld,
         floor=not args.no_floor,
         mu=args.mu,
+        footprint=design.footprint() if args.spatial else None,
         **(
             {}
             if spring is None
@@ -66,5 +78,6 @@ def run(args: argparse.Namespace) -> int:
     )
     write_text_atomic(args.out, to_mjcf(robot, options))
     text = f" (ankle spring K_e = {spring.stiffness:.2f} N.m/rad)" if spring is not None else ""
-    print(f"wrote {args.out}: {design.variant}, {args.legs} leg(s), {len(robot.loops)} loop closures{text}")
+    kind = ", 3-D (free hip, box soles)" if args.spatial else ""
+    print(f"wrote {args.out}: {design.variant}, {args.legs} leg(s){kind}, {len(robot.loops)} loop closures{text}")
     return 0

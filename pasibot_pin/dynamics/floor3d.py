@@ -397,9 +397,9 @@ class Floor3D:
             times.append(t)
             qs.append(q.copy())
             normals.append(normal / h)
-            if abs(roll) > TIP_LIMIT:
-                judge.sideways("tipped", t, f"the hip rolled {math.degrees(roll):+.1f} deg sideways")
-            if judge.update(sample) and stop_on_verdict:
+            judge.update(sample)
+            judge.roll(t, roll)
+            if stop_on_verdict and judge.final(t):
                 break
         return self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t))
 

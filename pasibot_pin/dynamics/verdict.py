@@ -68,6 +68,11 @@ FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "
 
 TIP_LIMIT = math.radians(10.0)
 """A 3-D walk whose hip rolls past this is ``tipped`` [rad]."""
+TIP_GRACE = 0.5
+"""A 3-D walk whose hip rolls past :data:`TIP_LIMIT` within this long [s] of a failure the planar rules
+decided (a foot that slips or lands early as the body tips) is ``tipped``: the roll is the cause."""
+REVISABLE: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped")
+"""The failures a roll past the limit soon after may turn into ``tipped``."""
 
 MIN_STRIDE_STEPS = 3
 """The advance band is checked over whole strides, which needs at least this many judged steps [-]."""
@@ -281,6 +286,7 @@ class GaitJudge:
     _max_pitch: float = 0.0
     _max_slip: float = 0.0
     _flight_since: float | None = None
+    max_roll: float = 0.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.omega) and self.omega > 0):
@@ -304,14 +310,26 @@ class GaitJudge:
         """The simulation broke at ``t`` [s] (a :class:`~pasibot_pin.errors.SimulationError`)."""
         self._decide("diverged", t, detail)
 
-    def sideways(self, outcome: str, t: float, detail: str) -> None:
-        """A 3-D walk failed sideways at ``t`` [s]: ``tipped`` (the hip rolled past the limit) or ``collided``.
+    def roll(self, t: float, roll: float) -> None:
+        """Take the 3-D hip's roll [rad] at ``t`` [s]: past :data:`TIP_LIMIT` the walk is ``tipped``.
 
-        The planar judge cannot see either: the 3-D floor (:mod:`pasibot_pin.dynamics.floor3d`) decides them.
+        Also where a planar rule decided a failure less than :data:`TIP_GRACE` before (the body
+        tipping makes a foot slip or land early): the detail then names that rule too. Engines that
+        call this stop on :meth:`final`, not on :attr:`decided`.
         """
-        if outcome not in ("tipped", "collided"):
-            raise ParameterError(f"parameter 'outcome' must be tipped or collided, got {outcome!r}")
-        self._decide(outcome, t, detail)
+        self.max_roll = max(self.max_roll, abs(roll))
+        if abs(roll) <= TIP_LIMIT:
+            return
+        detail = f"the hip rolled {math.degrees(roll):+.1f} deg sideways"
+        if not self.outcome:
+            self._decide("tipped", t, detail)
+        elif self.outcome in REVISABLE and t - self.decided_at <= TIP_GRACE:
+            detail += f"; {t - self.decided_at:.3f} s after it {self.outcome} ({self.detail})"
+            self.outcome, self.decided_at, self.detail = "tipped", t, detail
+
+    def final(self, t: float) -> bool:
+        """True once the outcome is decided and no roll can change it any more (a 3-D run may stop)."""
+        return bool(self.outcome) and (self.outcome not in REVISABLE or t - self.decided_at > TIP_GRACE)
 
     def update(self, sample: GaitSample) -> bool:
         """Take one sample (in time order); True once the outcome is decided."""

@@ -87,6 +87,8 @@ SPECS: Mapping[str, ParameterSpec] = {
         ParameterSpec("parallel_heel", "L", Geometry.parallel_heel, 0.1, 10.0, "heel behind joint 13 (parallel)"),
         ParameterSpec("sole_inner", "L", 0.6, 0.0, 10.0, "sole's reach from its leg plane toward the midline (3-D)"),
         ParameterSpec("sole_outer", "L", 0.6, 0.0, 10.0, "sole's reach from its leg plane away from the midline (3-D)"),
+        ParameterSpec("sole_gap_from", "L", 0.0, 0.0, 10.0, "sole cut away toward the midline from here (a comb) ..."),
+        ParameterSpec("sole_gap_to", "L", 0.0, 0.0, 10.0, "... to here (0, 0: no gap)"),
         ParameterSpec("hip_half_width", "L", Geometry.hip_half_width / Geometry.L, 0.5, 20.0, "leg plane to midline"),
         ParameterSpec("total_mass", "kg", SEED_TOTAL_MASS, 5.0, 500.0, "human mass the percentages refer to"),
         ParameterSpec("thigh_fraction", "-", SEED_MASS_FRACTIONS["thigh"], 0.005, 0.5, "thigh links' share"),
@@ -157,6 +159,9 @@ class Design:
         foot_toe, foot_heel, parallel_toe, parallel_heel: sole extents over L [-].
         sole_inner, sole_outer: the sole's lateral reach from its leg's plane toward the midline
             and away from it, over L [-] (the 3-D floor's footprint; the planar floor ignores it).
+        sole_gap_from, sole_gap_to: the sole is cut away between these reaches toward the midline,
+            over L [-]: two prongs, a comb whose inner prong can pass beside the other foot's
+            (both 0: one plate).
         hip_half_width: each leg's plane from the midline, over L [-].
         total_mass: human mass the percentages refer to [kg].
         thigh_fraction, shank_fraction, foot_fraction: shares of ``total_mass`` [-]
@@ -184,6 +189,8 @@ class Design:
     parallel_heel: float = Geometry.parallel_heel
     sole_inner: float = 0.6
     sole_outer: float = 0.6
+    sole_gap_from: float = 0.0
+    sole_gap_to: float = 0.0
     hip_half_width: float = Geometry.hip_half_width / Geometry.L
     total_mass: float = SEED_TOTAL_MASS
     thigh_fraction: float | None = None
@@ -211,6 +218,7 @@ class Design:
             if f.name == "ratios":
                 continue
             object.__setattr__(self, f.name, check_value(f.name, getattr(self, f.name)))
+        self.footprint()  # the sole's gap lies inside it
 
     # ---- views for the model layer
     def geometry(self) -> Geometry:
@@ -227,8 +235,22 @@ class Design:
         )
 
     def footprint(self) -> Footprint:
-        """The soles' lateral shape [m] (:class:`~pasibot_pin.model.spatial.Footprint`): one plate per foot."""
-        return Footprint.plate(self.sole_inner * self.L, self.sole_outer * self.L)
+        """The soles' lateral shape [m] (:class:`~pasibot_pin.model.spatial.Footprint`): a plate, or two prongs.
+
+        Raises:
+            ParameterError: a gap that does not lie inside the sole (``sole_gap_from`` < ``sole_gap_to`` <
+                ``sole_inner``), or a gap of one bound only.
+
+        """
+        L, gap = self.L, (self.sole_gap_from, self.sole_gap_to)
+        if gap == (0.0, 0.0):
+            return Footprint.plate(self.sole_inner * L, self.sole_outer * L)
+        if not (-self.sole_outer < gap[0] < gap[1] < self.sole_inner):
+            raise ParameterError(
+                f"parameters 'sole_gap_from' = {gap[0]:g}, 'sole_gap_to' = {gap[1]:g} [L]: a gap in the sole needs "
+                f"-sole_outer < sole_gap_from < sole_gap_to < sole_inner = {self.sole_inner:g}"
+            )
+        return Footprint(((gap[0] * L, self.sole_outer * L), (self.sole_inner * L, -gap[1] * L)))
 
     def fractions(self) -> dict[str, float]:
         """The mass shares of the rule, with the design's overrides [-] (``hip`` is the body: see ``body_mass``)."""

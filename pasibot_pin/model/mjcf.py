@@ -36,6 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.model.description import sides
+from pasibot_pin.model.spatial import FREE_FLYER_NAME, Footprint, lateral_sign, planar_to_spatial
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -84,6 +85,11 @@ class MjcfOptions:
             default (0.02, 1): a soft floor); the time constant must be >= 2 timesteps.
         contact_solimp: impedance (d0, dwidth, width) of the sole-floor contacts (MuJoCo's
             default (0.9, 0.95, 0.001)).
+        footprint: the 3-D export (``None``: the planar one): the hip a ``freejoint`` named
+            :data:`~pasibot_pin.model.spatial.FREE_FLYER_NAME` (qpos: x, y, z, quaternion w x y z,
+            then the legs), each sole a box per band of this
+            :class:`~pasibot_pin.model.spatial.Footprint` (``<side>_sole<k>``, ``sole_radius`` thick
+            on each side of the heel-toe line) instead of the capsule.
         boundinertia: the least principal inertia of every body [kg.m^2] (MuJoCo's compiler
             ``boundinertia``; ``None``: :func:`stable_boundinertia` of the spring and the step).
             A point mass on its own joint axis (a foot with ``foot_toe = foot_heel``) has no
@@ -111,6 +117,7 @@ class MjcfOptions:
     contact_solref: tuple[float, float] = (0.02, 1.0)
     contact_solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)
     boundinertia: float | None = None
+    footprint: Footprint | None = None
 
     def __post_init__(self) -> None:
         for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep", "boundinertia"):
@@ -135,6 +142,8 @@ class MjcfOptions:
             )
         if self.actuator not in ACTUATORS:
             raise ValueError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
+        if self.footprint is not None and self.weld_foot is not None:
+            raise ValueError("parameter 'weld_foot': the 3-D export (footprint) has no foot weld")
         if self.weld_foot not in (None, "right", "left"):
             raise ValueError(f"parameter 'weld_foot' must be right, left or None, got {self.weld_foot!r}")
 
@@ -237,8 +246,13 @@ def to_mjcf(robot: PasibotRobot, options: MjcfOptions | None = None, q_weld: np.
     root = ET.Element("mujoco", model=f"pasibot_{robot.variant}_{robot.legs}leg")
     _add_settings(root, robot.model, options)
     world = _add_world(root, options)
-    bodies, joints = _add_bodies(world, robot.model)
-    _add_soles(bodies, robot, options)
+    if options.footprint is not None and not robot.floating:
+        raise ValueError("parameter 'footprint': the 3-D export needs the two-legged robot with its floating hip")
+    bodies, joints = _add_bodies(world, robot.model, free_root=options.footprint is not None)
+    if options.footprint is None:
+        _add_soles(bodies, robot, options)
+    else:
+        _add_sole_boxes(bodies, robot, options, options.footprint)
     _set_ankle_springs(joints, robot, options)
     equality = ET.SubElement(root, "equality")
     _add_loop_closures(equality, robot)
@@ -289,8 +303,12 @@ def _add_world(root: ET.Element, options: MjcfOptions) -> ET.Element:
     return world
 
 
-def _add_bodies(world: ET.Element, model: pin.Model) -> tuple[dict[int, ET.Element], dict[str, ET.Element]]:
+def _add_bodies(
+    world: ET.Element, model: pin.Model, free_root: bool = False
+) -> tuple[dict[int, ET.Element], dict[str, ET.Element]]:
     """One body per Pinocchio joint, nested as the tree: its joints, inertia, link sticks and frame sites.
+
+    ``free_root``: the root body's joint is a ``freejoint`` (the 3-D export), not the planar hip's.
 
     Returns:
         The bodies by Pinocchio joint index (0: the world) and the MJCF joints by name.
@@ -305,7 +323,10 @@ def _add_bodies(world: ET.Element, model: pin.Model) -> tuple[dict[int, ET.Eleme
     for j in range(1, model.njoints):
         body = ET.SubElement(bodies[model.parents[j]], "body", name=f"{model.names[j]}_body")
         _pose(body, model.jointPlacements[j])
-        joints.update((element.attrib["name"], element) for element in _joints(body, model, j))
+        if free_root and j == 1:
+            joints[FREE_FLYER_NAME] = ET.SubElement(body, "freejoint", name=FREE_FLYER_NAME)
+        else:
+            joints.update((element.attrib["name"], element) for element in _joints(body, model, j))
         _inertial(body, model.inertias[j])
         for child in [k for k in range(j + 1, model.njoints) if model.parents[k] == j]:
             end = model.jointPlacements[child].translation
@@ -342,6 +363,53 @@ def _add_soles(bodies: dict[int, ET.Element], robot: PasibotRobot, options: Mjcf
         )
 
 
+def _add_sole_boxes(
+    bodies: dict[int, ET.Element], robot: PasibotRobot, options: MjcfOptions, footprint: Footprint
+) -> None:
+    """Each foot's sole as boxes, one per band of ``footprint``: heel to toe, across the band, 2 ``sole_radius`` thick.
+
+    The box's mid-plane holds the heel-toe line, as the capsule's axis does; the band runs across
+    the leg's plane along the hip's y axis (every leg joint turns about it), toward the midline positive.
+    """
+    model = robot.model
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, robot.q0)
+    hip_y = data.oMi[1].rotation[:, 1]
+    for side in sides(robot.legs):
+        toe, heel = (model.frames[robot.frame_id(f"{side}_{p}")] for p in ("toe", "heel"))
+        if toe.parentJoint != heel.parentJoint:
+            raise ValueError(f"the {side} toe and heel are on different bodies")
+        parent = int(toe.parentJoint)
+        along = toe.placement.translation - heel.placement.translation
+        length = float(np.linalg.norm(along))
+        across = data.oMi[parent].rotation.T @ hip_y * lateral_sign(side)  # toward the midline, in the foot's axes
+        axes = np.column_stack((along / length, across, np.cross(along / length, across)))
+        middle = 0.5 * (toe.placement.translation + heel.placement.translation)
+        for k, (inner, outer) in enumerate(footprint.bands):
+            ET.SubElement(
+                bodies[parent],
+                "geom",
+                name=f"{side}_sole{k}",
+                type="box",
+                pos=_vec(middle + across * 0.5 * (inner - outer)),
+                quat=_quat(axes),
+                size=_vec((0.5 * length, max(0.5 * (inner + outer), 1e-4), options.sole_radius)),
+                contype="1",
+                conaffinity="0",
+                condim="3",
+                friction=_sole_friction(options),
+                solref=_vec(options.contact_solref),
+                solimp=_vec(options.contact_solimp),
+                rgba="0.2 0.2 0.2 1",
+            )
+
+
+def spatial_qpos(q: np.ndarray) -> np.ndarray:
+    """A planar configuration as the 3-D export's ``qpos``: x, y, z, quaternion w x y z, the legs."""
+    q3 = planar_to_spatial(q)
+    return np.concatenate((q3[:3], [q3[6]], q3[3:6], q3[7:]))
+
+
 def _set_ankle_springs(joints: dict[str, ET.Element], robot: PasibotRobot, options: MjcfOptions) -> None:
     """The ankle springs as joint stiffness: ``springref`` where beta = beta0 (q = pi/2 - beta), and damping."""
     for name in robot.spring_joints:
@@ -371,7 +439,8 @@ def _add_foot_weld(world: ET.Element, equality: ET.Element, robot: PasibotRobot,
 def _add_home_keyframe(root: ET.Element, robot: PasibotRobot, options: MjcfOptions, q_home: np.ndarray) -> None:
     """The ``home`` keyframe: ``q_home`` (it closes every loop; MuJoCo's qpos0 = 0 does not) and the servos' ctrl."""
     keyframe = ET.SubElement(root, "keyframe")
-    home = ET.SubElement(keyframe, "key", name="home", qpos=_vec(q_home))
+    qpos = q_home if options.footprint is None else spatial_qpos(q_home)
+    home = ET.SubElement(keyframe, "key", name="home", qpos=_vec(qpos))
     motors = robot.actuated_joints
     if options.actuator == "position" and motors:
         home.set("ctrl", _vec([q_home[robot.idx_q(motor)] for motor in motors]))

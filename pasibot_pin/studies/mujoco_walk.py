@@ -63,13 +63,15 @@ import math
 from dataclasses import dataclass, field, replace
 
 import numpy as np
+import pinocchio as pin
 
 from pasibot_pin.dynamics.floor import LOAD_TOL, SPEED_LIMIT, FloorSimulator, crank_advance
 from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
 from pasibot_pin.errors import MissingExtraError, SimulationError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
 from pasibot_pin.model.design import design_robot
-from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
+from pasibot_pin.model.mjcf import MjcfOptions, spatial_qpos, to_mjcf
+from pasibot_pin.model.spatial import planar_to_spatial, planar_velocity_to_spatial, roll_pitch_yaw
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_duration
 
 MJ_WALK = MjcfOptions(
@@ -119,6 +121,7 @@ class MujocoWalk:
         normal: (n, 2) right and left normal force [N].
         max_crank_error: largest |crank - schedule| over the samples [rad].
         options: the :class:`~pasibot_pin.model.mjcf.MjcfOptions` exported.
+        max_hip_roll_deg: the 3-D walk's largest |hip roll| [deg] (NaN for the planar one).
 
     """
 
@@ -134,6 +137,7 @@ class MujocoWalk:
     normal: np.ndarray
     max_crank_error: float
     options: MjcfOptions = field(repr=False)
+    max_hip_roll_deg: float = math.nan
 
     def __repr__(self) -> str:
         return f"MujocoWalk(omega={self.omega:g} rad/s, dt={self.dt:g} s: {self.verdict.summary()})"
@@ -167,13 +171,21 @@ class _Twin:
         except SimulationError:  # cannot stand at theta0: the flat double support, as walk_design
             (q0, v0), self.start_kind = sim.initial_state(), "flat"
         self.weight, self.options = sim.weight, options
+        self.spatial = options.footprint is not None
         model = mujoco.MjModel.from_xml_string(to_mjcf(robot, options, q_weld=q0))
         floor_geom = model.geom("floor").id  # MuJoCo mixes both geoms' solref/solimp: make them equal
         model.geom_solref[floor_geom] = options.contact_solref
         model.geom_solimp[floor_geom, :3] = options.contact_solimp
         self.model, self.data = model, mujoco.MjData(model)
-        self.data.qpos[:], self.data.qvel[:] = q0, v0
-        self.data.qpos[HIP_Z] += options.sole_radius - SINK  # capsule bottoms where our points are
+        if self.spatial:  # the free joint: world-axes linear velocity, local angular velocity
+            self.data.qpos[:] = spatial_qpos(q0)
+            u0 = planar_velocity_to_spatial(v0)
+            rotation = pin.Quaternion(planar_to_spatial(q0)[3:7]).toRotationMatrix()
+            self.data.qvel[:] = np.concatenate((u0[:3], rotation.T @ u0[3:6], u0[6:]))
+            self.data.qpos[2] += options.sole_radius - SINK  # box bottoms where our points are
+        else:
+            self.data.qpos[:], self.data.qvel[:] = q0, v0
+            self.data.qpos[HIP_Z] += options.sole_radius - SINK  # capsule bottoms where our points are
         motors = list(robot.actuated_joints)
         self.theta0 = np.array([q0[robot.idx_q(m)] for m in motors])
         self.qadr = [model.joint(m).qposadr[0] for m in motors]
@@ -181,13 +193,15 @@ class _Twin:
         self.drives = np.array([model.equality(f"{m}_drive").id for m in motors])
         tau, zeta = options.solref
         self.lead = 2.0 * tau * zeta * zeta  # the drive's lag on a ramp, per unit of crank rate [s]
-        self.soles = np.array([model.geom(f"{side}_sole").id for side in SIDES])
+        bands = 0 if options.footprint is None else len(options.footprint.bands)
+        names = [[f"{side}_sole{k}" for k in range(bands)] if self.spatial else [f"{side}_sole"] for side in SIDES]
         self.sites = [[model.site(f"{side}_{p}").id for p in ("heel", "toe")] for side in SIDES]
         self.one_motor = self.floor.motors == "one"
         self.model.eq_data[self.drives, 0] = self.theta0
         self._drive_rows: np.ndarray | None = None
         self._foot_of_geom = np.full(model.ngeom, -1)
-        self._foot_of_geom[self.soles] = np.arange(len(SIDES))
+        for foot, geoms in enumerate(names):
+            self._foot_of_geom[[model.geom(name).id for name in geoms]] = foot
         self._ends = np.array(self.sites).ravel()
         self._recent = np.zeros((max(1, round(LOAD_WINDOW / SAMPLE_DT)), 4))  # the last samples' forces [N]
         self._slot = 0
@@ -271,7 +285,20 @@ class _Twin:
         if self.one_motor:
             power = [sum(power)]
         self._reset_window()
-        return GaitSample(t, float(data.qpos[HIP_X]), float(data.qpos[HIP_PITCH]), (feet[0], feet[1]), tuple(power))
+        hip_x, pitch = self.hip()
+        return GaitSample(t, hip_x, pitch, (feet[0], feet[1]), tuple(power))
+
+    def hip(self) -> tuple[float, float]:
+        """The hip's forward position [m] and pitch [rad] (the planar convention)."""
+        qpos = self.data.qpos
+        if not self.spatial:
+            return float(qpos[HIP_X]), float(qpos[HIP_PITCH])
+        return float(qpos[0]), self.attitude()[1]
+
+    def attitude(self) -> tuple[float, float, float]:
+        """The 3-D hip's roll, pitch (planar convention) and yaw [rad]."""
+        w, x, y, z = self.data.qpos[3:7]
+        return roll_pitch_yaw(np.array([0.0, 0.0, 0.0, x, y, z, w]))
 
     def start_sample(self) -> GaitSample:
         """The judge's first sample: a point within 1 um of the floor counts as loaded (as ours)."""
@@ -298,7 +325,11 @@ class _Twin:
 
 
 def walk_in_mujoco(
-    design, settings: WalkSettings | None = None, robot=None, options: MjcfOptions | None = None
+    design,
+    settings: WalkSettings | None = None,
+    robot=None,
+    options: MjcfOptions | None = None,
+    spatial: bool = False,
 ) -> MujocoWalk:
     """Walk ``design`` in MuJoCo and judge it as :func:`walk_design` does (see the module docstring).
 
@@ -309,6 +340,9 @@ def walk_in_mujoco(
         robot: its two-legged robot, if already built.
         options: the export's contacts, drives and step (default :data:`MJ_WALK`; the design's
             spring and the walk's mu are filled in).
+        spatial: walk the 3-D export (a free hip, the design's soles as boxes:
+            ``design.footprint()``), judged as :func:`~pasibot_pin.studies.walking.walk_design_3d`
+            (``tipped`` past :data:`~pasibot_pin.dynamics.verdict.TIP_LIMIT` of roll).
 
     Returns:
         :class:`MujocoWalk`; a walk that fails (or a MuJoCo that breaks) is its verdict.
@@ -323,6 +357,8 @@ def walk_in_mujoco(
     settings = WalkSettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     options = mujoco_options(design, settings, robot, MJ_WALK if options is None else options)
+    if spatial:
+        options = replace(options, footprint=design.footprint())
     twin = _Twin(mujoco, robot, design, settings, options)
     h = float(twin.model.opt.timestep)
     every = max(1, round(SAMPLE_DT / h))
@@ -346,8 +382,13 @@ def walk_in_mujoco(
         crank_error = max(crank_error, float(np.max(np.abs(twin.data.qpos[twin.qadr] - twin.schedule(t)[0]))))
         feet = sample.feet
         rows.append((t, sample.hip_x, sample.hip_pitch, *(f.loaded for f in feet), *(f.normal for f in feet)))
-        if judge.update(sample):
+        if not twin.spatial and judge.update(sample):
             break
+        if twin.spatial:
+            judge.update(sample)
+            judge.roll(t, twin.attitude()[0])
+            if judge.final(t):
+                break
     trace = np.array(rows, dtype=float).reshape(-1, 7)
     return MujocoWalk(
         verdict=judge.verdict(t),
@@ -362,4 +403,5 @@ def walk_in_mujoco(
         normal=trace[:, 5:7],
         max_crank_error=crank_error,
         options=options,
+        max_hip_roll_deg=math.degrees(judge.max_roll) if twin.spatial else math.nan,
     )
