@@ -175,19 +175,22 @@ def test_design_lateral_fields():
             design.with_(**{name: value})
 
 
-def test_soles_overlap_only_where_the_plates_meet():
-    """A plate past the midline overlaps the other foot's at the start by the reach past it (both
-    feet flat, side by side); a comb whose inner prong passes the midline beside the other's does not."""
+def test_sole_clearance_at_the_start():
+    """At the start (both feet flat, side by side) the plates' clearance is the gap between their bands across
+    the midline (closed form); a plate past the midline intersects the other's; a comb whose inner prong
+    passes the midline beside the other foot's does not."""
     robot, settings = _walker()
-    half_width = robot.geometry.hip_half_width
-    for inner, expected in ((0.03, 0.0), (half_width, 0.0), (half_width + 0.03, 0.06)):
+    w = robot.geometry.hip_half_width
+    for inner, expected in ((0.03, 2 * (w - 0.03)), (w - 0.01, 0.02)):
         engine = Floor3D(FloorSimulator(robot, settings), Footprint.plate(inner, 0.03))
         q, _, _ = engine.start()
-        assert engine.sole_overlap(q) == pytest.approx(expected, abs=1e-9)
-    comb = Footprint(((0.03, 0.03), (half_width + 0.03, -(half_width + 0.01))))
-    engine = Floor3D(FloorSimulator(robot, settings), comb)
-    q, _, _ = engine.start()
-    assert engine.sole_overlap(q) == 0.0
+        assert engine.sole_clearance(q) == pytest.approx(expected, abs=1e-9)
+    crossing = Floor3D(FloorSimulator(robot, settings), Footprint.plate(w + 0.03, 0.03))
+    q, _, _ = crossing.start()
+    assert crossing.sole_clearance(q) < 0.0
+    comb = Floor3D(FloorSimulator(robot, settings), Footprint(((0.03, 0.03), (w + 0.03, -(w + 0.01)))))
+    q, _, _ = comb.start()
+    assert comb.sole_clearance(q) == pytest.approx(0.02, abs=1e-9)  # the prongs at +10..30 mm and -30..-10 mm
 
 
 def test_walk_3d_command(capsys):

@@ -30,6 +30,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import coal
 import numpy as np
 import pinocchio as pin
 
@@ -51,16 +52,18 @@ from pasibot_pin.model.spatial import (
     Footprint,
     corner_frames,
     free_flyer_model,
-    lateral_sign,
     planar_to_spatial,
     planar_velocity_to_spatial,
     roll_pitch_yaw,
+    sole_boxes,
 )
 
 STEP_LIMIT = 0.5
 """Largest correction of one Newton iteration of the projection [m, rad]."""
 MAX_STEPS = 2_000_000
 """Most time steps one 3-D run takes."""
+CLEARANCE_EVERY = 5
+"""The soles' clearance is measured every this many steps (5 ms at 1 ms: a sole moves ~5 mm) [-]."""
 HELD = (1, 3, 5)
 """The world-aligned velocity entries the planar walk holds: y, roll and yaw."""
 
@@ -81,6 +84,8 @@ class Floor3DResult:
         lateral_drift_m: the hip's y at the end [m].
         roll_margin_deg: the tip limit less the largest |roll| [deg] (negative: tipped).
         fallback: QP solves answered by proxsuite (the rest exactly).
+        min_sole_clearance_m: the least distance between the two feet's sole plates over the walk,
+            every :data:`CLEARANCE_EVERY` steps [m] (negative: they intersected, ``collided``).
 
     """
 
@@ -97,13 +102,15 @@ class Floor3DResult:
     lateral_drift_m: float
     roll_margin_deg: float
     fallback: int
+    min_sole_clearance_m: float
 
     def summary(self) -> str:
         """One line: the verdict, then the sideways figures."""
         return (
             f"{self.verdict.summary()}; 3-D: max |roll| {self.max_hip_roll_deg:.2f} deg "
             f"(limit {math.degrees(TIP_LIMIT):g}), yaw {self.yaw_per_step_deg:+.3f} deg/step, "
-            f"lateral drift {1000 * self.lateral_drift_m:+.1f} mm"
+            f"lateral drift {1000 * self.lateral_drift_m:+.1f} mm, "
+            f"soles {1000 * self.min_sole_clearance_m:.1f} mm apart"
         )
 
 
@@ -147,6 +154,7 @@ class Floor3D:
             self._qp: ContactQP | None = ContactQP(self.model, feet)
         else:
             self._qp = None
+        self._geometry, self._geometry_data = _sole_geometry(self.model, planar_to_spatial(robot.q0), footprint)
         self._shift = NV_ROOT - PLANAR_NQ_ROOT
         self._crank_rows = planar.crank_rows
         self._motor_index = [i + self._shift for i in planar.motor_index]
@@ -308,37 +316,16 @@ class Floor3D:
         loads = None if normal is None else [float(np.sum(normal[i : i + k])) for i in range(0, self.n_corners, k)]
         return (heights, xs, speeds), loads
 
-    def sole_overlap(self, q: np.ndarray) -> float:
-        """How far the two soles' plates overlap at ``q``, seen from the ground's normal [m] (0: clear).
+    def sole_clearance(self, q: np.ndarray) -> float:
+        """The least distance between the two feet's sole plates at ``q`` [m] (negative: they intersect).
 
-        Each prong of a sole (each band of the footprint) is a rectangle: along the fall line from
-        its heel to its toe, across it over the band. Two prongs overlap by the smaller of their
-        overlaps along and across; the figure is the largest over every pair of the two feet's prongs.
+        Pinocchio's geometry (coal) on the soles' boxes (:func:`~pasibot_pin.model.spatial.sole_boxes`),
+        every pair of a right and a left plate.
         """
-        model, data = self.model, self.data
-        pin.framesForwardKinematics(model, data, q)
-        tangents = self.ground.tangents
-        rectangles = []
-        for side in SIDES:
-            ends = np.array([data.oMf[model.getFrameId(f"{side}_{point}")].translation for point in ("heel", "toe")])
-            along = ends @ tangents[0]
-            plane = float(np.mean(ends @ tangents[1]))
-            sign = lateral_sign(side)
-            rectangles.append(
-                [
-                    (
-                        (float(along.min()), float(along.max())),
-                        tuple(sorted((plane - sign * outer, plane + sign * inner))),
-                    )
-                    for inner, outer in self.footprint.bands
-                ]
-            )
-        worst = 0.0
-        for a in rectangles[0]:
-            for b in rectangles[1]:
-                overlap = min(min(a[k][1], b[k][1]) - max(a[k][0], b[k][0]) for k in (0, 1))
-                worst = max(worst, overlap)
-        return worst
+        pin.framesForwardKinematics(self.model, self.data, q)
+        pin.updateGeometryPlacements(self.model, self.data, self._geometry, self._geometry_data)
+        pin.computeDistances(self._geometry, self._geometry_data)
+        return min(float(result.min_distance) for result in self._geometry_data.distanceResults)
 
     def start(self) -> tuple[np.ndarray, np.ndarray, str]:
         """The planar floor's consistent start (both feet flat, at rest), in 3-D: (q, u, start kind)."""
@@ -367,11 +354,11 @@ class Floor3D:
             raise ParameterError("give both 'q0' and 'u0' or neither")
         if q0 is None:
             q, u, _ = self.start()
-            overlap = self.sole_overlap(q)
-            if overlap > 0.0:
+            clearance = self.sole_clearance(q)
+            if clearance < 0.0:
                 raise ParameterError(
-                    f"parameter 'sole_inner': the two soles overlap by {1000 * overlap:.1f} mm at the start "
-                    "(a plate that reaches past the midline meets the other foot's)"
+                    "parameter 'sole_inner': the two soles intersect at the start: "
+                    "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
                 )
         else:
             q, u = np.array(q0, dtype=float), np.array(u0, dtype=float)
@@ -383,7 +370,8 @@ class Floor3D:
         judge = GaitJudge(s.omega, self.planar.robot.geometry.L, weight, criteria, first)
         times, qs, normals = [0.0], [q.copy()], [np.zeros(self.n_corners)]
         t = 0.0
-        for _ in range(n):
+        least = self.sole_clearance(q) if q0 is not None else clearance
+        for k in range(1, n + 1):
             try:
                 q, u, normal, motor = self.step(t, q, u, h)
             except SimulationError as err:
@@ -399,11 +387,18 @@ class Floor3D:
             normals.append(normal / h)
             judge.update(sample)
             judge.roll(t, roll)
+            if k % CLEARANCE_EVERY == 0:
+                clearance = self.sole_clearance(q)
+                least = min(least, clearance)
+                if clearance < 0.0:
+                    judge.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
             if stop_on_verdict and judge.final(t):
                 break
-        return self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t))
+        return self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t), least)
 
-    def _result(self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, verdict: Verdict) -> Floor3DResult:
+    def _result(
+        self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, verdict: Verdict, clearance: float
+    ) -> Floor3DResult:
         attitude = np.array([roll_pitch_yaw(x) for x in q])
         roll, pitch, yaw = attitude.T
         max_roll = float(np.degrees(np.max(np.abs(roll))))
@@ -422,4 +417,22 @@ class Floor3D:
             lateral_drift_m=float(q[-1, 1]),
             roll_margin_deg=math.degrees(TIP_LIMIT) - max_roll,
             fallback=self.fallback,
+            min_sole_clearance_m=clearance,
         )
+
+
+def _sole_geometry(model: pin.Model, q: np.ndarray, footprint: Footprint) -> tuple[pin.GeometryModel, pin.GeometryData]:
+    """The soles' boxes as Pinocchio collision objects, with every right-left pair as a collision pair."""
+    geometry = pin.GeometryModel()
+    ids: dict[str, list[int]] = {side: [] for side in SIDES}
+    for box in sole_boxes(model, q, footprint):
+        shape = coal.Box(*(2.0 * box.half_size))
+        ids[box.side].append(
+            geometry.addGeometryObject(
+                pin.GeometryObject(f"{box.side}_sole{box.band}", box.joint, box.placement, shape)
+            )
+        )
+    for a in ids[SIDES[0]]:
+        for b in ids[SIDES[1]]:
+            geometry.addCollisionPair(pin.CollisionPair(a, b))
+    return geometry, pin.GeometryData(geometry)

@@ -310,6 +310,10 @@ class GaitJudge:
         """The simulation broke at ``t`` [s] (a :class:`~pasibot_pin.errors.SimulationError`)."""
         self._decide("diverged", t, detail)
 
+    def collided(self, t: float, detail: str) -> None:
+        """A 3-D walk's soles passed through each other at ``t`` [s] (:mod:`pasibot_pin.dynamics.floor3d`)."""
+        self._decide("collided", t, detail)
+
     def roll(self, t: float, roll: float) -> None:
         """Take the 3-D hip's roll [rad] at ``t`` [s]: past :data:`TIP_LIMIT` the walk is ``tipped``.
 

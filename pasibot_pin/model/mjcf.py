@@ -36,7 +36,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.model.description import sides
-from pasibot_pin.model.spatial import FREE_FLYER_NAME, Footprint, lateral_sign, planar_to_spatial
+from pasibot_pin.model.spatial import FREE_FLYER_NAME, Footprint, planar_to_spatial, sole_boxes
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -366,42 +366,26 @@ def _add_soles(bodies: dict[int, ET.Element], robot: PasibotRobot, options: Mjcf
 def _add_sole_boxes(
     bodies: dict[int, ET.Element], robot: PasibotRobot, options: MjcfOptions, footprint: Footprint
 ) -> None:
-    """Each foot's sole as boxes, one per band of ``footprint``: heel to toe, across the band, 2 ``sole_radius`` thick.
+    """Each foot's sole as boxes, one per band of ``footprint`` (:func:`~pasibot_pin.model.spatial.sole_boxes`).
 
-    The box's mid-plane holds the heel-toe line, as the capsule's axis does; the band runs across
-    the leg's plane along the hip's y axis (every leg joint turns about it), toward the midline positive.
+    Their half thickness is ``options.sole_radius`` (the capsule's), so the contacts sit where the capsule's do.
     """
-    model = robot.model
-    data = model.createData()
-    pin.framesForwardKinematics(model, data, robot.q0)
-    hip_y = data.oMi[1].rotation[:, 1]
-    for side in sides(robot.legs):
-        toe, heel = (model.frames[robot.frame_id(f"{side}_{p}")] for p in ("toe", "heel"))
-        if toe.parentJoint != heel.parentJoint:
-            raise ValueError(f"the {side} toe and heel are on different bodies")
-        parent = int(toe.parentJoint)
-        along = toe.placement.translation - heel.placement.translation
-        length = float(np.linalg.norm(along))
-        across = data.oMi[parent].rotation.T @ hip_y * lateral_sign(side)  # toward the midline, in the foot's axes
-        axes = np.column_stack((along / length, across, np.cross(along / length, across)))
-        middle = 0.5 * (toe.placement.translation + heel.placement.translation)
-        for k, (inner, outer) in enumerate(footprint.bands):
-            ET.SubElement(
-                bodies[parent],
-                "geom",
-                name=f"{side}_sole{k}",
-                type="box",
-                pos=_vec(middle + across * 0.5 * (inner - outer)),
-                quat=_quat(axes),
-                size=_vec((0.5 * length, max(0.5 * (inner + outer), 1e-4), options.sole_radius)),
-                contype="1",
-                conaffinity="0",
-                condim="3",
-                friction=_sole_friction(options),
-                solref=_vec(options.contact_solref),
-                solimp=_vec(options.contact_solimp),
-                rgba="0.2 0.2 0.2 1",
-            )
+    for box in sole_boxes(robot.model, robot.q0, footprint):
+        element = ET.SubElement(
+            bodies[box.joint],
+            "geom",
+            name=f"{box.side}_sole{box.band}",
+            type="box",
+            size=_vec((box.half_size[0], box.half_size[1], options.sole_radius)),
+            contype="1",
+            conaffinity="0",
+            condim="3",
+            friction=_sole_friction(options),
+            solref=_vec(options.contact_solref),
+            solimp=_vec(options.contact_solimp),
+            rgba="0.2 0.2 0.2 1",
+        )
+        _pose(element, box.placement)
 
 
 def spatial_qpos(q: np.ndarray) -> np.ndarray:

@@ -175,3 +175,55 @@ def roll_pitch_yaw(q: np.ndarray) -> tuple[float, float, float]:
     rotation = pin.Quaternion(np.asarray(q[3:7], dtype=float)).normalized().toRotationMatrix()
     roll, pitch, yaw = pin.rpy.matrixToRpy(rotation)
     return float(roll), float(-pitch), float(yaw)
+
+
+SOLE_HALF_THICKNESS = 0.002
+"""Half the thickness of a sole's plate [m]: its boxes span this on each side of the heel-toe line."""
+
+
+@dataclass(frozen=True)
+class SoleBox:
+    """One plate of a sole (one band of the footprint) as a box on its foot.
+
+    Attributes:
+        side: ``right`` or ``left``.
+        band: the band's index in the footprint.
+        joint: the foot's joint (the box rides on its body).
+        placement: the box's centre and axes in that joint's frame (x heel to toe, y toward the midline).
+        half_size: its half lengths along its axes [m] (3,).
+
+    """
+
+    side: str
+    band: int
+    joint: int
+    placement: pin.SE3
+    half_size: np.ndarray
+
+
+def sole_boxes(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list[SoleBox]:
+    """Each foot's sole as boxes, one per band: heel to toe, across the band, :data:`SOLE_HALF_THICKNESS` thick.
+
+    The box's mid-plane holds the heel-toe line; the band runs across the leg's plane along the
+    hip's y axis (every leg joint turns about it). ``model`` is the planar or the free-flyer biped,
+    ``q`` a configuration of it (the boxes are rigid on the feet: any one serves).
+    """
+    data = model.createData()
+    pin.framesForwardKinematics(model, data, q)
+    hip_y = data.oMi[1].rotation[:, 1]
+    boxes = []
+    for side in SIDES:
+        toe, heel = (model.frames[model.getFrameId(f"{side}_{point}")] for point in ("toe", "heel"))
+        if toe.parentJoint != heel.parentJoint:
+            raise ParameterError(f"the {side} toe and heel are on different bodies")
+        joint = int(toe.parentJoint)
+        along = toe.placement.translation - heel.placement.translation
+        length = float(np.linalg.norm(along))
+        along = along / length
+        across = data.oMi[joint].rotation.T @ hip_y * lateral_sign(side)  # toward the midline, in the foot's axes
+        axes = np.column_stack((along, across, np.cross(along, across)))
+        middle = 0.5 * (toe.placement.translation + heel.placement.translation)
+        for k, (inner, outer) in enumerate(footprint.bands):
+            half = np.array([0.5 * length, max(0.5 * (inner + outer), 1e-4), SOLE_HALF_THICKNESS])
+            boxes.append(SoleBox(side, k, joint, pin.SE3(axes, middle + across * 0.5 * (inner - outer)), half))
+    return boxes

@@ -176,6 +176,7 @@ class DesignWalk3D:
             "roll_margin_deg": r.roll_margin_deg,
             "yaw_per_step_deg": r.yaw_per_step_deg,
             "lateral_drift_m": r.lateral_drift_m,
+            "min_sole_clearance_m": r.min_sole_clearance_m,
         }
 
 
