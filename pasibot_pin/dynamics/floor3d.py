@@ -43,7 +43,7 @@ from pasibot_pin.dynamics.floor_settings import step_count
 from pasibot_pin.dynamics.floor_track import check_speed
 from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
-from pasibot_pin.errors import ClosureError, ContactSolveError, ParameterError, SimulationError
+from pasibot_pin.errors import ClosureError, ContactSolveError, ParameterError, SimulationError, SingularPoseError
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import (
     NQ_ROOT,
@@ -64,6 +64,8 @@ MAX_STEPS = 2_000_000
 """Most time steps one 3-D run takes."""
 CLEARANCE_EVERY = 5
 """The soles' clearance is measured every this many steps (5 ms at 1 ms: a sole moves ~5 mm) [-]."""
+TOUCH = 1e-9
+"""Soles that touch (plates meeting edge to edge at the midline) are clear; deeper than this they intersect [m]."""
 HELD = (1, 3, 5)
 """The world-aligned velocity entries the planar walk holds: y, roll and yaw."""
 
@@ -257,7 +259,10 @@ class Floor3D:
             data = self._kkt_data
             data.M[:] = mass
             data.nle[:] = 0.0
-            step, _ = kkt_solve(self.model, data, np.zeros(self.model.nv), jac, phi)
+            try:
+                step, _ = kkt_solve(self.model, data, np.zeros(self.model.nv), jac, phi)
+            except SingularPoseError:  # M singular (a foot's point mass on its own ankle axis): the metric
+                step = np.linalg.lstsq(jac, -phi, rcond=None)[0]  # only picks the correction; least norm closes too
             largest = np.abs(step).max()
             if largest > STEP_LIMIT:
                 step *= STEP_LIMIT / largest
@@ -355,7 +360,7 @@ class Floor3D:
         if q0 is None:
             q, u, _ = self.start()
             clearance = self.sole_clearance(q)
-            if clearance < 0.0:
+            if clearance < -TOUCH:
                 raise ParameterError(
                     "parameter 'sole_inner': the two soles intersect at the start: "
                     "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
@@ -390,7 +395,7 @@ class Floor3D:
             if k % CLEARANCE_EVERY == 0:
                 clearance = self.sole_clearance(q)
                 least = min(least, clearance)
-                if clearance < 0.0:
+                if clearance < -TOUCH:
                     judge.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
             if stop_on_verdict and judge.final(t):
                 break

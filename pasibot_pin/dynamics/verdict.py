@@ -71,7 +71,7 @@ TIP_LIMIT = math.radians(10.0)
 TIP_GRACE = 0.5
 """A 3-D walk whose hip rolls past :data:`TIP_LIMIT` within this long [s] of a failure the planar rules
 decided (a foot that slips or lands early as the body tips) is ``tipped``: the roll is the cause."""
-REVISABLE: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped")
+REVISABLE: tuple[str, ...] = ("rolled", "slipped", "stalled", "hopped")
 """The failures a roll past the limit soon after may turn into ``tipped``."""
 
 MIN_STRIDE_STEPS = 3
