@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import functools
 import math
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -296,3 +297,22 @@ def test_3d_twin_tips_the_centred_soles_too():
     ours = walk_design_3d(design, WalkSettings(steps=3))
     assert twin.verdict.outcome == ours.verdict.outcome == "tipped"
     assert abs(twin.verdict.decided_at - ours.verdict.decided_at) < 0.25
+
+
+def test_every_committed_walker_tips_in_3d():
+    """The README's 3-D answer: each walker in designs/ (planar outcome ``walks`` in designs/README.md), on its
+    default soles (0.6 L each side of its leg's plane), is tipped in 3-D."""
+    from pasibot_pin.model.design import load_design
+    from pasibot_pin.studies.walking import walk_design_3d
+
+    folder = Path(__file__).resolve().parents[1] / "designs"
+    table = {
+        line.split("](")[0][3:]: line.split("|")[5].strip()
+        for line in (folder / "README.md").read_text(encoding="utf-8").splitlines()
+        if line.startswith("| [")
+    }
+    walkers = [name for name, outcome in table.items() if outcome == "walks"]
+    assert len(walkers) >= 3
+    for name in walkers:
+        walk = walk_design_3d(load_design(folder / f"{name}.toml"), WalkSettings(steps=4))
+        assert walk.verdict.outcome == "tipped", (name, walk.verdict.summary())
