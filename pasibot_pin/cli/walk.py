@@ -7,7 +7,9 @@ named failure (fell, rolled, slipped, stalled, hopped, diverged). It prints the 
 steps, the advance, the largest hip pitch, the slip, the motor torque and power and the cost of
 transport; ``--json`` prints one JSON object instead. ``--stability`` adds the Floquet
 multipliers of the gait (a fixed point of the step-to-step map, found by shooting).
-``--html``/``--gif`` write the walk on the floor with its contact forces.
+``--html``/``--gif`` write the walk on the floor with its contact forces. The frontal ZMP line
+says whether the soles could hold the planar walk upright sideways; ``--3d`` walks it with the hip
+free to roll.
 """
 
 from __future__ import annotations
@@ -109,20 +111,30 @@ def run(args: argparse.Namespace) -> int:
             stability = gait_stability(design, walk, robot=robot)
         except NoFixedPointError as err:  # an outcome, not a failure of the command
             no_gait = f"stability: no fixed point near the walk ({err})"
+    from pasibot_pin.studies.frontal_zmp import frontal_zmp  # deferred: keeps the CLI's start fast
+
+    zmp = frontal_zmp(robot, walk.result, design.footprint())
     if args.json:
         out = verdict_json(walk, stability)
+        out["frontal_zmp_margin_mm"] = None if math.isnan(zmp.min_margin) else 1000 * zmp.min_margin
         if args.stability and stability is None:
             out.update(multipliers=None, stable=False, stability_note=no_gait)
         print(json.dumps(out), flush=True)
     else:
         for line in walk_lines(walk):
             print(line, flush=True)
+        print(f"sideways (planar walk, {_plates(design)}): {zmp.summary()}", flush=True)
         if args.stability:
             print(stability.summary() if stability is not None else no_gait, flush=True)
     for path in write_walk_animation(walk, robot, html, gif):
         if not args.json:
             print(f"wrote {path}")
     return 0
+
+
+def _plates(design: Design) -> str:
+    """The soles' lateral reach in words, for the frontal ZMP's line."""
+    return f"soles {design.sole_outer:g} L outside and {design.sole_inner:g} L inside each leg's plane"
 
 
 def _run_3d(design: Design, steps: int, args: argparse.Namespace) -> int:
