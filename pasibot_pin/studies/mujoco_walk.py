@@ -324,6 +324,15 @@ class _Twin:
         return ""
 
 
+def _judged(judge: GaitJudge, sample: GaitSample, twin: _Twin, t: float) -> bool:
+    """Feed the judge one sample (and the 3-D hip's roll): True once the walk may stop."""
+    decided = judge.update(sample)
+    if not twin.spatial:
+        return decided
+    judge.roll(t, twin.attitude()[0])
+    return judge.final(t)
+
+
 def walk_in_mujoco(
     design,
     settings: WalkSettings | None = None,
@@ -382,13 +391,8 @@ def walk_in_mujoco(
         crank_error = max(crank_error, float(np.max(np.abs(twin.data.qpos[twin.qadr] - twin.schedule(t)[0]))))
         feet = sample.feet
         rows.append((t, sample.hip_x, sample.hip_pitch, *(f.loaded for f in feet), *(f.normal for f in feet)))
-        if not twin.spatial and judge.update(sample):
+        if _judged(judge, sample, twin, t):
             break
-        if twin.spatial:
-            judge.update(sample)
-            judge.roll(t, twin.attitude()[0])
-            if judge.final(t):
-                break
     trace = np.array(rows, dtype=float).reshape(-1, 7)
     return MujocoWalk(
         verdict=judge.verdict(t),
