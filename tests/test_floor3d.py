@@ -314,3 +314,19 @@ def test_every_design_in_3d_and_its_twin(name):
     assert abs(ours.verdict.decided_at - twin.verdict.decided_at) < 0.25
     if _planar_outcomes()[name] == "walks":
         assert ours.verdict.outcome == "tipped"
+
+
+def test_walk_3d_page(tmp_path, capsys):
+    """``walk --3d --html`` writes one page whose title names the outcome and the roll, atomically; --gif with
+    --3d is refused in one line."""
+    from pasibot_pin.__main__ import main
+
+    assert main(["walk", "--design", FAST, "--3d", "--steps", "2", "--html", "--out", str(tmp_path)]) == 0
+    page = (tmp_path / "walk_fastest_parallel_sole6L_omega3.html").read_text(encoding="utf-8")
+    assert "<title>parallel in 3-D, 3 rad/s: tipped" in page and "max roll 10.0 deg" in page
+    assert len(page) > 100_000  # the scene and its frames, base64 in the page
+    assert not list(tmp_path.glob(".*"))  # no temporary file left
+    capsys.readouterr()
+    assert main(["walk", "--design", FAST, "--3d", "--gif", "--out", str(tmp_path), "--force"]) == 2
+    err = capsys.readouterr().err
+    assert "--3d" in err and len(err.strip().splitlines()) == 1

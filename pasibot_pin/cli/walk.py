@@ -88,9 +88,9 @@ def run(args: argparse.Namespace) -> int:
     if args.omega is not None:
         design = design.with_(omega=args.omega)
     if args.spatial:
-        if args.stability or args.html or args.gif:
-            raise ParameterError("--3d walks without --stability, --html or --gif so far")
-        return _run_3d(design, steps, args)
+        if args.stability or args.gif:
+            raise ParameterError("--3d walks without --stability or --gif so far (--html draws the 3-D walk)")
+        return _run_3d(design, steps, args, html)
     from pasibot_pin.report.walking import (  # deferred: keeps the CLI's start fast
         verdict_json,
         walk_lines,
@@ -137,11 +137,16 @@ def _plates(design: Design) -> str:
     return f"soles {design.sole_outer:g} L outside and {design.sole_inner:g} L inside each leg's plane"
 
 
-def _run_3d(design: Design, steps: int, args: argparse.Namespace) -> int:
-    """``walk --3d``: the verdict on the 3-D floor and the sideways figures."""
+def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | None) -> int:
+    """``walk --3d``: the verdict on the 3-D floor and the sideways figures (``html``: the page of the walk)."""
     from pasibot_pin.studies.walking import WalkSettings, walk_design_3d  # deferred: keeps the CLI's start fast
 
-    walk = walk_design_3d(design, WalkSettings(steps=steps, mu=args.mu))
+    robot = design_robot(design, 2, visuals=html is not None)
+    walk = walk_design_3d(design, WalkSettings(steps=steps, mu=args.mu), robot)
+    if html is not None:
+        from pasibot_pin.report.walking import write_walk3d_page  # deferred: keeps the CLI's start fast
+
+        write_walk3d_page(walk, robot, design.footprint(), html)
     figures = walk.figures()
     if args.json:
         verdict = walk.verdict
@@ -160,6 +165,8 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace) -> int:
         print(json.dumps(out), flush=True)
         return 0
     print(walk.verdict.summary(), flush=True)
+    if html is not None:
+        print(f"wrote {html}", flush=True)
     print(
         f"3-D: max |hip roll| {figures['max_hip_roll_deg']:.2f} deg (margin {figures['roll_margin_deg']:+.2f} deg "
         f"to tipping), yaw {figures['yaw_per_step_deg']:+.3f} deg/step, "

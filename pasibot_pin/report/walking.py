@@ -144,3 +144,27 @@ def walk_lines(walk) -> list[str]:
     if cot is not None:
         lines.append(f"cost of transport: {cot:.4f} ({per_m:.2f} J/m over whole strides)")
     return lines
+
+
+def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> Path:
+    """Write a 3-D walk (:class:`~pasibot_pin.studies.walking.DesignWalk3D`) as a one-file meshcat page, atomically.
+
+    Args:
+        walk: the 3-D walk.
+        robot: its robot, loaded with visuals.
+        footprint: its soles' shape.
+        html: the file.
+        fps: frames per second of simulated time [1/s].
+
+    """
+    from pasibot_pin.model.spatial import free_flyer_model
+    from pasibot_pin.viz.walk3d import walk3d_html  # deferred: heavy (meshcat)
+
+    result = walk.result
+    every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))
+    roll = f"max roll {result.max_hip_roll_deg:.1f} deg"
+    title = f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
+    text = walk3d_html(robot, free_flyer_model(robot.model), result.q[::every], footprint, fps, title)
+    with atomic_path(html) as temp:
+        temp.write_text(text, encoding="utf-8")
+    return html
