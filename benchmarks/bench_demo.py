@@ -8,6 +8,13 @@ timing (``tests/test_readme_numbers.py`` checks).
 
 ``--no-demo`` skips the timed demo (with ``--breakdown``, only the serial run below).
 
+The demo's CPU is also printed over a fixed reference workload timed in this process just before
+(:func:`reference`: ``REFERENCE_CALLS`` bare ``pin.rnea`` on the spring biped), so a regression shows
+as a ratio that does not depend on the machine's speed.
+
+``--fresh`` also times ``make demo`` in a fresh clone of this checkout (the venv, the plain install
+and the analysis: what a newcomer waits for), and ``--write`` puts it in the page.
+
 ``--breakdown`` then runs the same analysis once more, in this process and one job at a time,
 and prints where its CPU goes: each section (the simulation and floor sections per kind of
 piece), and the figures (``save_figure_file``: drawing and PNG writing; the figures' plotting calls
@@ -61,6 +68,38 @@ def measure() -> dict:
         after = resource.getrusage(resource.RUSAGE_CHILDREN)
     cpu = (after.ru_utime - before.ru_utime) + (after.ru_stime - before.ru_stime)
     return {"wall": wall, "cpu": cpu, "machine": machine(), "load": load, "date": time.strftime("%Y-%m-%d")}
+
+
+REFERENCE_CALLS = 200_000
+"""Bare ``pin.rnea`` calls of the reference workload [-]."""
+
+
+def reference() -> float:
+    """CPU seconds of the reference workload: :data:`REFERENCE_CALLS` ``pin.rnea`` on the spring biped (nv = 19)."""
+    import numpy as np
+    import pinocchio as pin
+
+    import pasibot_pin as pp
+
+    robot = pp.load("spring", 2, visuals=False)
+    model, data = robot.model, robot.model.createData()
+    rng = np.random.default_rng(0)
+    v, a = rng.normal(size=model.nv), rng.normal(size=model.nv)
+    start = time.process_time()
+    for _ in range(REFERENCE_CALLS):
+        pin.rnea(model, data, robot.q0, v, a)
+    return time.process_time() - start
+
+
+def fresh_demo() -> dict:
+    """``make demo`` in a fresh clone of this checkout's HEAD: its wall time [s], install included."""
+    root = Path(__file__).resolve().parents[1]
+    with tempfile.TemporaryDirectory(prefix="pasibot-fresh-") as folder:
+        clone = Path(folder) / "main"
+        subprocess.run(["git", "clone", "--quiet", str(root), str(clone)], check=True)
+        start = time.perf_counter()
+        subprocess.run(["make", "demo"], cwd=clone, check=True, stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL)
+        return {"fresh_wall": time.perf_counter() - start}
 
 
 def breakdown() -> str:
@@ -134,6 +173,9 @@ def breakdown() -> str:
 
 def page(m: dict) -> str:
     """docs/timings.md for one measurement."""
+    fresh = ""
+    if "fresh_wall" in m:
+        fresh = f"| `make demo` from a fresh clone (venv, plain install, analysis) | {m['fresh_wall']:.0f} | - |\n"
     return f"""# Timings
 
 Measured by `make timings` (`benchmarks/bench_demo.py`); no other page quotes a time.
@@ -141,6 +183,10 @@ Measured by `make timings` (`benchmarks/bench_demo.py`); no other page quotes a 
 | what | wall [s] | CPU [s] |
 |---|---|---|
 | `make demo` (`pasibot analyze`, 2 worker processes) | {m["wall"]:.0f} | {m["cpu"]:.0f} |
+{fresh}
+The analysis's CPU is {m["cpu"] / m["reference"]:.0f}x the reference workload of `benchmarks/bench_demo.py`
+({REFERENCE_CALLS:,} bare `pin.rnea` calls on the spring biped: {m["reference"]:.2f} s here), a ratio that does not
+depend on the machine's speed.
 
 Measured on a {m["machine"]}, on {m["date"]}, with a load average of {m["load"]:.1f} when it started
 (the machine was shared: other work makes the wall time longer, the CPU time much less so).
@@ -152,12 +198,18 @@ def main() -> int:
     parser.add_argument("--write", type=Path, default=None, help="write the timings page to this file")
     parser.add_argument("--breakdown", action="store_true", help="also the CPU per section, figures and GIFs")
     parser.add_argument("--no-demo", action="store_true", help="skip the timed demo (with --breakdown: that only)")
+    parser.add_argument("--fresh", action="store_true", help="also time `make demo` in a fresh clone, install included")
     args = parser.parse_args()
     if args.no_demo and args.write is not None:
         parser.error("--write needs the demo's timing: drop --no-demo")
     if not args.no_demo:
         m = measure()
+        m["reference"] = reference()
         print(f"make demo: {m['wall']:.1f} s wall, {m['cpu']:.1f} s CPU on a {m['machine']} (load {m['load']:.1f})")
+        print(f"reference workload: {m['reference']:.2f} s CPU; the demo's CPU is {m['cpu'] / m['reference']:.1f}x it")
+        if args.fresh:
+            m.update(fresh_demo())
+            print(f"make demo from a fresh clone: {m['fresh_wall']:.0f} s wall, install included")
     if args.breakdown:
         print(breakdown())
     if args.write is not None:
