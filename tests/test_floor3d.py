@@ -330,3 +330,20 @@ def test_walk_3d_page(tmp_path, capsys):
     assert main(["walk", "--design", FAST, "--3d", "--gif", "--out", str(tmp_path), "--force"]) == 2
     err = capsys.readouterr().err
     assert "--3d" in err and len(err.strip().splitlines()) == 1
+
+
+def test_export_mjcf_3d_command(tmp_path, capsys):
+    """``export-mjcf --3d`` writes a MuJoCo model with a free joint and the design's soles; --legs 1 is one line."""
+    import mujoco  # the [mujoco] extra: make test installs it, and this test never skips
+
+    from pasibot_pin.__main__ import main
+
+    out = tmp_path / "walker.xml"
+    assert main(["export-mjcf", "--design", FAST, "--3d", "--out", str(out)]) == 0
+    model = mujoco.MjModel.from_xml_path(str(out))
+    assert model.jnt_type[0] == mujoco.mjtJoint.mjJNT_FREE
+    assert {model.geom(k).name for k in range(model.ngeom)} >= {"right_sole0", "left_sole0"}
+    capsys.readouterr()
+    assert main(["export-mjcf", "--3d", "--legs", "1", "--out", str(tmp_path / "one.xml")]) == 2
+    err = capsys.readouterr().err
+    assert "--3d" in err and len(err.strip().splitlines()) == 1 and not (tmp_path / "one.xml").exists()
