@@ -18,6 +18,7 @@ from pasibot_pin.constraints import frame_rows
 from pasibot_pin.dynamics.floor import POINTS
 from pasibot_pin.files import atomic_path
 from pasibot_pin.model.coordinates import SIDES
+from pasibot_pin.model.spatial import free_flyer_model
 from pasibot_pin.viz.animation import save_gif
 from pasibot_pin.viz.viewer import ForceTrack, WalkViewer, build_walk_scene
 
@@ -157,8 +158,7 @@ def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> 
         fps: frames per second of simulated time [1/s].
 
     """
-    from pasibot_pin.model.spatial import free_flyer_model
-    from pasibot_pin.viz.walk3d import walk3d_html  # deferred: heavy (meshcat)
+    from pasibot_pin.viz.walk3d import walk3d_html  # deferred: heavy (meshcat), keeps the CLI's start fast
 
     result = walk.result
     every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))

@@ -35,10 +35,10 @@ def walk3d_html(robot, model: pin.Model, q: np.ndarray, footprint: Footprint, fp
         ValueError: a robot loaded without visuals (no URDF text).
 
     """
-    import coal  # deferred: with meshcat, only the page needs it
+    import coal  # deferred: heavy (coal), keeps the CLI's start fast
     import meshcat  # deferred: heavy (meshcat), keeps the CLI's start fast
-    import meshcat.geometry as g  # deferred: heavy (meshcat)
-    from meshcat.animation import Animation  # deferred: heavy (meshcat)
+    import meshcat.geometry as g  # deferred: heavy (meshcat), keeps the CLI's start fast
+    from meshcat.animation import Animation  # deferred: heavy (meshcat), keeps the CLI's start fast
 
     if not robot.urdf:
         raise ValueError("parameter 'robot': load it with visuals=True (the page draws its URDF's links)")
