@@ -358,13 +358,14 @@ class Floor3D:
         if (q0 is None) != (u0 is None):
             raise ParameterError("give both 'q0' and 'u0' or neither")
         if q0 is None:
-            q, u, _ = self.start()
-            clearance = self.sole_clearance(q)
-            if clearance < -TOUCH:
+            # both soles flat side by side (the geometric start, no settling yet): plates that meet are refused
+            flat, _ = self.spatial_state(*self.planar.initial_state())
+            if self.sole_clearance(flat) < -TOUCH:
                 raise ParameterError(
                     "parameter 'sole_inner': the two soles intersect at the start: "
                     "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
                 )
+            q, u, _ = self.start()
         else:
             q, u = np.array(q0, dtype=float), np.array(u0, dtype=float)
         h = duration / n
@@ -375,7 +376,7 @@ class Floor3D:
         judge = GaitJudge(s.omega, self.planar.robot.geometry.L, weight, criteria, first)
         times, qs, normals = [0.0], [q.copy()], [np.zeros(self.n_corners)]
         t = 0.0
-        least = self.sole_clearance(q) if q0 is not None else clearance
+        least = self.sole_clearance(q)
         for k in range(1, n + 1):
             try:
                 q, u, normal, motor = self.step(t, q, u, h)
