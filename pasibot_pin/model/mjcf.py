@@ -353,14 +353,20 @@ def _add_soles(bodies: dict[int, ET.Element], robot: PasibotRobot, options: Mjcf
             type="capsule",
             fromto=_vec((*heel.placement.translation, *toe.placement.translation)),
             size=repr(options.sole_radius),
-            contype="1",
-            conaffinity="0",
-            condim="3",
-            friction=_sole_friction(options),
-            solref=_vec(options.contact_solref),
-            solimp=_vec(options.contact_solimp),
-            rgba="0.2 0.2 0.2 1",
-        )
+        ).attrib.update(_sole_contact(options))
+
+
+def _sole_contact(options: MjcfOptions) -> dict[str, str]:
+    """A sole geom's contact attributes (the capsule's and the boxes'): it touches the floor, not itself."""
+    return {
+        "contype": "1",
+        "conaffinity": "0",
+        "condim": "3",
+        "friction": _sole_friction(options),
+        "solref": _vec(options.contact_solref),
+        "solimp": _vec(options.contact_solimp),
+        "rgba": "0.2 0.2 0.2 1",
+    }
 
 
 def _add_sole_boxes(
@@ -377,14 +383,8 @@ def _add_sole_boxes(
             name=f"{box.side}_sole{box.band}",
             type="box",
             size=_vec((box.half_size[0], box.half_size[1], options.sole_radius)),
-            contype="1",
-            conaffinity="0",
-            condim="3",
-            friction=_sole_friction(options),
-            solref=_vec(options.contact_solref),
-            solimp=_vec(options.contact_solimp),
-            rgba="0.2 0.2 0.2 1",
         )
+        element.attrib.update(_sole_contact(options))
         _pose(element, box.placement)
 
 
