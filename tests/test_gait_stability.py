@@ -57,3 +57,19 @@ def test_the_basin_brackets_a_kick_the_walk_survives(shot):
     assert basin is not None and basin.returning >= 0.05
     assert basin.returning < basin.failing or math.isinf(basin.failing)
     assert "stable" in stability.summary()
+
+
+@pytest.mark.slow
+def test_walk_stability_with_the_default_steps_shoots_the_same_gait(shot):
+    """`walk --stability` warms up over the walk's own 20 steps, so its Newton guess has cranks that
+    turned ten times: the gait it shoots is the one shot from a 4-step warm-up (issue 34)."""
+    robot, _, short = shot
+    long_walk = walk_design(WALKER, WalkSettings(), robot)  # the default steps
+    assert long_walk.verdict.walks and long_walk.verdict.steps == WalkSettings().steps
+    gait_map = GaitMap(robot, long_walk.settings)
+    _, guess = section_state(gait_map, long_walk)
+    assert np.max(np.abs(guess[gait_map.sim.motor_index])) > 20 * math.pi  # many turns behind it
+    stability = gait_stability(WALKER, long_walk, StabilitySettings(basin_kicks=()), robot)
+    assert stability.fixed_point.residual <= StabilitySettings().tol
+    assert np.allclose(stability.fixed_point.x, short.fixed_point.x, atol=1e-5)
+    assert stability.stable

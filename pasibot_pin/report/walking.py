@@ -119,6 +119,9 @@ def verdict_json(walk, multipliers=None) -> dict:
     if multipliers is not None:
         out["multipliers"] = [[float(z.real), float(z.imag)] for z in multipliers.multipliers]
         out["stable"] = bool(multipliers.stable)
+        out["stability_method"] = "Newton shooting of the step map, forward differences"
+        out["stability_cpu_s"] = float(multipliers.cpu_s)
+        out["stability_steps_simulated"] = int(multipliers.evaluations)
     return out
 
 
