@@ -17,9 +17,9 @@ from pasibot_pin.dynamics.floor3d import Floor3D
 from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import FAILURES, TIP_LIMIT
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.model.design import design_robot, load_design
+from pasibot_pin.model.design import Design, design_robot, load_design
 from pasibot_pin.model.spatial import Footprint, free_flyer_model, planar_to_spatial, roll_pitch_yaw
-from pasibot_pin.studies.walking import WalkSettings, floor_settings
+from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_design_3d
 
 FAST = "designs/fastest_parallel_sole6L_omega3.toml"
 
@@ -347,3 +347,28 @@ def test_export_mjcf_3d_command(tmp_path, capsys):
     assert main(["export-mjcf", "--3d", "--legs", "1", "--out", str(tmp_path / "one.xml")]) == 2
     err = capsys.readouterr().err
     assert "--3d" in err and len(err.strip().splitlines()) == 1 and not (tmp_path / "one.xml").exists()
+
+
+def test_leg_clearance_is_the_slabs_gap_and_reads_the_bar_radius_of_the_xacro():
+    """The legs' lateral slabs (their bars' depth, from the xacro) and a sole's inner reach: closed form."""
+    import re
+
+    from pasibot_pin.model.spatial import BAR_RADIUS, LEG_HALF_DEPTH, Footprint, leg_clearance
+
+    xacro = (Path(__file__).resolve().parents[1] / "urdf" / "pasibot.urdf.xacro").read_text()
+    assert float(re.search(r'name="bar_radius" value="\$\{([0-9.]+) \* L\}"', xacro).group(1)) == BAR_RADIUS
+    L, half = 0.05, 0.1
+    depth = LEG_HALF_DEPTH * L
+    assert leg_clearance(Footprint.plate(0.03, 0.03), half, L) == pytest.approx(2 * half - depth - 0.03)  # sole to leg
+    assert leg_clearance(Footprint.plate(0.0, 0.03), half, L) == pytest.approx(2 * half - 2 * depth)  # leg to leg
+    # a prong 6 cm past the midline: 4 cm from the other plane, less the other leg's half depth
+    assert leg_clearance(Footprint(((-0.01, 0.03), (0.16, -0.11))), half, L) == pytest.approx(0.04 - depth)
+    assert leg_clearance(Footprint.plate(0.03, 0.03), 0.005, L) < 0
+
+
+def test_legs_that_meet_are_refused_before_any_work():
+    # a prong 1.9 L past the midline clears the other foot's plate but not the other leg's links
+    design = Design(variant="parallel", parallel_toe=6.0, parallel_heel=6.0, omega=3.0,
+                    sole_inner=3.9, sole_gap_from=0.0, sole_gap_to=2.1)  # fmt: skip
+    with pytest.raises(ParameterError, match="hip_half_width"):
+        walk_design_3d(design, WalkSettings(steps=2))

@@ -171,7 +171,8 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
         f"3-D: max |hip roll| {figures['max_hip_roll_deg']:.2f} deg (margin {figures['roll_margin_deg']:+.2f} deg "
         f"to tipping), yaw {figures['yaw_per_step_deg']:+.3f} deg/step, "
         f"lateral drift {1000 * figures['lateral_drift_m']:+.1f} mm, "
-        f"soles at least {1000 * figures['min_sole_clearance_m']:.1f} mm apart",
+        f"soles at least {1000 * figures['min_sole_clearance_m']:.1f} mm apart, "
+        f"a leg at least {1000 * figures['leg_clearance_m']:.1f} mm from the other",
         flush=True,
     )
     return 0

@@ -52,6 +52,7 @@ from pasibot_pin.model.spatial import (
     Footprint,
     corner_frames,
     free_flyer_model,
+    leg_clearance,
     planar_to_spatial,
     planar_velocity_to_spatial,
     roll_pitch_yaw,
@@ -88,6 +89,8 @@ class Floor3DResult:
         fallback: QP solves answered by proxsuite (the rest exactly).
         min_sole_clearance_m: the least distance between the two feet's sole plates over the walk,
             every :data:`CLEARANCE_EVERY` steps [m] (negative: they intersected, ``collided``).
+        leg_clearance_m: the least lateral gap between a leg and the other leg's links
+            (:func:`~pasibot_pin.model.spatial.leg_clearance`, the same all walk long) [m].
 
     """
 
@@ -105,6 +108,7 @@ class Floor3DResult:
     roll_margin_deg: float
     fallback: int
     min_sole_clearance_m: float
+    leg_clearance_m: float = math.nan
 
     def summary(self) -> str:
         """One line: the verdict, then the sideways figures."""
@@ -112,7 +116,7 @@ class Floor3DResult:
             f"{self.verdict.summary()}; 3-D: max |roll| {self.max_hip_roll_deg:.2f} deg "
             f"(limit {math.degrees(TIP_LIMIT):g}), yaw {self.yaw_per_step_deg:+.3f} deg/step, "
             f"lateral drift {1000 * self.lateral_drift_m:+.1f} mm, "
-            f"soles {1000 * self.min_sole_clearance_m:.1f} mm apart"
+            f"soles {1000 * self.min_sole_clearance_m:.1f} mm apart, legs {1000 * self.leg_clearance_m:.1f} mm"
         )
 
 
@@ -360,6 +364,13 @@ class Floor3D:
         if q0 is None:
             # both soles flat side by side (the geometric start, no settling yet): plates that meet are refused
             flat, _ = self.spatial_state(*self.planar.initial_state())
+            geometry = self.planar.robot.geometry
+            legs = leg_clearance(self.footprint, geometry.hip_half_width, geometry.L)
+            if legs < 0.0:
+                raise ParameterError(
+                    f"parameters 'hip_half_width', 'sole_inner': a leg meets the other leg by {-1000 * legs:.1f} mm "
+                    "(its sole reaches into the other leg's links, or the legs' planes are too close)"
+                )
             if self.sole_clearance(flat) < -TOUCH:
                 raise ParameterError(
                     "parameter 'sole_inner': the two soles intersect at the start: "
@@ -424,6 +435,9 @@ class Floor3D:
             roll_margin_deg=math.degrees(TIP_LIMIT) - max_roll,
             fallback=self.fallback,
             min_sole_clearance_m=clearance,
+            leg_clearance_m=leg_clearance(
+                self.footprint, self.planar.robot.geometry.hip_half_width, self.planar.robot.geometry.L
+            ),  # fmt: skip
         )
 
 

@@ -177,6 +177,34 @@ def roll_pitch_yaw(q: np.ndarray) -> tuple[float, float, float]:
     return float(roll), float(-pitch), float(yaw)
 
 
+BAR_RADIUS = 0.08
+"""The bars' radius over L (the xacro's ``bar_radius``; a test reads it there) [-]."""
+
+LEG_HALF_DEPTH = 2.0 * BAR_RADIUS
+"""A leg's half depth across its plane over L: its widest part, the slider block, is 4 bar radii deep [-]."""
+
+
+def leg_clearance(footprint: Footprint, hip_half_width: float, L: float) -> float:
+    """The least lateral gap between one leg and the other [m] (negative: they interfere).
+
+    Each leg's links stay in the slab :data:`LEG_HALF_DEPTH` L deep on each side of its plane, and
+    the slabs are parallel (the tree is rigid across the planes). So two gaps decide it, the same
+    at every instant of a walk: slab to slab, ``2 hip_half_width - 2 depth``, and a sole's inner
+    reach to the other leg's slab, ``2 hip_half_width - depth - inner``. Sole against sole is
+    measured on the walk itself (their boxes move). The gaps are lower bounds: parts offset fore
+    and aft may pass.
+
+    Args:
+        footprint: each sole's bands [m].
+        hip_half_width: each leg's plane from the midline [m].
+        L: the crank length [m].
+
+    """
+    depth = LEG_HALF_DEPTH * L
+    reach = max(inner for inner, _ in footprint.bands)
+    return min(2.0 * hip_half_width - 2.0 * depth, 2.0 * hip_half_width - depth - reach)
+
+
 SOLE_HALF_THICKNESS = 0.002
 """Half the thickness of a sole's plate [m]: its boxes span this on each side of the heel-toe line."""
 

@@ -177,6 +177,7 @@ class DesignWalk3D:
             "yaw_per_step_deg": r.yaw_per_step_deg,
             "lateral_drift_m": r.lateral_drift_m,
             "min_sole_clearance_m": r.min_sole_clearance_m,
+            "leg_clearance_m": r.leg_clearance_m,
         }
 
 
