@@ -47,6 +47,10 @@ class DesignError(PasibotError):
     """A design that cannot be built: its linkage does not assemble, or its parts contradict each other."""
 
 
+class InterferenceError(ParameterError):
+    """A design whose parts meet before any motion: soles that intersect, or a leg in the other's way."""
+
+
 class MissingExtraError(PasibotError):
     """A command or function needs an optional dependency (a pip extra) that is not installed."""
 

@@ -372,3 +372,26 @@ def test_legs_that_meet_are_refused_before_any_work():
                     sole_inner=3.9, sole_gap_from=0.0, sole_gap_to=2.1)  # fmt: skip
     with pytest.raises(ParameterError, match="hip_half_width"):
         walk_design_3d(design, WalkSettings(steps=2))
+
+
+@pytest.mark.slow
+def test_design_metrics_and_sweep_walk_in_3d(tmp_path, capsys):
+    """design_metrics(floor, spatial=True) is the 3-D walk's verdict and roll; feet that meet are the outcome
+    ``collided``; `sweep --3d` needs --floor (one line, nothing written)."""
+    from pasibot_pin.__main__ import main
+    from pasibot_pin.studies.design_metrics import design_metrics
+
+    comb = load_design(FAST).with_(sole_inner=3.0, sole_gap_from=0.6, sole_gap_to=2.1)
+    metrics = design_metrics(comb, floor=2, spatial=True)
+    walk = walk_design_3d(comb, WalkSettings(steps=2))
+    assert metrics.floor_outcome == walk.verdict.outcome == "walks"
+    assert metrics["floor_max_hip_roll_deg"] == pytest.approx(walk.result.max_hip_roll_deg, abs=1e-6)
+    assert metrics.row()["floor_min_sole_clearance_mm"] == pytest.approx(1e3 * walk.result.min_sole_clearance_m)
+    tipped = design_metrics(load_design(FAST), floor=2, spatial=True)
+    assert tipped.floor_outcome == "tipped" and tipped["floor_max_hip_roll_deg"] > math.degrees(TIP_LIMIT)
+    assert design_metrics(load_design(FAST).with_(sole_inner=2.6), floor=2, spatial=True).floor_outcome == "collided"
+    assert "floor_max_hip_roll_deg" not in design_metrics(comb, floor=1).row()  # the planar table is as before
+    out = tmp_path / "sweep"
+    assert main(["sweep", "--vary", "sole_inner=0.6:1.0", "--n", "2", "--3d", "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert "--floor" in err and len(err.strip().splitlines()) == 1 and not out.exists()

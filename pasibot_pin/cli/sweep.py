@@ -28,6 +28,12 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--method", default="lhs", choices=("lhs", "grid"), help="Latin hypercube or grid (default lhs)")
     p.add_argument("--seed", type=int, default=0, help="the Latin hypercube's random seed (default 0)")
     add_explore_options(p)
+    p.add_argument(
+        "--3d",
+        dest="spatial",
+        action="store_true",
+        help="with --floor: walk on the 3-D floor (free hip, the designs' soles; adds floor_max_hip_roll_deg)",
+    )
     p.set_defaults(func=run)
 
 
@@ -36,7 +42,8 @@ def run(args: argparse.Namespace) -> int:
     from pasibot_pin.explore.sweep import run_sweep  # deferred: keeps the CLI's start fast
 
     base, ranges, by = start_run(args)
-    plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base, floor=args.floor)
+    plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base, floor=args.floor,
+                    spatial=args.spatial)  # fmt: skip
     result = run_resumable(args, run_sweep, plan, "designs")
     finish_run(args, result.table, plan.names, by, f"{result.evaluated} designs evaluated")
     return 0

@@ -43,7 +43,14 @@ from pasibot_pin.dynamics.floor_settings import step_count
 from pasibot_pin.dynamics.floor_track import check_speed
 from pasibot_pin.dynamics.ground import Ground
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
-from pasibot_pin.errors import ClosureError, ContactSolveError, ParameterError, SimulationError, SingularPoseError
+from pasibot_pin.errors import (
+    ClosureError,
+    ContactSolveError,
+    InterferenceError,
+    ParameterError,
+    SimulationError,
+    SingularPoseError,
+)
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import (
     NQ_ROOT,
@@ -367,12 +374,12 @@ class Floor3D:
             geometry = self.planar.robot.geometry
             legs = leg_clearance(self.footprint, geometry.hip_half_width, geometry.L)
             if legs < 0.0:
-                raise ParameterError(
+                raise InterferenceError(
                     f"parameters 'hip_half_width', 'sole_inner': a leg meets the other leg by {-1000 * legs:.1f} mm "
                     "(its sole reaches into the other leg's links, or the legs' planes are too close)"
                 )
             if self.sole_clearance(flat) < -TOUCH:
-                raise ParameterError(
+                raise InterferenceError(
                     "parameter 'sole_inner': the two soles intersect at the start: "
                     "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
                 )

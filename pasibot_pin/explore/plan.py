@@ -140,6 +140,7 @@ class SweepPlan:
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
         floor: also walk every design this many steps on the floor (``None``: no; slower).
+        spatial: walk on the 3-D floor (free hip, the designs' soles; about ten times slower).
 
     """
 
@@ -149,9 +150,12 @@ class SweepPlan:
     seed: int = 0
     base: Design = field(default_factory=Design)
     floor: int | None = None
+    spatial: bool = False
 
     def __post_init__(self) -> None:
         check_floor(self.floor)
+        if self.spatial and self.floor is None:
+            raise ParameterError("--3d walks the designs on the 3-D floor: give --floor STEPS too")
         if isinstance(self.n, bool) or not isinstance(self.n, (int, np.integer)) or not 1 <= self.n <= 10_000_000:
             raise ValueError(f"parameter 'n' must be an integer in [1, 1e7], got {self.n!r}")
         if self.method not in METHODS:
@@ -242,6 +246,7 @@ class SweepPlan:
             "seed": int(self.seed),
             "base": self.base.to_dict(),
             "floor": self.floor,
+            "spatial": bool(self.spatial),
         }
 
     @classmethod
@@ -254,6 +259,7 @@ class SweepPlan:
             seed=int(data["seed"]),
             base=Design.from_dict(data["base"]),
             floor=data.get("floor"),
+            spatial=bool(data.get("spatial", False)),
         )
 
 

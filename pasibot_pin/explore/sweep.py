@@ -27,6 +27,7 @@ from pasibot_pin.progress import progress_bar
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.design_metrics import (
     ALL_METRICS,
+    FLOOR3D_METRICS,
     FLOOR_METRICS,
     DesignMetrics,
     design_metrics,
@@ -44,13 +45,17 @@ CHUNK: int = 4
 
 
 def evaluate_designs(
-    base: dict, names: Sequence[str], items: Sequence[tuple[int, Sequence[float | str]]], floor: int | None = None
+    base: dict,
+    names: Sequence[str],
+    items: Sequence[tuple[int, Sequence[float | str]]],
+    floor: int | None = None,
+    spatial: bool = False,
 ) -> list[dict]:
     """Rows of ``items`` (index, values of ``names``) on the ``base`` design; runs in a worker.
 
     A value is a number, or a string for a categorical parameter (``variant="parallel"``).
     A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
-    ``floor``: also walk each design this many steps on the floor.
+    ``floor``: also walk each design this many steps on the floor (``spatial``: the 3-D floor).
     """
     base_design = Design.from_dict(base)
     rows = []
@@ -64,13 +69,16 @@ def evaluate_designs(
                 bad = DesignMetrics(bad.values, False, bad.failure, bad.reason, "")
             rows.append(design_row(index, {**base_design.values(), **changes}, bad.row()))
             continue
-        rows.append(design_row(index, design.values(), design_metrics(design, floor).row()))
+        rows.append(design_row(index, design.values(), design_metrics(design, floor, spatial).row()))
     return rows
 
 
-def floor_columns(floor: int | None) -> dict[str, str]:
+def floor_columns(floor: int | None, spatial: bool = False) -> dict[str, str]:
     """The table's extra columns with a floor simulation (name -> kind), none without."""
-    return {} if floor is None else {**dict.fromkeys(FLOOR_METRICS, "float"), "floor_outcome": "str"}
+    if floor is None:
+        return {}
+    return {**dict.fromkeys(FLOOR_METRICS, "float"), **dict.fromkeys(FLOOR3D_METRICS if spatial else (), "float"),
+            "floor_outcome": "str"}  # fmt: skip
 
 
 @dataclass
@@ -152,10 +160,17 @@ def run_sweep(
     workers = check_workers(workers)
     points = plan.points()
     store = ResultStore(
-        Path(folder), {"kind": "sweep", **plan.to_dict()}, len(points), force=force, extra=floor_columns(plan.floor)
+        Path(folder),
+        {"kind": "sweep", **plan.to_dict()},
+        len(points),
+        force=force,
+        extra=floor_columns(plan.floor, plan.spatial),
     )
     todo = [(i, plan.values(row)) for i, row in enumerate(points) if i not in store.done]
-    tasks = [(plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor) for k in range(0, len(todo), chunk)]
+    tasks = [
+        (plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor, plan.spatial)
+        for k in range(0, len(todo), chunk)
+    ]
     costs = [task_cost(plan, [values for _, values in task[2]]) for task in tasks]
     bar = progress_bar(len(points), len(points) - len(todo), progress)
 

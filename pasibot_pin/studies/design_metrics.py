@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
-from pasibot_pin.errors import ParameterError
+from pasibot_pin.errors import InterferenceError, ParameterError
 from pasibot_pin.model.assembly import leg_joint_angles, leg_points, sole_angle_from_points, transmission_angles, wrap
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.placements import placement_map
@@ -61,7 +61,7 @@ from pasibot_pin.studies.contact import cop_metrics, sole_geometry
 from pasibot_pin.studies.energy import STEP_END, STEP_START, gauss_legendre, robot_step_energy
 from pasibot_pin.studies.spring_fit import fit_spring
 from pasibot_pin.studies.spring_study import toppling_stiffness
-from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking import WalkSettings, walk_design, walk_design_3d
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -125,10 +125,20 @@ FLOOR_METRICS: Mapping[str, MetricSpec] = {
 """The optional floor-walk metrics (``design_metrics(design, floor=STEPS)``: the walking verdict of
 :func:`~pasibot_pin.studies.walking.walk_design`), plus the outcome string ``floor_outcome``."""
 
+FLOOR3D_METRICS: Mapping[str, MetricSpec] = {
+    m.name: m
+    for m in (
+        MetricSpec("floor_max_hip_roll_deg", "deg", "largest |hip roll| on the 3-D floor", "min"),
+        MetricSpec("floor_min_sole_clearance_mm", "mm", "least gap between the soles in the 3-D walk", "max"),
+    )
+}
+"""The 3-D floor's extra metrics (``design_metrics(design, floor=STEPS, spatial=True)``:
+:func:`~pasibot_pin.studies.walking.walk_design_3d`)."""
+
 MAX_FLOOR_STEPS = 1000
 """Most steps a design may be asked to walk in a table [-]."""
 
-ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS}
+ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS, **FLOOR3D_METRICS}
 """Every metric a table may hold, an objective, a constraint or a ranking may name."""
 
 FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "lift-off", "non-finite")
@@ -163,6 +173,7 @@ class DesignMetrics:
         out: dict[str, float | str | bool] = {k: float(self.values.get(k, math.nan)) for k in METRICS}
         if self.floor_outcome is not None:
             out.update({k: float(self.values.get(k, math.nan)) for k in FLOOR_METRICS})
+            out.update({k: float(self.values[k]) for k in FLOOR3D_METRICS if k in self.values})  # a 3-D walk's
             out["floor_outcome"] = self.floor_outcome
         return {**out, "feasible": self.feasible, "failure": self.failure, "reason": self.reason}
 
@@ -323,14 +334,32 @@ def warm_caches(design: Design) -> None:
     placement_map(get_variant(design.variant).name, 2)
 
 
-def floor_metrics(design: Design, steps: int, robot: PasibotRobot | None = None) -> tuple[dict[str, float], str]:
+def floor_metrics(
+    design: Design, steps: int, robot: PasibotRobot | None = None, spatial: bool = False
+) -> tuple[dict[str, float], str]:
     """The design walking ``steps`` steps on the floor: :data:`FLOOR_METRICS` and the outcome.
 
     :func:`~pasibot_pin.studies.walking.walk_design`: both feet on the floor from a consistent
-    start, the cranks at the design's speed, stopped as soon as the verdict is decided.
+    start, the cranks at the design's speed, stopped as soon as the verdict is decided. With
+    ``spatial``, :func:`~pasibot_pin.studies.walking.walk_design_3d` on the 3-D floor, plus
+    :data:`FLOOR3D_METRICS`; soles or legs that meet at the start are the outcome ``collided``.
     """
-    walk = walk_design(design, WalkSettings(steps=steps), robot)
-    v = walk.verdict
+    extra: dict[str, float] = {}
+    if spatial:
+        try:
+            walk3d = walk_design_3d(design, WalkSettings(steps=steps), robot)
+        except InterferenceError:  # the feet or legs meet before the walk: nothing walked
+            values = dict.fromkeys(FLOOR_METRICS, math.nan)
+            values.update(floor_walks=0.0, floor_steps=0.0, floor_time_s=0.0)
+            values.update(dict.fromkeys(FLOOR3D_METRICS, math.nan))
+            return values, "collided"
+        v = walk3d.verdict
+        extra = {
+            "floor_max_hip_roll_deg": walk3d.result.max_hip_roll_deg,
+            "floor_min_sole_clearance_mm": 1e3 * walk3d.result.min_sole_clearance_m,
+        }
+    else:
+        v = walk_design(design, WalkSettings(steps=steps), robot).verdict
     values = {
         "floor_walks": float(v.walks),
         "floor_steps": float(v.steps),
@@ -341,7 +370,7 @@ def floor_metrics(design: Design, steps: int, robot: PasibotRobot | None = None)
         "floor_cost_of_transport": float(v.cost_of_transport),
         "floor_energy_per_m_J": float(v.power_per_metre),
     }
-    return values, v.outcome
+    return {**values, **extra}, v.outcome
 
 
 def check_floor_steps(floor: int | None, name: str = "floor") -> int | None:
@@ -353,12 +382,13 @@ def check_floor_steps(floor: int | None, name: str = "floor") -> int | None:
     return int(floor)
 
 
-def design_metrics(design: Design, floor: int | None = None) -> DesignMetrics:
+def design_metrics(design: Design, floor: int | None = None, spatial: bool = False) -> DesignMetrics:
     """Every metric of :data:`METRICS` for one design; an infeasible design is recorded, not raised.
 
     Args:
         design: the design (:class:`~pasibot_pin.model.design.Design`).
         floor: also walk it this many steps on the floor (:func:`floor_metrics`; slower).
+        spatial: walk it on the 3-D floor (:data:`FLOOR3D_METRICS` too; about ten times slower).
 
     Returns:
         :class:`DesignMetrics`: the values, or the failure kind and reason.
@@ -379,7 +409,7 @@ def design_metrics(design: Design, floor: int | None = None) -> DesignMetrics:
         except Infeasible as err:
             failure = err
         if floor is not None and (failure is None or failure.kind in WALKABLE_FAILURES):
-            floor_values, outcome = floor_metrics(design, floor)
+            floor_values, outcome = floor_metrics(design, floor, spatial=spatial)
             values.update(floor_values)
     if failure is not None:
         out = infeasible(failure.kind, str(failure))
@@ -390,11 +420,15 @@ def design_metrics(design: Design, floor: int | None = None) -> DesignMetrics:
     bad = [
         k
         for k, v in values.items()
-        if not math.isfinite(v) and not (springless and k.startswith("K_e")) and k not in FLOOR_METRICS
+        if not math.isfinite(v)
+        and not (springless and k.startswith("K_e"))
+        and k not in FLOOR_METRICS
+        and k not in FLOOR3D_METRICS
     ]
     if bad:
         return infeasible("non-finite", f"non-finite {', '.join(bad)}")
-    return DesignMetrics({k: values[k] for k in (*METRICS, *(FLOOR_METRICS if floor else ()))}, floor_outcome=outcome)
+    names = (*METRICS, *(FLOOR_METRICS if floor else ()), *(FLOOR3D_METRICS if floor and spatial else ()))
+    return DesignMetrics({k: values[k] for k in names}, floor_outcome=outcome)
 
 
 def pareto_mask(x: np.ndarray, y: np.ndarray, senses: tuple[str, str] = ("min", "max")) -> np.ndarray:
