@@ -67,6 +67,13 @@ CASES: list[tuple[str, str]] = [
     ("gait --csv {tmp}/a.csv --plot {tmp}/a.xyz", "matplotlib cannot write .xyz"),
     ("torques --csv {tmp}/a.csv --plot {tmp}/a.docx", "matplotlib cannot write .docx"),
     ("build-urdf --ratio ratios=1", "--ratio expects rN=VALUE"),
+    # said in the user's words (issue 34)
+    ("walk --design {dir}", "is a folder"),
+    ("walk --design /dev/null", "not a regular file"),
+    ("walk --steps 1 --out {tmp}/anim", "--out names the folder of --gif and --html"),
+    ("contact --sole -1e-300 1e-300", "--sole must be"),
+    ("contact --sole 0 0.4", "--sole must be"),
+    ("sweep --vary sole_inner=0.6:1 --n 2 --3d --out {tmp}/s", "give --floor"),
 ]
 
 

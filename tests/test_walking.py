@@ -139,3 +139,20 @@ def test_walk_stability_of_a_design_that_falls_is_an_outcome_not_an_error(capsys
     assert main(argv) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["outcome"] != "walks" and out["multipliers"] is None and out["stable"] is False
+
+
+def test_a_walk_with_no_sample_writes_no_animation_and_says_so(tmp_path):
+    """Every outcome is an outcome: a run that diverged before its first sample has nothing to draw, and
+    write_walk_animation returns no file instead of an IndexError (issue 34); nothing asked, nothing done."""
+    import dataclasses
+
+    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.report.walking import write_walk_animation
+
+    design = Design(variant="parallel", parallel_toe=6.0, parallel_heel=6.0, omega=3.0)
+    robot = design_robot(design, 2, visuals=False)
+    walk = walk_design(design, WalkSettings(steps=1), robot)
+    empty = dataclasses.replace(walk, result=dataclasses.replace(walk.result, t=walk.result.t[:0], q=walk.result.q[:0]))
+    assert write_walk_animation(empty, robot, gif=tmp_path / "a.gif") == []
+    assert write_walk_animation(walk, robot) == []
+    assert not list(tmp_path.iterdir())

@@ -142,7 +142,7 @@ def add_mu_option(parser: argparse.ArgumentParser) -> None:
 def add_out_folder_option(parser: argparse.ArgumentParser, default: Path | None, what: str) -> None:
     """``--out DIR``: the folder a command writes its files into."""
     text = f"output folder: {what}" + (f" (default {default}/)" if default is not None else "")
-    parser.add_argument("--out", type=Path, default=default, metavar="DIR", help=text)
+    parser.add_argument("--out", type=Path, default=default, metavar="DIR", help=text, action=_Given)
 
 
 def add_design_option(parser: argparse.ArgumentParser) -> None:

@@ -21,7 +21,7 @@ from pasibot_pin.cli.common import (
 )
 from pasibot_pin.model.scenarios import PRESETS, get_scenario
 from pasibot_pin.report.files import write_columns_csv
-from pasibot_pin.studies.contact import CONTACT_SAMPLES, design_contact, scenario_contact
+from pasibot_pin.studies.contact import CONTACT_SAMPLES, check_sole, design_contact, scenario_contact
 
 CONTACT_VARIANTS: tuple[str, ...] = ("spring", "parallel")
 """The variants the contact study takes (the seed's scenarios and presets are for these two designs)."""
@@ -63,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     check_outputs(args, f"contact_{args.variant if design is None else design.variant}_{name}")
     if args.samples < 2:
         raise ValueError(f"parameter '--samples' must be >= 2, got {args.samples!r}")
-    sole = tuple(args.sole) if args.sole is not None else None
+    sole = check_sole(args.sole, "--sole")
     if design is not None:
         _torques, res = design_contact(design, args.mu, args.samples, sole)
         print(f"design {args.design}, {design.variant} variant, {len(res)} samples over one stance")

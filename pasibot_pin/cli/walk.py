@@ -17,6 +17,7 @@ from __future__ import annotations
 import argparse
 import json
 import math
+import sys
 from pathlib import Path
 
 from pasibot_pin.cli.common import (
@@ -78,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
         raise ParameterError(f"--omega must be a crank speed in [0.05, 20] rad/s, got {args.omega!r}")
     name = args.design.stem if args.design is not None else (args.variant if given(args, "variant") else "seed")
     html = gif = None
+    if given(args, "out") and not (args.html or args.gif):
+        raise ParameterError("--out names the folder of --gif and --html: give one of them, or leave --out out")
     if args.html or args.gif:
         check_output_folder(args.out, "--out")
         html = check_output_file(args.out / f"walk_{name}.html", "--out", args.force) if args.html else None
@@ -126,9 +129,11 @@ def run(args: argparse.Namespace) -> int:
         print(f"sideways (planar walk, {_plates(design)}): {zmp.summary()}", flush=True)
         if args.stability:
             print(stability.summary() if stability is not None else no_gait, flush=True)
-    for path in write_walk_animation(walk, robot, html, gif):
-        if not args.json:
-            print(f"wrote {path}")
+    written = write_walk_animation(walk, robot, html, gif)
+    for path in written if not args.json else ():
+        print(f"wrote {path}")
+    if (html or gif) and not written:
+        print("no animation written: the walk has no sample to draw (it diverged at its start)", file=sys.stderr)
     return 0
 
 

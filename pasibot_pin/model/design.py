@@ -366,15 +366,19 @@ def design_robot(design: Design, legs: int = 2, visuals: bool = True):
 def load_design(path: str | os.PathLike) -> Design:
     """Read a design file (``.toml`` or ``.json``); a one-line ValueError for a bad file or value."""
     path = Path(path)
+    if path.is_dir():
+        raise ParameterError(f"parameter 'design': {str(path)!r} is a folder; give a design file (.toml or .json)")
+    if path.exists() and not path.is_file():
+        raise ParameterError(f"parameter 'design': {str(path)!r} is not a regular file (a device or a pipe)")
     if not path.is_file():
-        raise ValueError(f"parameter 'design': no design file {str(path)!r}")
+        raise ParameterError(f"parameter 'design': no design file {str(path)!r}")
     try:
         if path.suffix == ".toml":
             data = tomllib.loads(path.read_text())
         elif path.suffix == ".json":
             data = json.loads(path.read_text())
         else:
-            raise ValueError(f"parameter 'design': a design file ends in .toml or .json, got {path.name!r}")
+            raise ParameterError(f"parameter 'design': a design file ends in .toml or .json, got {path.name!r}")
     except RecursionError:
         raise ParameterError(f"parameter 'design': {path} nests tables or lists too deeply") from None
     except (tomllib.TOMLDecodeError, json.JSONDecodeError, UnicodeDecodeError) as err:
@@ -385,7 +389,7 @@ def load_design(path: str | os.PathLike) -> Design:
             f"parameter 'design': {path} holds a number too long to read (an integer of thousands of digits)"
         ) from None
     if not isinstance(data, dict):
-        raise ValueError(f"parameter 'design': {path} must hold a table of parameters")
+        raise ParameterError(f"parameter 'design': {path} must hold a table of parameters")
     return Design.from_dict(data)
 
 

@@ -66,10 +66,13 @@ def write_walk_animation(
         dpi: the GIF's resolution [dots per inch] (6.4 x 5 in).
 
     Returns:
-        The files written.
+        The files written (none when none was asked for, or the run has no sample to draw: a walk
+        that diverged before its first step).
 
     """
     result = walk.result
+    if (html is None and gif is None) or len(result.t) == 0:
+        return []
     index = walk_frames(result, fps)
     qs, times = result.q[index], result.t[index]
     forces = floor_force_tracks(robot, result, index)

@@ -34,6 +34,7 @@ import numpy as np
 import pinocchio as pin
 import proxsuite
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
 from pasibot_pin.model.scenarios import get_preset, get_scenario
@@ -53,6 +54,28 @@ REGULARISATION: float = 1e-9
 
 FAILURES: tuple[str, ...] = ("lift-off", "tip-heel", "tip-toe", "slip")
 """Reasons a sample can fail, in reporting order."""
+
+
+MIN_SOLE_REACH = 1e-4
+"""A what-if sole's heel and toe are each at least this far from the ankle [m] (a shorter sole has no
+lever for its centre of pressure, and its contact problem no interior)."""
+
+
+def check_sole(sole, name: str = "parameter 'sole'") -> tuple[float, float] | None:
+    """``sole`` (s_heel, s_toe) [m] if ``None`` or on either side of the ankle by :data:`MIN_SOLE_REACH`.
+
+    Raises:
+        ParameterError: naming ``name``, before any work.
+
+    """
+    if sole is None:
+        return None
+    if not (len(sole) == 2 and sole[0] <= -MIN_SOLE_REACH and sole[1] >= MIN_SOLE_REACH):
+        raise ParameterError(
+            f"{name} must be (heel <= -{MIN_SOLE_REACH:g} m, toe >= {MIN_SOLE_REACH:g} m): heel and toe "
+            f"on either side of the ankle, got {tuple(sole)!r}"
+        )
+    return float(sole[0]), float(sole[1])
 
 
 def _check_mu(mu: float) -> float:
@@ -428,8 +451,7 @@ def contact_along(robot: PasibotRobot, result, mu: float, sole: tuple[float, flo
     n = len(result.t)
     if ground.shape != (n, 3) or len(result.q) != n or len(result.stance) != n:
         raise ValueError("parameter 'result': t, q, stance and ground (N x 3) must have one row per sample")
-    if sole is not None and not (len(sole) == 2 and sole[0] < 0 < sole[1]):
-        raise ValueError(f"parameter 'sole' must be (s_heel < 0 < s_toe) [m], got {sole!r}")
+    check_sole(sole)
     arrays: dict[str, Any] = {
         k: np.zeros(n) for k in ("s_cop", "cop_x", "ankle_x", "s_heel", "s_toe", "margin", "mu_needed")
     }
