@@ -19,6 +19,7 @@ from pasibot_pin.dynamics.floor import POINTS
 from pasibot_pin.files import atomic_path
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import free_flyer_model
+from pasibot_pin.studies.motor_load import motor_load
 from pasibot_pin.viz.animation import save_gif
 from pasibot_pin.viz.viewer import ForceTrack, WalkViewer, build_walk_scene
 
@@ -101,7 +102,7 @@ def write_walk_animation(
 def verdict_json(walk, multipliers=None) -> dict:
     """The walk as a JSON-ready dict: the verdict's figures, the motor's, and the multipliers if given."""
     v, result = walk.verdict, walk.result
-    torque = np.abs(result.motor_torque)
+    load = motor_load(result, walk.omega, walk.settings.crank_ramp)
     out = {
         "outcome": v.outcome,
         "detail": v.detail,
@@ -111,7 +112,12 @@ def verdict_json(walk, multipliers=None) -> dict:
         "advance_per_step": _finite(v.advance_per_step),
         "max_hip_pitch_deg": math.degrees(v.max_hip_pitch),
         "max_slip_m": v.max_slip_m,
-        "peak_motor_torque_Nm": float(torque.max()) if torque.size else 0.0,
+        "motor_torque_peak_Nm": _finite(load.torque_peak_Nm),
+        "motor_torque_rms_Nm": _finite(load.torque_rms_Nm),
+        "motor_power_peak_W": _finite(load.power_peak_W),
+        "exchange_impulse_Nms": _finite(load.exchange_impulse_Nms),
+        "crank_speed_dip_rad_s": _finite(load.speed_dip_rad_s),
+        "reflected_inertia_kg_m2": load.reflected_inertia,
         "mean_motor_power_W": _finite(v.mean_motor_power_w),
         "motor_energy_per_metre_J_per_m": _finite(v.power_per_metre),
         "cost_of_transport": _finite(v.cost_of_transport),
@@ -142,11 +148,7 @@ def walk_lines(walk) -> list[str]:
     lines.append(f"advance: {d['advance_m']:.3f} m{per_step}")
     slide = f"largest slide in one stance: {1e3 * d['max_slip_m']:.2f} mm"
     lines.append(f"max |hip pitch|: {d['max_hip_pitch_deg']:.2f} deg; {slide}")
-    power = d["mean_motor_power_W"]
-    lines.append(
-        f"motor: peak torque {d['peak_motor_torque_Nm']:.2f} N.m"
-        + (f", mean positive power {power:.2f} W" if power is not None else "")
-    )
+    lines.extend(motor_load(walk.result, walk.omega, walk.settings.crank_ramp).summary().splitlines())
     cot, per_m = d["cost_of_transport"], d["motor_energy_per_metre_J_per_m"]
     if cot is not None:
         lines.append(f"cost of transport: {cot:.4f} ({per_m:.2f} J/m over whole strides)")

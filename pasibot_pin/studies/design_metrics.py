@@ -59,6 +59,7 @@ from pasibot_pin.model.variants import get_motor_layout, get_variant
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.contact import cop_metrics, sole_geometry
 from pasibot_pin.studies.energy import STEP_END, STEP_START, gauss_legendre, robot_step_energy
+from pasibot_pin.studies.motor_load import MotorLoad, motor_load
 from pasibot_pin.studies.spring_fit import fit_spring
 from pasibot_pin.studies.spring_study import toppling_stiffness
 from pasibot_pin.studies.walking import WalkSettings, walk_design, walk_design_3d
@@ -120,6 +121,10 @@ FLOOR_METRICS: Mapping[str, MetricSpec] = {
         MetricSpec("floor_max_slip_mm", "mm", "largest slide of a weight-bearing foot in one stance", "min"),
         MetricSpec("floor_cost_of_transport", "-", "motor positive work over weight x advance (whole strides)", "min"),
         MetricSpec("floor_energy_per_m_J", "J/m", "motor positive work per metre (whole strides)", "min"),
+        MetricSpec("floor_motor_torque_peak_Nm", "N.m", "largest |crank torque| between foot exchanges", "min"),
+        MetricSpec("floor_motor_torque_rms_Nm", "N.m", "RMS crank torque between foot exchanges", "min"),
+        MetricSpec("floor_motor_power_peak_W", "W", "largest power of one crank between foot exchanges", "min"),
+        MetricSpec("floor_exchange_impulse_Nms", "N.m.s", "largest crank impulse at a foot exchange", "min"),
     )
 }
 """The optional floor-walk metrics (``design_metrics(design, floor=STEPS)``: the walking verdict of
@@ -345,6 +350,7 @@ def floor_metrics(
     :data:`FLOOR3D_METRICS`; soles or legs that meet at the start are the outcome ``collided``.
     """
     extra: dict[str, float] = {}
+    load: MotorLoad | None = None  # the 3-D run records no motor torque
     if spatial:
         try:
             walk3d = walk_design_3d(design, WalkSettings(steps=steps), robot)
@@ -359,7 +365,9 @@ def floor_metrics(
             "floor_min_sole_clearance_mm": 1e3 * walk3d.result.min_sole_clearance_m,
         }
     else:
-        v = walk_design(design, WalkSettings(steps=steps), robot).verdict
+        walk = walk_design(design, WalkSettings(steps=steps), robot)
+        v = walk.verdict
+        load = motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
     values = {
         "floor_walks": float(v.walks),
         "floor_steps": float(v.steps),
@@ -369,6 +377,10 @@ def floor_metrics(
         "floor_max_slip_mm": 1e3 * v.max_slip_m,
         "floor_cost_of_transport": float(v.cost_of_transport),
         "floor_energy_per_m_J": float(v.power_per_metre),
+        "floor_motor_torque_peak_Nm": math.nan if load is None else load.torque_peak_Nm,
+        "floor_motor_torque_rms_Nm": math.nan if load is None else load.torque_rms_Nm,
+        "floor_motor_power_peak_W": math.nan if load is None else load.power_peak_W,
+        "floor_exchange_impulse_Nms": math.nan if load is None else load.exchange_impulse_Nms,
     }
     return {**values, **extra}, v.outcome
 

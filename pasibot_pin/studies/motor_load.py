@@ -1,0 +1,166 @@
+"""What a crank motor must do on the floor: its torque between the exchanges, and the exchanges' impulses.
+
+The floor drives the cranks at a prescribed speed (a velocity constraint). When a foot lands or
+its contact changes (stick, slide, lift-off), the rigid contact passes an impulse through the
+crank in one time step, and the motor's "torque" in that step is the impulse over the step: a
+spike that doubles when the step halves. It is not a torque a motor must make, so it is reported
+for what it is:
+
+- **Between the exchanges**: every sample farther than :data:`EXCHANGE_WINDOW` from a contact
+  event (a foot's mode changing, a point touching down) and past the crank ramp gives the drive
+  torque's peak and RMS, and the mechanical power's peak and mean. These converge as the step
+  shrinks (a test halves it).
+- **At the exchanges**: each cluster of event windows gives the motor's impulse, the integral of
+  its torque less the straight line between the torques at the window's edges [N.m.s]. A real
+  drive with reflected inertia J on the crank shaft (rotor and gearbox) cannot deliver it at
+  once: the crank's speed dips by about impulse / J.
+
+:meth:`MotorLoad.operating_point` gives the torque and speed on the motor's side of a gearbox.
+
+Units: SI (N.m, N.m.s, W, rad/s, kg.m^2).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+from pasibot_pin.dynamics.floor_run import FloorResult
+from pasibot_pin.errors import ParameterError
+
+EXCHANGE_WINDOW: float = 0.005
+"""Samples this close to a contact event belong to the exchange [s]."""
+
+REFLECTED_INERTIA: float = 0.1
+"""The stated reflected inertia on the crank shaft, for the speed dip [kg.m^2]: a 1e-5 kg.m^2 rotor
+behind a 100:1 gearbox."""
+
+
+@dataclass(frozen=True)
+class MotorLoad:
+    """A walk's crank-motor figures (see the module docstring).
+
+    Attributes:
+        omega: crank speed [rad/s].
+        torque_peak_Nm: largest |motor torque| between the exchanges [N.m].
+        torque_rms_Nm: its root mean square between the exchanges [N.m].
+        power_peak_W: largest mechanical power of one motor between the exchanges [W].
+        power_mean_W: mean positive power of the motors, the verdict's (over whole strides) [W].
+        exchange_impulse_Nms: largest |impulse| of one motor in one exchange [N.m.s].
+        reflected_inertia: the inertia the speed dip is stated for [kg.m^2].
+        exchange_share: the share of the samples past the ramp inside an exchange window [-].
+
+    """
+
+    omega: float
+    torque_peak_Nm: float
+    torque_rms_Nm: float
+    power_peak_W: float
+    power_mean_W: float
+    exchange_impulse_Nms: float
+    reflected_inertia: float = REFLECTED_INERTIA
+    exchange_share: float = math.nan
+
+    @property
+    def speed_dip_rad_s(self) -> float:
+        """The crank speed's dip at the largest exchange with :attr:`reflected_inertia` [rad/s]."""
+        return self.exchange_impulse_Nms / self.reflected_inertia
+
+    def operating_point(self, ratio: float, efficiency: float = 0.9) -> tuple[float, float, float]:
+        """The motor's side of a gearbox: (peak torque [N.m], RMS torque [N.m], speed [rad/s]).
+
+        Raises:
+            ParameterError: a ratio not above 0, or an efficiency outside (0, 1].
+
+        """
+        if not (math.isfinite(ratio) and ratio > 0):
+            raise ParameterError(f"parameter 'ratio' must be > 0, got {ratio!r}")
+        if not (0 < efficiency <= 1):
+            raise ParameterError(f"parameter 'efficiency' must be in (0, 1], got {efficiency!r}")
+        scale = 1.0 / (ratio * efficiency)
+        return self.torque_peak_Nm * scale, self.torque_rms_Nm * scale, self.omega * ratio
+
+    def summary(self) -> str:
+        """Two lines: the drive between the exchanges, then the exchanges."""
+        return (
+            f"motor: peak torque {self.torque_peak_Nm:.1f} N.m, RMS {self.torque_rms_Nm:.1f} N.m, peak power "
+            f"{self.power_peak_W:.0f} W, mean positive power {self.power_mean_W:.1f} W at {self.omega:g} rad/s "
+            f"(peaks and RMS between the foot exchanges)\n"
+            f"exchanges: impulse up to {self.exchange_impulse_Nms:.3f} N.m.s per crank, a {self.speed_dip_rad_s:.2f} "
+            f"rad/s dip of the crank with {self.reflected_inertia:g} kg.m^2 reflected on its shaft"
+        )
+
+
+def exchange_mask(result: FloorResult, window: float = EXCHANGE_WINDOW) -> np.ndarray:
+    """Samples within ``window`` [s] of a contact event: a foot's mode changing or a point touching down."""
+    t = np.asarray(result.t, dtype=float)
+    events: list[float] = []
+    for modes in result.modes.values():
+        m = np.asarray(modes)
+        events.extend(t[np.flatnonzero(m[1:] != m[:-1]) + 1])
+    events.extend(time for time, _side, _point in result.touchdowns)
+    mask = np.zeros(len(t), dtype=bool)
+    if not events:
+        return mask
+    events_sorted = np.sort(np.asarray(events))
+    k = np.clip(np.searchsorted(events_sorted, t), 1, len(events_sorted) - 1) if len(events_sorted) > 1 else None
+    if k is None:
+        return np.abs(t - events_sorted[0]) <= window
+    nearest = np.minimum(np.abs(t - events_sorted[k - 1]), np.abs(t - events_sorted[k]))
+    return nearest <= window
+
+
+def motor_load(
+    result: FloorResult, omega: float, ramp: float = 0.0, reflected_inertia: float = REFLECTED_INERTIA
+) -> MotorLoad:
+    """The crank motors' figures of one floor run (see the module docstring).
+
+    Args:
+        result: the floor run (its ``motor_torque``, ``modes`` and ``touchdowns``).
+        omega: the crank speed [rad/s].
+        ramp: the crank ramp's length [s]; the samples before it are left out.
+        reflected_inertia: the inertia the speed dip is stated for [kg.m^2].
+
+    Raises:
+        ParameterError: a reflected inertia not above 0.
+
+    """
+    if not (math.isfinite(reflected_inertia) and reflected_inertia > 0):
+        raise ParameterError(f"parameter 'reflected_inertia' must be > 0 kg.m^2, got {reflected_inertia!r}")
+    t = np.asarray(result.t, dtype=float)
+    tau = np.asarray(result.motor_torque, dtype=float).reshape(len(t), -1)
+    nan = math.nan
+    past = t > ramp
+    if len(t) < 3 or not past.any():
+        return MotorLoad(omega, nan, nan, nan, nan, nan, reflected_inertia)
+    exchange = exchange_mask(result)
+    calm = past & ~exchange
+    power = tau * omega
+    mean_power = nan if result.verdict is None else float(result.verdict.mean_motor_power_w)
+    if not calm.any():
+        peak = rms = peak_power = nan
+    else:
+        peak = float(np.max(np.abs(tau[calm])))
+        rms = float(np.sqrt(np.mean(tau[calm] ** 2)))
+        peak_power = float(np.max(power[calm]))
+    return MotorLoad(
+        omega, peak, rms, peak_power, mean_power, _largest_impulse(t, tau, exchange & past), reflected_inertia,
+        float(np.mean(exchange[past])),
+    )  # fmt: skip
+
+
+def _largest_impulse(t: np.ndarray, tau: np.ndarray, window: np.ndarray) -> float:
+    """The largest |integral of torque less the edge-to-edge line| over one cluster of ``window`` [N.m.s]."""
+    index = np.flatnonzero(window)
+    if not len(index):
+        return 0.0
+    best = 0.0
+    h = np.diff(t, prepend=t[0])
+    for cluster in np.split(index, np.flatnonzero(np.diff(index) > 1) + 1):
+        a, b = max(int(cluster[0]) - 1, 0), min(int(cluster[-1]) + 1, len(t) - 1)
+        for m in range(tau.shape[1]):
+            base = np.interp(t[cluster], [t[a], t[b]], [tau[a, m], tau[b, m]]) if b > a else tau[a, m]
+            best = max(best, abs(float(np.sum((tau[cluster, m] - base) * h[cluster]))))
+    return best

@@ -1,0 +1,82 @@
+"""The crank motor's load on the floor: the drive between the exchanges converges with the time step,
+and the exchanges are impulses (a synthetic run with a known impulse gives it back)."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+
+from pasibot_pin.dynamics.floor_run import FloorResult
+from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.design import Design
+from pasibot_pin.studies.motor_load import EXCHANGE_WINDOW, motor_load
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+FAST = Design(variant="parallel", parallel_toe=6.0, parallel_heel=6.0, omega=3.0)
+
+
+def _synthetic(h: float, impulse: float, event: float = 0.5) -> FloorResult:
+    """A run of 1 s: torque 10 + 5 sin(2 pi t) on each crank, plus ``impulse`` in the step at ``event``."""
+    t = np.arange(0.0, 1.0 + 1e-12, h)
+    tau = np.column_stack([10 + 5 * np.sin(2 * np.pi * t)] * 2)
+    k = int(np.searchsorted(t, event))
+    tau[k, 0] += impulse / h
+    modes = ["sticking"] * len(t)
+    left = ["sticking"] * k + ["air"] * (len(t) - k)
+    n = len(t)
+    z = np.zeros((n, 4))
+    return FloorResult(t, np.zeros((n, 3)), np.zeros((n, 3)), np.zeros(n), {"right": modes, "left": left}, z, z, tau)
+
+
+@pytest.mark.parametrize("h", [1e-3, 2.5e-4])
+def test_a_known_impulse_comes_back_and_the_drive_between_is_the_smooth_torque(h):
+    load = motor_load(_synthetic(h, 0.3), omega=2.0)
+    assert load.exchange_impulse_Nms == pytest.approx(0.3, rel=1e-3)
+    assert load.torque_peak_Nm == pytest.approx(15.0, abs=0.01)  # the sine's crest, away from the event
+    calm = np.arange(0.0, 1.0 + 1e-12, h)
+    calm = calm[np.abs(calm - 0.5) > EXCHANGE_WINDOW + h]
+    rms = np.sqrt(np.mean((10 + 5 * np.sin(2 * np.pi * calm)) ** 2))
+    assert load.torque_rms_Nm == pytest.approx(rms, rel=1e-2)
+    assert load.power_peak_W == pytest.approx(2.0 * 15.0, abs=0.02)
+    assert load.speed_dip_rad_s == pytest.approx(0.3 / load.reflected_inertia, rel=1e-3)
+
+
+def test_the_gearbox_operating_point_and_bad_inputs():
+    load = motor_load(_synthetic(1e-3, 0.0), omega=2.0)
+    peak, rms, speed = load.operating_point(50.0, efficiency=0.8)
+    assert peak == pytest.approx(load.torque_peak_Nm / 40.0) and rms == pytest.approx(load.torque_rms_Nm / 40.0)
+    assert speed == pytest.approx(100.0)
+    with pytest.raises(ParameterError, match="ratio"):
+        load.operating_point(0.0)
+    with pytest.raises(ParameterError, match="reflected_inertia"):
+        motor_load(_synthetic(1e-3, 0.0), 2.0, reflected_inertia=0.0)
+
+
+@pytest.mark.slow
+def test_the_walkers_drive_does_not_depend_on_the_time_step():
+    """Halving the step doubles the raw per-step peak (an impulse over one step) but moves the drive's
+    peak, RMS and peak power by less than 5 % (issue 34), and the exchange impulse by less than 15 %."""
+    loads, raw = [], []
+    for dt in (1e-3, 5e-4):
+        walk = walk_design(FAST, WalkSettings(steps=4, dt=dt))
+        assert walk.verdict.walks
+        loads.append(motor_load(walk.result, walk.omega, walk.settings.crank_ramp))
+        raw.append(float(np.max(np.abs(walk.result.motor_torque))))
+    a, b = loads
+    assert raw[1] > 1.5 * raw[0]  # the spike is the step's, not the motor's
+    for name in ("torque_peak_Nm", "torque_rms_Nm", "power_peak_W"):
+        assert getattr(b, name) == pytest.approx(getattr(a, name), rel=0.05), name
+    assert b.exchange_impulse_Nms == pytest.approx(a.exchange_impulse_Nms, rel=0.15)
+    assert a.torque_peak_Nm < 0.2 * raw[0]
+
+
+def test_walk_json_has_the_motor_figures(capsys):
+    from pasibot_pin.__main__ import main
+
+    assert main(["walk", "--variant", "parallel", "--omega", "3", "--steps", "3", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    for key in ("motor_torque_peak_Nm", "motor_torque_rms_Nm", "motor_power_peak_W", "exchange_impulse_Nms"):
+        assert out[key] is None or out[key] >= 0.0, key
+    assert "peak_motor_torque_Nm" not in out  # one definition: the step's spike is gone
