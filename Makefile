@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps urdf-tools test demo urdf bench timings lint clean answers floor-springs docs-figures walking-map
+.PHONY: install browser-deps urdf-tools test demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs-3d
 
 # the plain install (what `pasibot analyze` needs: make demo), then the extras the tests need (make test)
 $(VENV)/.installed-base: pyproject.toml
@@ -52,6 +52,15 @@ answers: install
 # (about 30 minutes of CPU); then the found designs (designs/) and the quoted answer (docs/walking.md, README.md)
 walking-map: install
 	$(PY) -m pasibot_pin.report.walking_answer --compute --workers 2
+
+# the 3-D walking map (docs/results/walking_map3d.csv, docs/walking_map3d.png): comb reach and leg spacing x crank
+# speed, 6 steps each, ours and the MuJoCo twin (about 40 minutes of CPU); then the upright walkers (designs/3d/)
+walking-map-3d: install
+	$(PY) tools/walking_map3d.py --compute --workers 2
+	$(PY) tools/designs3d.py
+
+designs-3d: install
+	$(PY) tools/designs3d.py
 
 # docs/floor_springs.{md,csv,png}: weld against floor for runs 1-4 and the four springs (about a minute);
 # docs/floor_quasi_static.{csv,png}: the quasi-static K_e x beta0 sweep, weld beside floor

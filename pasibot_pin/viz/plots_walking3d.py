@@ -52,13 +52,14 @@ def plot_walking_map3d(wmap, feet: str, ax=None, twin: bool = True):
         ax.add_patch(Rectangle((i - 0.5, j - 0.5), 1, 1, facecolor=COLOURS_3D.get(c.outcome, "white"),
                                edgecolor="white", lw=1.5))  # fmt: skip
         label = "W" if c.walks else str(c.steps)
-        roll = "" if not np.isfinite(c.max_hip_roll_deg) else f"\n{min(c.max_hip_roll_deg, 99):.0f} deg"
+        roll = "" if not np.isfinite(c.max_hip_roll_deg) else f"\n{min(c.max_hip_roll_deg, 99):.1f} deg"
         ax.text(i, j, label + roll, ha="center", va="center", fontsize=7, color="white")
         if twin and c.twin_outcome:
             dot = COLOURS_3D.get(c.twin_outcome, "white")
             ax.add_patch(Circle((i + 0.3, j + 0.3), 0.12, facecolor=dot, edgecolor="black", lw=0.6))
     ax.set_xlim(-0.5, len(values) - 0.5)
     ax.set_ylim(-0.5, len(omegas) - 0.5)
+    ax.set_aspect("equal")
     ax.set_xticks(np.arange(len(values)), [f"{v:g}" for v in values])
     ax.set_yticks(np.arange(len(omegas)), [f"{w:g}" for w in omegas])
     ax.set_xlabel(AXIS_LABELS.get(feet, f"{feet} [L]"))
@@ -79,7 +80,9 @@ def walking_map3d_figure(wmap):
     from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     families = list(dict.fromkeys(c.feet for c in wmap.cells))
-    fig, axes = subplots(1, len(families), figsize=(4.8 * len(families), 4.6), squeeze=False)
+    widths = [len({c.value for c in wmap.family(feet)}) for feet in families]  # one cell the same size everywhere
+    fig, axes = subplots(1, len(families), figsize=(1.0 * sum(widths) + 3.5, 4.4), squeeze=False,
+                         gridspec_kw={"width_ratios": widths})  # fmt: skip
     for ax, feet in zip(axes[0], families):
         plot_walking_map3d(wmap, feet, ax=ax)
     seen = [o for o in COLOURS_3D if any(c.outcome == o or c.twin_outcome == o for c in wmap.cells)]
