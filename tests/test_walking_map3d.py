@@ -117,3 +117,21 @@ def test_a_cell_is_its_design_walked_in_3d():
     assert cell.advance_m == pytest.approx(walk.verdict.advance_m, abs=1e-9)
     assert cell.max_hip_roll_deg == pytest.approx(walk.result.max_hip_roll_deg, abs=1e-6)
     assert cell.twin_outcome == "" and np.isnan(cell.twin_steps)
+
+
+def test_the_docs_quote_the_committed_3d_map():
+    """docs/floor3d.md's figures are the committed map's (one source for every number)."""
+    wmap = load_map3d(MAP)
+    text = (ROOT / "docs" / "floor3d.md").read_text(encoding="utf-8")
+    comb, narrow = wmap.family("comb"), wmap.family("narrow")
+    assert f"{sum(c.walks for c in comb)} of the {len(comb)} cells walk upright" in text
+    assert f"{sum(c.walks for c in narrow)} of {len(narrow)} cells walk" in text
+    reach = wmap.smallest_reach()
+    assert {w: reach[w] for w in (0.5, 1.0, 2.0)} == dict.fromkeys((0.5, 1.0, 2.0), 0.2)
+    assert reach[3.0] == 1.2 and "at 3 rad/s is 1.2 L" in text
+    assert "from 0.2 L (1 cm) past the midline, in both engines" in text
+    ours_at_3 = min(c.value for c in comb if c.omega == 3.0 and c.walks)
+    assert f"At 3 rad/s our floor walks from {ours_at_3:g} L" in text
+    assert max(c.max_hip_roll_deg for c in comb if c.walks) < 0.01 and "below 0.01 deg" in text
+    twin_misses = sorted((c.value, c.omega) for c in comb if c.omega < 3.0 and c.twin_outcome != "walks")
+    assert twin_misses == [(0.4, 2.0)] and "at 0.4 L and 2 rad/s" in text
