@@ -91,8 +91,8 @@ def run(args: argparse.Namespace) -> int:
     if args.omega is not None:
         design = design.with_(omega=args.omega)
     if args.spatial:
-        if args.stability or args.gif:
-            raise ParameterError("--3d walks without --stability or --gif so far (--html draws the 3-D walk)")
+        if args.gif:
+            raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
         return _run_3d(design, steps, args, html)
     from pasibot_pin.report.walking import (  # deferred: keeps the CLI's start fast
         verdict_json,
@@ -153,6 +153,7 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
 
         write_walk3d_page(walk, robot, design.footprint(), html)
     figures = walk.figures()
+    stability, note = _stability_3d(design, walk, robot) if args.stability else (None, "")
     if args.json:
         verdict = walk.verdict
         out = {
@@ -167,6 +168,10 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
             "model": "3d",
             **figures,
         }
+        if args.stability:
+            out["multipliers"] = None if stability is None else [[z.real, z.imag] for z in stability.multipliers]
+            out["stable"] = stability is not None and stability.stable
+            out["stability_note"] = stability.summary() if stability is not None else note
         print(json.dumps(out), flush=True)
         return 0
     print(walk.verdict.summary(), flush=True)
@@ -180,4 +185,18 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
         f"a leg at least {1000 * figures['leg_clearance_m']:.1f} mm from the other",
         flush=True,
     )
+    if args.stability:
+        print(stability.summary() if stability is not None else note, flush=True)
     return 0
+
+
+def _stability_3d(design: Design, walk, robot):
+    """(the 3-D gait's stability, or ``None`` and why not): an outcome, never an error."""
+    if not walk.verdict.walks:
+        return None, f"stability: no periodic gait to linearise (the design {walk.verdict.outcome})"
+    from pasibot_pin.studies.gait_stability3d import gait_stability_3d  # deferred: keeps the CLI's start fast
+
+    try:
+        return gait_stability_3d(design, robot=robot), ""
+    except (NoFixedPointError, ParameterError) as err:  # a springed variant, or no gait near the planar one
+        return None, f"stability: no 3-D fixed point near the walk ({err})"

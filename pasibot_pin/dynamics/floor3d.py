@@ -28,7 +28,7 @@ Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import coal
 import numpy as np
@@ -98,6 +98,7 @@ class Floor3DResult:
             every :data:`CLEARANCE_EVERY` steps [m] (negative: they intersected, ``collided``).
         leg_clearance_m: the least lateral gap between a leg and the other leg's links
             (:func:`~pasibot_pin.model.spatial.leg_clearance`, the same all walk long) [m].
+        u_end: the velocity at the last sample, in world-aligned root coordinates.
 
     """
 
@@ -116,6 +117,7 @@ class Floor3DResult:
     fallback: int
     min_sole_clearance_m: float
     leg_clearance_m: float = math.nan
+    u_end: np.ndarray | None = None
 
     def summary(self) -> str:
         """One line: the verdict, then the sideways figures."""
@@ -418,7 +420,8 @@ class Floor3D:
                     judge.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
             if stop_on_verdict and judge.final(t):
                 break
-        return self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t), least)
+        result = self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t), least)
+        return replace(result, u_end=u.copy())
 
     def _result(
         self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, verdict: Verdict, clearance: float
