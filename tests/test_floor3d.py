@@ -382,8 +382,8 @@ def test_design_metrics_and_sweep_walk_in_3d(tmp_path, capsys):
     from pasibot_pin.studies.design_metrics import design_metrics
 
     comb = load_design(FAST).with_(sole_inner=3.0, sole_gap_from=0.6, sole_gap_to=2.1)
-    metrics = design_metrics(comb, floor=2, spatial=True)
-    walk = walk_design_3d(comb, WalkSettings(steps=2))
+    metrics = design_metrics(comb, floor=3, spatial=True)
+    walk = walk_design_3d(comb, WalkSettings(steps=3))
     assert metrics.floor_outcome == walk.verdict.outcome == "walks"
     assert metrics["floor_max_hip_roll_deg"] == pytest.approx(walk.result.max_hip_roll_deg, abs=1e-6)
     assert metrics.row()["floor_min_sole_clearance_mm"] == pytest.approx(1e3 * walk.result.min_sole_clearance_m)

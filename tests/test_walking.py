@@ -89,11 +89,11 @@ def test_every_variant_gets_a_verdict_from_a_consistent_start(design):
 def test_walk_command_json_has_the_answer(tmp_path, capsys):
     design = tmp_path / "walker.toml"
     WALKER.save(design)
-    assert main(["walk", "--design", str(design), "--steps", "2", "--json"]) == 0
+    assert main(["walk", "--design", str(design), "--steps", "3", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     for key in ("outcome", "steps", "advance_m", "max_hip_pitch_deg", "simulated_s"):
         assert key in out, key
-    assert out["outcome"] == "walks" and out["steps"] == 2 and out["advance_m"] > 0.3
+    assert out["outcome"] == "walks" and out["steps"] == 3 and out["advance_m"] > 0.3
 
 
 @pytest.mark.parametrize(

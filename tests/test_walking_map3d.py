@@ -110,8 +110,8 @@ def test_a_cell_is_its_design_walked_in_3d():
     from pasibot_pin.studies.walking import WalkSettings, walk_design_3d
     from pasibot_pin.studies.walking_map3d import walk_cell_3d
 
-    cell = walk_cell_3d("comb", 0.8, 3.0, steps=2, twin=False)
-    walk = walk_design_3d(map3d_design("comb", 0.8, 3.0), WalkSettings(steps=2))
+    cell = walk_cell_3d("comb", 0.8, 3.0, steps=3, twin=False)
+    walk = walk_design_3d(map3d_design("comb", 0.8, 3.0), WalkSettings(steps=3))
     assert cell.outcome == walk.verdict.outcome == "walks"
     # proxsuite's warm start carries over between runs in one process: equal to round-off, not bit for bit
     assert cell.advance_m == pytest.approx(walk.verdict.advance_m, abs=1e-9)

@@ -27,8 +27,9 @@ Outcomes (:data:`OUTCOMES`):
   - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`).
 
 * ``undecided``: the run ended (its given duration) before any of the above was decided, less
-  than two step periods in (so even ``stalled`` cannot be told); a run that long or longer
-  without its steps has ``stalled``.
+  than two step periods in (so even ``stalled`` cannot be told), or it was asked for fewer than
+  :data:`MIN_STRIDE_STEPS` steps and took them (too few for a whole stride: the advance, and what the
+  next step does, are not known); a run that long or longer without its steps has ``stalled``.
 
 The step, the advance and the cost of transport are defined here once, over whole strides
 (an even number of steps, so both legs count alike), for every variant.
@@ -176,6 +177,49 @@ class GaitSample(NamedTuple):
     motor_power: tuple[float, ...] = (0.0, 0.0)
 
 
+NEAR: float = 0.1
+"""A rule whose value came within this share of its limit is near its boundary [-]."""
+
+
+@dataclass(frozen=True)
+class Margin:
+    """How close a walk came to one rule's limit.
+
+    Attributes:
+        rule: the rule's name (``hip_pitch``, ``slide``, ``advance_low``, ``advance_high``, ``flight``,
+            ``landing``, ``swing``, ``foot_roll``, ``hip_roll``, ``steps``).
+        value: the value the walk reached (its worst) [unit].
+        limit: the rule's limit [unit].
+        unit: the unit of both.
+        sense: ``max`` (the value must stay at most the limit) or ``min`` (at least it).
+        decided: this rule decided the outcome.
+
+    """
+
+    rule: str
+    value: float
+    limit: float
+    unit: str
+    sense: str
+    decided: bool = False
+
+    @property
+    def margin(self) -> float:
+        """How far inside the limit the value stayed (negative: past it) [unit]."""
+        return self.limit - self.value if self.sense == "max" else self.value - self.limit
+
+    @property
+    def near(self) -> bool:
+        """The value came within :data:`NEAR` of the limit, either side."""
+        return math.isfinite(self.margin) and abs(self.margin) <= NEAR * max(abs(self.limit), 1e-12)
+
+    def text(self) -> str:
+        """``rule value / limit unit`` with ``<=`` or ``>=``."""
+        mark = "<=" if self.sense == "max" else ">="
+        flag = " (decided)" if self.decided else " (near)" if self.near else ""
+        return f"{self.rule} {self.value:.3g} {mark} {self.limit:.3g} {self.unit}{flag}"
+
+
 @dataclass
 class Verdict:
     """The outcome of a walk on the floor and its figures.
@@ -198,6 +242,8 @@ class Verdict:
         power_per_metre: that work over the stride advance [J/m] (nan without a stride).
         mean_motor_power_w: that work over the strides' duration [W] (nan without a stride).
         simulated_s: simulated time [s].
+        margins: each rule's value, limit and margin (:class:`Margin`); the one that decided the
+            outcome is marked.
 
     """
 
@@ -218,6 +264,7 @@ class Verdict:
     power_per_metre: float
     mean_motor_power_w: float
     simulated_s: float
+    margins: list[Margin] = field(default_factory=list)
 
     @property
     def walks(self) -> bool:
@@ -240,6 +287,10 @@ class Verdict:
             f"{head}: {self.steps} steps, advance {self.advance_m:.3f} m, "
             f"max |hip pitch| {math.degrees(self.max_hip_pitch):.2f} deg, in {self.simulated_s:.3f} s"
         )
+
+    def margins_text(self) -> str:
+        """One line: every rule's value against its limit, the deciding one and the near ones marked."""
+        return "; ".join(m.text() for m in self.margins)
 
     def __repr__(self) -> str:
         return f"Verdict({self.summary()!r})"
@@ -287,6 +338,11 @@ class GaitJudge:
     _max_slip: float = 0.0
     _flight_since: float | None = None
     max_roll: float = 0.0
+    rule: str = ""  # the rule that decided the outcome
+    _longest_flight: float = 0.0
+    _least_landing: float = math.inf  # the shortest judged landing ahead of where the foot stood [L]
+    _shortest_swing: float = math.inf  # the shortest flight of a foot that counted as a landing [s]
+    _max_foot_roll: float = 0.0
 
     def __post_init__(self) -> None:
         if not (math.isfinite(self.omega) and self.omega > 0):
@@ -302,9 +358,9 @@ class GaitJudge:
         """True once the outcome is known (the simulation may stop)."""
         return bool(self.outcome)
 
-    def _decide(self, outcome: str, t: float, detail: str) -> None:
+    def _decide(self, outcome: str, t: float, detail: str, rule: str = "") -> None:
         if not self.outcome:
-            self.outcome, self.decided_at, self.detail = outcome, t, detail
+            self.outcome, self.decided_at, self.detail, self.rule = outcome, t, detail, rule
 
     def diverged(self, t: float, detail: str) -> None:
         """The simulation broke at ``t`` [s] (a :class:`~pasibot_pin.errors.SimulationError`)."""
@@ -326,10 +382,10 @@ class GaitJudge:
             return
         detail = f"the hip rolled {math.degrees(roll):+.1f} deg sideways"
         if not self.outcome:
-            self._decide("tipped", t, detail)
+            self._decide("tipped", t, detail, "hip_roll")
         elif self.outcome in REVISABLE and t - self.decided_at <= TIP_GRACE:
             detail += f"; {t - self.decided_at:.3f} s after it {self.outcome} ({self.detail})"
-            self.outcome, self.decided_at, self.detail = "tipped", t, detail
+            self.outcome, self.decided_at, self.detail, self.rule = "tipped", t, detail, "hip_roll"
 
     def final(self, t: float) -> bool:
         """True once the outcome is decided and no roll can change it any more (a 3-D run may stop)."""
@@ -349,27 +405,30 @@ class GaitJudge:
         if not math.isfinite(sample.hip_pitch + sample.hip_x):
             self._decide("diverged", sample.t, "the state is not finite")
         elif pitch > c.max_hip_pitch:
-            self._decide("fell", sample.t, f"|hip pitch| passed {math.degrees(c.max_hip_pitch):.0f} deg")
+            self._decide("fell", sample.t, f"|hip pitch| passed {math.degrees(c.max_hip_pitch):.0f} deg", "hip_pitch")
         judged = sample.t - self.start.t > c.grace_steps * self.period
         for i, foot in enumerate(sample.feet):
             self._foot(i, foot, sample, h, judged)
         self._flight(sample, judged)
         if not self.outcome and sample.t - self._last_progress > 2.0 * self.period:
-            self._decide("stalled", sample.t, f"no step in {2.0 * self.period:.2f} s (two step periods)")
+            self._decide("stalled", sample.t, f"no step in {2.0 * self.period:.2f} s (two step periods)", "steps")
         if not self.outcome and len(self._steps) >= c.steps:
             self._final_advance(sample.t)
         return bool(self.outcome)
 
     def _foot(self, i: int, foot: FootSample, sample: GaitSample, h: float, judged: bool) -> None:
         c, state, side = self.criteria, self._feet[i], SIDES[i]
-        if foot.loaded and foot.on_point and abs(foot.pitch) > c.roll_limit:
-            self._decide("rolled", sample.t, f"the {side} foot rolled past {math.degrees(c.roll_limit):.0f} deg")
+        if foot.loaded and foot.on_point:
+            self._max_foot_roll = max(self._max_foot_roll, abs(foot.pitch))
+            if abs(foot.pitch) > c.roll_limit:
+                rolled = f"the {side} foot rolled past {math.degrees(c.roll_limit):.0f} deg"
+                self._decide("rolled", sample.t, rolled, "foot_roll")
         if judged and foot.loaded and foot.normal > c.bearing_share * self.weight:
             state.stance_slip += h * foot.slip
             self._max_slip = max(self._max_slip, state.stance_slip)
             if state.stance_slip > c.slip_per_step and judged:
                 slid = f"the {side} foot slid {1e3 * state.stance_slip:.1f} mm in one stance"
-                self._decide("slipped", sample.t, slid)
+                self._decide("slipped", sample.t, slid, "slide")
         # debounce: a change of contact counts once it has lasted ``dwell``
         if foot.loaded == state.loaded:
             state.pending_since = None
@@ -386,12 +445,16 @@ class GaitJudge:
         if state.air_since is not None and state.pending_since - state.air_since < c.bounce_share * self.period:
             return  # a bounce (a short flight of a foot that was down): neither a step nor a hop
         ahead = (foot.x - state.stand) / self.crank_length
+        if judged:
+            self._least_landing = min(self._least_landing, ahead)
+            if state.air_since is not None:
+                self._shortest_swing = min(self._shortest_swing, state.pending_since - state.air_since)
         if ahead >= c.step_advance:
             self._steps.append((state.pending_since, side, foot.x, sample.hip_x))
             self._energy.append(self._work)
             self._last_progress = sample.t
         elif judged:
-            self._decide("hopped", sample.t, f"the {side} foot landed {ahead:.2f} L from where it stood")
+            self._decide("hopped", sample.t, f"the {side} foot landed {ahead:.2f} L from where it stood", "landing")
         state.stand = foot.x
 
     def _flight(self, sample: GaitSample, judged: bool) -> None:
@@ -401,8 +464,10 @@ class GaitJudge:
             return
         if self._flight_since is None:
             self._flight_since = sample.t
+        if judged:
+            self._longest_flight = max(self._longest_flight, sample.t - self._flight_since)
         if judged and sample.t - self._flight_since > self.criteria.flight_limit:
-            self._decide("hopped", sample.t, "both feet left the floor")
+            self._decide("hopped", sample.t, "both feet left the floor", "flight")
 
     def _stride_window(self) -> tuple[int, int] | None:
         """The first and last judged step indices spanning whole strides (an even number of steps)."""
@@ -418,14 +483,19 @@ class GaitJudge:
         window = self._stride_window()
         ratio = self._advance_ratio(window)
         tol = self.criteria.advance_tolerance
-        if math.isnan(ratio) and self.criteria.steps < MIN_STRIDE_STEPS:
-            self._decide("walks", t, "")  # too few steps asked for a whole stride: no advance band
+        if math.isnan(ratio) and self.criteria.steps < MIN_STRIDE_STEPS:  # it may fall at its next step
+            few = f"{len(self._steps)} steps taken: a verdict needs {MIN_STRIDE_STEPS} (a whole stride for the advance)"
+            self._decide("undecided", t, few, "steps")
         elif math.isnan(ratio):
-            self._decide("stalled", t, "too few judged steps to measure the advance")
+            self._decide("stalled", t, "too few judged steps to measure the advance", "steps")
         elif ratio < 1.0 - tol:
-            self._decide("stalled", t, f"the hip advanced {100 * ratio:.0f} % of the linkage's 8 L per step")
+            self._decide(
+                "stalled", t, f"the hip advanced {100 * ratio:.0f} % of the linkage's 8 L per step", "advance_low"
+            )
         elif ratio > 1.0 + tol:
-            self._decide("slipped", t, f"the hip advanced {100 * ratio:.0f} % of the linkage's 8 L per step")
+            self._decide(
+                "slipped", t, f"the hip advanced {100 * ratio:.0f} % of the linkage's 8 L per step", "advance_high"
+            )
         else:
             self._decide("walks", t, "")
 
@@ -447,7 +517,7 @@ class GaitJudge:
                 self._decide("undecided", t_end, early)
             else:
                 short = f"{len(self._steps)} of {self.criteria.steps} steps by the end of the run"
-                self._decide("stalled", t_end, short)
+                self._decide("stalled", t_end, short, "steps")
         window = self._stride_window()
         advance, energy, duration = math.nan, math.nan, math.nan
         if window is not None:
@@ -474,4 +544,24 @@ class GaitJudge:
             power_per_metre=energy / advance if usable else math.nan,
             mean_motor_power_w=energy / duration if usable and duration > 0 else math.nan,
             simulated_s=t_end - self.start.t,
+            margins=self.margins(window),
         )
+
+    def margins(self, window: tuple[int, int] | None = None) -> list[Margin]:
+        """Each rule's worst value so far against its limit (:class:`Margin`), the deciding one marked."""
+        c, ratio, inf = self.criteria, self._advance_ratio(window), math.inf
+        rows = [
+            ("hip_pitch", math.degrees(self._max_pitch), math.degrees(c.max_hip_pitch), "deg", "max"),
+            ("slide", 1e3 * self._max_slip, 1e3 * c.slip_per_step, "mm", "max"),
+            ("advance_low", ratio, 1.0 - c.advance_tolerance, "of 8 L per step", "min"),
+            ("advance_high", ratio, 1.0 + c.advance_tolerance, "of 8 L per step", "max"),
+            ("flight", self._longest_flight, c.flight_limit, "s", "max"),
+            ("landing", self._least_landing if self._least_landing < inf else math.nan, c.step_advance, "L", "min"),
+            ("swing", self._shortest_swing if self._shortest_swing < inf else math.nan,
+             c.bounce_share * self.period, "s", "min"),
+            ("foot_roll", math.degrees(self._max_foot_roll), math.degrees(c.roll_limit), "deg", "max"),
+            ("steps", float(len(self._steps)), float(c.steps), "steps", "min"),
+        ]  # fmt: skip
+        if self.max_roll:
+            rows.append(("hip_roll", math.degrees(self.max_roll), math.degrees(TIP_LIMIT), "deg", "max"))
+        return [Margin(rule, value, limit, unit, sense, rule == self.rule) for rule, value, limit, unit, sense in rows]

@@ -10,6 +10,7 @@ Units: SI, angles [rad] (degrees in the printed and JSON figures, named ``_deg``
 from __future__ import annotations
 
 import math
+from dataclasses import asdict
 from pathlib import Path
 
 import numpy as np
@@ -124,6 +125,9 @@ def verdict_json(walk, multipliers=None) -> dict:
         "omega_rad_s": walk.omega,
         "dt_s": walk.dt,
         "simulated_s": v.simulated_s,
+        "margins": [
+            {**asdict(m), "value": _finite(m.value), "margin": _finite(m.margin), "near": m.near} for m in v.margins
+        ],  # fmt: skip
     }
     if multipliers is not None:
         out["multipliers"] = [[float(z.real), float(z.imag)] for z in multipliers.multipliers]
@@ -149,6 +153,7 @@ def walk_lines(walk) -> list[str]:
     slide = f"largest slide in one stance: {1e3 * d['max_slip_m']:.2f} mm"
     lines.append(f"max |hip pitch|: {d['max_hip_pitch_deg']:.2f} deg; {slide}")
     lines.extend(motor_load(walk.result, walk.omega, walk.settings.crank_ramp).summary().splitlines())
+    lines.append(f"margins: {walk.verdict.margins_text()}")
     cot, per_m = d["cost_of_transport"], d["motor_energy_per_metre_J_per_m"]
     if cot is not None:
         lines.append(f"cost of transport: {cot:.4f} ({per_m:.2f} J/m over whole strides)")

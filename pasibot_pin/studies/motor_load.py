@@ -84,9 +84,11 @@ class MotorLoad:
 
     def summary(self) -> str:
         """Two lines: the drive between the exchanges, then the exchanges."""
+        power = self.power_mean_W
+        mean = f"mean positive power {power:.1f} W over whole strides " if math.isfinite(power) else ""
         return (
             f"motor: peak torque {self.torque_peak_Nm:.1f} N.m, RMS {self.torque_rms_Nm:.1f} N.m, peak power "
-            f"{self.power_peak_W:.0f} W, mean positive power {self.power_mean_W:.1f} W at {self.omega:g} rad/s "
+            f"{self.power_peak_W:.0f} W, {mean}at {self.omega:g} rad/s "
             f"(peaks and RMS between the foot exchanges)\n"
             f"exchanges: impulse up to {self.exchange_impulse_Nms:.3f} N.m.s per crank, a {self.speed_dip_rad_s:.2f} "
             f"rad/s dip of the crank with {self.reflected_inertia:g} kg.m^2 reflected on its shaft"
