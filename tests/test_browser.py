@@ -279,7 +279,7 @@ def exported_pages(tmp_path_factory):
     robot = pp.load("spring", legs=2)
     pages = {}
     viewer.export_html(folder / "gait.html", robot, steps=1, samples_per_step=20, fps=30.0)
-    pages["gait"] = (folder / "gait.html", "PASIBOT spring biped, 1 steps (kinematic walk, stance sole welded flat)")
+    pages["gait"] = (folder / "gait.html", "PASIBOT spring biped, 1 step (kinematic walk, stance sole welded flat)")
     run4 = scenario_inputs("run4")  # the report's simulation page: pasibot analyze's simulation_run4.html
     pitch = standing_pitch(run4.robot, run4.fit, math.pi / 2)  # started where it stands, as the report starts it
     settings = SimulationSettings(omega=run4.omega, spring=run4.fit, swing_ankle="rest", dt=0.01, initial_pitch=pitch)

@@ -73,12 +73,14 @@ def test_report_order_summary_first():
 def test_the_answers_box_opens_the_report():
     from pasibot_pin.report.answers import WALKING_SLOT, answer_lines
 
-    lines = answer_lines(["- a walks.", "- b fell."], "- **The motor**: m.", "- **The spring**: s.")
+    lines = answer_lines(
+        ["- a walks.", "- b fell."], "- **What to build**: d.", "- **The motor**: m.", "- **The spring**: s."
+    )
     text = markdown.report_text(["", "## Model\n"], {"answers": {"lines": lines}})
     assert text.index("# PASIBOT analysis") < text.index("## Answers") < text.index("## Summary")
     box = text.split("## Answers", 1)[1].split("## Summary", 1)[0]
     assert f"> {WALKING_SLOT}\n>   - a walks.\n>   - b fell.\n" in box  # the slot, marked, then its lines
-    assert box.count("> - **") == 3  # walking, motor, spring: one bullet each
+    assert box.count("> - **") == 4  # walking, what to build, motor, spring: one bullet each
 
 
 def test_the_summary_says_how_runs_fell():

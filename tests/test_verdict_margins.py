@@ -64,9 +64,9 @@ def test_too_few_steps_cannot_say_walks():
 
 
 def test_walk_prints_and_json_has_the_margins(capsys):
-    from pasibot_pin.__main__ import main
-
     from pathlib import Path
+
+    from pasibot_pin.__main__ import main
 
     fast = Path(__file__).resolve().parents[1] / "designs" / "fastest_parallel_sole6L_omega3.toml"
     argv = ["walk", "--design", str(fast), "--steps", "3"]

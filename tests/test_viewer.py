@@ -418,7 +418,7 @@ def test_view_command_plays_once_and_exits():
     )
     assert proc.returncode == 0, proc.stderr
     assert "viewer: http://127.0.0.1:" in proc.stdout
-    assert "playing 1 steps (5 frames" in proc.stdout
+    assert "playing 1 step (5 frames" in proc.stdout
 
 
 def test_view_command_with_reactions_live(capsys):

@@ -61,7 +61,11 @@ def run(args: argparse.Namespace) -> int:
         if args.open:
             time.sleep(2.0)  # let the page connect before the first frame
         duration = len(walk.q) / args.fps * args.repeat
-        print(f"playing {args.steps} steps ({len(walk.q)} frames at {args.fps:g} fps, {duration:.1f} s)", flush=True)
+        print(
+            f"playing {args.steps} step{'' if args.steps == 1 else 's'} "
+            f"({len(walk.q)} frames at {args.fps:g} fps, {duration:.1f} s)",
+            flush=True,
+        )
         viewer.play(walk.q, fps=args.fps, repetitions=args.repeat)
         if args.hold == -1:
             print("serving until Ctrl-C", flush=True)

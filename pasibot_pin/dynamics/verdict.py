@@ -284,7 +284,7 @@ class Verdict:
         """One line: the outcome, the steps, the advance and the largest hip pitch."""
         head = "walks" if self.walks else f"{self.outcome} at t = {self.decided_at:.3f} s ({self.detail})"
         return (
-            f"{head}: {self.steps} steps, advance {self.advance_m:.3f} m, "
+            f"{head}: {self.steps} step{'' if self.steps == 1 else 's'}, advance {self.advance_m:.3f} m, "
             f"max |hip pitch| {math.degrees(self.max_hip_pitch):.2f} deg, in {self.simulated_s:.3f} s"
         )
 

@@ -1,11 +1,16 @@
 """The answers box that opens ``report.md`` (and that the README's results section quotes).
 
-Three questions, each answered in one bullet whose numbers come from code and are stated once:
+A builder's questions, each answered in one bullet whose numbers come from code and are stated once:
 
-- does it walk? :func:`walking_answer_lines` (a slot: another study may fill it; keep the signature);
-- the motor: :func:`motor_answer_line`, the single-motor study's peak torque and power at its speed
-  (:func:`~pasibot_pin.studies.contact_energy_study.single_motor_study`);
-- the spring: :func:`spring_answer_line`, the recommended spring and its margin
+- does it walk? :func:`walking_answer_lines`: the walking map's headline, the 3-D map's (does it stay
+  upright sideways, and on which feet), and the seed's own sole walked now (a slot: another study may
+  fill it; keep the signature);
+- what to build: :func:`build_answer_line`, the recommended walker
+  (:func:`~pasibot_pin.studies.walking_map3d.recommended_walker`) walked now;
+- its motor: :func:`motor_answer_line`, from that walk (:func:`~pasibot_pin.studies.motor_load.motor_load`:
+  the drive between the foot exchanges, the exchanges as impulses) and through a stated gearbox;
+- the spring: :func:`spring_answer_line`: the walker needs none; what the spring variant does on
+  the floor; the welded-hip spring of the seed's set-up, once, as what it is
   (:func:`~pasibot_pin.studies.spring_choice.recommended_spring`).
 
 :func:`answer_lines` gives the box's lines; :func:`build` is the ``pasibot analyze`` step (its facts
@@ -19,85 +24,137 @@ import math
 from pathlib import Path
 
 from pasibot_pin.model.design import Design
-from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.report.markdown import Section
 from pasibot_pin.report.walking_answer import walking_answer
-from pasibot_pin.studies.contact_energy_study import single_motor_study
+from pasibot_pin.studies.motor_load import MotorLoad, motor_load
 from pasibot_pin.studies.spring_choice import recommended_spring
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 from pasibot_pin.studies.walking_map import load_map
+from pasibot_pin.studies.walking_map3d import MAP3D_CSV, RECOMMENDED, load_map3d, recommended_walker
+
+GEAR_RATIO: float = 50.0
+"""The gearbox the motor's operating point is stated for [-]."""
+
+GEAR_EFFICIENCY: float = 0.9
+"""Its efficiency [-]."""
+
+BUILD_STEPS: int = 6
+"""Steps the recommended walker walks for the motor's figures [-]."""
 
 WALKING_SLOT = "<!-- walking answer: the lines of pasibot_pin.report.answers.walking_answer_lines() -->"
 """The marker of the walking answer's slot in the box."""
 
 
-def _walk_line(name: str, design, settings) -> str:
-    walk = walk_design(design, settings)
-    sole = f"toe {design.parallel_toe:g} L, heel {design.parallel_heel:g} L"
-    return f"{name} ({design.variant}, {sole}) at {design.omega:g} rad/s: {walk.verdict.summary()}."
-
-
 def walking_answer_lines() -> list[str]:
-    """Does it walk? The walking map's headline (the committed table), then two designs walked now.
+    """Does it walk? The walking map's headline, the 3-D map's, and the seed's own sole walked now.
 
-    The map: every variant, the same sole ahead of and behind the ankle, over crank speeds, each
-    design asked to walk its 20 steps (:mod:`pasibot_pin.studies.walking_map`, ``make walking-map``).
-    Then a parallel design whose sole reaches 4.5 L ahead of and behind joint 13, and the seed's
-    parallel design, both at 2 rad/s, judged over 4 steps (:class:`WalkSettings`).
+    The maps are the committed tables (:mod:`pasibot_pin.studies.walking_map`, ``make walking-map``;
+    :mod:`pasibot_pin.studies.walking_map3d`, ``make walking-map-3d``).
     """
     a = walking_answer(load_map())
     walking = [f"{v} ({n})" for v, n in a.walkers.items() if n]
     smallest = ", ".join(f"{sole:g} L at {omega:g} rad/s" for omega, (sole, _) in sorted(a.smallest_sole.items()))
     head = (
-        f"- Across the walking map ({a.cells} designs, {a.steps} steps each): walkers by variant "
-        f"{', '.join(walking) or 'none'}; no {' or '.join(v for v, n in a.walkers.items() if not n)} design walks. "
-        f"Smallest walking sole: {smallest}."
+        f"- Across the walking map ({a.cells} designs, {a.steps} steps each, the hip held upright sideways): walkers "
+        f"by variant {', '.join(walking) or 'none'}; no {' or '.join(v for v, n in a.walkers.items() if not n)} "
+        f"design walks. Smallest walking sole: {smallest}."
     )
-    if a.fastest is not None:
-        head += f" Fastest: {a.fastest.variant}, {a.fastest.sole:g} L soles, {a.fastest.omega:g} rad/s."
-    settings = WalkSettings(steps=4)
-    wide = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
     seed = Design(variant="parallel", omega=2.0)
-    return [
-        head,
-        "- " + _walk_line("A long sole", wide, settings),
-        "- " + _walk_line("The seed's sole", seed, settings),
+    walk = walk_design(seed, WalkSettings(steps=4))
+    sole = f"toe {seed.parallel_toe:g} L, heel {seed.parallel_heel:g} L"
+    return [head, upright_answer_line(), f"- The seed's sole ({sole}) at 2 rad/s: {walk.verdict.summary()}."]
+
+
+def upright_answer_line() -> str:
+    """The 3-D map's answer: centred soles tip; interleaved combs past the midline keep it upright (both engines)."""
+    m = load_map3d(MAP3D_CSV)
+    reach = m.smallest_reach()
+    groups: dict[float, list[float]] = {}
+    for omega, value in sorted(reach.items()):
+        groups.setdefault(value, []).append(omega)
+    parts = [
+        f"{v:g} L ({100 * v * recommended_walker().L:g} cm) past the midline at {_speeds(ws)}"
+        for v, ws in groups.items()
+        if math.isfinite(v)
     ]
-
-
-def motor_answer_line(motor) -> str:
-    """The motor's bullet from a :class:`~pasibot_pin.studies.contact_energy_study.SingleMotorStudy`."""
-    scenario = get_scenario(motor.scenario)
+    narrow = m.family("narrow")
     return (
-        f"- **The motor**: one motor driving both cranks ({motor.scenario}: body {scenario.body_mass:g} kg, "
-        f"crank speed {motor.omega:g} rad/s, spring biped, stance foot welded) peaks at "
-        f"{motor.single.peak():.1f} N.m and {motor.peak_power:.0f} W; its mean, {motor.mean_torque:.2f} N.m "
-        f"({motor.mean_power:.0f} W), is all it must give with a flywheel of "
-        f"{motor.inertia_for_target:.0f} kg.m² on the crank shaft ({100 * motor.fluctuation:g} % speed fluctuation)."
+        f"- **In 3-D** (the hip free to roll; {m.steps} steps each, in our engine and the MuJoCo twin): on soles "
+        f"centred on each leg's plane, or legs brought nearer, every walker tips over sideways at its first single "
+        f"support ({sum(not c.walks for c in narrow)} of {len(narrow)} spacings tip). Interleaved comb soles whose "
+        f"prongs pass the midline walk upright: {' and '.join(parts)}."
     )
+
+
+def _speeds(omegas: list[float]) -> str:
+    if len(omegas) == 1:
+        return f"{omegas[0]:g} rad/s"
+    return f"{', '.join(f'{w:g}' for w in omegas[:-1])} and {omegas[-1]:g} rad/s"
+
+
+def recommended_walk() -> tuple[Design, object, MotorLoad]:
+    """The recommended walker, its walk on the floor (:data:`BUILD_STEPS` steps) and its motor load."""
+    design = recommended_walker()
+    walk = walk_design(design, WalkSettings(steps=BUILD_STEPS))
+    return design, walk, motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
+
+
+def build_answer_line(design: Design, walk) -> str:
+    """What to build: the recommended walker, its feet and its crank speed."""
+    feet, reach, omega = RECOMMENDED
+    name = f"designs/3d/upright_fastest_{feet}{reach:g}L_omega{omega:g}.toml"
+    return (
+        f"- **What to build**: `{name}`: the parallel extension with {design.parallel_toe:g} L soles ahead of and "
+        f"{design.parallel_heel:g} L behind joint 13, interleaved comb soles reaching {reach:g} L "
+        f"({100 * reach * design.L:g} cm) past the midline, cranks at {omega:g} rad/s, no ankle spring. The fastest "
+        f"walker that stays upright for 20 steps in both engines; on the floor now: {walk.verdict.summary()}."
+    )
+
+
+def motor_answer_line(load: MotorLoad) -> str:
+    """Its motor: the drive between the foot exchanges, the exchanges' impulses, and a gearbox's operating point."""
+    peak, rms, speed = load.operating_point(GEAR_RATIO, GEAR_EFFICIENCY)
+    return (
+        f"- **The motor** (each crank of that walker, from its walk, between the foot exchanges): peak "
+        f"{load.torque_peak_Nm:.1f} N.m, RMS {load.torque_rms_Nm:.1f} N.m, peak power {load.power_peak_W:.0f} W at "
+        f"{load.omega:g} rad/s; both cranks' mean positive power {load.power_mean_W:.1f} W. Each foot exchange "
+        f"passes up to {load.exchange_impulse_Nms:.2f} N.m.s through a crank. Behind a {GEAR_RATIO:g}:1 gearbox "
+        f"({100 * GEAR_EFFICIENCY:g} %): {peak:.2f} N.m peak, {rms:.2f} N.m RMS at {_rpm(speed):.0f} rpm."
+    )
+
+
+def _rpm(speed: float) -> float:
+    """[rad/s] -> [rev/min]."""
+    return speed * 60.0 / (2.0 * math.pi)
 
 
 def spring_answer_line(choice) -> str:
-    """The spring's bullet from a :class:`~pasibot_pin.studies.spring_choice.SpringChoice`."""
+    """The spring: none for the walker; the spring variant on the floor; the welded-hip spring once."""
+    a = walking_answer(load_map())
+    fails = a.failures.get("spring", {})
+    counts = ", ".join(f"{n} {outcome}" for outcome, n in sorted(fails.items(), key=lambda kv: -kv[1]) if n)
     return (
-        f"- **The spring**: K_e = {choice.stiffness:.0f} N.m/rad at beta0 = {math.degrees(choice.rest_angle):.1f}°, "
-        f"the smallest that keeps the welded hip within {math.degrees(choice.limit):.0f}° of level at every "
-        f"crank angle of {choice.scenario}'s stance with the cranks held (quasi-static); its margin over "
-        f"gravity's toppling stiffness k_g = {choice.toppling:.0f} N.m/rad is {choice.margin:.0f} N.m/rad, "
-        f"against {choice.fitted_margin:.1f} for the fitted {choice.fitted_stiffness:.0f} N.m/rad. Walking, "
-        "the hip swings further (the report's simulation section)."
+        f"- **The spring**: the walker needs none (its parallel extension carries the foot level). The spring "
+        f"variant walks in none of the map's {sum(fails.values())} spring cells ({counts}). Only with the stance "
+        f"foot welded and the hip held level, as the seed simulates it, does an ankle spring do its job: "
+        f"K_e = {choice.stiffness:.0f} N.m/rad at beta0 = {math.degrees(choice.rest_angle):.1f}° keeps that hip "
+        f"within {math.degrees(choice.limit):.0f}° of level over {choice.scenario}'s stance (quasi-static)."
     )
 
 
-def answer_lines(walking: list[str], motor, spring) -> list[str]:
-    """The box's lines: the walking answer's slot, then the motor and the spring (Markdown bullets)."""
-    return ["- **Does it walk?**", WALKING_SLOT, *(f"  {line}" for line in walking), motor, spring]
+def answer_lines(walking: list[str], build: str, motor: str, spring: str) -> list[str]:
+    """The box's lines: the walking answer's slot, then what to build, its motor and the spring (Markdown)."""
+    return ["- **Does it walk?**", WALKING_SLOT, *(f"  {line}" for line in walking), build, motor, spring]
 
 
 def answers() -> list[str]:
-    """The box's lines, every study run afresh (:func:`answer_lines`)."""
+    """The box's lines, every walk run afresh (:func:`answer_lines`)."""
+    design, walk, load = recommended_walk()
     return answer_lines(
-        walking_answer_lines(), motor_answer_line(single_motor_study()), spring_answer_line(recommended_spring())
+        walking_answer_lines(),
+        build_answer_line(design, walk),
+        motor_answer_line(load),
+        spring_answer_line(recommended_spring()),
     )
 
 

@@ -60,6 +60,22 @@ MAP3D_STEPS: int = 6
 FAMILIES: tuple[str, ...] = ("comb", "narrow")
 """The lateral foot families."""
 
+_PACKAGED = Path(__file__).resolve().parents[1] / "results" / "walking_map3d.csv"
+MAP3D_CSV = (
+    _PACKAGED if _PACKAGED.is_file() else Path(__file__).resolve().parents[2] / "docs" / "results" / "walking_map3d.csv"
+)
+"""The committed 3-D map: the wheel's copy (pyproject's force-include), else the source checkout's docs/results."""
+
+RECOMMENDED: tuple[str, float, float] = ("comb", 0.6, 2.0)
+"""The walker to build: (feet, value [L], omega [rad/s]), the fastest comb walker that both engines walk
+upright for 20 steps (``designs/3d/upright_fastest_*``, chosen by ``tools/designs3d.py``; a test holds
+them equal)."""
+
+
+def recommended_walker() -> Design:
+    """The design of :data:`RECOMMENDED` (:func:`map3d_design`)."""
+    return map3d_design(*RECOMMENDED)
+
 
 def walker_base() -> Design:
     """The planar map's walker: the seed design, ``parallel`` variant, 6 L each side of joint 13."""

@@ -58,14 +58,17 @@ def _sole_corners(model: pin.Model, data: pin.Data, boxes) -> list[tuple[str, np
     return out
 
 
-def plot_walk_3d(model: pin.Model, q: np.ndarray, footprint: Footprint, poses: int = 3, ax=None, title: str = ""):
+def plot_walk_3d(
+    model: pin.Model, q: np.ndarray, footprint: Footprint, poses: int = 3, ax=None, title: str = "", span: float = 1.2
+):
     """Draw a 3-D walk in perspective.
 
     Args:
         model: the free-flyer model the walk ran on.
         q: its configurations over the walk (N, nq).
         footprint: the soles' shape.
-        poses: how many poses to draw, evenly spread over the walk, the last one solid.
+        poses: how many poses to draw, evenly spread over the shown part, the last one solid.
+        span: the hip's last this much of travel is shown, so that the robot fills the frame [m].
         ax: a 3-D axes to draw on (default: a new figure).
         title: the axes' title.
 
@@ -81,6 +84,7 @@ def plot_walk_3d(model: pin.Model, q: np.ndarray, footprint: Footprint, poses: i
         _fig, ax = subplots(figsize=(7.5, 6.0), subplot_kw={"projection": "3d"})
     data = model.createData()
     boxes = sole_boxes(model, q[0], footprint)
+    q = q[q[:, 0] >= q[-1, 0] - span]  # the last ``span`` of the walk
     picks = np.unique(np.linspace(0, len(q) - 1, max(1, poses)).astype(int))
     for n, k in enumerate(picks):
         last = n == len(picks) - 1
@@ -111,7 +115,7 @@ def plot_walk_3d(model: pin.Model, q: np.ndarray, footprint: Footprint, poses: i
     handles = [Line2D([], [], color=c, lw=2, label=f"{s} leg and sole") for s, c in LEG_COLOURS.items()]
     handles += [Line2D([], [], color="k", lw=1, label="hip path"),
                 Line2D([], [], color="0.6", lw=0.8, ls="--", label="hip path on the floor")]  # fmt: skip
-    ax.legend(handles=handles, loc="upper left", fontsize=8, frameon=False)
+    ax.legend(handles=handles, loc="lower left", fontsize=8, frameon=False)
     if title:
         ax.set_title(title, fontsize=10)
     return ax.figure

@@ -519,7 +519,8 @@ def export_html(
         forces = {**(forces or {}), **reaction_forces(robot, walk, omega=reactions)}
     viewer = WalkViewer(robot, zmq_url=zmq_url, offline=zmq_url is None)
     try:
-        title = f"PASIBOT {robot.variant} biped, {steps} steps (kinematic walk, stance sole welded flat)"
+        plural = "" if steps == 1 else "s"
+        title = f"PASIBOT {robot.variant} biped, {steps} step{plural} (kinematic walk, stance sole welded flat)"
         paths = build_walk_scene(viewer, walk.q, fps, forces, title=title)
         viewer.show_robot(show_robot)
         if not show_robot:  # a reference picture: no title bar either
