@@ -18,4 +18,5 @@ COMMANDS: list[str] = [
     "energy",
     "sweep",
     "optimize",
+    "find_walker",
 ]

@@ -154,6 +154,13 @@ BOUNDS: dict[str, dict[str, Bound]] = {
     },
     "walk": {"--omega": Bound(0.05, 20.0, "rad/s"), "--mu": _MU},  # --steps: its own type, [1, 1000]
     "sweep": {"--n": Bound(1, 1_000_000, integer=True), **_EXPLORE},
+    "find-walker": {
+        "--omega": Bound(0.05, 20.0, "rad/s"),
+        "--budget": Bound(1, 10_000, integer=True),  # explore.find_walker.MAX_BUDGET
+        "--steps": Bound(3, 1000, "steps", integer=True),  # verdict.MIN_STRIDE_STEPS: fewer cannot say walks
+        "--workers": Bound(1, 64, integer=True),
+        "--seed": Bound(0, 2**32 - 1, integer=True),
+    },
     "optimize": {
         "--trials": Bound(1, 1_000_000, integer=True),
         "--population": Bound(2, 10_000, integer=True),

@@ -117,6 +117,9 @@ def _finish(args, out: Path, table, varied, by, what: str, objectives, rows, con
     figures = write_figures(table, out, varied, objectives, constraints)
     feasible = int(np.sum(table.column("feasible").to_numpy(zero_copy_only=False)))
     print(f"{what}; {table.num_rows} in {out / 'results.parquet'}, {feasible} feasible")
+    if "floor_walks" in table.column_names:
+        walks = int(np.nansum(table.column("floor_walks").to_numpy(zero_copy_only=False)))
+        print(f"{walks} of {table.num_rows} designs walk on the floor (walkers rank first)")
     print(f"figures: {', '.join(str(f) for f in figures)}")
     rows = (best_rows(table, by[0], by[1], args.best) if rows is None else list(rows))[: args.best]
     if rows:

@@ -90,6 +90,11 @@ def run(args: argparse.Namespace) -> int:
         design = design.with_(variant=args.variant)
     if args.omega is not None:
         design = design.with_(omega=args.omega)
+    from pasibot_pin.studies.walking import check_walk_budget, walk_cost  # deferred: keeps the CLI's start fast
+
+    check_walk_budget(
+        walk_cost(design.omega, steps, spatial=args.spatial), f"--steps {steps} at --omega {design.omega:g} rad/s"
+    )
     if args.spatial:
         if args.gif:
             raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")

@@ -36,7 +36,7 @@ from pasibot_pin.studies.design_metrics import (
     warm_caches,
 )
 from pasibot_pin.studies.spring_fit import design_spring
-from pasibot_pin.studies.walking import MIN_OMEGA, walk_duration
+from pasibot_pin.studies.walking import MIN_OMEGA, SEARCH_BUDGET, check_walk_budget, walk_cost, walk_duration
 from pasibot_pin.viz.figure_files import save_figure_file
 from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity
 
@@ -159,6 +159,11 @@ def run_sweep(
         raise ValueError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
     workers = check_workers(workers)
     points = plan.points()
+    if plan.floor:  # bound the walks' work before any of it
+        index = plan.names.index("omega") if "omega" in plan.names else None
+        omegas = [plan.base.omega if index is None else float(plan.values(row)[index]) for row in points]
+        cost = sum(walk_cost(w, plan.floor, spatial=plan.spatial) for w in omegas)
+        check_walk_budget(cost, f"--floor {plan.floor} for {len(points)} designs", SEARCH_BUDGET)
     store = ResultStore(
         Path(folder),
         {"kind": "sweep", **plan.to_dict()},
@@ -227,7 +232,10 @@ def write_figures(
 
 
 def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callable | None = None) -> list[int]:
-    """Row numbers of the ``count`` best feasible designs by metric ``by`` (``sense`` min or max)."""
+    """Row numbers of the ``count`` best feasible designs by metric ``by`` (``sense`` min or max).
+
+    In a walking sweep (a ``floor_walks`` column) the designs that walk come first.
+    """
     if by not in ALL_METRICS:
         raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(ALL_METRICS)}")
     values = column(table, by).astype(float)
@@ -236,6 +244,9 @@ def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callabl
         ok &= np.asarray(where(table), dtype=bool)
     idx = np.flatnonzero(ok)
     key = values[idx] if sense == "min" else -values[idx]
+    if "floor_walks" in table.column_names:  # a walking sweep: the walkers first, each group by the metric
+        walks = np.nan_to_num(column(table, "floor_walks").astype(float))[idx]
+        return [int(i) for i in idx[np.lexsort((key, -walks))][:count]]
     return [int(i) for i in idx[np.argsort(key, kind="stable")][:count]]
 
 

@@ -113,6 +113,46 @@ def walk_duration(omega: float, steps: int) -> float:
     return (steps + 3) * math.pi / omega + RAMP_MAX
 
 
+WALK_BUDGET: int = 2_000_000
+"""Most time steps one command may simulate, planar steps counted once and 3-D ones ten times [-]
+(about 8 minutes of CPU on the planar floor)."""
+
+STEP_CPU: float = 2.5e-4
+"""A planar floor step's CPU time, for the estimate in words [s] (``benchmarks/bench_floor3d.py``)."""
+
+SPATIAL_COST: float = 10.0
+"""A 3-D floor step's cost in planar steps [-]."""
+
+SEARCH_BUDGET: int = 100_000_000
+"""Most time steps a sweep or a search may simulate over all its designs [-] (about 7 hours of CPU)."""
+
+
+def walk_cost(omega: float, steps: int, walks: int = 1, spatial: bool = False) -> float:
+    """Planar-equivalent time steps of ``walks`` walks of ``steps`` steps at ``omega`` [rad/s], at most [-]."""
+    omega = max(float(omega), MIN_OMEGA)
+    return walks * math.ceil(walk_duration(omega, steps) / walk_dt(omega)) * (SPATIAL_COST if spatial else 1.0)
+
+
+def check_walk_budget(cost: float, what: str, limit: int = WALK_BUDGET) -> None:
+    """Refuse, before any work, a command whose walks need more than ``limit`` time steps.
+
+    Args:
+        cost: the walks' cost (:func:`walk_cost`, summed) [planar time steps].
+        what: the walks in the user's words, naming the flags (``--steps 1000 at --omega 0.5``).
+        limit: :data:`WALK_BUDGET` for one walk, :data:`SEARCH_BUDGET` for a sweep or a search.
+
+    Raises:
+        ParameterError: one line with the estimate and the limit.
+
+    """
+    if cost > limit:
+        minutes = cost * STEP_CPU / 60.0
+        raise ParameterError(
+            f"{what}: {cost:.2g} time steps (about {minutes:.0f} min of CPU), past the limit of {limit:.0e}; "
+            "ask fewer steps, a faster crank or fewer designs"
+        )
+
+
 def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
     """The :class:`FloorSettings` of ``design``'s walk: its speed, spring, motors; the ramp and step."""
     omega = design.omega

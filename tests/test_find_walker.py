@@ -1,0 +1,76 @@
+"""`pasibot find-walker`: from a crank speed to a design file that `pasibot walk` confirms; bad input is one
+line before any work; a search that finds nothing writes nothing (issue 34)."""
+
+from __future__ import annotations
+
+import pytest
+
+from pasibot_pin.__main__ import main
+from pasibot_pin.explore.find_walker import FAILED, WalkerSearch, find_walker
+from pasibot_pin.explore.plan import Range
+from pasibot_pin.model.design import load_design
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+pytest.importorskip("optuna")
+
+
+@pytest.mark.slow
+def test_a_search_writes_a_walker_that_walk_confirms(tmp_path, capsys):
+    out = tmp_path / "w.toml"
+    argv = ["find-walker", "--omega", "2", "--budget", "4", "--steps", "3", "--out", str(out), "--no-progress",
+            "--vary", "parallel_toe=4:8", "--vary", "parallel_heel=4:8"]  # fmt: skip
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert " of 4 candidates walk 3 steps at 2 rad/s" in text and out.is_file()
+    design = load_design(out)
+    assert design.omega == 2.0 and 4 <= design.parallel_toe <= 8 and 4 <= design.parallel_heel <= 8
+    assert walk_design(design, WalkSettings(steps=3)).verdict.walks  # confirmed by the walk itself
+    assert main(argv) == 2 and "exists" in capsys.readouterr().err  # never over a file without --force
+
+
+@pytest.mark.slow
+def test_scores_rank_walkers_first_and_by_the_objective():
+    search = WalkerSearch(2.0, "sole", budget=3, steps=3,
+                          ranges=(Range("parallel_toe", 4.0, 8.0), Range("parallel_heel", 4.0, 8.0)))  # fmt: skip
+    result = find_walker(search, workers=1, progress=False)
+    assert len(result.candidates) == 3
+    for c in result.candidates:
+        sole = c.values["parallel_toe"] + c.values["parallel_heel"]
+        assert c.score == pytest.approx(sole) if c.walks else c.score == FAILED - c.steps
+    if result.walkers:
+        assert result.best() == search.design(result.walkers[0].values)
+
+
+def test_nothing_walks_nothing_written(tmp_path, capsys):
+    out = tmp_path / "w.toml"
+    argv = ["find-walker", "--omega", "3", "--budget", "2", "--steps", "3", "--out", str(out), "--no-progress",
+            "--vary", "parallel_toe=0.5:0.8", "--vary", "parallel_heel=0.5:0.8"]  # fmt: skip
+    assert main(argv) == 1
+    assert "no walker found in 2 candidates: nothing written" in capsys.readouterr().out
+    assert not out.exists() and not list(tmp_path.iterdir())
+
+
+@pytest.mark.parametrize(
+    ("argv", "fragment"),
+    [
+        (["--omega", "25"], "--omega"),
+        (["--omega", "2", "--budget", "0"], "--budget"),
+        (["--omega", "2", "--budget", "20000"], "--budget"),
+        (["--omega", "2", "--objective", "speed"], "--objective"),
+        (["--omega", "0.05", "--budget", "10000", "--steps", "1000"], "past the limit"),
+        (["--omega", "2", "--steps", "2"], "--steps"),
+        (["--omega", "2", "--vary", "variant=rigid,spring"], "--vary"),
+    ],
+)
+def test_bad_input_is_one_line_before_any_work(argv, fragment, tmp_path, capsys):
+    out = tmp_path / "w.toml"
+    assert main(["find-walker", *argv, "--out", str(out), "--no-progress"]) == 2
+    err = capsys.readouterr().err.strip().splitlines()
+    assert len(err) == 1 and fragment in err[0] and "Traceback" not in err[0]
+    assert not out.exists()
+
+
+def test_an_unwritable_out_is_refused_before_any_work(tmp_path, capsys):
+    assert main(["find-walker", "--omega", "2", "--out", str(tmp_path), "--no-progress"]) == 2
+    assert "--out" in capsys.readouterr().err
+    assert main(["find-walker", "--omega", "2", "--out", "/proc/x/w.toml", "--no-progress"]) == 2
