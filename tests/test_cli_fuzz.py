@@ -28,6 +28,7 @@ REQUIRED = {
     "sweep": ["--out", "{tmp}/run"],
     "optimize": ["--out", "{tmp}/run"],
     "export-mjcf": ["--out", "{tmp}/a.xml"],
+    "find-walker": ["--out", "{tmp}/w.toml"],
 }
 """Flags a command needs besides the fuzzed one (none of them is written: the checks come first)."""
 

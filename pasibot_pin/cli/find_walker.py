@@ -22,7 +22,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     """Add the subcommand."""
     p = sub.add_parser("find-walker", help="search for a walker at a crank speed; write it as a design file",
                        description=__doc__)  # fmt: skip
-    p.add_argument("--omega", type=float, required=True, help="the crank speed the walker must walk at [rad/s]")
+    p.add_argument("--omega", type=float, default=None, help="the crank speed the walker must walk at [rad/s] (needed)")
     best = "best walker: shortest sole, least energy per metre, or smallest hip pitch (default sole)"
     p.add_argument("--objective", default="sole", metavar="sole|energy|pitch", help=best)
     p.add_argument("--budget", type=int, default=40, help="candidates to walk, 1 to 10000 (default 40)")
@@ -55,6 +55,8 @@ def run(args: argparse.Namespace) -> int:
         walk_cost,
     )
 
+    if args.omega is None:
+        raise ParameterError("--omega is needed: the crank speed the walker must walk at [rad/s]")
     require("sweep", ["optuna"], "pasibot find-walker")
     if args.out.suffix not in (".toml", ".json"):
         raise ParameterError(f"--out must name a .toml or .json design file, got {str(args.out)!r}")
