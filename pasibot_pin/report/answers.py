@@ -134,11 +134,11 @@ def spring_answer_line(choice) -> str:
     fails = a.failures.get("spring", {})
     counts = ", ".join(f"{n} {outcome}" for outcome, n in sorted(fails.items(), key=lambda kv: -kv[1]) if n)
     return (
-        f"- **The spring**: the walker needs none (its parallel extension carries the foot level). The spring "
-        f"variant walks in none of the map's {sum(fails.values())} spring cells ({counts}). Only with the stance "
-        f"foot welded and the hip held level, as the seed simulates it, does an ankle spring do its job: "
-        f"K_e = {choice.stiffness:.0f} N.m/rad at beta0 = {math.degrees(choice.rest_angle):.1f}° keeps that hip "
-        f"within {math.degrees(choice.limit):.0f}° of level over {choice.scenario}'s stance (quasi-static)."
+        f"- **The spring**: none for the walker (its parallel extension carries the foot level); the spring variant "
+        f"walks in none of the map's {sum(fails.values())} spring cells ({counts}). With the stance foot welded and "
+        f"the hip held level, as the seed simulates it, K_e = {choice.stiffness:.0f} N.m/rad at beta0 = "
+        f"{math.degrees(choice.rest_angle):.1f}° keeps that hip within {math.degrees(choice.limit):.0f}° of level "
+        f"over {choice.scenario}'s stance (quasi-static)."
     )
 
 

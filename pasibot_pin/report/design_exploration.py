@@ -24,7 +24,7 @@ from pasibot_pin.explore.questions import (
     seed_stride_plan,
 )
 from pasibot_pin.model.design import SPECS, Design, design_robot, load_design
-from pasibot_pin.report.markdown import Section
+from pasibot_pin.report.markdown import Section, sentence_lines
 from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
 from pasibot_pin.studies.design_metrics import dynamic_metrics, path_metrics
 from pasibot_pin.studies.walking import WALK_MU
@@ -159,12 +159,12 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
     pitch = math.degrees(GaitCriteria().max_hip_pitch)
     head = (
         f"On the floor (heel and toe contacts, mu = {WALK_MU:g}, body {plan.base.body_mass:g} kg, each design asked "
-        f"to walk {FLOOR_STEPS} steps and judged by the walking verdict: fell = |hip pitch| past {pitch:.0f} deg), "
+        f"to walk {FLOOR_STEPS} steps and judged by the walking verdict: fell = |hip pitch| past {pitch:.0f} deg),\n"
         f"NSGA-II over the spring designs, varying {names} ({a.trials} designs)"
     )
     if a.walkers:
-        return f"{head} found {a.walkers} that walk. Outcomes: {counts}."
-    return (
+        return sentence_lines(f"{head} found {a.walkers} that walk. Outcomes: {counts}.")
+    return sentence_lines(
         f"{head} found none that walks: the best took {a.best_steps} steps ({a.best_outcome} at {a.best_time:.2f} s) "
         f"and no design took more than {a.most_steps}. Outcomes: {counts}. With the cranks turning at a set "
         "speed and no controller, a passive ankle spring does not make PASIBOT walk in this range."

@@ -10,6 +10,7 @@
 from __future__ import annotations
 
 import math
+import re
 from collections.abc import Iterable, Mapping
 from dataclasses import dataclass, field
 
@@ -231,15 +232,24 @@ def summary(facts: Mapping[str, Mapping]) -> str:
     return "\n".join(lines) + "\n"
 
 
+def sentence_lines(text: str) -> str:
+    """``text`` with one sentence per line (Markdown renders it as the same paragraph; no line runs long)."""
+    return re.sub(r"\. (?=[A-Z0-9`(])", ".\n", text)
+
+
 def answers_box(lines: list[str]) -> str:
-    """The ``## Answers`` section: the lines in a quoted box, with the definitions below it."""
-    body = "\n".join(f"> {line}" if line else ">" for line in lines)
+    """The ``## Answers`` section: the lines in a quoted box, then where the numbers come from.
+
+    Marker lines (HTML comments, such as the walking answer's slot) are left out of the box.
+    """
+    shown = [line for line in lines if not line.lstrip().startswith("<!--")]
+    body = "\n".join(f"> {line}" if line else ">" for line in shown)
     return (
         "## Answers\n\n"
         + body
-        + "\n\nThe walks are judged by `pasibot_pin.dynamics.verdict` on the floor (heel and toe contacts); the "
-        "motor's numbers come from the single-motor section below, the spring's from "
-        "`pasibot_pin.studies.spring_choice`.\n"
+        + "\n\nThe walks are judged by `pasibot_pin.dynamics.verdict` on the floor (heel and toe contacts, or each "
+        "sole's corners in 3-D); the motor's numbers come from the recommended walker's own walk "
+        "(`pasibot_pin.studies.motor_load`), the welded-hip spring's from `pasibot_pin.studies.spring_choice`.\n"
     )
 
 

@@ -24,6 +24,7 @@ from pathlib import Path
 from pasibot_pin.files import write_text_atomic
 from pasibot_pin.model.design import CHOICES, Design, design_robot
 from pasibot_pin.report.designs_catalog import write_catalog
+from pasibot_pin.report.markdown import sentence_lines
 from pasibot_pin.studies.spring_study import toppling_stiffness
 from pasibot_pin.studies.walking_map import (
     MAP_CSV,
@@ -204,50 +205,57 @@ def _ends(a: WalkingAnswer, k_g: float) -> str:
 
 
 def walking_paragraph(a: WalkingAnswer) -> str:
-    """The answer in one paragraph (quoted by docs/walking.md, the README and the report)."""
-    soles = f"{min(a.soles):g}-{max(a.soles):g} L"
-    omegas = f"{min(a.omegas):g}-{max(a.omegas):g} rad/s"
+    """The answer: a lead sentence of at most 40 words, then a table (docs/walking.md, the README, the report)."""
     total = sum(a.walkers.values())
-    head = (
-        f"Walking map ({a.cells} designs: a symmetric sole of {soles} each side of the ankle x cranks at {omegas} x "
-        f"the {_list(list(a.walkers))} variants, {a.steps} steps each on the floor, the walking verdict): "
-        f"{total} designs walk ({_list([f'{n} {v}' for v, n in a.walkers.items()])})."
-    )
+    none = [v for v, n in a.walkers.items() if not n]
+    rows = [
+        ("designs mapped", f"{a.cells}: a symmetric sole of {min(a.soles):g}-{max(a.soles):g} L each side of the "
+         f"ankle x cranks at {min(a.omegas):g}-{max(a.omegas):g} rad/s x the {_list(list(a.walkers))} variants, "
+         f"{a.steps} steps each on the floor, judged by the walking verdict"),
+        ("walkers by variant", _list([f"{v} {n}" for v, n in a.walkers.items()])),
+    ]  # fmt: skip
     if not total:
-        return " ".join([head, _spring_sentence(a)]).strip()
-    by_speed = _list([f"{s:g} L at {w:g} rad/s ({'/'.join(vs)})" for w, (s, vs) in a.smallest_sole.items()])
+        lead = f"No design of the walking map's {a.cells} walks {a.steps} steps on the floor."
+        return _lead_and_table(lead, [*rows, ("the spring variant", _spring_sentence(a))])
     f, e = a.fastest, a.least_energy
     assert f is not None
+    lead = (
+        f"{total} of the walking map's {a.cells} designs walk {a.steps} steps on the floor, the fastest at "
+        f"{f.omega:g} rad/s on {f.sole:g} L soles; no {' or '.join(none) or 'other'} design walks."
+    )
+    by_speed = "; ".join(f"{s:g} L at {w:g} rad/s ({'/'.join(vs)})" for w, (s, vs) in a.smallest_sole.items())
+    slow = [f"{w:g}" for w in a.omegas if w not in a.smallest_sole]
+    rows.append(("smallest sole that walks", by_speed + (f"; none at {_list(slow)} rad/s" if slow else "")))
     speed = 8.0 * f.advance_per_step * f.omega / math.pi  # L/s: 8 L a step, a step every pi/omega
-    parts = [
-        head,
-        f"The smallest sole that walks: {by_speed}; no design walks at "
-        f"{_list([f'{w:g}' for w in a.omegas if w not in a.smallest_sole]) or 'no'} rad/s."
-        if len(a.smallest_sole) < len(a.omegas)
-        else f"The smallest sole that walks: {by_speed}.",
-        f"The fastest walker is {_cell_text(f)} ({speed:.1f} L/s of hip advance, "
-        f"max |hip pitch| {f.max_hip_pitch_deg:.1f} deg).",
-    ]
+    rows.append(("fastest walker", f"{_cell_text(f)}: {speed:.1f} L/s of hip advance, max hip pitch "
+                 f"{f.max_hip_pitch_deg:.1f} deg"))  # fmt: skip
     if e is not None:
-        parts.append(
-            f"The least motor energy per metre among walkers: {e.energy_per_m_J:.1f} J/m "
-            f"(cost of transport {e.cost_of_transport:.2f}), {_cell_text(e)}."
-        )
-    parts.append(_spring_sentence(a))
-    parts.append(_twin_sentence(a))
-    return " ".join(p for p in parts if p)
+        rows.append(("least energy per metre", f"{e.energy_per_m_J:.1f} J/m (cost of transport "
+                     f"{e.cost_of_transport:.2f}): {_cell_text(e)}"))  # fmt: skip
+    if "spring" in a.walkers:
+        rows.append(("the spring variant", _spring_sentence(a)))
+    if a.twin_cells or a.twin_note:
+        rows.append(("the MuJoCo twin", _twin_sentence(a)))
+    return _lead_and_table(lead, rows)
+
+
+def _lead_and_table(lead: str, rows: list[tuple[str, str]]) -> str:
+    """``lead``, a blank line, then a two-column Markdown table of ``rows``."""
+    if len(lead.split()) > 40:
+        raise ValueError(f"the walking answer's lead has {len(lead.split())} words, more than 40: {lead}")
+    table = ["| question | answer |", "|---|---|", *(f"| {q} | {text.replace('|', '/')} |" for q, text in rows)]
+    return "\n".join([lead, "", *table])
 
 
 def _twin_sentence(a: WalkingAnswer) -> str:
     """How the MuJoCo twin's verdicts compare with ours (or why there are none)."""
     if not a.twin_cells:
-        return f"The MuJoCo twin's column is empty ({a.twin_note})." if a.twin_note else ""
+        return f"its column is empty ({a.twin_note})" if a.twin_note else ""
     where = f" ({a.twin_note})" if a.twin_note else ""
-    walkers = f"; its walkers: {'; '.join(a.twin_walkers)}" if a.twin_walkers else "; it finds no walker there"
     return (
-        f"The MuJoCo twin (the same verdict on the exported model) walked {a.twin_cells} of the cells{where}: "
-        f"it agrees with ours on whether the design walks in {a.twin_agree} and on the outcome in "
-        f"{a.twin_same}{walkers}."
+        f"the same verdict on the exported model, run on {a.twin_cells} of the cells{where}: it agrees with ours "
+        f"on whether the design walks in {a.twin_agree} and on the outcome in {a.twin_same}; "
+        f"{len(a.twin_walkers)} of them walk there"
     )
 
 
@@ -383,7 +391,7 @@ def sweep_paragraph(rows: list[dict]) -> str:
     speeds = sorted(float(r["omega"]) for r in walkers)
     infeasible = Counter(r["failure"] for r in rows if r["failure"] and not r["floor_outcome"])
     rejected = [r for r in rows if r["failure"] and r["floor_outcome"]]  # walked all the same
-    return (
+    return sentence_lines(
         f"A Latin-hypercube sweep of {len(rows)} designs ({_list([f'{n} {v}' for v, n in sorted(variants.items())])}; "
         f"omega, foot_toe, foot_heel, parallel_toe and parallel_heel varied; 20 steps each, "
         "`docs/results/walking_sweep.csv`) found "
@@ -421,7 +429,7 @@ def cost_paragraph(wmap: WalkingMap, rows: list[dict]) -> str:
     kinds = Counter(c.outcome for c in full)
     walked = [r for r in rows if r["floor_outcome"] == "walks"]
     simulated = sum(float(r["floor_time_s"]) for r in rows if r["floor_outcome"])
-    return (
+    return sentence_lines(
         f"A map's cost is in the runs that take their {wmap.steps} steps: in this one, the {len(full)} cells that "
         f"took them all ({_counts(dict(kinds))}) are {100 * sum(c.cpu_s for c in full) / total:.0f} % of the "
         f"CPU time of its walks ({wmap.steps} steps at 0.5 rad/s are "
