@@ -64,12 +64,27 @@ def walk_both(path: Path, draw: bool = True) -> dict:
         m = twin(design, WalkSettings(steps=STEPS), spatial=True)
         row.update(twin_outcome=m.verdict.outcome, twin_steps=m.verdict.steps)
         row.update(twin_advance_m=round(m.verdict.advance_m, 3), twin_max_hip_roll_deg=round(m.max_hip_roll_deg, 3))
-    if not draw:
-        return row
-    title = f"{path.stem}: {ours.verdict.short()}, max roll {ours.result.max_hip_roll_deg:.2f} deg"
-    save_walk_3d_figure(free_flyer_model(robot.model), ours.result.q, design.footprint(), path.with_suffix(".png"),
-                        title=title)  # fmt: skip
+    if draw:
+        _draw(path, design, robot, ours)
     return row
+
+
+PICTURE_STEPS = 4
+"""Steps of the walk a picture shows the end of [-]."""
+
+
+def draw(path: Path) -> Path:
+    """The picture of the design file ``path``: the last steps of a :data:`PICTURE_STEPS`-step 3-D walk."""
+    design = load_design(path)
+    robot = design_robot(design, 2, visuals=False)
+    return _draw(path, design, robot, walk_design_3d(design, WalkSettings(steps=PICTURE_STEPS), robot))
+
+
+def _draw(path: Path, design, robot, walk) -> Path:
+    roll = walk.result.max_hip_roll_deg
+    title = f"{path.stem}: {walk.verdict.short()} ({walk.verdict.steps} steps), max roll {roll:.2f} deg"
+    return save_walk_3d_figure(free_flyer_model(robot.model), walk.result.q, design.footprint(),
+                               path.with_suffix(".png"), title=title)  # fmt: skip
 
 
 def readme(rows: list[tuple[str, str, Map3DCell, dict]], tried: list[tuple[Map3DCell, dict]]) -> str:
@@ -119,16 +134,22 @@ def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("--check", action="store_true", help="walk the committed files again and compare")
     parser.add_argument("--tries", type=int, default=6, help="candidates walked per pick, at most (default 6)")
+    parser.add_argument("--pictures", action="store_true", help="only draw the committed designs' pictures again")
     args = parser.parse_args(argv)
     FOLDER.mkdir(parents=True, exist_ok=True)
     if args.check:
         return _check()
+    if args.pictures:
+        for path in sorted(FOLDER.glob("*.toml")):
+            print(draw(path), flush=True)
+        return 0
     rows, tried, seen = [], [], {}
     for prefix, why, cells in candidates(load_map3d(MAP).cells):
         for cell in cells[: args.tries]:
             name = f"{prefix}_comb{cell.value:g}L_omega{cell.omega:g}"
             key = (cell.value, cell.omega)
-            if key not in seen:
+            first = key not in seen
+            if first:
                 path = FOLDER / f"{name}.toml"
                 map3d_design(cell.feet, cell.value, cell.omega).save(path, force=True)
                 seen[key] = walk_both(path)
@@ -139,7 +160,8 @@ def main(argv: list[str] | None = None) -> int:
             if _agree(seen[key]):
                 rows.append((name, why, cell, seen[key]))
                 break
-            tried.append((cell, seen[key]))
+            if first:  # a cell both picks tried is listed once
+                tried.append((cell, seen[key]))
     write_text_atomic(FOLDER / "README.md", readme(rows, tried))
     return 0 if len(rows) == 2 else 1
 
