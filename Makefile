@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps urdf-tools test demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs-3d
+.PHONY: install browser-deps urdf-tools test test-fast demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs-3d
 
 # the plain install (what `pasibot analyze` needs: make demo), then the extras the tests need (make test)
 $(VENV)/.installed-base: pyproject.toml
@@ -36,6 +36,10 @@ urdf-tools:
 
 test: install browser-deps urdf-tools
 	$(PY) -m pytest -q
+
+# the fast tier: everything not marked slow, integration, browser, mujoco or network (pyproject's markers)
+test-fast: install
+	$(PY) -m pytest -q -m "not slow and not integration and not browser and not mujoco and not network"
 
 demo: $(VENV)/.installed-base
 	$(VENV)/bin/pasibot analyze --out $(OUT) --force

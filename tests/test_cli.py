@@ -39,6 +39,7 @@ HEAVY = ("matplotlib", "mujoco", "optuna", "dask", "distributed", "pyarrow", "sc
 """Optional or slow-to-import libraries: only the commands that use them import them."""
 
 
+@pytest.mark.slow
 def test_the_command_line_starts_without_the_heavy_libraries():
     """Every ``pasibot`` process builds the whole parser: it imports none of HEAVY (each would add
     0.1-1.7 s to every command, ``--help`` and a refused flag included)."""

@@ -12,6 +12,8 @@ import pytest
 
 from pasibot_pin.__main__ import descendants
 
+pytestmark = [pytest.mark.integration, pytest.mark.slow]
+
 SETTLE = 0.3
 """Seconds between the children starting and the signal: they are then at work (importing,
 computing), which is when a stop must still clean up."""

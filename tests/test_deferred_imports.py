@@ -23,6 +23,8 @@ import sys
 import tokenize
 from pathlib import Path
 
+import pytest
+
 try:
     import tomllib
 except ModuleNotFoundError:  # Python 3.10
@@ -96,6 +98,7 @@ def package_files() -> dict[str, str]:
     return {str(p.relative_to(ROOT)): p.read_text(encoding="utf-8") for p in sorted(PACKAGE.rglob("*.py"))}
 
 
+@pytest.mark.slow
 def test_every_function_level_import_says_why_it_is_deferred():
     missing = []
     for name, source in package_files().items():

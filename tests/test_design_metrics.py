@@ -160,6 +160,7 @@ def test_design_record_round_trips_through_a_sweep_row(tmp_path):
     assert design_module.load_design(path) == design
 
 
+@pytest.mark.slow
 def test_floor_metrics_are_the_walking_verdict():
     """The optional floor walk: the table's columns are the verdict of walk_design, one definition."""
     from pasibot_pin.errors import ParameterError
@@ -182,6 +183,7 @@ def test_floor_metrics_are_the_walking_verdict():
             dm.design_metrics(design, floor=bad)
 
 
+@pytest.mark.slow
 def test_a_lift_off_design_is_still_walked_on_the_floor():
     """The inverse dynamics with the hip held level rejects it; the floor (no held hip) still judges it."""
     from pasibot_pin.studies.walking import WalkSettings, walk_design

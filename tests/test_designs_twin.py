@@ -18,6 +18,8 @@ from pasibot_pin.model.design import design_robot, load_design  # noqa: E402
 from pasibot_pin.studies.mujoco_walk import walk_in_mujoco  # noqa: E402
 from pasibot_pin.studies.walking import WalkSettings, walk_design  # noqa: E402
 
+pytestmark = [pytest.mark.mujoco, pytest.mark.slow]
+
 DESIGNS = sorted((Path(__file__).resolve().parents[1] / "designs").glob("*.toml"))
 STEPS = 3
 

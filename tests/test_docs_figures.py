@@ -19,6 +19,7 @@ def _grey_frames(path: Path) -> list[np.ndarray]:
         return [np.asarray(frame.convert("L"), dtype=float) for frame in ImageSequence.Iterator(image)]
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize(("write", "name"), DOCS_PICTURES, ids=[name for _, name in DOCS_PICTURES])
 def test_docs_picture_is_the_library_drawing(write, name, tmp_path):
     fresh_path = write(tmp_path / name)

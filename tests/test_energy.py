@@ -130,6 +130,7 @@ def test_energy_errors():
         energy.variant_robot("parallel", -1.0)
 
 
+@pytest.mark.slow
 def test_analyze_step_contact_energy(tmp_path):
     """The ``contact_energy`` step of ``pasibot analyze``: its section, tables, CSVs and figures."""
     import csv

@@ -17,6 +17,8 @@ import pytest
 
 from pasibot_pin.__main__ import main
 
+pytestmark = [pytest.mark.integration]
+
 
 class Page(HTMLParser):
     """The tags of a page in order, and each script's attributes and text."""

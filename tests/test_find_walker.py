@@ -41,6 +41,7 @@ def test_scores_rank_walkers_first_and_by_the_objective():
         assert result.best() == search.design(result.walkers[0].values)
 
 
+@pytest.mark.slow
 def test_nothing_walks_nothing_written(tmp_path, capsys):
     out = tmp_path / "w.toml"
     argv = ["find-walker", "--omega", "3", "--budget", "2", "--steps", "3", "--out", str(out), "--no-progress",

@@ -62,6 +62,7 @@ def test_a_dropped_robot_lands_when_free_fall_says_and_stops_inelastically(robot
     assert impulse == pytest.approx(mass * (0.0 - res.v[k - 1][1]) + mass * G * 2 * h, rel=1e-3)
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("factor", [0.0, 1.0])
 def test_a_consistent_start_stays_at_rest(factor):
     """Cranks held, the start of :meth:`start_state` is an equilibrium: nothing moves for 0.5 s.
@@ -152,6 +153,7 @@ def test_mujoco_agrees_the_fitted_spring_makes_the_robot_hop():
     np.testing.assert_allclose(ours_heights, mj_heights, atol=3e-3)
 
 
+@pytest.mark.slow
 def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsys):
     """``pasibot simulate`` (floor by default): one outcome line per case, a CSV with t, hip_pitch_deg
     and a contact-mode column per foot, a figure; never over existing files without --force."""
@@ -174,6 +176,7 @@ def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsy
     assert "exists" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
     """The README's floor paragraph and docs/floor.md's rows for the fitted spring of runs 1-4,
     recomputed by the study (a drift of any printed figure fails here)."""
@@ -250,6 +253,7 @@ def test_a_sticking_point_does_not_creep_and_the_cranks_turn_at_omega():
     np.testing.assert_allclose(lam[m + 2 :], start.tangential[loaded], atol=0.05)
 
 
+@pytest.mark.slow
 def test_a_smooth_crank_start_follows_its_ramp_and_rings_nothing():
     """``crank_ramp``: the cranks follow theta0 + omega advance(t), the advance's closed form
     (the smoothstep rate integrated), its rate the finite difference of the advance.
@@ -356,6 +360,7 @@ def test_a_diverging_run_stops_with_its_cause_and_time():
     assert all(np.all(np.isfinite(a)) for a in (res.t, res.q, res.v, res.normal))
 
 
+@pytest.mark.slow
 def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, capsys):
     """``pasibot simulate --ground floor --study``: one printed line per case, the table, CSV and
     figure in --out (the rows those of the library's study); bad input is one line, before any work."""
@@ -388,6 +393,7 @@ def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, ca
         assert word in err and "\n" not in err and "Traceback" not in err, err
 
 
+@pytest.mark.slow
 def test_analyze_floor_section_links_its_figure_and_states_its_facts(tmp_path):
     """``pasibot analyze``'s floor section: the figure linked, the CSV written, the summary row from its facts."""
     from pasibot_pin.report import floor as floor_report

@@ -84,6 +84,7 @@ def test_world_aligned_dynamics_match_aba():
         np.testing.assert_allclose(du[6:], a[6:], rtol=1e-9, atol=1e-9)
 
 
+@pytest.mark.slow
 def test_held_3d_walk_is_the_planar_walk():
     """With y, roll and yaw held and soles of no width, 5 s of the 3-D walk are the planar walk's.
 
@@ -110,6 +111,7 @@ def test_held_3d_walk_is_the_planar_walk():
     assert np.abs(spatial.q[1 : n + 1, 0] - tracked.q[:, 0]).max() < 1e-4
 
 
+@pytest.mark.slow
 def test_centred_soles_tip_and_soles_past_the_midline_stay_upright():
     """The fast walker on 0.06 m soles centred on its leg planes falls sideways in its first single
     support; a comb whose inner prong reaches 3 cm past the midline (beside the other foot's, never
@@ -194,6 +196,7 @@ def test_sole_clearance_at_the_start():
     assert comb.sole_clearance(q) == pytest.approx(0.02, abs=1e-9)  # the prongs at +10..30 mm and -30..-10 mm
 
 
+@pytest.mark.slow
 def test_walk_3d_command(capsys):
     """``walk --3d`` prints the verdict and the roll; --json has the sideways figures; overlapping soles: one line."""
     import json
@@ -298,6 +301,7 @@ def _planar_outcomes() -> dict[str, str]:
     }
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("name", sorted(_planar_outcomes()))
 def test_every_design_in_3d_and_its_twin(name):
     """Each design in designs/ on its default soles (0.6 L each side of its leg's plane): our 3-D outcome
@@ -316,6 +320,7 @@ def test_every_design_in_3d_and_its_twin(name):
         assert ours.verdict.outcome == "tipped"
 
 
+@pytest.mark.slow
 def test_walk_3d_page(tmp_path, capsys):
     """``walk --3d --html`` writes one page whose title names the outcome and the roll, atomically; --gif with
     --3d is refused in one line."""

@@ -202,6 +202,7 @@ def test_dependent_rows_give_the_unique_motion_and_the_least_norm_cone_impulses(
     assert max(err.values()) < 1e-10
 
 
+@pytest.mark.slow
 def test_the_flat_double_support_takes_the_exact_step(monkeypatch):
     """The parallel walker's flat double support (both feet flat and sticking: over-constrained).
 
@@ -257,6 +258,7 @@ def test_the_small_solves_are_numpys():
             inverse_lists(singular.tolist())
 
 
+@pytest.mark.slow
 def test_the_free_qp_is_the_equality_qp_on_its_free_coordinates():
     """solve_free on the free coordinates against solve on all of them with the others held by equality rows.
 

@@ -32,6 +32,8 @@ from pasibot_pin.studies.floor_static import (
 )
 from pasibot_pin.studies.spring_study import scenario_inputs
 
+pytestmark = [pytest.mark.slow]  # its module fixture is the quasi-static study of runs 1-4
+
 ROOT = Path(__file__).resolve().parents[1]
 G = 9.81
 
@@ -60,6 +62,7 @@ def test_the_centre_of_pressure_is_the_centre_of_mass_and_the_floor_carries_the_
         assert -0.025 <= path.cop[k] <= 0.075  # inside the sole (heel 25 mm behind, toe 75 mm ahead)
 
 
+@pytest.mark.slow
 def test_where_the_floor_holds_the_foot_flat_its_answer_is_the_welds(run1_twice, study4):
     _, _, path = run1_twice
     assert path.holds and path.excursion == path.weld_excursion
@@ -102,6 +105,7 @@ def test_where_the_study_says_the_foot_rolls_onto_its_toe_the_simulated_foot_doe
     assert "flat" not in res.modes["right"]
 
 
+@pytest.mark.slow
 def test_docs_floor_springs_shows_the_maps_the_code_computes(study4):
     from pasibot_pin.report.floor_static import map_table
 
@@ -142,6 +146,7 @@ def study4():
     return floor_static_study()
 
 
+@pytest.mark.slow
 def test_readme_quasi_static_floor_paragraph_is_what_the_study_computes(study4):
     import re
 

@@ -37,6 +37,7 @@ def _leg_weights(model, data, q, side):
     return mass, moment / mass
 
 
+@pytest.mark.slow
 def test_ground_wrench_against_each_legs_weight_balance():
     """Planar motion: every body stays in its leg's plane (y = -/+ w, the hip's at 0), so the ZMP's y is
     w (F_left - F_right) / F with F = m (z'' + g) per leg and the hip; the heights' second differences
@@ -65,6 +66,7 @@ def test_ground_wrench_against_each_legs_weight_balance():
     assert checked >= 20
 
 
+@pytest.mark.slow
 def test_fast_walkers_zmp_leaves_a_centred_sole():
     """The issue's independent figures for the fast walker: in right stance the lateral ZMP runs from about
     -17 to +7 mm of the midline, 53-77 mm outside a 0.06 m sole centred on the leg's plane."""

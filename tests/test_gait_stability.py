@@ -10,6 +10,8 @@ from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.studies.gait_stability import GaitMap, StabilitySettings, gait_stability, section_state
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
+pytestmark = [pytest.mark.slow]
+
 WALKER = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=2.0)
 
 

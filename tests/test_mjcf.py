@@ -24,6 +24,8 @@ from pasibot_pin.model.design import Design
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.studies import spring_study
 
+pytestmark = [pytest.mark.mujoco]
+
 
 def _model(robot, options=None, q_weld=None):
     model = mujoco.MjModel.from_xml_string(to_mjcf(robot, options, q_weld))

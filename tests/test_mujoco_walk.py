@@ -22,6 +22,8 @@ mujoco = pytest.importorskip("mujoco")
 
 from pasibot_pin.studies.mujoco_walk import MJ_WALK, mujoco_options, walk_in_mujoco  # noqa: E402
 
+pytestmark = [pytest.mark.mujoco, pytest.mark.slow]
+
 STEPS = 4
 """Steps of each walk judged here [-]."""
 WALKER_STEPS = 3

@@ -9,6 +9,8 @@ import pytest
 
 from pasibot_pin.net import tcp_refused
 
+pytestmark = [pytest.mark.network]
+
 
 @pytest.fixture()
 def silent_port():

@@ -32,6 +32,7 @@ def reference(tmp_path_factory):
     return run_optimize(PLAN, tmp_path_factory.mktemp("opt"), workers=1, progress=False)
 
 
+@pytest.mark.slow
 def test_every_trial_is_a_row_and_the_front_respects_the_constraint(reference):
     import optuna
 
@@ -61,6 +62,7 @@ def test_every_trial_is_a_row_and_the_front_respects_the_constraint(reference):
             assert t.user_attrs["violations"][0] == pytest.approx(0.45 - rows[t.number]["stride_m"])
 
 
+@pytest.mark.slow
 def test_interrupted_optimisation_keeps_its_trials_and_continues(tmp_path, reference):
     def stop(done, total):
         raise KeyboardInterrupt
@@ -73,11 +75,13 @@ def test_interrupted_optimisation_keeps_its_trials_and_continues(tmp_path, refer
     assert bits(again.table.take(first)) == bits(reference.table.take(first))
 
 
+@pytest.mark.slow
 def test_a_process_pool_gives_the_same_trials_bit_for_bit(tmp_path, reference):
     out = run_optimize(PLAN, tmp_path, workers=2, progress=False)
     assert bits(out.table) == bits(reference.table)
 
 
+@pytest.mark.slow
 def test_more_trials_continue_a_finished_run(tmp_path):
     small = OptimizePlan(**{**PLAN.__dict__, "trials": 6})
     run_optimize(small, tmp_path, workers=1, progress=False)

@@ -67,6 +67,7 @@ def test_report_section_has_units_in_every_column(rows):
         assert "[" in title and "]" in title
 
 
+@pytest.mark.slow
 def test_floor_answer_is_quoted_and_still_evaluates_the_same():
     """Question 2: the docs quote the code; the best floor run re-simulates to the same verdict."""
     from pasibot_pin.explore.questions import FLOOR_STEPS, FLOOR_TABLE, RESULTS_DIR, floor_plan

@@ -109,6 +109,7 @@ def test_timings_come_from_one_measured_page():
     assert row and int(row.group(1)) > 0 and int(row.group(2)) > 0
 
 
+@pytest.mark.slow
 def test_spring_study_bullets():
     """The README's spring-study bullets: k_g, the margin K_e - k_g, run 1's and run 4's hip excursion."""
     from pasibot_pin.studies.simulation_study import SimulateSettings, run_simulation, simulation_setup
@@ -127,6 +128,7 @@ def test_spring_study_bullets():
     assert f"holds the hip\n  within about {round(pitch['run4'])}°" in readme
 
 
+@pytest.mark.slow
 def test_readme_answers_are_the_report_answers_box():
     """The README's answers (between its markers) are the lines the report's answers box opens with, computed
     again: the walks on the floor, the single motor's peak and mean, the recommended spring and its margin."""

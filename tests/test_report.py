@@ -43,6 +43,7 @@ def test_the_checks_catch_what_they_look_for(tmp_path):
         assert_reads_like_a_report(tmp_path, "![a](a.png)\n\ntext\n", 1)
 
 
+@pytest.mark.slow
 def test_kinematics_section(tmp_path):
     built = kinematics.build(tmp_path)
     assert_reads_like_a_report(tmp_path, built.markdown, 9)
@@ -51,6 +52,7 @@ def test_kinematics_section(tmp_path):
     assert f"within {built.facts['parallel_pitch_deg']:.3f}° in stance" in summary
 
 
+@pytest.mark.slow
 def test_torques_section_and_its_summary_rows(tmp_path):
     built = torques.build(tmp_path)
     assert_reads_like_a_report(tmp_path, built.markdown, 3)
@@ -122,6 +124,7 @@ def test_the_summary_with_every_section():
     assert text.count("\n| ") == 1 + 3  # header and three rows
 
 
+@pytest.mark.slow
 def test_model_and_simulation_sections_read_like_a_report_and_ignore_the_clock(tmp_path, monkeypatch):
     """Same text on a second run whose clock jumps by an hour at every reading: no wall-clock time in it."""
 

@@ -18,6 +18,7 @@ def test_closed_form_is_the_issues_figure():
     assert slope == pytest.approx(0.5, abs=1e-15)
 
 
+@pytest.mark.slow
 def test_a_stride_conserves_energy_between_landings_and_loses_it_at_them():
     """From mid-stance, the rate just after the next landing is cos(2 alpha) times the rate the hub reaches
     falling from mid-stance to the landing (energy conserved in between), to O(h)."""
@@ -29,6 +30,7 @@ def test_a_stride_conserves_energy_between_landings_and_loses_it_at_them():
     assert landing == pytest.approx(math.cos(2 * a) * before, rel=1e-3)
 
 
+@pytest.mark.slow
 def test_periodic_roll_and_its_slope_match_the_closed_form():
     """The fixed point's landing rate to 1e-3 (its O(h) at h = 0.1 ms: 1.0947 against 1.09546, so 1.095 to
     4 digits) and the step map's slope cos^2(2 alpha) = 0.5 to 2e-3 (0.4998)."""
@@ -38,6 +40,7 @@ def test_periodic_roll_and_its_slope_match_the_closed_form():
     assert found.slope == pytest.approx(found.closed_slope, abs=2e-3)
 
 
+@pytest.mark.slow
 def test_bad_wheels_and_brackets_are_refused():
     with pytest.raises(ParameterError, match="spokes"):
         RimlessWheel(spokes=2)

@@ -176,6 +176,7 @@ def test_hip_lock_torque_is_gravity_moment_minus_spring(spring2):
     [("rheonomic", 1.0, 1e-3), ("free", 1.0, 1.25e-4)],
     ids=["cranks-locked-1s", "cranks-free-1s"],
 )
+@pytest.mark.slow
 def test_energy_is_conserved_without_motor_damping_or_impact(spring2, motor, duration, dt):
     robot = spring2
     spring = AnkleSpring(300.0, math.radians(70.0), 0.0)  # not at equilibrium: the hip swings ~25 deg
@@ -413,6 +414,7 @@ def test_forward_of_inverse_dynamics_is_the_identity():
     assert np.max(np.abs(driven.motor_torque[:, 1] - ideal.Ta_swing[::2])) < 1e-6 * np.max(np.abs(ideal.Ta))
 
 
+@pytest.mark.slow
 def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
     """Per seed scenario: the no-spring robot passes 60 deg of hip pitch sooner than the fitted one, and
     up to that moment the fitted spring keeps the hip closer to level. Windows: 4 s of walking at
@@ -442,6 +444,7 @@ def test_without_spring_the_hip_falls_sooner_and_further_in_every_scenario():
         assert np.max(np.abs(fitted.hip_pitch[before])) < none.max_hip_excursion, name
 
 
+@pytest.mark.slow
 def test_simulate_command_writes_plots_csv_and_gif(tmp_path, capsys):
     from pasibot_pin.__main__ import main
 

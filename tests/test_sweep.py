@@ -86,6 +86,7 @@ def test_another_plan_in_the_same_folder_needs_force(tmp_path, reference):
     assert bits(out.table) == bits(reference.table) and (tmp_path / "mine.txt").read_text() == "a user's file"
 
 
+@pytest.mark.slow
 def test_dask_local_cluster_gives_the_same_table_bit_for_bit(tmp_path, reference):
     pytest.importorskip("distributed")
     out = run_sweep(PLAN, tmp_path, workers=2, dask="local", progress=False)
@@ -138,6 +139,7 @@ def test_best_rows_are_sorted_and_feasible(reference):
     assert all(reference.table.column("feasible")[r].as_py() for r in rows)
 
 
+@pytest.mark.slow
 def test_cli_sweep_writes_table_figures_and_best_designs(tmp_path, capsys):
     """In this process (``main``): tests/test_cli_signals.py runs ``pasibot sweep`` as its own process (its workers,
     its exit codes), tests/test_wheel_install.py from the installed console script."""
@@ -214,6 +216,7 @@ def test_hypercube_draws_the_variants_in_equal_shares_and_grid_takes_each():
     assert cells == {(v, w) for v in VARIANTS.values for w in (1.0, 2.0, 3.0)}
 
 
+@pytest.mark.slow
 def test_sweep_over_variants_records_each_variant_and_the_walking_outcome(tmp_path):
     """Three variants on the floor for 2 steps at 3 rad/s: each row is its own design's walk, re-simulated."""
     from pasibot_pin.model.design import Design

@@ -10,6 +10,8 @@ import sys
 import tempfile
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parents[1]
 
 
@@ -20,6 +22,7 @@ def _run_module(*args: str, timeout: float) -> subprocess.CompletedProcess:
     return out
 
 
+@pytest.mark.slow
 def test_mypy_finds_no_error():
     cache = Path(tempfile.gettempdir()) / "pasibot-mypy-cache"  # kept between runs: a warm check takes seconds
     out = _run_module("mypy", "--cache-dir", str(cache), "--config-file", str(ROOT / "pyproject.toml"), timeout=900)

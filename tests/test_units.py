@@ -56,6 +56,7 @@ def _numeric_columns(path) -> list[str]:
     ],
     ids=lambda a: "-".join(a[:3]),
 )
+@pytest.mark.slow
 def test_every_numeric_csv_column_names_its_unit(argv, tmp_path, capsys):
     assert main([*argv, "--out", str(tmp_path)]) == 0
     (path,) = tmp_path.glob("*.csv")

@@ -23,6 +23,8 @@ from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.mjcf import SPRING_STEP_RATIO
 from pasibot_pin.model.paths import URDF_DIR
 
+pytestmark = [pytest.mark.integration]
+
 COMMITTED = sorted(URDF_DIR.glob("pasibot_*.urdf"))
 BOUND = 1e-8
 """MuJoCo's ``boundinertia`` in both exports [kg.m^2]: a point mass's inertia reads this much."""

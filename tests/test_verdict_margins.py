@@ -51,6 +51,7 @@ def test_a_margin_near_its_limit_is_flagged():
     assert Margin("slide", 4.6, 5.0, "mm", "max").margin == pytest.approx(0.4)
 
 
+@pytest.mark.slow
 def test_too_few_steps_cannot_say_walks():
     """Asked for fewer steps than a stride, the judge says ``undecided`` (it may fall at its next step)."""
     from pasibot_pin.model.design import Design
@@ -63,6 +64,7 @@ def test_too_few_steps_cannot_say_walks():
     assert walk_design(fast, WalkSettings(steps=MIN_STRIDE_STEPS)).verdict.walks
 
 
+@pytest.mark.slow
 def test_walk_prints_and_json_has_the_margins(capsys):
     from pathlib import Path
 

@@ -18,7 +18,10 @@ import pytest
 
 from pasibot_pin.__main__ import descendants
 
-pytestmark = pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's")
+pytestmark = [
+    pytest.mark.skipif(not sys.platform.startswith("linux"), reason="PR_SET_PDEATHSIG is Linux's"),
+    pytest.mark.network,
+]
 
 
 def _alive(pid: int) -> bool:

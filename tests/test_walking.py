@@ -21,6 +21,7 @@ def walks():
     return {motors: walk_design(WALKER.with_(motors=motors), WalkSettings(steps=4)) for motors in ("two", "one")}
 
 
+@pytest.mark.slow
 def test_the_long_soled_parallel_design_walks_at_the_linkages_own_advance(walks):
     walk = walks["two"]
     v = walk.verdict
@@ -34,6 +35,7 @@ def test_the_long_soled_parallel_design_walks_at_the_linkages_own_advance(walks)
     assert v.cost_of_transport > 0 and v.power_per_metre > 0
 
 
+@pytest.mark.slow
 def test_the_readme_quotes_the_walker(walks):
     import re
     from pathlib import Path
@@ -45,6 +47,7 @@ def test_the_readme_quotes_the_walker(walks):
     assert float(found.group(1)) == WALKER.omega and int(found.group(2)) == round(100 * v.advance_per_step)
 
 
+@pytest.mark.slow
 def test_one_motor_moves_the_robot_as_two_and_carries_their_sum(walks):
     """The cranks are prescribed either way: the motion is the same; the coupled cranks' one motor
     carries the sum of the two motors' torques (virtual work over the rigid coupling)."""
@@ -86,6 +89,7 @@ def test_every_variant_gets_a_verdict_from_a_consistent_start(design):
     assert np.all(gaps > -1e-9 * design.L)  # no sole point below the floor
 
 
+@pytest.mark.slow
 def test_walk_command_json_has_the_answer(tmp_path, capsys):
     design = tmp_path / "walker.toml"
     WALKER.save(design)

@@ -114,6 +114,7 @@ def test_docs_and_readme_quote_the_answer(wmap):
     assert walking_markdown(wmap) in (ROOT / "docs" / "walking.md").read_text()
 
 
+@pytest.mark.slow
 def test_a_sample_of_cells_re_simulates_to_the_table(wmap):
     """Every variant's first failing cell at the fastest speed, and the fastest walker (fewer steps)."""
     fast = max(wmap.omegas)
@@ -137,6 +138,7 @@ def test_designs_folder_is_the_catalog_of_the_map(wmap):
         assert (DESIGNS_DIR / f"{e.name}.png").stat().st_size > 1000
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("k", range(5))
 def test_each_committed_design_re_simulates_to_its_row(wmap, k):
     entries = pick_designs(wmap)
@@ -191,6 +193,7 @@ def test_the_twin_column_re_simulates_in_mujoco(wmap):
     assert (v.outcome, float(v.steps)) == (cell.twin_outcome, cell.twin_steps)
 
 
+@pytest.mark.slow
 def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
     """The sweep's paragraph is in docs/walking.md; its fastest walker, re-simulated for fewer steps, walks."""
     from pasibot_pin.report.walking_answer import fastest_sweep_design, sweep_paragraph, sweep_rows

@@ -202,6 +202,8 @@ COMMANDS = [
     ("view", "--steps", "1", "--samples-per-step", "3", "--fps", "60"),
     ("simulate", "--ground", "weld", "--steps", "1", "--no-cases", "--out", "sim"),
 ]
+pytestmark = [pytest.mark.integration, pytest.mark.slow]
+
 OWN_PROCESS = {("--help",), ("info",)}
 """Commands run as their own ``pasibot`` process; the others share one process (:func:`batch`)."""
 
