@@ -172,6 +172,7 @@ class OutputFolder:
         self.option = option
         self.ours = frozenset(ours)
         self.created: Path | None = None  # the topmost folder this run made
+        self.made: list[Path] = []  # every folder this run made, the run's own first
         self.before: set[str] = set()  # the names the folder held before the run
         self._lock: int | None = None
 
@@ -190,11 +191,12 @@ class OutputFolder:
         """
         path = self.path
         if not path.is_dir():
-            top = path
-            while not top.parent.exists() and top.parent != top:
-                top = top.parent
+            made = [path]
+            while not made[-1].parent.exists() and made[-1].parent != made[-1]:
+                made.append(made[-1].parent)
             path.mkdir(parents=True, exist_ok=True)
-            self.created = top
+            self.created = made[-1]
+            self.made = made  # this folder first, then each parent this run created
         self.before = {entry.name for entry in path.iterdir()}
         foreign = self.before - {MARKER}
         if not self.marked:
@@ -205,10 +207,10 @@ class OutputFolder:
                     f"{self.option} {path} holds files pasibot did not write (no {MARKER} marker in it); "
                     "--force replaces only in pasibot's own output folders: use another folder"
                 )
-            if foreign:  # a folder of other files: not ours to mark; the command's own checks decide
-                return self
-            (path / MARKER).write_text("an output folder of pasibot (pasibot_pin): --force may replace its files\n")
-        fd = os.open(path / MARKER, os.O_RDWR)
+            if not foreign:
+                (path / MARKER).write_text("an output folder of pasibot (pasibot_pin): --force may replace its files\n")
+        # a folder of other files is not ours to mark (the command's own checks decide), but it is locked all the same
+        fd = os.open(path / MARKER if self.marked else path, os.O_RDONLY)
         try:
             fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
         except BlockingIOError:
@@ -217,7 +219,16 @@ class OutputFolder:
                 f"{self.option} {path} is in use by another pasibot run; wait for it to end or use another folder"
             ) from None
         self._lock = fd
+        self._remove_stale_temporaries()
         return self
+
+    def _remove_stale_temporaries(self) -> None:
+        """Remove half-written files a killed run left here (``.NAME.part-*``): this run holds the lock now."""
+        for entry in self.path.glob(f".*{PART_MARKER}*"):
+            if entry.is_file() and not entry.is_symlink():
+                with contextlib.suppress(OSError):
+                    entry.unlink()
+                    self.before.discard(entry.name)
 
     def release(self) -> None:
         """Unlock the folder (the marker stays)."""
@@ -230,8 +241,13 @@ class OutputFolder:
     def discard(self) -> None:
         """Remove what this run created: the folders it made, or the names it added to the folder."""
         self.release()
-        if self.created is not None:
-            shutil.rmtree(self.created, ignore_errors=True)
+        if self.made:  # its own folder, then each parent it made while nothing else has moved in
+            shutil.rmtree(self.made[0], ignore_errors=True)
+            for parent in self.made[1:]:
+                try:
+                    parent.rmdir()
+                except OSError:  # another run writes there now: not ours to remove
+                    break
             return
         if not self.path.is_dir():
             return

@@ -196,3 +196,38 @@ def test_analyze_refuses_a_folder_with_files_before_any_work(tmp_path, capsys):
     err = capsys.readouterr().err.strip()
     assert "already holds files" in err and "--force" in err and "\n" not in err
     assert [p.name for p in out.iterdir()] == ["notes.txt"]
+
+
+def test_one_writer_per_folder_for_walk_and_stale_parts_are_cleared(tmp_path, capsys):
+    """walk --gif locks its --out: a second writer is refused at once; a half file a killed run left
+    (.NAME.part-*) is removed by the next run that holds the folder (issue 34)."""
+    from pasibot_pin.files import OutputFolder
+
+    out = tmp_path / "anim"
+    holder = OutputFolder(out).claim()
+    try:
+        code, err = run_cli(["walk", "--steps", "3", "--gif", "--out", str(out)], capsys)
+        assert_one_line_error(code, err, "walk", "in use by another pasibot run")
+    finally:
+        holder.release()
+    stale = out / ".walk_seed.part-0123abcd.gif"
+    stale.write_bytes(b"half a gif")
+    again = OutputFolder(out).claim()
+    again.release()
+    assert not stale.exists()
+
+
+def test_a_failed_run_removes_only_what_it_made(tmp_path):
+    """A run that created runs/ and runs/a, then failed, removes runs/a, and runs/ only if nothing else
+    moved in: another run's runs/b stays (issue 34)."""
+    from pasibot_pin.files import OutputFolder
+
+    mine = OutputFolder(tmp_path / "runs" / "a").claim()
+    other = tmp_path / "runs" / "b"
+    other.mkdir()
+    (other / "results.parquet").write_bytes(b"another sweep's table")
+    mine.discard()
+    assert not (tmp_path / "runs" / "a").exists() and (other / "results.parquet").is_file()
+    alone = OutputFolder(tmp_path / "new" / "deep" / "c").claim()
+    alone.discard()
+    assert not (tmp_path / "new").exists()  # everything it made, when nothing else moved in

@@ -32,6 +32,7 @@ from pasibot_pin.cli.common import (
     given,
 )
 from pasibot_pin.errors import NoFixedPointError, ParameterError
+from pasibot_pin.files import OutputFolder
 from pasibot_pin.model.design import Design, design_robot
 
 MAX_STEPS = 1000
@@ -95,10 +96,22 @@ def run(args: argparse.Namespace) -> int:
     check_walk_budget(
         walk_cost(design.omega, steps, spatial=args.spatial), f"--steps {steps} at --omega {design.omega:g} rad/s"
     )
-    if args.spatial:
-        if args.gif:
-            raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
-        return _run_3d(design, steps, args, html)
+    if args.spatial and args.gif:
+        raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
+    if html is None and gif is None:
+        return _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, None, None)
+    folder = OutputFolder(args.out).claim()  # one writer per folder, refused at once (--force: per file, above)
+    try:
+        code = _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, html, gif)
+    except BaseException:
+        folder.discard()  # what this run added, and the folders it made
+        raise
+    folder.release()
+    return code
+
+
+def _run_planar(design: Design, steps: int, args: argparse.Namespace, html: Path | None, gif: Path | None) -> int:
+    """``walk``: the verdict on the planar floor, its margins, motor and frontal ZMP (``html``/``gif``: the files)."""
     from pasibot_pin.report.walking import (  # deferred: keeps the CLI's start fast
         verdict_json,
         walk_lines,
