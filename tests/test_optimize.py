@@ -148,3 +148,22 @@ def test_the_pareto_figure_draws_only_constraint_satisfying_designs_on_its_front
         assert grey.tolist() == [[1.0, 0.9]]
     finally:
         plt.close(fig)
+
+
+def test_a_trial_stopped_while_its_parameters_were_drawn_does_not_block_the_resume(tmp_path):
+    """Ctrl-C between two suggestions leaves a running trial with some parameters missing in the journal:
+    the run resumes (the trial is failed, a new one takes its place) instead of a KeyError (issue 34)."""
+    import optuna
+
+    from pasibot_pin.explore.optimize import STUDY_NAME, _storage
+
+    small = OptimizePlan(**{**PLAN.__dict__, "trials": 3})
+    run_optimize(OptimizePlan(**{**PLAN.__dict__, "trials": 2}), tmp_path, workers=1, progress=False)
+    study = optuna.load_study(study_name=STUDY_NAME, storage=_storage(tmp_path))
+    half = study.ask()
+    first = small.ranges[0]
+    half.suggest_float(first.name, first.low, first.high)  # the second parameter never drawn
+    resumed = run_optimize(small, tmp_path, workers=1, progress=False)
+    assert resumed.table.num_rows == 3
+    states = [t.state for t in optuna.load_study(study_name=STUDY_NAME, storage=_storage(tmp_path)).trials]
+    assert optuna.trial.TrialState.FAIL in states

@@ -289,8 +289,10 @@ class _Trials:
         for t in running:
             if t.number in table_rows:  # finished and saved, not yet told
                 _tell_row(self.study, self.plan, table_rows[t.number], t._trial_id)
-            else:
+            elif all(n in t.params for n in self.plan.names):
                 again.append((t.number, [t.params[n] for n in self.plan.names]))
+            else:  # stopped while its parameters were drawn: nothing to evaluate; a new trial takes its place
+                self.study.tell(t.number, state=optuna.trial.TrialState.FAIL)
         if again:
             self.evaluate(again)
 
