@@ -399,6 +399,13 @@ def _toml_value(value) -> str:
     return repr(float(value))
 
 
+NOTES: dict[str, str] = {
+    "total_mass": " the human mass the seed's percentages apply to, not the robot's",
+    "body_mass": " the body on the hip",
+}
+"""A design file's comment beside a field whose name alone could mislead."""
+
+
 def _to_toml(data: Mapping) -> str:
     """The flat TOML of a design: parameters first, then the [ratios] table; unset values left out."""
     lines = ["# PASIBOT design (pasibot_pin): SI units, link ratios and soles over L, angles in rad", ""]
@@ -406,7 +413,8 @@ def _to_toml(data: Mapping) -> str:
         if key == "ratios" or value is None:  # TOML has no null: an unset parameter is left out
             continue
         unit = SPECS[key].unit if key in SPECS else ""
-        lines.append(f"{key} = {_toml_value(value)}" + (f"  # [{unit}]" if unit else ""))
+        note = NOTES.get(key, "")
+        lines.append(f"{key} = {_toml_value(value)}" + (f"  # [{unit}]{note}" if unit else ""))
     lines += ["", "[ratios]  # link length / L"]
     lines += [f"{key} = {_toml_value(value)}" for key, value in data["ratios"].items()]
     return "\n".join(lines) + "\n"
