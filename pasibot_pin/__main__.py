@@ -14,6 +14,7 @@ server) and their children; files being written are left under no name (exit cod
 from __future__ import annotations
 
 import argparse
+import contextlib
 import importlib
 import os
 import re
@@ -168,6 +169,14 @@ def _install_signal_handlers() -> None:
     signal.signal(signal.SIGINT, handler)
 
 
+def _quiet_stdout() -> None:
+    """Point stdout at /dev/null, so that the interpreter's last flush meets no closed pipe."""
+    with contextlib.suppress(OSError, ValueError):
+        devnull = os.open(os.devnull, os.O_WRONLY)
+        os.dup2(devnull, sys.stdout.fileno())
+        os.close(devnull)
+
+
 def _os_message(err: OSError) -> str:
     if err.filename is not None and err.strerror:
         return f"{err.filename}: {err.strerror}"
@@ -184,6 +193,9 @@ def main(argv: list[str] | None = None) -> int:
     try:
         check_flags(args.command, args)  # every numeric flag within its range, before any work
         return int(args.func(args) or 0)
+    except BrokenPipeError:  # the reader left (`pasibot walk | head -1`): what it read is all it wanted
+        _quiet_stdout()
+        return 0
     except (ValueError, FileExistsError) as err:
         print(f"pasibot {args.command}: error: {err}", file=sys.stderr)
         return 2

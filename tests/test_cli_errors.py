@@ -231,3 +231,19 @@ def test_a_failed_run_removes_only_what_it_made(tmp_path):
     alone = OutputFolder(tmp_path / "new" / "deep" / "c").claim()
     alone.discard()
     assert not (tmp_path / "new").exists()  # everything it made, when nothing else moved in
+
+
+@pytest.mark.integration
+def test_a_reader_that_leaves_early_ends_the_command_quietly(tmp_path):
+    """`pasibot walk ... | head -1`: a broken pipe is not an error (exit 0, nothing on stderr; issue 34)."""
+    import subprocess
+    import sys
+
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "pasibot_pin", "walk", "--variant", "parallel", "--omega", "3", "--steps", "3"],
+        stdout=subprocess.PIPE, stderr=subprocess.PIPE, cwd=tmp_path,
+    )  # fmt: skip
+    assert proc.stdout is not None
+    proc.stdout.close()  # the reader leaves before the walk prints, as `| true` does (or head -1 after a line)
+    _, err = proc.communicate(timeout=120)
+    assert proc.returncode == 0 and b"Broken pipe" not in err and b"Traceback" not in err, err

@@ -193,6 +193,7 @@ class Margin:
         unit: the unit of both.
         sense: ``max`` (the value must stay at most the limit) or ``min`` (at least it).
         decided: this rule decided the outcome.
+        scale: what "near" is measured against (NaN: the limit itself; the advance band: its tolerance).
 
     """
 
@@ -202,6 +203,7 @@ class Margin:
     unit: str
     sense: str
     decided: bool = False
+    scale: float = math.nan
 
     @property
     def margin(self) -> float:
@@ -211,7 +213,10 @@ class Margin:
     @property
     def near(self) -> bool:
         """The value came within :data:`NEAR` of the limit, either side."""
-        return math.isfinite(self.margin) and abs(self.margin) <= NEAR * max(abs(self.limit), 1e-12)
+        if self.unit == "steps":  # a count: reaching the steps asked is the pass, not a close call
+            return False
+        scale = abs(self.limit) if math.isnan(self.scale) else self.scale
+        return math.isfinite(self.margin) and abs(self.margin) <= NEAR * max(scale, 1e-12)
 
     def text(self) -> str:
         """``rule value / limit unit`` with ``<=`` or ``>=``."""
@@ -564,4 +569,8 @@ class GaitJudge:
         ]  # fmt: skip
         if self.max_roll:
             rows.append(("hip_roll", math.degrees(self.max_roll), math.degrees(TIP_LIMIT), "deg", "max"))
-        return [Margin(rule, value, limit, unit, sense, rule == self.rule) for rule, value, limit, unit, sense in rows]
+        band = {"advance_low": c.advance_tolerance, "advance_high": c.advance_tolerance}
+        return [
+            Margin(rule, value, limit, unit, sense, rule == self.rule, band.get(rule, math.nan))
+            for rule, value, limit, unit, sense in rows
+        ]
