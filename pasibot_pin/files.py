@@ -11,12 +11,14 @@ model (URDF), the viewer (HTML), the report and the command line all use this on
 from __future__ import annotations
 
 import contextlib
+import csv
+import dataclasses
 import fcntl
 import os
 import secrets
 import shutil
 import stat
-from collections.abc import Iterator
+from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
@@ -259,3 +261,45 @@ class OutputFolder:
             else:
                 with contextlib.suppress(OSError):
                     entry.unlink()
+
+
+# --------------------------------------------------------------------------- tables of dataclass rows
+def row_record(row: Any) -> dict:
+    """A dataclass row as CSV fields: floats by ``repr`` (read back bit for bit), the rest as they are."""
+    return {k: (repr(v) if isinstance(v, float) else v) for k, v in dataclasses.asdict(row).items()}
+
+
+def read_rows(lines: Iterable[str], kind: type) -> list:
+    """The rows of CSV ``lines`` (a header, then rows) as ``kind`` dataclasses; a missing column keeps its default."""
+    types = {f.name: f.type for f in dataclasses.fields(kind)}
+    rows = []
+    for record in csv.DictReader(lines):
+        values: dict[str, Any] = {}
+        for key, text in record.items():
+            kind_of = types[key]
+            values[key] = text if kind_of == "str" else int(text) if kind_of == "int" else float(text)
+        rows.append(kind(**values))
+    return rows
+
+
+def append_row(path: Path, row: Any) -> None:
+    """Append one dataclass row to a CSV (its header first when the file is new): a partial table resumes."""
+    new = not Path(path).is_file()
+    with open(path, "a", newline="") as handle:
+        writer = csv.DictWriter(handle, fieldnames=[f.name for f in dataclasses.fields(row)], lineterminator="\n")
+        if new:
+            writer.writeheader()
+        writer.writerow(row_record(row))
+
+
+def write_rows(path: Path, kind: type, rows: Iterable[Any], head: Iterable[str] = ()) -> Path:
+    """Write dataclass rows as CSV atomically: the ``head`` lines (``# ...``), the header, one line per row."""
+    path = Path(path)
+    with atomic_path(path) as tmp, open(tmp, "w", newline="") as handle:
+        for line in head:
+            handle.write(f"{line}\n")
+        writer = csv.DictWriter(handle, fieldnames=[f.name for f in dataclasses.fields(kind)], lineterminator="\n")
+        writer.writeheader()
+        for row in rows:
+            writer.writerow(row_record(row))
+    return path

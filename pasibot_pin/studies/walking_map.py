@@ -22,17 +22,15 @@ Units: SI; soles over the crank length L; crank speed [rad/s]; angles in degrees
 
 from __future__ import annotations
 
-import csv
 import importlib.util
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, fields, replace
+from dataclasses import dataclass, replace
 from pathlib import Path
-from typing import Any
 
 from pasibot_pin.errors import DesignError
-from pasibot_pin.files import atomic_path
+from pasibot_pin.files import append_row, read_rows, write_rows
 from pasibot_pin.jobs import Job, run_jobs
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.progress import progress_bar
@@ -343,42 +341,18 @@ def compute_walking_map(
 # --------------------------------------------------------------------------- files
 def save_map(wmap: WalkingMap, path: Path = MAP_CSV) -> Path:
     """Write the map as CSV: a ``# steps = N`` line, a ``# twin: ...`` line, then one row per cell."""
-    path = Path(path)
-    names = [f.name for f in fields(MapCell)]
-    with atomic_path(path) as tmp, open(tmp, "w", newline="") as handle:
-        handle.write(f"# steps = {wmap.steps}\n# twin: {wmap.twin_note or 'walk_in_mujoco'}\n")
-        writer = csv.DictWriter(handle, fieldnames=names, lineterminator="\n")
-        writer.writeheader()
-        for cell in wmap.cells:
-            writer.writerow(_row(cell))
-    return path
-
-
-def _row(cell: MapCell) -> dict:
-    return {k: (repr(v) if isinstance(v, float) else v) for k, v in asdict(cell).items()}
+    head = (f"# steps = {wmap.steps}", f"# twin: {wmap.twin_note or 'walk_in_mujoco'}")
+    return write_rows(Path(path), MapCell, wmap.cells, head)
 
 
 def _read_cells(lines: Sequence[str]) -> list[MapCell]:
     """The cells of CSV lines (a header, then rows)."""
-    types = {f.name: f.type for f in fields(MapCell)}
-    cells = []
-    for row in csv.DictReader(lines):
-        values: dict[str, Any] = {}
-        for k, text in row.items():  # a column absent from an older file keeps its default
-            kind = types[k]
-            values[k] = text if kind == "str" else int(text) if kind == "int" else float(text)
-        cells.append(MapCell(**values))
-    return cells
+    return read_rows(lines, MapCell)
 
 
 def _append_cell(path: Path, cell: MapCell) -> None:
     """Append one finished cell to a partial map (its header first when the file is new)."""
-    new = not path.is_file()
-    with open(path, "a", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=[f.name for f in fields(MapCell)], lineterminator="\n")
-        if new:
-            writer.writeheader()
-        writer.writerow(_row(cell))
+    append_row(path, cell)
 
 
 def load_map(path: Path = MAP_CSV) -> WalkingMap:

@@ -23,16 +23,14 @@ named ``_deg``.
 
 from __future__ import annotations
 
-import csv
 import math
 import time
 from collections.abc import Sequence
-from dataclasses import asdict, dataclass, fields
+from dataclasses import asdict, dataclass
 from pathlib import Path
-from typing import Any
 
 from pasibot_pin.errors import ParameterError, PasibotError
-from pasibot_pin.files import atomic_path
+from pasibot_pin.files import append_row, read_rows, write_rows
 from pasibot_pin.jobs import Job, run_jobs
 from pasibot_pin.model.design import Design
 from pasibot_pin.progress import progress_bar
@@ -250,7 +248,7 @@ def compute_walking_map_3d(
     keys += [("narrow", float(h), float(w)) for h in half_widths for w in omegas]
     done: dict[tuple, Map3DCell] = {}
     if partial is not None and Path(partial).is_file():
-        done = {(c.feet, c.value, c.omega): c for c in _read_cells(Path(partial).read_text().splitlines())}
+        done = {(c.feet, c.value, c.omega): c for c in read_rows(Path(partial).read_text().splitlines(), Map3DCell)}
     todo = [k for k in keys if k not in done]
     jobs = [Job(steps * math.pi / k[2], k, walk_cell_3d, (*k, steps, twin)) for k in todo]
     bar = progress_bar(len(keys), len(keys) - len(todo), progress, unit="walk")
@@ -259,7 +257,7 @@ def compute_walking_map_3d(
         assert isinstance(cell, Map3DCell)
         done[(cell.feet, cell.value, cell.omega)] = cell
         if partial is not None:
-            _append(Path(partial), cell)
+            append_row(Path(partial), cell)
         bar.update(1)
 
     try:
@@ -269,44 +267,12 @@ def compute_walking_map_3d(
     return WalkingMap3D([done[k] for k in keys], steps)
 
 
-def _row(cell: Map3DCell) -> dict:
-    return {k: (repr(v) if isinstance(v, float) else v) for k, v in asdict(cell).items()}
-
-
-def _append(path: Path, cell: Map3DCell) -> None:
-    new = not path.is_file()
-    with open(path, "a", newline="") as handle:
-        writer = csv.DictWriter(handle, fieldnames=[f.name for f in fields(Map3DCell)], lineterminator="\n")
-        if new:
-            writer.writeheader()
-        writer.writerow(_row(cell))
-
-
-def _read_cells(lines: Sequence[str]) -> list[Map3DCell]:
-    types = {f.name: f.type for f in fields(Map3DCell)}
-    cells = []
-    for row in csv.DictReader(lines):
-        values: dict[str, Any] = {}
-        for k, text in row.items():
-            kind = types[k]
-            values[k] = text if kind == "str" else int(text) if kind == "int" else float(text)
-        cells.append(Map3DCell(**values))
-    return cells
-
-
 def save_map3d(wmap: WalkingMap3D, path: Path) -> Path:
     """Write the map as CSV: a ``# steps = N`` line, then one row per cell."""
-    path = Path(path)
-    with atomic_path(path) as tmp, open(tmp, "w", newline="") as handle:
-        handle.write(f"# steps = {wmap.steps}\n")
-        writer = csv.DictWriter(handle, fieldnames=[f.name for f in fields(Map3DCell)], lineterminator="\n")
-        writer.writeheader()
-        for cell in wmap.cells:
-            writer.writerow(_row(cell))
-    return path
+    return write_rows(Path(path), Map3DCell, wmap.cells, (f"# steps = {wmap.steps}",))
 
 
 def load_map3d(path: Path) -> WalkingMap3D:
     """Read a map written by :func:`save_map3d` (standard library only)."""
     lines = Path(path).read_text().splitlines()
-    return WalkingMap3D(_read_cells(lines[1:]), int(lines[0].split("=")[1]))
+    return WalkingMap3D(read_rows(lines[1:], Map3DCell), int(lines[0].split("=")[1]))
