@@ -152,7 +152,11 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--nodes": Bound(2, 1000, integer=True),
         "--flywheel": Bound(0.0, 1000.0, "kg.m^2", low_open=True),
     },
-    "walk": {"--omega": Bound(0.05, 20.0, "rad/s"), "--mu": _MU},  # --steps: its own type, [1, 1000]
+    "walk": {
+        "--omega": Bound(0.05, 20.0, "rad/s"),
+        "--mu": _MU,
+        "--slope": Bound(-20.0, 20.0, "deg"),
+    },  # --steps: its own type, [1, 1000]
     "sweep": {"--n": Bound(1, 1_000_000, integer=True), **_EXPLORE},
     "find-walker": {
         "--omega": Bound(0.05, 20.0, "rad/s"),

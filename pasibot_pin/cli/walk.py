@@ -58,6 +58,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--omega", type=float, default=None, help="override the crank speed [rad/s]")
     p.add_argument("--steps", default="20", metavar="N", help=f"steps to walk, 1 to {MAX_STEPS} (default 20)")
     add_mu_option(p)
+    p.add_argument("--slope", type=float, default=0.0, metavar="DEG",
+                   help="the ground's slope, uphill positive [deg] (default 0: flat; planar walks only)")  # fmt: skip
     p.add_argument(
         "--3d",
         dest="spatial",
@@ -98,6 +100,8 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.spatial and args.gif:
         raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
+    if args.spatial and args.slope:
+        raise ParameterError("--slope is the planar floor's so far: walk without --3d")
     if html is None and gif is None:
         return _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, None, None)
     folder = OutputFolder(args.out).claim()  # one writer per folder, refused at once (--force: per file, above)
@@ -119,7 +123,7 @@ def _run_planar(design: Design, steps: int, args: argparse.Namespace, html: Path
     )
     from pasibot_pin.studies.walking import WalkSettings, walk_design  # deferred: keeps the CLI's start fast
 
-    settings = WalkSettings(steps=steps, mu=args.mu)
+    settings = WalkSettings(steps=steps, mu=args.mu, slope=math.radians(args.slope))
     robot = design_robot(design, 2, visuals=html is not None)
     walk = walk_design(design, settings, robot)
     stability, no_gait = None, ""

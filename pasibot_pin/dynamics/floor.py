@@ -154,7 +154,8 @@ class FloorSimulator:
         self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
         self._held_sim: FloorSimulator | None = None
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
-        self._contact_rows = PointRows(self.points)  # the contact rows at the last configuration asked
+        self.turn = complex(math.cos(settings.slope), -math.sin(settings.slope))  # the ground's frame, e^(-i slope)
+        self._contact_rows = PointRows(self.points, self.turn)  # the contact rows at the last configuration asked
 
     @property
     def crank_rows(self) -> list[int]:
@@ -187,9 +188,14 @@ class FloorSimulator:
         return self._split
 
     # ---- one step
-    def contact_rows(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """Gaps (4,) [m], tangential positions (4,) [m], J_n (4, nv) and J_t (4, nv) of heel and toe points."""
+    def contact_rows(self, q: np.ndarray, flat: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """Gaps (4,) [m], tangential positions (4,) [m], J_n (4, nv) and J_t (4, nv) of heel and toe points.
+
+        Across and along the ground; ``flat``: against a flat floor whatever the slope.
+        """
         rows, jac, _, _ = self.points.evaluate(q)
+        if self.turn != 1.0 and not flat:  # along and across a sloped ground
+            rows, jac = rows * self.turn, jac * self.turn
         return rows.imag, rows.real, jac.imag, jac.real
 
     def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -300,14 +306,31 @@ class FloorSimulator:
         q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance
         # the lowest sole point on the floor, none below it: a foot the linkage tilts (the rigid
         # variant's, square to its shank) touches at one point instead of sinking into the floor
-        gap, _, jn, jt = self.contact_rows(q)  # the rows' Jacobians do not depend on the hip's height
+        gap, _, jn, jt = self.contact_rows(q, flat=True)  # the Jacobians do not depend on the hip's height
         q[HIP_Z] -= float(np.min(gap))
         rows = self.bilateral.evaluate(q, None, 0.0)
         jac = np.vstack((rows.jac, jn, jt, np.eye(q.size)[2:3]))
         rate = crank_advance(0.0, self.settings.crank_ramp)[1]  # 0 with a ramp: the cranks start at rest
         rhs = np.concatenate((-rate * rows.phi_t, np.zeros(2 * len(jn) + 1)))
         v = np.linalg.lstsq(jac, rhs, rcond=None)[0]
+        return self._on_slope(q, v)
+
+    def _on_slope(self, q: np.ndarray, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """A state on the flat floor turned rigidly about the origin onto the sloped ground (as it is when flat)."""
+        if self.turn == 1.0:
+            return q, v
+        up = self.turn.conjugate()  # e^(i slope)
+        hip, rate = complex(q[HIP_X], q[HIP_Z]) * up, complex(v[HIP_X], v[HIP_Z]) * up
+        q, v = q.copy(), v.copy()
+        q[HIP_X], q[HIP_Z], q[HIP_PITCH] = hip.real, hip.imag, q[HIP_PITCH] + self.settings.slope
+        v[HIP_X], v[HIP_Z] = rate.real, rate.imag
         return q, v
+
+    def hip_view(self, q: np.ndarray) -> tuple[float, float]:
+        """The judge's hip: its position along the ground [m] and its pitch from the ground's normal [rad]."""
+        if self.turn == 1.0:
+            return float(q[HIP_X]), float(q[HIP_PITCH])
+        return (complex(q[HIP_X], q[HIP_Z]) * self.turn).real, float(q[HIP_PITCH]) - self.settings.slope
 
     def _held(self) -> FloorSimulator:
         """A copy of the simulator with the cranks held at theta0 (omega = 0), built once."""
@@ -437,7 +460,7 @@ class FloorSimulator:
             t += h
             forces = ([x / h for x in normal], [x / h for x in tangential], [x / h for x in motor])
             power = tuple(tau * rate for tau, rate in zip(forces[2], v.take(self._motor_index).tolist()))
-            sample, loaded = point_sample(t, (float(q[HIP_X]), float(q[HIP_PITCH])), points, forces[0], power)
+            sample, loaded = point_sample(t, self.hip_view(q), points, forces[0], power)
             log.record(t, q, v, sample, forces, loaded, points[2])
             if judge is not None and judge.update(sample) and stop_on_verdict:
                 break
@@ -468,7 +491,7 @@ class FloorSimulator:
     def _tracker(self, h: float) -> tuple[ShapeTrack | None, FreeStepper | None]:
         """A run's shape track and its tracked step (``None``, ``None`` where the rows have no split)."""
         split = self._shape_split()
-        if split is None:
+        if split is None or self.turn != 1.0:  # the tracked step reads a flat floor; a slope takes the general step
             return None, None
         track = ShapeTrack(self.robot, split, self.targets_many, h, self.points)
         ankles = list(self.ankles.values())
@@ -503,4 +526,4 @@ class FloorSimulator:
     def _sample(self, t: float, q: np.ndarray, v: np.ndarray) -> GaitSample:
         """The :class:`GaitSample` at ``t`` without forces (a run's start: a point on the floor counts as loaded)."""
         points = self._contact_rows.lists(q, v)
-        return point_sample(t, (float(q[HIP_X]), float(q[HIP_PITCH])), points, None, (0.0, 0.0))[0]
+        return point_sample(t, self.hip_view(q), points, None, (0.0, 0.0))[0]

@@ -56,6 +56,10 @@ def check_number(name: str, value: float, low: float, high: float = math.inf, lo
     return value
 
 
+MAX_SLOPE: float = math.radians(20.0)
+"""The steepest ground a walk is simulated on [rad]."""
+
+
 @dataclass(frozen=True)
 class FloorSettings:
     """How to simulate on the floor.
@@ -72,6 +76,7 @@ class FloorSettings:
         fall_limit: a run without a verdict stops when |hip pitch| passes this [rad].
         motors: the motor layout (:data:`~pasibot_pin.model.variants.MOTOR_LAYOUTS`): ``two``
             (each crank on its own motor) or ``one`` (one motor, the cranks coupled pi apart).
+        slope: the ground's angle, rising along +x (uphill positive) [rad], at most :data:`MAX_SLOPE`.
 
     """
 
@@ -84,9 +89,11 @@ class FloorSettings:
     hip: str = "free"
     fall_limit: float = math.radians(60.0)
     motors: str = "two"
+    slope: float = 0.0
 
     def __post_init__(self) -> None:
         check_number("omega", self.omega, 0.0)
+        check_number("slope", self.slope, -MAX_SLOPE, MAX_SLOPE)
         check_number("crank_ramp", self.crank_ramp, 0.0, 1e3)
         check_number("mu", self.mu, 0.0)
         check_number("dt", self.dt, 0.0, 0.01, low_open=True)

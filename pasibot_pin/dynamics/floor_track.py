@@ -84,11 +84,14 @@ class PointRows:
 
     Args:
         points: the heel and toe points' planar rows.
+        turn: the ground's frame, e^(-i slope): the rows are read along the ground (x) and across it (z);
+            1 (a flat floor) reads them as they are.
 
     """
 
-    def __init__(self, points: PlanarRowBlocks) -> None:
+    def __init__(self, points: PlanarRowBlocks, turn: complex = 1.0) -> None:
         self.points = points
+        self.turn = complex(turn)
         self._key: bytes | None = None
         self._rows: tuple[np.ndarray, np.ndarray] = (np.zeros(0, dtype=complex), np.zeros((0, 0), dtype=complex))
 
@@ -97,7 +100,8 @@ class PointRows:
         q = np.asarray(q, dtype=float)
         key = q.tobytes()
         if key != self._key:
-            self._rows = self.points.rows_and_jacobian(q)
+            rows, jac = self.points.rows_and_jacobian(q)
+            self._rows = (rows, jac) if self.turn == 1.0 else (rows * self.turn, jac * self.turn)
             self._key = key
         return self._rows
 

@@ -61,6 +61,7 @@ class WalkSettings:
         mu: sole-floor friction [-].
         dt: time step [s] (``None``: :func:`walk_dt` of the design's speed).
         criteria: the verdict's other thresholds (its ``steps`` is replaced by ``steps``).
+        slope: the ground's angle, uphill positive [rad] (the planar floor; 0: flat, as every walk so far).
 
     """
 
@@ -68,6 +69,7 @@ class WalkSettings:
     mu: float = WALK_MU
     dt: float | None = None
     criteria: GaitCriteria = GaitCriteria()
+    slope: float = 0.0
 
     def __post_init__(self) -> None:
         integer = isinstance(self.steps, int) and not isinstance(self.steps, bool)
@@ -162,8 +164,9 @@ def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
     dt = walk_dt(omega) if settings.dt is None else settings.dt
     ramp = min(RAMP_MAX, RAMP_SHARE * math.pi / omega)
     return FloorSettings(
-        omega=omega, spring=spring, crank_ramp=ramp, mu=settings.mu, dt=dt, motors=design.motors, fall_limit=math.pi / 2
-    )
+        omega=omega, spring=spring, crank_ramp=ramp, mu=settings.mu, dt=dt, motors=design.motors,
+        fall_limit=math.pi / 2, slope=settings.slope,
+    )  # fmt: skip
 
 
 def walk_design(design, settings: WalkSettings | None = None, robot=None) -> DesignWalk:

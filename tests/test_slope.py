@@ -1,0 +1,58 @@
+"""The ground seam of the planar floor: a slope (issue 35). A 0 deg slope is the flat floor bit for bit; on
+a slope the robot's start stands on the ground; held still, friction carries the weight's share along the
+ground, W sin(alpha), against W cos(alpha) across it (statics, independent of the engine)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from pasibot_pin.dynamics.floor import FloorSimulator
+from pasibot_pin.dynamics.floor_settings import FloorSettings
+from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.studies.walking import WalkSettings, walk_design
+
+FAST = Design(variant="parallel", parallel_toe=6.0, parallel_heel=6.0, omega=3.0)
+
+
+def test_a_zero_slope_is_the_flat_floor_bit_for_bit():
+    robot = design_robot(FAST, 2, visuals=False)
+    flat = walk_design(FAST, WalkSettings(steps=3), robot).result
+    zero = walk_design(FAST, WalkSettings(steps=3, slope=0.0), robot).result
+    assert np.array_equal(flat.q, zero.q) and np.array_equal(flat.motor_torque, zero.motor_torque)
+
+
+@pytest.mark.parametrize("degrees", [-5.0, 4.0])
+def test_held_still_on_a_slope_friction_carries_the_weight_along_the_ground(degrees):
+    robot = design_robot(Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5), 2, visuals=False)
+    alpha = math.radians(degrees)
+    sim = FloorSimulator(robot, FloorSettings(omega=0.0, slope=alpha, dt=1e-3))
+    q0, v0 = sim.initial_state()
+    gap = sim.contact_rows(q0)[0]
+    assert gap.min() == pytest.approx(0.0, abs=1e-9)  # the start stands on the sloped ground
+    run = sim.run(1.0, q0, v0)
+    last = slice(-200, None)
+    normal = run.normal[last].sum(axis=1).mean()
+    along = run.tangential[last].sum(axis=1).mean()
+    assert normal == pytest.approx(sim.weight * math.cos(alpha), rel=1e-3)
+    assert abs(along) == pytest.approx(sim.weight * abs(math.sin(alpha)), rel=1e-3)
+    assert np.all(np.abs(run.v[last, :3]) < 1e-6)  # at rest on it
+
+
+def test_a_slope_past_the_limit_is_refused_by_name(capsys):
+    from pasibot_pin.__main__ import main
+
+    with pytest.raises(ParameterError, match="slope"):
+        FloorSettings(slope=math.radians(30.0))
+    assert main(["walk", "--slope", "25"]) == 2
+    assert "--slope" in capsys.readouterr().err
+    assert main(["walk", "--slope", "3", "--3d"]) == 2
+
+
+def test_walk_uphill_and_downhill():
+    for degrees in (-3.0, 3.0):
+        v = walk_design(FAST, WalkSettings(steps=4, slope=math.radians(degrees))).verdict
+        assert v.walks and v.advance_per_step == pytest.approx(1.0, abs=0.05)  # along the ground, 8 L a step
