@@ -11,6 +11,12 @@ parent (Linux ``PR_SET_PDEATHSIG``). The command line's handler (``pasibot_pin._
 every descendant, grandchildren included, and raises in the main process; :func:`run_jobs` then
 cancels the queued jobs and terminates any worker still running before it re-raises, so no
 worker is left behind.
+
+Profiling: with the environment variable :data:`PROFILE_ENV` (``PASIBOT_PROFILE_DIR``) naming a
+folder, each job runs under :mod:`cProfile` where it runs (in its worker, or here with one worker),
+and its statistics go to ``<folder>/<job key>.prof`` (:func:`profile_path`), its CPU time beside
+them (:func:`profiled`); ``benchmarks/profile_analyze.py`` reads them. Unset, nothing changes: the
+jobs run as they are.
 """
 
 from __future__ import annotations
@@ -21,7 +27,10 @@ import importlib
 import itertools
 import multiprocessing
 import os
+import re
 import signal
+import sys
+import time
 from collections.abc import Callable, Iterable
 from concurrent.futures import FIRST_COMPLETED, Future, ProcessPoolExecutor, wait
 from dataclasses import dataclass, field
@@ -50,6 +59,49 @@ class Job:
     args: tuple = field(default=(), compare=False)
 
 
+PROFILE_ENV = "PASIBOT_PROFILE_DIR"
+"""Environment variable: a folder where every job's profile is written (unset or empty: no profiling)."""
+
+
+def profile_path(folder: str | os.PathLike, key: object) -> str:
+    """The profile file of the job ``key`` in ``folder``: the key's text made a file name, ``.prof``.
+
+    ``("simulation", ("case", "run1", "half K_e"))`` -> ``simulation-case-run1-half-K_e.prof``.
+    """
+    name = re.sub(r"[^A-Za-z0-9._]+", "-", str(key)).strip("-.")
+    return os.path.join(folder, f"{name or 'job'}.prof")
+
+
+def profiled(folder: str, key: object, fn: Callable, *args):
+    """``fn(*args)`` under :mod:`cProfile`; its statistics dumped to :func:`profile_path`.
+
+    The profile's clock is cProfile's own (wall time [s]: a CPU clock costs a system call per
+    event, 4x the run time); the job's CPU time [s] goes beside it, one line of JSON in the
+    same name with ``.json`` (``{"key": ..., "cpu_s": ..., "wall_s": ...}``).
+    """
+    import cProfile  # deferred: keeps the CLI's start fast
+    import json  # deferred: keeps the CLI's start fast
+
+    profile = cProfile.Profile()
+    cpu, wall = time.process_time(), time.perf_counter()
+    try:
+        return profile.runcall(fn, *args)
+    finally:
+        cpu, wall = time.process_time() - cpu, time.perf_counter() - wall
+        os.makedirs(folder, exist_ok=True)
+        path = profile_path(folder, key)
+        profile.dump_stats(path)
+        with open(os.path.splitext(path)[0] + ".json", "w", encoding="utf-8") as handle:
+            json.dump({"key": str(key), "cpu_s": cpu, "wall_s": wall}, handle)
+
+
+def _call(job: Job, folder: str | None) -> tuple[Callable, tuple]:
+    """What to run for ``job``: its function and arguments, wrapped in :func:`profiled` when ``folder`` is set."""
+    if folder:
+        return profiled, (folder, job.key, job.fn, *job.args)
+    return job.fn, job.args
+
+
 OnDone = Callable[[object, object], Iterable[Job] | None]
 """``on_done(key, result)``, called in the main process; returns the jobs it releases (or None)."""
 
@@ -62,6 +114,8 @@ def _die_clean(signum, frame) -> None:
 
 
 def _worker_init() -> None:
+    if os.environ.get(PROFILE_ENV):  # a profiled parent's profiler is not the jobs' (they have their own)
+        sys.setprofile(None)
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     signal.signal(signal.SIGTERM, _die_clean)
     try:  # die with the parent, even if it is killed outright (Linux only)
@@ -74,6 +128,7 @@ def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS, prelo
     """Run ``jobs`` (and those ``on_done`` releases) longest first on ``workers`` processes.
 
     ``workers <= 1`` runs them one by one in this process (same order, same results).
+    With :data:`PROFILE_ENV` set, each job is profiled (:func:`profiled`).
     Any job's exception is re-raised here after the pool is shut down. ``preload`` names modules
     that most workers import (e.g. ``matplotlib.pyplot``): imported once here, before the workers
     fork, they cost their import time once instead of once per worker.
@@ -88,10 +143,12 @@ def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS, prelo
             heapq.heappush(ready, (-job.estimate, next(order), job))
 
     push(jobs)
+    folder = os.environ.get(PROFILE_ENV) or None  # profile every job (see the module's docstring)
     if workers <= 1:
         while ready:
             job = heapq.heappop(ready)[2]
-            push(on_done(job.key, job.fn(*job.args)))
+            fn, args = _call(job, folder)
+            push(on_done(job.key, fn(*args)))
         return
 
     pool = ProcessPoolExecutor(workers, mp_context=multiprocessing.get_context("fork"), initializer=_worker_init)
@@ -100,7 +157,8 @@ def run_jobs(jobs: Iterable[Job], on_done: OnDone, workers: int = WORKERS, prelo
         while ready or running:
             while ready and len(running) < workers:
                 job = heapq.heappop(ready)[2]
-                running[pool.submit(job.fn, *job.args)] = job
+                fn, args = _call(job, folder)
+                running[pool.submit(fn, *args)] = job
             finished, _ = wait(running, return_when=FIRST_COMPLETED)
             for future in finished:
                 job = running.pop(future)
