@@ -43,6 +43,24 @@ ESTIMATES: dict[str, float] = {
 }
 """CPU time [s] of the steps besides the planned ones (measured; they only order the work)."""
 
+PRELOAD: tuple[str, ...] = (
+    "matplotlib.pyplot",
+    "PIL.Image",
+    "PIL.PngImagePlugin",
+    "PIL.GifImagePlugin",
+    "PIL.ImageDraw",
+    "PIL.ImageFont",
+    "xacro",
+    "umsgpack",
+    "meshcat",
+    "meshcat.servers.zmqserver",
+    "pasibot_pin.viz.pin_meshcat",
+    *(f"pasibot_pin.report.{module}" for _, module in STEPS),
+)
+"""Modules imported once before the pool's workers fork (:func:`pasibot_pin.jobs.run_jobs`' ``preload``):
+what more than one worker imports (every section draws; both animation jobs write a meshcat page and a
+GIF), about 1.6 s of CPU that each worker would otherwise spend importing them again."""
+
 PLANS: dict[str, str] = {"simulation": "SimulationPlan", "floor": "FloorPlan"}
 """Steps run as pool jobs: name -> class in its report module (``jobs()``, ``done(key, result)``, ``section()``)."""
 
@@ -104,7 +122,7 @@ def _run(out_dir: Path) -> None:
 
     jobs = [Job(ESTIMATES[name], ("step", name), run_step, (name, out_dir)) for name in ESTIMATES]
     jobs += [job for name, plan in plans.items() for job in tagged(name, plan.jobs())]
-    run_jobs(jobs, on_done, WORKERS, preload=("matplotlib.pyplot",))  # every section draws
+    run_jobs(jobs, on_done, WORKERS, preload=PRELOAD)
     built.update({name: plan.section() for name, plan in plans.items()})
     print(f"[{'], ['.join(plans)}] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
     text = report_text([built[name].markdown for name, _ in STEPS], {name: b.facts for name, b in built.items()})

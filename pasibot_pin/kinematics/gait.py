@@ -344,6 +344,62 @@ def step_advances(
     return np.diff(starts)
 
 
+def walk_and_advances(
+    robot: PasibotRobot, steps: int = 2, samples_per_step: int = 40, omega: float | None = None, foot: str = "flat"
+) -> tuple[Walk, np.ndarray]:
+    """``walk(robot, steps, samples_per_step, ...)`` and its :func:`step_advances`, from one walk [-, m].
+
+    :func:`step_advances` walks one step more than the walk; that longer walk passes through every
+    sample of the shorter one but its last, the end of its last step (which the longer one goes on
+    to solve as the start of its exchange: the same solve, made once more here). Both results are
+    those of the two calls, number for number, for the work of the longer walk alone.
+
+    Args:
+        robot: a two-legged robot (``load(variant, legs=2)``).
+        steps: steps (half crank turns) of the walk, >= 1.
+        samples_per_step: samples per step, >= 2.
+        omega: crank rate [rad/s] for the time stamps; ``None``: :data:`DEFAULT_OMEGA`.
+        foot: ``flat``, ``point`` or ``toe``.
+
+    Returns:
+        (the :class:`Walk` of ``steps`` steps from right touch-down at pi/2, the hip's advance in
+        each of its steps [m]).
+
+    Raises:
+        ValueError: as :func:`walk`.
+
+    """
+    _check_walk_args(robot, steps, samples_per_step, math.pi / 2, omega, foot, "right")
+    longer = walk(robot, steps + 1, samples_per_step, omega=omega, foot=foot)
+    advances = np.diff(longer.hip_path()[::samples_per_step, 0][: steps + 1])
+    n = steps * samples_per_step + 1
+    dtheta = math.pi / samples_per_step
+    stance, cmodels, q = longer.stance[n - 2], longer.contacts[steps - 1], longer.q[n - 2]
+    prescribed = _prescriptions(robot, stance, foot)
+    q_end = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels)
+    residual = float(np.max(np.abs(closure.constraint_residual(robot, q_end, cmodels))))
+    if residual > CLOSURE_TOL:
+        raise ValueError(
+            f"walk: closure residual {residual:.3e} exceeds {CLOSURE_TOL:g} at theta = "
+            f"{math.degrees(math.pi / 2 + dtheta * (n - 1)):.3f} deg (step {steps - 1}, stance {stance})"
+        )
+    theta = math.pi / 2 + dtheta * np.arange(n)
+    shorter = Walk(
+        robot=robot,
+        theta=theta,
+        t=(theta - math.pi / 2) / (DEFAULT_OMEGA if omega is None else float(omega)),
+        q=np.vstack((longer.q[: n - 1], q_end)),
+        stance=[*longer.stance[: n - 1], stance],
+        step=np.minimum(longer.step[:n], steps - 1),
+        foot=foot,
+        omega=DEFAULT_OMEGA if omega is None else float(omega),
+        contacts=longer.contacts[:steps],
+        residual=np.append(longer.residual[: n - 1], residual),
+        exchange_jump=longer.exchange_jump[: steps - 1],
+    )
+    return shorter, advances
+
+
 def stride_advance(robot: PasibotRobot, samples_per_step: int = 12, foot: str = "flat") -> float:
     """The hip's advance per step over a whole stride (two steps, from one step start to the same phase) [m].
 

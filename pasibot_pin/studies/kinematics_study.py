@@ -21,7 +21,7 @@ import numpy as np
 
 from pasibot_pin.kinematics import leg as kin
 from pasibot_pin.kinematics import path_metrics
-from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, step_advances, walk
+from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk_and_advances
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
@@ -254,10 +254,10 @@ def walk_run(
 
     """
     sps = samples(180.0, step_deg)
-    w = walk(robot, steps, sps, omega=omega, foot=foot)
+    # each step's advance from its start to the next step's start (same phase: just after an exchange),
+    # read off one walk of a step more (walk_and_advances: the same numbers as walk and step_advances)
+    w, advances = walk_and_advances(robot, steps, sps, omega=omega, foot=foot)
     hip = w.hip_path()
-    # each step from its start to the next step's start (same phase: just after an exchange)
-    advances = step_advances(robot, steps, sps, foot=foot, omega=omega)
     return WalkRun(
         variant=robot.variant,
         foot=w.foot,

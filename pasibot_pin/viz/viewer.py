@@ -130,7 +130,10 @@ class WalkViewer:
 
     def __post_init__(self) -> None:
         import meshcat  # deferred: heavy (meshcat), keeps the CLI's start fast
-        from pinocchio.visualize import MeshcatVisualizer  # deferred: heavy (meshcat), keeps the CLI's start fast
+
+        from pasibot_pin.viz.pin_meshcat import (  # deferred: heavy (meshcat), keeps the CLI's start fast
+            MeshcatVisualizer,
+        )
 
         if self.offline:
             if self.zmq_url is not None or self.open:
