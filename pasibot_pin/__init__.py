@@ -5,10 +5,26 @@
 >>> robot.q0                     # satisfies every loop
 """
 
-from pasibot_pin.model.description import Loop, loop_table, render_urdf
-from pasibot_pin.model.params import VARIANTS, Geometry, MassModel, human_description_mass_model, percentage_mass_model
-from pasibot_pin.model.paths import PACKAGE_DIRS, URDF_PATH, XACRO_PATH, urdf_path
-from pasibot_pin.model.robot import PasibotRobot, load
+import os as _os
+import sys as _sys
+
+if _sys.argv and (_sys.argv[0] == "-m" or _os.path.basename(_sys.argv[0]) == "pasibot"):
+    # Our commands (``pasibot``, ``python -m pasibot_pin[.module]``): one OpenBLAS thread per process unless the
+    # caller chose otherwise. Every matrix here is small; the BLAS threads only spin, on CPU the pool's other
+    # worker needs (``pasibot analyze``: 6 % of its CPU). Set here, before numpy is first imported: this package
+    # is imported before ``pasibot_pin.__main__`` runs, and the pool's forked workers keep it.
+    _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+
+from pasibot_pin.model.description import Loop, loop_table, render_urdf  # noqa: E402
+from pasibot_pin.model.params import (  # noqa: E402
+    VARIANTS,
+    Geometry,
+    MassModel,
+    human_description_mass_model,
+    percentage_mass_model,
+)
+from pasibot_pin.model.paths import PACKAGE_DIRS, URDF_PATH, XACRO_PATH, urdf_path  # noqa: E402
+from pasibot_pin.model.robot import PasibotRobot, load  # noqa: E402
 
 __version__ = "0.1.0"
 

@@ -24,7 +24,9 @@ import time
 
 # Every matrix here is small (a few hundred rows at most): OpenBLAS worker threads only spin, on
 # CPU the pool's other worker needs (a batched solve cost 10x the CPU with them, measured). One
-# BLAS thread per process unless the caller chose otherwise; set before numpy is first imported.
+# BLAS thread per process unless the caller chose otherwise. It must be set before numpy is first
+# imported, which the package's __init__ (run before this module) does: pasibot_pin/__init__.py
+# sets it for our commands; this line only covers running this file some other way.
 os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import pinocchio as pin  # noqa: E402
