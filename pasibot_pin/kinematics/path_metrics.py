@@ -154,7 +154,10 @@ def _wrap(angle: float) -> float:
 
 
 def straight_line_metrics(
-    robot: PasibotRobot, tolerance: float | None = None, step: float = math.radians(1.0)
+    robot: PasibotRobot,
+    tolerance: float | None = None,
+    step: float = math.radians(1.0),
+    cycle: LegCycle | None = None,
 ) -> StraightLineMetrics:
     """Stroke, band, deviation, lift, ground span and foot pitch of a one-leg robot.
 
@@ -167,6 +170,9 @@ def straight_line_metrics(
             span [m] (default 0.02 L, just above the stance band 0.0195 L; a tolerance below
             the band gives only the piece of stance around the lowest sample).
         step: sampling step of the crank turn before refinement [rad].
+        cycle: ``robot``'s :func:`~pasibot_pin.kinematics.leg.leg_cycle` over ``crank_grid(step)`` if the
+            caller has it (with or without ``omega``: its poses are the same), so it is not sampled again;
+            a cycle of another robot or other crank angles is not used.
 
     Returns:
         The :class:`StraightLineMetrics`.
@@ -177,7 +183,9 @@ def straight_line_metrics(
     tolerance = 0.02 * L if tolerance is None else float(tolerance)
     if not math.isfinite(tolerance) or tolerance <= 0.0:
         raise ValueError(f"parameter 'tolerance' must be a positive height [m], got {tolerance!r}")
-    cycle = leg_cycle(robot, crank_grid(step))
+    grid = crank_grid(step)
+    if cycle is None or cycle.robot is not robot or not np.array_equal(cycle.theta, grid):
+        cycle = leg_cycle(robot, grid)
     probe = _AnkleProbe(robot, cycle)
     p90, p270 = frame_xz(robot, probe.q(STANCE[0])), frame_xz(robot, probe.q(STANCE[1]))
     ground = float(p90[1])
@@ -344,5 +352,5 @@ def k_sweep(
     for k in ks:
         robot = load(variant, 1, K=float(k), **load_kwargs)
         out.cycles.append(leg_cycle(robot, crank_grid(step)))
-        out.metrics.append(straight_line_metrics(robot, step=step))
+        out.metrics.append(straight_line_metrics(robot, step=step, cycle=out.cycles[-1]))  # sampled once
     return out

@@ -229,7 +229,7 @@ def leg_run(robot: PasibotRobot, step_deg: float = 5.0, omega: float = 0.1) -> L
     """
     n = samples(360.0, step_deg)
     cycle = kin.leg_cycle(robot, kin.crank_grid(2 * math.pi / n), omega=omega)
-    metrics = path_metrics.straight_line_metrics(robot)
+    metrics = path_metrics.straight_line_metrics(robot, cycle=cycle)  # the same turn, sampled once (1 deg steps)
     L = robot.geometry.L
     speed_cycle = kin.leg_cycle(robot, np.radians(list(SPEED_ANGLES_DEG)), omega=omega)
     assert speed_cycle.ankle_velocity is not None  # sampled with omega
@@ -416,9 +416,16 @@ def kinematics_survey(settings: KinematicsSettings | None = None) -> KinematicsS
 
     """
     s = KinematicsSettings() if settings is None else settings
-    legs = {v: leg_run(load(v, 1), s.leg_step_deg, s.omega) for v in s.variants}
+    robots: dict[tuple[str, int], PasibotRobot] = {}
+
+    def robot_of(variant: str, legs: int) -> PasibotRobot:  # each robot loaded once (the walks only read it)
+        if (variant, legs) not in robots:
+            robots[variant, legs] = load(variant, legs)
+        return robots[variant, legs]
+
+    legs = {v: leg_run(robot_of(v, 1), s.leg_step_deg, s.omega) for v in s.variants}
     sweep = path_metrics.k_sweep(s.k_values, variant=s.k_variant)
-    robot = load(s.jacobian_variant, 1)
+    robot = robot_of(s.jacobian_variant, 1)
     jacobian = kin.open_chain_jacobian(robot, kin.configuration_at(robot, s.jacobian_theta))
-    walks = [walk_run(load(v, 2), s.walk_steps, s.walk_step_deg, s.omega, foot) for v, foot in s.walk_cases]
+    walks = [walk_run(robot_of(v, 2), s.walk_steps, s.walk_step_deg, s.omega, foot) for v, foot in s.walk_cases]
     return KinematicsSurvey(s, legs, sweep, jacobian, walks)
