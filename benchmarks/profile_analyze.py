@@ -32,6 +32,7 @@ PARENT = "parent.prof"
 
 def child(out: str, prof: str) -> int:
     """In the child process: ``pasibot analyze --out OUT --force`` under cProfile, dumped to ``prof``."""
+    sys.argv = ["pasibot", "analyze", "--out", out, "--force"]  # as the command runs (the package reads argv[0])
     from pasibot_pin.__main__ import main
 
     profile = cProfile.Profile()
