@@ -14,7 +14,7 @@ from pasibot_pin.cli.common import (
     design_of,
 )
 from pasibot_pin.model.assembly import check_full_turn
-from pasibot_pin.model.description import render_default_urdfs, render_urdf, write_urdf
+from pasibot_pin.model.description import render_default_urdfs, render_urdf, shape_soles, write_urdf
 from pasibot_pin.model.params import SEED_LINK_RATIOS, Geometry, check_legs, check_variant, percentage_mass_model
 
 
@@ -79,6 +79,8 @@ def run(args: argparse.Namespace) -> int:
         variant, geometry, masses, inertia = design.variant, design.geometry(), design.masses(), design.inertia
     check_full_turn(geometry, variant)
     text = render_urdf(variant, args.legs, geometry, masses, inertia)
+    if design is not None:  # the soles with the design's lateral shape (a plate or a comb)
+        text = shape_soles(text, design.footprint(), geometry.L)
     if args.out is None:
         print(text, end="")
     else:

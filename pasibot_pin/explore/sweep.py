@@ -20,7 +20,7 @@ from pasibot_pin.explore.executors import check_workers, run_tasks
 from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column, design_row, parameter_names
 from pasibot_pin.files import atomic_path, write_text_atomic
-from pasibot_pin.model.description import render_urdf
+from pasibot_pin.model.description import render_urdf, shape_soles
 from pasibot_pin.model.design import CHOICES, Design, design_robot
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.progress import progress_bar
@@ -276,6 +276,7 @@ def export_best(table, rows: Sequence[int], folder: Path) -> list[Path]:
         stem = folder / f"{rank:02d}_index{int(table.column('index')[row].as_py())}"
         written.append(design.save(stem.with_suffix(".toml"), force=True))
         text = render_urdf(design.variant, 2, design.geometry(), design.masses(), design.inertia)
+        text = shape_soles(text, design.footprint(), design.L)  # the design's soles (a plate or a comb)
         written.append(write_text_atomic(stem.with_suffix(".urdf"), text))
         robot = design_robot(design, 2)
         spring = design_spring(design, robot)

@@ -7,7 +7,9 @@ turns every pair into a Pinocchio constraint model.
 
 from __future__ import annotations
 
+import copy
 import functools
+import xml.etree.ElementTree as ET
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -16,8 +18,10 @@ import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import write_text_atomic
+from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.params import Geometry, MassModel, check_legs, check_variant, percentage_mass_model
 from pasibot_pin.model.paths import URDF_DIR, XACRO_PATH, urdf_path
+from pasibot_pin.model.spatial import Footprint, lateral_sign
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
 
 CUT_JOINTS: dict[str, tuple[int, ...]] = {name: v.cut_joints for name, v in VARIANT_RECORDS.items()}
@@ -226,3 +230,55 @@ def render_default_urdfs(out_dir: Path | None = None, force: bool = True) -> lis
             target = out_dir / urdf_path(variant, legs).name
             written.append(write_urdf(target, render_urdf(variant, legs), force=force))
     return written
+
+
+SOLE_WIDTH = 1.2
+"""The xacro's sole width over L (``foot_width``): a plate reaching 0.6 L each side of its leg's plane [-]."""
+
+
+def shape_soles(text: str, footprint: Footprint, L: float) -> str:
+    """The URDF ``text`` with each foot's sole drawn as ``footprint``'s bands (a plate or a comb's prongs).
+
+    The xacro draws one centred box per foot, :data:`SOLE_WIDTH` L wide. Each band becomes a box of
+    its own, as long and as thick as that one, spanning the band across the leg's plane: the right
+    foot's midline side is +y of its frame, the left foot's -y (the feet's y axes are the hip's).
+    The visual and the collision geometry both change; the tree, masses and frames do not. A
+    footprint that is the xacro's own plate returns ``text`` unchanged.
+
+    Args:
+        text: URDF text rendered from the xacro (:func:`render_urdf`), one or two legs.
+        footprint: the soles' lateral shape [m].
+        L: the crank length [m] (the xacro's plate is :data:`SOLE_WIDTH` L wide).
+
+    """
+    half = 0.5 * SOLE_WIDTH * L
+    if len(footprint.bands) == 1 and np.allclose(footprint.bands[0], (half, half), rtol=0.0, atol=1e-12):
+        return text
+    root = ET.fromstring(text)
+    for link in root.iter("link"):
+        side = link.get("name", "").removesuffix("_foot")
+        if side not in SIDES or link.get("name") != f"{side}_foot":
+            continue
+        sign = lateral_sign(side)
+        for tag in ("visual", "collision"):
+            elements = link.findall(tag)
+            template = elements[0]
+            for element in elements:
+                link.remove(element)
+            for inner, outer in footprint.bands:
+                link.append(_band_element(template, sign * 0.5 * (inner - outer), inner + outer))
+    ET.indent(root, space="  ")
+    return '<?xml version="1.0" ?>\n' + ET.tostring(root, encoding="unicode") + "\n"
+
+
+def _band_element(template: ET.Element, y: float, width: float) -> ET.Element:
+    """A copy of a foot's ``visual``/``collision`` element moved to ``y`` [m] and ``width`` [m] wide."""
+    element = copy.deepcopy(template)
+    origin, box = element.find("origin"), element.find("geometry/box")
+    if origin is None or box is None:
+        raise ParameterError("the URDF's foot geometry is not an origin and a box; cannot shape its sole")
+    x, _, z = origin.get("xyz", "0 0 0").split()
+    origin.set("xyz", f"{x} {y + 0.0!r} {z}")  # + 0.0: no "-0.0"
+    length, _, thickness = box.get("size", "0 0 0").split()
+    box.set("size", f"{length} {max(width, 1e-4)!r} {thickness}")
+    return element

@@ -351,7 +351,8 @@ def _umask() -> int:
 def design_robot(design: Design, legs: int = 2, visuals: bool = True):
     """The robot of ``design`` (:func:`pasibot_pin.model.robot.load` with its geometry, masses and inertia).
 
-    ``visuals=False`` skips the URDF text and the geometry models (design sweeps).
+    ``visuals=False`` skips the URDF text and the geometry models (design sweeps). With visuals, the
+    soles are drawn with the design's lateral shape (:meth:`Design.footprint`).
     """
     return load(
         design.variant,
@@ -360,6 +361,7 @@ def design_robot(design: Design, legs: int = 2, visuals: bool = True):
         masses=design.masses(),
         inertia=design.inertia,
         visuals=visuals,
+        footprint=design.footprint() if visuals else None,
     )
 
 

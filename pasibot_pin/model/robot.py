@@ -19,6 +19,7 @@ from pasibot_pin.model.description import (  # noqa: F401 (planar_root_joint, RO
     loop_table,
     planar_root_joint,
     render_urdf,
+    shape_soles,
     sides,
 )
 from pasibot_pin.model.params import (
@@ -28,6 +29,7 @@ from pasibot_pin.model.params import (
     check_legs,
 )
 from pasibot_pin.model.paths import urdf_path
+from pasibot_pin.model.spatial import Footprint
 from pasibot_pin.model.variants import Variant, get_variant
 
 INERTIA_MODES = ("point", "uniform")
@@ -251,6 +253,7 @@ def load(
     mass_rule: str = "seed",
     inertia: str = "point",
     visuals: bool = True,
+    footprint: Footprint | None = None,
     **geometry_changes: float,
 ) -> PasibotRobot:
     """Build the closed-loop PASIBOT model.
@@ -269,6 +272,8 @@ def load(
             sweeps) builds the tree from :func:`pasibot_pin.model.placements.tree` (the same
             xacro's translations, mapped: about 50x faster) and leaves ``urdf`` empty and the
             geometry models ``None``.
+        footprint: the soles' lateral shape [m] for the visual and collision models
+            (:func:`~pasibot_pin.model.description.shape_soles`); ``None``: the xacro's centred plate.
         **geometry_changes: shortcuts for geometry fields and link ratios
             (``L=0.1``, ``K=2.2``, ``r4=9.5``).
 
@@ -289,6 +294,8 @@ def load(
     if inertia not in INERTIA_MODES:
         raise ValueError(f"unknown inertia mode {inertia!r}; valid: {', '.join(INERTIA_MODES)}")
     model, text = _build_tree(spec.name, legs, geometry, masses, inertia, visuals)
+    if footprint is not None and visuals:
+        text = shape_soles(text, footprint, geometry.L)
     robot = PasibotRobot(
         variant=spec.name,
         legs=legs,
