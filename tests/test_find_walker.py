@@ -75,3 +75,38 @@ def test_an_unwritable_out_is_refused_before_any_work(tmp_path, capsys):
     assert main(["find-walker", "--omega", "2", "--out", str(tmp_path), "--no-progress"]) == 2
     assert "--out" in capsys.readouterr().err
     assert main(["find-walker", "--omega", "2", "--out", "/proc/x/w.toml", "--no-progress"]) == 2
+
+
+@pytest.mark.slow
+def test_a_3d_search_writes_an_upright_walker_that_walk_3d_confirms(tmp_path, capsys):
+    """``--3d``: the candidates walk on the 3-D floor from the comb-soled base; the written design keeps the comb."""
+    from pasibot_pin.studies.walking import walk_design_3d
+    from pasibot_pin.studies.walking_map3d import recommended_walker
+
+    out = tmp_path / "w3.toml"
+    argv = ["find-walker", "--3d", "--omega", "2", "--budget", "2", "--steps", "3", "--out", str(out),
+            "--no-progress", "--workers", "1"]  # fmt: skip
+    assert main(argv) == 0
+    text = capsys.readouterr().out
+    assert " of 2 candidates walk 3 steps in 3-D at 2 rad/s" in text and "--3d" in text
+    design = load_design(out)
+    comb = recommended_walker()
+    assert (design.sole_inner, design.sole_gap_from, design.sole_gap_to) == (
+        comb.sole_inner,
+        comb.sole_gap_from,
+        comb.sole_gap_to,
+    )
+    walk = walk_design_3d(design, WalkSettings(steps=3))
+    assert walk.verdict.walks and walk.result.max_hip_roll_deg < 10.0  # upright, confirmed by its own walk
+
+
+def test_a_3d_candidate_whose_legs_meet_is_collided_not_a_crash():
+    """A sole reaching into the other leg: ``collided`` before any walk, scored as failed."""
+    from pasibot_pin.explore.find_walker import walk_candidate
+    from pasibot_pin.model.design import Design
+
+    base = Design(variant="parallel").to_dict()
+    outcome, steps, score, detail = walk_candidate(base, 2.0, {"sole_inner": 3.9}, 3, "sole", spatial=True)
+    assert (outcome, steps, score) == ("collided", 0, FAILED) and "sole_inner" in detail
+    outcome, _, score, detail = walk_candidate(base, 2.0, {"sole_gap_from": 0.3, "sole_gap_to": 0.2}, 3, "sole", True)
+    assert (outcome, score) == ("refused", FAILED) and "sole_gap_from" in detail

@@ -7,6 +7,10 @@ how many candidates walked and writes the best walker (by ``--objective``: the s
 least energy per metre or the smallest hip pitch) to ``--out`` as a design file that
 ``pasibot walk --design FILE`` confirms. If none walks within ``--budget`` candidates, it says so,
 writes nothing and exits 1. Needs the ``sweep`` extra (optuna).
+
+``--3d`` walks each candidate on the 3-D floor (the hip free to roll and yaw; feet or legs that would
+meet are ``collided``); without ``--design`` its base is the upright walker to build (interleaved comb
+soles, ``designs/3d/``), so the sole's length is searched with feet that can stay upright.
 """
 
 from __future__ import annotations
@@ -33,6 +37,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--seed", type=int, default=0, help="the sampler's seed (default 0)")
     p.add_argument("--out", type=Path, required=True, metavar="FILE.toml", help="the design file to write")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
+    spatial = "walk each candidate in 3-D (the hip free to roll; default base: the comb-soled walker of designs/3d/)"
+    p.add_argument("--3d", dest="spatial", action="store_true", help=spatial)
     add_design_option(p)
     add_force_option(p, "overwrite --out")
     p.set_defaults(func=run)
@@ -54,6 +60,7 @@ def run(args: argparse.Namespace) -> int:
         check_walk_budget,
         walk_cost,
     )
+    from pasibot_pin.studies.walking_map3d import recommended_walker  # deferred: keeps the CLI's start fast
 
     if args.omega is None:
         raise ParameterError("--omega is needed: the crank speed the walker must walk at [rad/s]")
@@ -61,16 +68,18 @@ def run(args: argparse.Namespace) -> int:
     if args.out.suffix not in (".toml", ".json"):
         raise ParameterError(f"--out must name a .toml or .json design file, got {str(args.out)!r}")
     out = check_output_file(args.out, "--out", args.force)
-    base = design_of(args) or Design(variant="parallel")
+    base = design_of(args) or (recommended_walker() if args.spatial else Design(variant="parallel"))
     ranges = tuple(parse_range(t) for t in args.vary) if args.vary else DEFAULT_RANGES
-    search = WalkerSearch(args.omega, args.objective, args.budget, args.steps, ranges, base, args.seed)
+    search = WalkerSearch(args.omega, args.objective, args.budget, args.steps, ranges, base, args.seed, args.spatial)
     what = f"--budget {args.budget} walks of --steps {args.steps} at --omega {args.omega:g} rad/s"
-    check_walk_budget(walk_cost(args.omega, args.steps, walks=args.budget), what, SEARCH_BUDGET)
+    cost = walk_cost(args.omega, args.steps, walks=args.budget, spatial=args.spatial)
+    check_walk_budget(cost, what + (" in 3-D" if args.spatial else ""), SEARCH_BUDGET)
     workers = args.workers if args.workers is not None else WORKERS
     result = find_walker(search, workers=workers, progress=not args.no_progress)
     walkers = result.walkers
-    print(f"{len(walkers)} of {len(result.candidates)} candidates walk {args.steps} steps at {args.omega:g} rad/s "
-          f"({result.wall_s:.0f} s)", flush=True)  # fmt: skip
+    where = " in 3-D" if args.spatial else ""
+    print(f"{len(walkers)} of {len(result.candidates)} candidates walk {args.steps} steps{where} at "
+          f"{args.omega:g} rad/s ({result.wall_s:.0f} s)", flush=True)  # fmt: skip
     best = result.best()
     if best is None:
         print(f"no walker found in {len(result.candidates)} candidates: nothing written (try --budget, --vary)")
@@ -79,5 +88,5 @@ def run(args: argparse.Namespace) -> int:
     print(f"best by {args.objective}: {values} (score {walkers[0].score:.4g})", flush=True)
     assert out is not None
     best.save(out, force=args.force)
-    print(f"wrote {out}; check it with: pasibot walk --design {out}")
+    print(f"wrote {out}; check it with: pasibot walk --design {out}" + (" --3d" if args.spatial else ""))
     return 0

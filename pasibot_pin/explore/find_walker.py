@@ -24,13 +24,13 @@ import time
 from dataclasses import dataclass, field
 from typing import Any
 
-from pasibot_pin.errors import ParameterError
+from pasibot_pin.errors import InterferenceError, ParameterError
 from pasibot_pin.explore.plan import Range, Varied
 from pasibot_pin.jobs import Job, run_jobs
 from pasibot_pin.model.design import Design
 from pasibot_pin.model.variants import get_variant
 from pasibot_pin.progress import progress_bar
-from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking import WalkSettings, walk_design, walk_design_3d
 
 OBJECTIVES: dict[str, str] = {
     "sole": "the shortest sole, toe plus heel [L]",
@@ -61,6 +61,8 @@ class WalkerSearch:
         ranges: the varied parameters and their bounds.
         base: the design every other parameter is taken from.
         seed: the sampler's seed.
+        spatial: walk each candidate on the 3-D floor (:func:`~pasibot_pin.studies.walking.walk_design_3d`):
+            the hip free to roll, the soles' footprint, feet and legs that meet ``collided``.
 
     """
 
@@ -71,6 +73,7 @@ class WalkerSearch:
     ranges: tuple[Varied, ...] = DEFAULT_RANGES
     base: Design = field(default_factory=lambda: Design(variant="parallel"))
     seed: int = 0
+    spatial: bool = False
 
     def __post_init__(self) -> None:
         self.base.with_(omega=self.omega)  # the design record's range for omega, naming it
@@ -123,10 +126,23 @@ class WalkerSearchResult:
         return self.search.design(walkers[0].values) if walkers else None
 
 
-def walk_candidate(base: dict, omega: float, values: dict[str, float], steps: int, objective: str) -> tuple:
-    """Walk one candidate (in a worker): (outcome, steps, score, detail)."""
-    design = Design.from_dict(base).with_(omega=omega, **values)
-    v = walk_design(design, WalkSettings(steps=steps)).verdict
+def walk_candidate(
+    base: dict, omega: float, values: dict[str, float], steps: int, objective: str, spatial: bool = False
+) -> tuple:
+    """Walk one candidate (in a worker): (outcome, steps, score, detail).
+
+    In 3-D, a candidate whose feet or legs would meet (:class:`~pasibot_pin.errors.InterferenceError`,
+    refused before its walk) is ``collided``, and one whose sole fields contradict each other (a gap
+    outside its sole) is ``refused``: both score :data:`FAILED`.
+    """
+    try:
+        design = Design.from_dict(base).with_(omega=omega, **values)
+        settings = WalkSettings(steps=steps)
+        v = walk_design_3d(design, settings).verdict if spatial else walk_design(design, settings).verdict
+    except InterferenceError as exc:
+        return "collided", 0, FAILED, str(exc)
+    except ParameterError as exc:  # a drawn combination the record refuses (the range of each is checked before)
+        return "refused", 0, FAILED, str(exc)
     if not v.walks:
         return v.outcome, v.steps, FAILED - v.steps, v.detail
     toe, heel = get_variant(design.variant).foot_fields  # the variant's own sole fields
@@ -162,7 +178,7 @@ def find_walker(search: WalkerSearch, workers: int = 2, progress: bool = True) -
         trial = study.ask(distributions)
         trials[trial.number] = trial
         values = {name: float(v) for name, v in trial.params.items()}
-        args = (base, search.omega, values, search.steps, search.objective)
+        args = (base, search.omega, values, search.steps, search.objective, search.spatial)
         return Job(1.0, (trial.number, tuple(values.items())), walk_candidate, args)
 
     def on_done(key, result):
