@@ -104,3 +104,16 @@ def test_the_viewer_s_visual_model_has_a_box_per_prong():
     names = [o.name for o in robot.visual_model.geometryObjects]
     feet = [name for name in names if name.rsplit("_", 1)[0] in ("right_foot", "left_foot")]
     assert len(feet) == 4, feet
+
+
+def test_the_xacro_s_sole_width_is_the_centred_plate():
+    """The xacro's ``foot_width`` (read in its source) is the design's default sole, both reaches."""
+    import re
+
+    from pasibot_pin.model.description import SOLE_WIDTH
+    from pasibot_pin.model.paths import XACRO_PATH
+
+    text = XACRO_PATH.read_text()
+    match = re.search(r'name="foot_width" value="\$\{([0-9.]+) \* L\}"', text)
+    assert match is not None
+    assert float(match.group(1)) == SOLE_WIDTH == Design().sole_inner + Design().sole_outer

@@ -42,6 +42,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="floor: weld against floor (--scenario N or all), spring cases and quasi-static K_e x beta0 sweep",
     )
     p.add_argument("--no-cases", action="store_true", help="the fitted spring only (--study: and no sweep)")
+    spatial = "floor: the cases on the 3-D floor, the hip free to roll (the design's soles; else centred plates)"
+    p.add_argument("--3d", dest="spatial", action="store_true", help=spatial)
     p.add_argument("--gif", action="store_true", help="also write the fitted run as a stick GIF")
     p.add_argument("--html", action="store_true", help="also write the fitted run as a meshcat HTML animation")
     common.add_fps_option(p)
@@ -88,7 +90,12 @@ def run(args: argparse.Namespace) -> int:
     )
     from pasibot_pin.studies.spring_study import scenario_key  # deferred: keeps the CLI's start fast
 
-    floor_only = {"--study": args.study, "--duration": args.duration, "--mu": common.given(args, "mu")}
+    floor_only = {
+        "--study": args.study,
+        "--duration": args.duration,
+        "--mu": common.given(args, "mu"),
+        "--3d": args.spatial,
+    }
     for flag in (f for f, value in {**floor_only, "--design": args.design}.items() if value not in (None, False)):
         raise ValueError(f"{flag} applies to --ground floor only (the welded study: seed scenarios, the foot welded)")
     if args.steps < 1:

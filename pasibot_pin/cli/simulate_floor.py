@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 from pasibot_pin.cli.common import check_output_folder, design_of, given
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
 from pasibot_pin.studies.floor_static import floor_static_study
 from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
@@ -34,21 +35,24 @@ def run_floor(args: argparse.Namespace) -> int:
     dt = 1e-3 if args.dt is None else args.dt
     if args.study and args.design is not None:
         raise ValueError("--study runs the seed scenarios; it takes no --design")
+    if args.study and args.spatial:
+        raise ParameterError("--3d runs the spring cases (or --design) on the 3-D floor; --study is the planar floor's")
     if args.study:
         return _run_study(args, dt)
     duration = 10.0 if args.duration is None else args.duration
     design = design_of(args)
     scenario = "design" if design is not None else scenario_key(args.scenario)
     settings = FloorStudySettings(
-        "run1" if design else scenario, duration, args.mu, dt, cases=not args.no_cases, design=design
-    )
+        "run1" if design else scenario, duration, args.mu, dt, cases=not args.no_cases, design=design,
+        spatial=args.spatial,
+    )  # fmt: skip
     check_output_folder(args.out, "--out")
     from pasibot_pin.report.floor import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
         floor_files,
         write_floor,
     )
 
-    csv_path, png_path = floor_files(args.out, scenario, args.force)
+    csv_path, png_path = floor_files(args.out, scenario, args.force, spatial=args.spatial)
     study = floor_study(settings, on_case=lambda case: print(case_summary(case), flush=True))
     for path in write_floor(study, csv_path, png_path):
         print(f"wrote {path}")

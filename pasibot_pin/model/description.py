@@ -21,7 +21,7 @@ from pasibot_pin.files import write_text_atomic
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.params import Geometry, MassModel, check_legs, check_variant, percentage_mass_model
 from pasibot_pin.model.paths import URDF_DIR, XACRO_PATH, urdf_path
-from pasibot_pin.model.spatial import Footprint, lateral_sign
+from pasibot_pin.model.spatial import CENTRED_SOLE, Footprint, lateral_sign
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
 
 CUT_JOINTS: dict[str, tuple[int, ...]] = {name: v.cut_joints for name, v in VARIANT_RECORDS.items()}
@@ -232,8 +232,8 @@ def render_default_urdfs(out_dir: Path | None = None, force: bool = True) -> lis
     return written
 
 
-SOLE_WIDTH = 1.2
-"""The xacro's sole width over L (``foot_width``): a plate reaching 0.6 L each side of its leg's plane [-]."""
+SOLE_WIDTH = 2.0 * CENTRED_SOLE
+"""The xacro's sole width over L (``foot_width``; a test reads it there): the centred plate [-]."""
 
 
 def shape_soles(text: str, footprint: Footprint, L: float) -> str:
@@ -251,8 +251,8 @@ def shape_soles(text: str, footprint: Footprint, L: float) -> str:
         L: the crank length [m] (the xacro's plate is :data:`SOLE_WIDTH` L wide).
 
     """
-    half = 0.5 * SOLE_WIDTH * L
-    if len(footprint.bands) == 1 and np.allclose(footprint.bands[0], (half, half), rtol=0.0, atol=1e-12):
+    plate = Footprint.centred(L).bands
+    if len(footprint.bands) == 1 and np.allclose(footprint.bands, plate, rtol=0.0, atol=1e-12):
         return text
     root = ET.fromstring(text)
     for link in root.iter("link"):

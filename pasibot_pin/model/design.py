@@ -40,7 +40,7 @@ from pasibot_pin.model.params import (
 )
 from pasibot_pin.model.robot import load
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
-from pasibot_pin.model.spatial import Footprint
+from pasibot_pin.model.spatial import CENTRED_SOLE, Footprint
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 if sys.version_info >= (3, 11):
@@ -85,8 +85,10 @@ SPECS: Mapping[str, ParameterSpec] = {
         ParameterSpec("foot_heel", "L", Geometry.foot_heel, 0.1, 10.0, "ankle to heel along the sole (rigid, spring)"),
         ParameterSpec("parallel_toe", "L", Geometry.parallel_toe, 0.1, 10.0, "toe ahead of joint 13 (parallel)"),
         ParameterSpec("parallel_heel", "L", Geometry.parallel_heel, 0.1, 10.0, "heel behind joint 13 (parallel)"),
-        ParameterSpec("sole_inner", "L", 0.6, 0.0, 10.0, "sole's reach from its leg plane toward the midline (3-D)"),
-        ParameterSpec("sole_outer", "L", 0.6, 0.0, 10.0, "sole's reach from its leg plane away from the midline (3-D)"),
+        ParameterSpec(
+            "sole_inner", "L", CENTRED_SOLE, 0.0, 10.0, "sole's reach from its leg plane to the midline (3-D)"
+        ),
+        ParameterSpec("sole_outer", "L", CENTRED_SOLE, 0.0, 10.0, "sole's reach from its leg plane outward (3-D)"),
         ParameterSpec("sole_gap_from", "L", 0.0, 0.0, 10.0, "sole cut away toward the midline from here (a comb) ..."),
         ParameterSpec("sole_gap_to", "L", 0.0, 0.0, 10.0, "... to here (0, 0: no gap)"),
         ParameterSpec("hip_half_width", "L", Geometry.hip_half_width / Geometry.L, 0.5, 20.0, "leg plane to midline"),
@@ -187,8 +189,8 @@ class Design:
     foot_heel: float = Geometry.foot_heel
     parallel_toe: float = Geometry.parallel_toe
     parallel_heel: float = Geometry.parallel_heel
-    sole_inner: float = 0.6
-    sole_outer: float = 0.6
+    sole_inner: float = CENTRED_SOLE
+    sole_outer: float = CENTRED_SOLE
     sole_gap_from: float = 0.0
     sole_gap_to: float = 0.0
     hip_half_width: float = Geometry.hip_half_width / Geometry.L

@@ -31,6 +31,8 @@ NQ_ROOT, NV_ROOT = 7, 6
 """Sizes of the free-flyer root in q (x, y, z, quaternion x, y, z, w) and in v."""
 PLANAR_NQ_ROOT = 3
 """Size of the planar root (x, z, pitch) in q and v."""
+CENTRED_SOLE = 0.6
+"""The default sole's reach each side of its leg's plane over L: the xacro's 1.2 L wide plate [-]."""
 
 
 @dataclass(frozen=True)
@@ -61,6 +63,11 @@ class Footprint:
     def plate(cls, inner: float, outer: float) -> Footprint:
         """One rectangular sole reaching ``inner`` toward the midline and ``outer`` away from it [m]."""
         return cls(((float(inner), float(outer)),))
+
+    @classmethod
+    def centred(cls, L: float) -> Footprint:
+        """The default sole: a plate reaching :data:`CENTRED_SOLE` L each side of its leg's plane (``L`` [m])."""
+        return cls.plate(CENTRED_SOLE * L, CENTRED_SOLE * L)
 
     @property
     def offsets(self) -> tuple[float, ...]:

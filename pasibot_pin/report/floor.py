@@ -15,6 +15,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
+from pasibot_pin.dynamics.floor3d import Floor3DResult
 from pasibot_pin.files import atomic_paths, check_replaceable
 from pasibot_pin.jobs import Job
 from pasibot_pin.model.scenarios import get_scenario
@@ -30,19 +31,24 @@ from pasibot_pin.studies.floor_spring_study import (
     quasi_static_of,
 )
 from pasibot_pin.studies.floor_static import floor_static_study
-from pasibot_pin.studies.floor_study import FloorStudy, floor_columns
+from pasibot_pin.studies.floor_study import FloorStudy, floor3d_columns, floor_columns
 from pasibot_pin.studies.simulation_study import cached_inputs
 from pasibot_pin.studies.spring_study import SPRING_CASES
 from pasibot_pin.units import with_unit
-from pasibot_pin.viz.plots_floor import plot_floor_study, plot_weld_vs_floor
+from pasibot_pin.viz.plots_floor import plot_floor3d_study, plot_floor_study, plot_weld_vs_floor
 
 CSV_NAME = "floor_{scenario}.csv"
 PLOT_NAME = "floor_{scenario}.png"
+SPATIAL_PREFIX = "floor3d"
+"""The 3-D floor's files replace ``floor`` with this in :data:`CSV_NAME` and :data:`PLOT_NAME`."""
 
 
-def floor_files(out: Path, scenario: str, force: bool = False) -> tuple[Path, Path]:
-    """(csv, png) of ``scenario`` in ``out``; FileExistsError if one exists and ``force`` is false."""
-    files = (Path(out) / CSV_NAME.format(scenario=scenario), Path(out) / PLOT_NAME.format(scenario=scenario))
+def floor_files(out: Path, scenario: str, force: bool = False, spatial: bool = False) -> tuple[Path, Path]:
+    """(csv, png) of ``scenario`` in ``out`` (``floor3d_*`` if ``spatial``); FileExistsError if there, not ``force``."""
+    names = (CSV_NAME, PLOT_NAME)
+    if spatial:
+        names = tuple(name.replace("floor", SPATIAL_PREFIX, 1) for name in names)  # type: ignore[assignment]
+    files = (Path(out) / names[0].format(scenario=scenario), Path(out) / names[1].format(scenario=scenario))
     existing = [str(p) for p in files if os.path.lexists(p)]
     if existing and not force:
         raise FileExistsError(f"{', '.join(existing)} exists; pass --force to overwrite")
@@ -52,15 +58,17 @@ def floor_files(out: Path, scenario: str, force: bool = False) -> tuple[Path, Pa
 
 
 def write_floor(study: FloorStudy, csv_path: Path, png_path: Path) -> list[Path]:
-    """Write the fitted case's CSV and the study's figure; returns the paths."""
-    cols = floor_columns(study.cases[0].result)
+    """Write the fitted case's CSV and the study's figure (3-D: the hip's roll too); returns the paths."""
+    spatial = study.settings is not None and study.settings.spatial
+    result = study.cases[0].result
+    cols = floor3d_columns(result) if isinstance(result, Floor3DResult) else floor_columns(result)
     with atomic_paths(csv_path, png_path) as (csv_tmp, png_tmp):
         with csv_tmp.open("w", newline="") as handle:
             writer = csv.writer(handle)
             writer.writerow([with_unit(name) for name in cols])  # t_s, right_heel_Fn_N, ...
             for row in zip(*cols.values()):
                 writer.writerow([x if isinstance(x, str) else repr(float(x)) for x in row])
-        fig = plot_floor_study(study)
+        fig = plot_floor3d_study(study) if spatial else plot_floor_study(study)
         try:
             save_figure_file(fig, png_tmp, 100)
         finally:

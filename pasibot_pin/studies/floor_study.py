@@ -20,9 +20,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor3d import Floor3D, Floor3DResult
 from pasibot_pin.dynamics.simulator import AnkleSpring
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.scenarios import get_scenario
+from pasibot_pin.model.spatial import Footprint
 from pasibot_pin.model.variants import get_variant
 from pasibot_pin.studies.spring_study import SPRING_CASES, design_inputs, scenario_inputs
 
@@ -46,6 +48,8 @@ class FloorStudySettings:
         design: a :class:`~pasibot_pin.model.design.Design` walked instead of the scenario's robot
             (its geometry, masses, body, crank speed and spring:
             :func:`~pasibot_pin.studies.spring_study.design_inputs`).
+        spatial: run each case on the 3-D floor (:class:`~pasibot_pin.dynamics.floor3d.Floor3D`:
+            the hip free to roll and yaw; the design's soles, else the centred plate), stopping at its verdict.
 
     """
 
@@ -55,6 +59,7 @@ class FloorStudySettings:
     dt: float = 1e-3
     cases: bool = True
     design: Design | None = None
+    spatial: bool = False
 
     def __post_init__(self) -> None:
         if self.design is not None:
@@ -71,11 +76,11 @@ class FloorStudySettings:
 
 @dataclass
 class FloorCase:
-    """One spring case on the floor: its label, spring and run."""
+    """One spring case on the floor: its label, spring and run (planar, or 3-D with ``settings.spatial``)."""
 
     label: str
     spring: AnkleSpring | None
-    result: FloorResult
+    result: FloorResult | Floor3DResult
 
 
 @dataclass
@@ -118,7 +123,7 @@ def floor_study(settings: FloorStudySettings, on_case: Callable[[FloorCase], Non
     for label, factor in cases:
         spring = inputs.fit.scaled(factor)  # one definition, weld and floor: K_e scaled, damper kept
         floor = FloorSettings(omega=inputs.omega, spring=spring, mu=settings.mu, dt=settings.dt, motors=motors)
-        case = FloorCase(label, spring, FloorSimulator(inputs.robot, floor).run(settings.duration))
+        case = FloorCase(label, spring, _run_case(inputs.robot, floor, settings))
         study.cases.append(case)
         if on_case is not None:
             on_case(case)
@@ -132,11 +137,40 @@ def _springless_design(
     robot = design_robot(design, 2, visuals=False)
     floor = FloorSettings(omega=design.omega, mu=settings.mu, dt=settings.dt, motors=design.motors)
     study = FloorStudy("design", design.omega, None, settings=settings)
-    case = FloorCase("design", None, FloorSimulator(robot, floor).run(settings.duration))
+    case = FloorCase("design", None, _run_case(robot, floor, settings))
     study.cases.append(case)
     if on_case is not None:
         on_case(case)
     return study
+
+
+def _run_case(robot, floor: FloorSettings, settings: FloorStudySettings) -> FloorResult | Floor3DResult:
+    """One case's run: the planar floor, or the 3-D floor with the design's soles (else the centred plate)."""
+    if not settings.spatial:
+        return FloorSimulator(robot, floor).run(settings.duration)
+    design = settings.design
+    footprint = design.footprint() if design is not None else Footprint.centred(robot.geometry.L)
+    return Floor3D(FloorSimulator(robot, floor), footprint).run(settings.duration)
+
+
+def floor3d_columns(result: Floor3DResult) -> dict[str, np.ndarray]:
+    """The CSV columns of a 3-D floor run.
+
+    t [s], the hip's x, y, z [m], roll, pitch and yaw [deg], and each foot's normal force [N] (its
+    sole corners summed).
+    """
+    half = result.normal.shape[1] // 2  # the right foot's corners first
+    return {
+        "t": result.t,
+        "hip_x_m": result.hip[:, 0],
+        "hip_y_m": result.hip[:, 1],
+        "hip_z_m": result.hip[:, 2],
+        "hip_roll_deg": np.degrees(result.roll),
+        "hip_pitch_deg": np.degrees(result.pitch),
+        "hip_yaw_deg": np.degrees(result.yaw),
+        f"{SIDES[0]}_Fn": result.normal[:, :half].sum(axis=1),
+        f"{SIDES[1]}_Fn": result.normal[:, half:].sum(axis=1),
+    }
 
 
 def floor_columns(result: FloorResult) -> dict[str, np.ndarray]:
@@ -167,6 +201,8 @@ def floor_columns(result: FloorResult) -> dict[str, np.ndarray]:
 def case_summary(case: FloorCase) -> str:
     """One line: the case and its walking verdict (outcome, steps, advance, largest hip pitch)."""
     res = case.result
+    if isinstance(res, Floor3DResult):
+        return f"  3-D floor, {case.label:10s}: {res.summary()}"
     if res.verdict is not None:
         return f"  floor, {case.label:10s}: {res.verdict.summary()}"
     pitch = math.degrees(float(np.max(np.abs(res.hip_pitch)))) if len(res.t) else 0.0

@@ -12,6 +12,7 @@ import matplotlib.pyplot as plt
 import numpy as np
 
 from pasibot_pin.dynamics.floor import MODES, SIDES
+from pasibot_pin.dynamics.verdict import TIP_LIMIT
 from pasibot_pin.viz.plots import figure_axes
 
 MODE_COLORS = {"flat": "#2a9d8f", "heel": "#e9c46a", "toe": "#f4a261", "sliding": "#e76f51", "air": "#ffffff"}
@@ -32,6 +33,38 @@ def plot_floor_pitch(study, ax=None):
     ax.set_title(f"{study.scenario} on the floor (x: the run failed)")
     ax.legend(fontsize=8)
     ax.grid(alpha=0.3)
+    return fig
+
+
+def plot_floor3d_study(study, axes=None):
+    """Hip roll and hip pitch [deg] against time [s] of every case of a 3-D floor study; returns the figure.
+
+    The roll panel marks the tip limit (|roll| past it: ``tipped``); an x marks where a run stopped
+    at a failure (it tipped, fell, slipped, ...).
+    """
+    if axes is None:
+        from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
+
+        fig, axes = subplots(2, 1, figsize=(7, 5.5), sharex=True)
+    else:
+        fig = axes[0].figure
+    for case in study.cases:
+        res = case.result
+        for ax, angle in zip(axes, (res.roll, res.pitch), strict=True):
+            line = ax.plot(res.t, np.degrees(angle), lw=1.2, label=case.label)[0]
+            if res.verdict.outcome not in ("walks", "undecided") and len(res.t):
+                ax.plot(res.t[-1], np.degrees(angle[-1]), "x", color=line.get_color(), ms=8)
+    limit = math.degrees(TIP_LIMIT)
+    for sign in (1.0, -1.0):
+        axes[0].axhline(sign * limit, color="k", ls="--", lw=0.8, label="tip limit" if sign > 0 else None)
+    axes[0].set_ylabel("hip roll [deg]")
+    axes[0].set_title(f"{study.scenario} on the 3-D floor (x: the run failed)")
+    axes[0].legend(fontsize=8)
+    axes[1].set_ylabel("hip pitch [deg]")
+    axes[1].set_xlabel("time [s]")
+    for ax in axes:
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.grid(alpha=0.3)
     return fig
 
 
