@@ -57,6 +57,7 @@ from pasibot_pin.model.spatial import (
     NV_ROOT,
     PLANAR_NQ_ROOT,
     Footprint,
+    LateralMass,
     corner_frames,
     free_flyer_model,
     leg_clearance,
@@ -76,6 +77,8 @@ TOUCH = 1e-9
 """Soles that touch (plates meeting edge to edge at the midline) are clear; deeper than this they intersect [m]."""
 HELD = (1, 3, 5)
 """The world-aligned velocity entries the planar walk holds: y, roll and yaw."""
+LATERAL_TOLERANCE = 1e-10
+"""The lateral mass's row is closed to this [m]."""
 
 
 @dataclass
@@ -99,6 +102,8 @@ class Floor3DResult:
         leg_clearance_m: the least lateral gap between a leg and the other leg's links
             (:func:`~pasibot_pin.model.spatial.leg_clearance`, the same all walk long) [m].
         u_end: the velocity at the last sample, in world-aligned root coordinates.
+        lateral_y: the lateral mass's place on its slider [m] (n,), ``None`` without one; ``q`` and
+            ``u_end`` are the robot's own coordinates, without it.
 
     """
 
@@ -118,6 +123,7 @@ class Floor3DResult:
     min_sole_clearance_m: float
     leg_clearance_m: float = math.nan
     u_end: np.ndarray | None = None
+    lateral_y: np.ndarray | None = None
 
     def summary(self) -> str:
         """One line: the verdict, then the sideways figures."""
@@ -138,6 +144,9 @@ class Floor3D:
         footprint: the soles' lateral shape.
         ground: the ground (default: the flat floor with the settings' mu).
         hold_lateral: hold the hip's y, roll and yaw (the planar walk, in 3-D).
+        lateral: a share of the body moved sideways by the right crank
+            (:class:`~pasibot_pin.model.spatial.LateralMass`): one more bilateral row,
+            ``y - amplitude sin(theta + phase) = 0``, on the model's slider.
 
     """
 
@@ -147,6 +156,7 @@ class Floor3D:
         footprint: Footprint,
         ground: Ground | None = None,
         hold_lateral: bool = False,
+        lateral: LateralMass | None = None,
     ) -> None:
         if planar.settings.hip != "free":
             raise ParameterError("the 3-D floor needs settings.hip = 'free' (a level hip is a planar constraint)")
@@ -155,8 +165,13 @@ class Floor3D:
         self.ground = Ground(0.0, planar.settings.mu) if ground is None else ground
         self.hold = hold_lateral
         robot = planar.robot
-        self.model = free_flyer_model(robot.model)
-        self.corners = corner_frames(self.model, planar_to_spatial(robot.q0), footprint)
+        self.lateral = lateral if lateral is not None and lateral.mass > 0.0 else None
+        self.model = free_flyer_model(robot.model, 0.0 if self.lateral is None else self.lateral.mass)
+        self.nq_robot = robot.model.nq + NQ_ROOT - PLANAR_NQ_ROOT  # the slider's coordinate comes after
+        self.nv_robot = robot.model.nv + NV_ROOT - PLANAR_NQ_ROOT
+        crank = self.model.joints[self.model.getJointId(robot.actuated_joints[0])]
+        self._crank_q, self._crank_v = crank.idx_q, crank.idx_v  # the right crank, which moves the lateral mass
+        self.corners = corner_frames(self.model, self.extend(planar_to_spatial(robot.q0)), footprint)
         self.data = self.model.createData()
         self._kkt_data = self.model.createData()
         self._contact_cache: tuple[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
@@ -169,7 +184,9 @@ class Floor3D:
             self._qp: ContactQP | None = ContactQP(self.model, feet)
         else:
             self._qp = None
-        self._geometry, self._geometry_data = _sole_geometry(self.model, planar_to_spatial(robot.q0), footprint)
+        self._geometry, self._geometry_data = _sole_geometry(
+            self.model, self.extend(planar_to_spatial(robot.q0)), footprint
+        )
         self._shift = NV_ROOT - PLANAR_NQ_ROOT
         self._crank_rows = planar.crank_rows
         self._motor_index = [i + self._shift for i in planar.motor_index]
@@ -177,13 +194,26 @@ class Floor3D:
 
     # ---- coordinates
     def spatial_state(self, q2: np.ndarray, v2: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """A planar state as a 3-D one: (q, u), u in world-aligned root coordinates."""
-        return planar_to_spatial(q2), planar_velocity_to_spatial(v2)
+        """A planar state as a 3-D one: (q, u), u in world-aligned root coordinates (the slider on its crank)."""
+        q, u = planar_to_spatial(q2), planar_velocity_to_spatial(v2)
+        return self.extend(q), self.extend_velocity(q, u)
+
+    def extend(self, q: np.ndarray) -> np.ndarray:
+        """The robot's configuration with the lateral mass where its crank puts it (unchanged without one)."""
+        if self.lateral is None or len(q) > self.nq_robot:
+            return q
+        return np.append(q, self.lateral.position(float(q[self._crank_q]))[0])
+
+    def extend_velocity(self, q: np.ndarray, u: np.ndarray) -> np.ndarray:
+        """The robot's velocity with the lateral mass's rate from its crank's (unchanged without one)."""
+        if self.lateral is None or len(u) > self.nv_robot:
+            return u
+        return np.append(u, self.lateral.position(float(q[self._crank_q]))[1] * u[self._crank_v])
 
     def planar_view(self, q: np.ndarray) -> np.ndarray:
         """The planar configuration of the hip's x, z, pitch and the legs (the loops' rows read only the legs)."""
         roll, pitch, yaw = roll_pitch_yaw(q)
-        return np.concatenate(([q[0], q[2], pitch], q[NQ_ROOT:]))
+        return np.concatenate(([q[0], q[2], pitch], q[NQ_ROOT : self.nq_robot]))
 
     def _rotation(self, q: np.ndarray) -> np.ndarray:
         return pin.Quaternion(q[3:7]).normalized().toRotationMatrix()
@@ -246,8 +276,13 @@ class Floor3D:
         targets = planar.targets(t) if self.settings.crank_ramp > 0 else None
         rows = planar.bilateral.evaluate(self.planar_view(q), None, t, targets)
         jac = np.zeros((rows.jac.shape[0], self.model.nv))
-        jac[:, NV_ROOT:] = rows.jac[:, PLANAR_NQ_ROOT:]
+        jac[:, NV_ROOT : self.nv_robot] = rows.jac[:, PLANAR_NQ_ROOT:]
         phi = rows.phi
+        if self.lateral is not None:  # the slider follows the right crank: y - a sin(theta + phase) = 0
+            y, slope, _ = self.lateral.position(float(q[self._crank_q]))
+            row = np.zeros(self.model.nv)
+            row[-1], row[self._crank_v] = 1.0, -slope
+            phi, jac = np.append(phi, q[-1] - y), np.vstack((jac, row))
         if self.hold:
             rotation = self._rotation(q)
             # y, and the rotation's roll and yaw errors (small: the hip turns about y alone)
@@ -258,6 +293,8 @@ class Floor3D:
 
     def _tolerance(self) -> np.ndarray:
         tol = self.planar.bilateral.tolerance
+        if self.lateral is not None:
+            tol = np.append(tol, LATERAL_TOLERANCE)
         return np.concatenate((tol, np.full(3, 1e-12))) if self.hold else tol
 
     def project(self, q: np.ndarray, t: float, max_iter: int = 20) -> np.ndarray:
@@ -292,7 +329,7 @@ class Floor3D:
         hessian = mass
         spring_tau, stiffness = self.planar.springs(self.planar_view(q), h)
         tau = np.zeros(self.model.nv)
-        tau[NV_ROOT:] = spring_tau[PLANAR_NQ_ROOT:]
+        tau[NV_ROOT : self.nv_robot] = spring_tau[PLANAR_NQ_ROOT:]
         if stiffness:
             hessian = mass.copy()
             for i in self.planar.ankles.values():
@@ -387,7 +424,8 @@ class Floor3D:
                 )
             q, u, _ = self.start()
         else:
-            q, u = np.array(q0, dtype=float), np.array(u0, dtype=float)
+            q = self.extend(np.array(q0, dtype=float))
+            u = self.extend_velocity(q, np.array(u0, dtype=float))
         h = duration / n
         weight = self.planar.weight
         criteria = GaitCriteria() if criteria is None else criteria
@@ -420,8 +458,10 @@ class Floor3D:
                     judge.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
             if stop_on_verdict and judge.final(t):
                 break
-        result = self._result(np.array(times), np.array(qs), np.array(normals), judge.verdict(t), least)
-        return replace(result, u_end=u.copy())
+        qs_all = np.array(qs)
+        result = self._result(np.array(times), qs_all[:, : self.nq_robot], np.array(normals), judge.verdict(t), least)
+        lateral = qs_all[:, self.nq_robot] if self.lateral is not None else None
+        return replace(result, u_end=u[: self.nv_robot].copy(), lateral_y=lateral)
 
     def _result(
         self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, verdict: Verdict, clearance: float

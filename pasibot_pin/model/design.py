@@ -40,7 +40,7 @@ from pasibot_pin.model.params import (
 )
 from pasibot_pin.model.robot import load
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS
-from pasibot_pin.model.spatial import CENTRED_SOLE, Footprint
+from pasibot_pin.model.spatial import CENTRED_SOLE, Footprint, LateralMass
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 if sys.version_info >= (3, 11):
@@ -98,6 +98,11 @@ SPECS: Mapping[str, ParameterSpec] = {
         ParameterSpec("foot_fraction", "-", SEED_MASS_FRACTIONS["foot"], 0.002, 0.5, "each foot's share"),
         ParameterSpec("body_mass", "kg", DEFAULT_BODY_MASS, 0.5, 500.0, "body (hip) mass"),
         ParameterSpec("body_com_dx", "m", 0.0, -1.0, 1.0, "body COM ahead of joint 8"),
+        ParameterSpec("lateral_mass", "kg", math.nan, 0.0, 500.0, "share of the body the crank moves sideways (3-D)"),
+        ParameterSpec("lateral_amplitude", "L", math.nan, 0.0, 20.0, "its sideways reach each side of the midline"),
+        ParameterSpec(
+            "lateral_phase", "rad", math.nan, -2 * math.pi, 2 * math.pi, "its phase ahead of the right crank"
+        ),
         ParameterSpec("spring_stiffness", "N.m/rad", math.nan, 0.0, 5000.0, "ankle spring K_e (unset: fitted)"),
         ParameterSpec("spring_rest_angle", "rad", math.nan, 0.3, 2.8, "spring rest angle beta0 (unset: fitted)"),
         ParameterSpec("spring_damping", "N.m.s/rad", 0.0, 0.0, 200.0, "ankle damping"),
@@ -114,7 +119,16 @@ CHOICES: Mapping[str, tuple[str, ...]] = {
 }
 """Every categorical parameter of a :class:`Design` and its valid values."""
 
-OPTIONAL = ("spring_stiffness", "spring_rest_angle", "thigh_fraction", "shank_fraction", "foot_fraction")
+OPTIONAL = (
+    "spring_stiffness",
+    "spring_rest_angle",
+    "thigh_fraction",
+    "shank_fraction",
+    "foot_fraction",
+    "lateral_mass",
+    "lateral_amplitude",
+    "lateral_phase",
+)
 """Parameters that may be left unset (``None``, absent from a file): the study fits the spring, the
 mass rule gives the shares."""
 
@@ -170,6 +184,10 @@ class Design:
             (``None``: the rule's own).
         body_mass: body (hip) mass [kg].
         body_com_dx: body COM ahead of joint 8 [m].
+        lateral_mass, lateral_amplitude, lateral_phase: a share of the body [kg] that the right
+            crank moves sideways on a slider through the hip, ``amplitude sin(theta + phase)``
+            (amplitude over L [-], phase [rad]; :class:`~pasibot_pin.model.spatial.LateralMass`);
+            the 3-D floor's, the planar model cannot see it (``None``: no moved mass).
         spring_stiffness: ankle spring K_e [N.m/rad] (``None``: fitted by the study).
         spring_rest_angle: its rest angle beta0 [rad] (``None``: fitted).
         spring_damping: ankle damping [N.m.s/rad].
@@ -200,6 +218,9 @@ class Design:
     foot_fraction: float | None = None
     body_mass: float = DEFAULT_BODY_MASS
     body_com_dx: float = 0.0
+    lateral_mass: float | None = None
+    lateral_amplitude: float | None = None
+    lateral_phase: float | None = None
     spring_stiffness: float | None = None
     spring_rest_angle: float | None = None
     spring_damping: float = 0.0
@@ -253,6 +274,25 @@ class Design:
                 f"-sole_outer < sole_gap_from < sole_gap_to < sole_inner = {self.sole_inner:g}"
             )
         return Footprint(((gap[0] * L, self.sole_outer * L), (self.sole_inner * L, -gap[1] * L)))
+
+    def lateral(self) -> LateralMass | None:
+        """The share of the body the crank moves sideways [kg, m, rad], or ``None`` (no mass, or no reach).
+
+        Raises:
+            ParameterError: a lateral mass with no amplitude given, or one not less than ``body_mass``.
+
+        """
+        if self.lateral_mass is None or self.lateral_mass == 0.0:
+            return None
+        if self.lateral_amplitude is None:
+            raise ParameterError("parameter 'lateral_amplitude' is needed with 'lateral_mass' (its reach [L])")
+        if self.lateral_mass >= self.body_mass:
+            raise ParameterError(
+                f"parameter 'lateral_mass' = {self.lateral_mass:g} kg must be less than "
+                f"'body_mass' = {self.body_mass:g} kg"
+            )
+        phase = 0.0 if self.lateral_phase is None else self.lateral_phase
+        return LateralMass(self.lateral_mass, self.lateral_amplitude * self.L, phase)
 
     def fractions(self) -> dict[str, float]:
         """The mass shares of the rule, with the design's overrides [-] (``hip`` is the body: see ``body_mass``)."""

@@ -85,15 +85,59 @@ def lateral_sign(side: str) -> float:
     return 1.0 if side == SIDES[0] else -1.0
 
 
-def free_flyer_model(planar: pin.Model) -> pin.Model:
+LATERAL_JOINT = "lateral_mass"
+"""The joint (a slider along the hip's y axis) of the mass the crank moves sideways."""
+
+
+@dataclass(frozen=True)
+class LateralMass:
+    """A share of the body moved sideways by the crank, as single-motor walkers rock.
+
+    The mass slides along the hip's y axis through the hip's origin, at
+    ``y = amplitude sin(theta + phase)``, theta the right crank's angle (so at the crank speed:
+    one sideways cycle per stride). It is part of the body on the hip, not added to it: the planar
+    model (which cannot see y) is unchanged, and with no amplitude the 3-D model is too.
+
+    Attributes:
+        mass: the moved mass [kg] (at most the body's).
+        amplitude: its sideways reach each side of the midline [m].
+        phase: its phase ahead of the right crank [rad].
+
+    """
+
+    mass: float
+    amplitude: float
+    phase: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, value in (("lateral_mass", self.mass), ("lateral_amplitude", self.amplitude)):
+            if not (math.isfinite(value) and value >= 0.0):
+                raise ParameterError(f"parameter {name!r} must be finite and >= 0, got {value!r}")
+        if not math.isfinite(self.phase):
+            raise ParameterError(f"parameter 'lateral_phase' must be finite, got {self.phase!r}")
+
+    def position(self, crank: float) -> tuple[float, float, float]:
+        """(y [m], dy/dtheta [m/rad], d2y/dtheta2 [m/rad^2]) at the right crank's angle ``crank`` [rad]."""
+        angle = crank + self.phase
+        a = self.amplitude
+        return a * math.sin(angle), a * math.cos(angle), -a * math.sin(angle)
+
+
+def free_flyer_model(planar: pin.Model, lateral_mass: float = 0.0) -> pin.Model:
     """The planar biped's tree under a free-flyer root (same bodies, joints, frames and inertias).
 
     Args:
         planar: the two-legged model with the planar root (:func:`~pasibot_pin.model.description.planar_root_joint`).
+        lateral_mass: a share of the hip's mass [kg] moved to a slider along the hip's y axis
+            (:data:`LATERAL_JOINT`, the model's last joint, so the legs' coordinates keep their place);
+            the hip keeps the rest. 0: no slider.
 
     Returns:
         A new model: joint 1 the free flyer carrying the hip's inertia, then every leg joint in
-        the same order, so q[7:] and v[6:] are the planar q[3:] and v[3:].
+        the same order, so q[7:] and v[6:] are the planar q[3:] and v[3:] (then the slider's one).
+
+    Raises:
+        ParameterError: a lateral mass above the hip's.
 
     """
     if planar.joints[1].nq != PLANAR_NQ_ROOT:
@@ -122,7 +166,20 @@ def free_flyer_model(planar: pin.Model) -> pin.Model:
         model.addFrame(
             pin.Frame(frame.name, ids[frame.parentJoint], frame.parentFrame, frame.placement, frame.type), False
         )
+    if lateral_mass > 0.0:
+        _add_slider(model, lateral_mass)
     return model
+
+
+def _add_slider(model: pin.Model, mass: float) -> None:
+    """Move ``mass`` [kg] of the hip (a point at its origin) onto a slider along its y axis (in place)."""
+    hip = model.inertias[1]
+    if mass >= hip.mass:
+        raise ParameterError(f"parameter 'lateral_mass' = {mass:g} kg must be less than the hip's {hip.mass:g} kg")
+    point = pin.Inertia(mass, np.zeros(3), np.zeros((3, 3)))
+    model.inertias[1] = pin.Inertia.FromDynamicParameters(hip.toDynamicParameters() - point.toDynamicParameters())
+    joint = model.addJoint(1, pin.JointModelPY(), pin.SE3.Identity(), LATERAL_JOINT)
+    model.appendBodyToJoint(joint, point, pin.SE3.Identity())
 
 
 def corner_frames(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list[int]:

@@ -239,6 +239,6 @@ def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> 
     settings = WalkSettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     floor = floor_settings(design, settings, robot)
-    engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), Ground(0.0, floor.mu))
+    engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), Ground(0.0, floor.mu), lateral=design.lateral())
     result = engine.run(walk_duration(design.omega, settings.steps), criteria=settings.judged_by())
     return DesignWalk3D(result.verdict, result, design.omega, floor.dt)
