@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps urdf-tools test test-fast demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs-3d
+.PHONY: install browser-deps urdf-tools test test-fast demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs-3d lateral-mass
 
 # the plain install (what `pasibot analyze` needs: make demo), then the extras the tests need (make test)
 $(VENV)/.installed-base: pyproject.toml
@@ -65,6 +65,10 @@ walking-map-3d: install
 
 designs-3d: install
 	$(PY) tools/designs3d.py
+
+# does a mass the crank moves sideways keep the centred-sole walker upright? (48 walks in 3-D, about 4 minutes)
+lateral-mass: install
+	$(PY) tools/lateral_mass.py
 
 # docs/floor_springs.{md,csv,png}: weld against floor for runs 1-4 and the four springs (about a minute);
 # docs/floor_quasi_static.{csv,png}: the quasi-static K_e x beta0 sweep, weld beside floor
