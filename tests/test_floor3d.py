@@ -400,3 +400,23 @@ def test_design_metrics_and_sweep_walk_in_3d(tmp_path, capsys):
     assert main(["sweep", "--vary", "sole_inner=0.6:1.0", "--n", "2", "--3d", "--out", str(out)]) == 2
     err = capsys.readouterr().err
     assert "--floor" in err and len(err.strip().splitlines()) == 1 and not out.exists()
+
+
+def test_a_comb_walks_the_same_on_its_outer_corners_alone(monkeypatch):
+    """Contact at the extreme lateral corners only (``Footprint.contact_offsets``) against every
+    corner of the comb's prongs: the same motion (the QP's velocity is unique; its impulses are
+    shared differently), the hip within 1e-8 m / rad over 0.6 s of a comb walker's start."""
+    design = load_design(FAST).with_(sole_inner=2.6, sole_gap_from=0.6, sole_gap_to=2.1)
+    footprint = design.footprint()
+    assert len(footprint.offsets) == 4 and footprint.contact_offsets == (min(footprint.offsets), max(footprint.offsets))
+    robot = design_robot(design, 2, visuals=False)
+    settings = floor_settings(design, WalkSettings(), robot)
+    hull = Floor3D(FloorSimulator(robot, settings), footprint).run(0.6, stop_on_verdict=False)
+    monkeypatch.setattr(Footprint, "contact_offsets", property(lambda self: self.offsets))
+    every = Floor3D(FloorSimulator(robot, settings), footprint)
+    assert every.n_corners == 2 * hull.normal.shape[1]
+    full = every.run(0.6, stop_on_verdict=False)
+    assert np.abs(full.hip - hull.hip).max() < 1e-8
+    assert np.abs(full.roll - hull.roll).max() < 1e-8 and np.abs(full.pitch - hull.pitch).max() < 1e-8
+    # the same total load (its split between the feet in double support is statically indeterminate)
+    np.testing.assert_allclose(hull.normal.sum(axis=1), full.normal.sum(axis=1), rtol=1e-6, atol=1e-6)

@@ -175,7 +175,7 @@ class Floor3D:
         self.data = self.model.createData()
         self._kkt_data = self.model.createData()
         self._contact_cache: tuple[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
-        self.per_point = len(footprint.offsets)  # corners at each of heel and toe
+        self.per_point = len(footprint.contact_offsets)  # corners at each of heel and toe
         n = len(self.corners)
         self.n_corners = n
         if hold_lateral:

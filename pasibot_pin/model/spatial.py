@@ -70,6 +70,19 @@ class Footprint:
         return cls.plate(CENTRED_SOLE * L, CENTRED_SOLE * L)
 
     @property
+    def contact_offsets(self) -> tuple[float, ...]:
+        """The lateral offsets of the corners that touch a flat ground [m]: the outermost and the innermost.
+
+        A sole's height above a plane is affine across the leg's plane, so no corner between these
+        two ever touches first, and a force at one is a share of forces at these two (the same
+        wrench and the same friction pyramid, a pyramid being a cone): the walk is the same with
+        these alone (tests/test_floor3d.py), and a comb's QP has half the rows.
+        """
+        offsets = self.offsets
+        low, high = min(offsets), max(offsets)
+        return (low,) if high - low < 1e-12 else (low, high)
+
+    @property
     def offsets(self) -> tuple[float, ...]:
         """The corners' lateral offsets from the leg's plane, toward the midline positive [m] (no duplicates)."""
         out: list[float] = []
@@ -186,8 +199,9 @@ def corner_frames(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list
     """Add each foot's sole corners to ``model`` as frames; their ids, right heel first.
 
     The corners lie at the heel and at the toe of each foot (its frames ``<side>_heel`` and
-    ``<side>_toe``), moved across the leg's plane by each of the footprint's offsets (toward
-    the midline positive). Order: side, then heel and toe, then offset.
+    ``<side>_toe``), moved across the leg's plane by each of the footprint's contact offsets
+    (:attr:`Footprint.contact_offsets`, toward the midline positive). Order: side, then heel and
+    toe, then offset.
 
     Args:
         model: the free-flyer model (changed in place).
@@ -206,7 +220,7 @@ def corner_frames(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list
             parent = model.frames[base].parentJoint
             world = data.oMf[base]
             hip = data.oMi[1]
-            for k, offset in enumerate(footprint.offsets):
+            for k, offset in enumerate(footprint.contact_offsets):
                 # across the leg's plane: the hip's y axis (every leg joint turns about it)
                 position = world.translation + hip.rotation[:, 1] * (sign * offset)
                 placement = data.oMi[parent].actInv(pin.SE3(world.rotation, position))
