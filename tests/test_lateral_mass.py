@@ -118,3 +118,20 @@ def test_walk_3d_with_a_bad_lateral_mass_is_refused_before_work(tmp_path, capsys
     assert main(["walk", "--3d", "--design", str(path), "--steps", "3"]) == 2
     err = capsys.readouterr().err
     assert "lateral_mass" in err and len(err.strip().splitlines()) == 1
+
+
+def test_the_twin_refuses_a_lateral_mass_before_any_work(tmp_path, capsys):
+    """The MuJoCo export has no slider: a design with a lateral mass is one line naming the field."""
+    from pasibot_pin.__main__ import main
+    from pasibot_pin.errors import DesignError
+    from pasibot_pin.model.mjcf import check_twin
+
+    design, _ = _robot()
+    moved = design.with_(lateral_mass=5.0, lateral_amplitude=2.0)
+    with pytest.raises(DesignError, match="lateral_mass"):
+        check_twin(moved)
+    check_twin(design)  # none: fine
+    path = moved.save(tmp_path / "d.toml")
+    out = tmp_path / "d.xml"
+    assert main(["export-mjcf", "--3d", "--design", str(path), "--out", str(out)]) == 2
+    assert "lateral_mass" in capsys.readouterr().err and not out.exists()

@@ -49,7 +49,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 def run(args: argparse.Namespace) -> int:
     """Build the design's robot and spring, write the MJCF."""
-    from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf  # deferred: keeps the CLI's start fast
+    from pasibot_pin.model.mjcf import MjcfOptions, check_twin, to_mjcf  # deferred: keeps the CLI's start fast
     from pasibot_pin.studies.spring_fit import design_spring  # deferred: keeps the CLI's start fast
 
     check_output_file(args.out, "--out", args.force)
@@ -58,6 +58,7 @@ def run(args: argparse.Namespace) -> int:
     design = load_design(args.design) if args.design is not None else Design()
     if given(args, "variant"):
         design = design.with_(variant=args.variant)
+    check_twin(design)
     robot = design_robot(design, args.legs)
     spring = design_spring(design)
     options = MjcfOptions(

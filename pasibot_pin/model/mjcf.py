@@ -35,10 +35,12 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import DesignError
 from pasibot_pin.model.description import sides
 from pasibot_pin.model.spatial import FREE_FLYER_NAME, Footprint, planar_to_spatial, sole_boxes
 
 if TYPE_CHECKING:
+    from pasibot_pin.model.design import Design
     from pasibot_pin.model.robot import PasibotRobot
 
 ACTUATORS: tuple[str, ...] = ("position", "velocity", "constraint", "none")
@@ -152,6 +154,21 @@ MIN_BOUNDINERTIA = 1e-8
 """The least principal inertia of any exported body [kg.m^2]."""
 SPRING_STEP_RATIO = 0.1
 """The largest K_e h^2 / I the export allows a body on a spring joint (:func:`stable_boundinertia`) [-]."""
+
+
+def check_twin(design: Design) -> None:
+    """Refuse, before any work, a design the MuJoCo export cannot model.
+
+    Raises:
+        DesignError: a lateral mass moved by the crank (``lateral_mass``): the export has no slider
+            and MuJoCo's joint equalities are polynomials, not ``amplitude sin(theta + phase)``.
+
+    """
+    if design.lateral() is not None:
+        raise DesignError(
+            "parameter 'lateral_mass': the MuJoCo twin does not model a mass moved by the crank; "
+            "walk it on our 3-D floor (pasibot walk --3d)"
+        )
 
 
 def stable_boundinertia(spring_stiffness: float, timestep: float) -> float:

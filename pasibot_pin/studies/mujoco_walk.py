@@ -70,7 +70,7 @@ from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verd
 from pasibot_pin.errors import MissingExtraError, SimulationError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
 from pasibot_pin.model.design import design_robot
-from pasibot_pin.model.mjcf import MjcfOptions, spatial_qpos, to_mjcf
+from pasibot_pin.model.mjcf import MjcfOptions, check_twin, spatial_qpos, to_mjcf
 from pasibot_pin.model.spatial import planar_to_spatial, planar_velocity_to_spatial, roll_pitch_yaw
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_duration
 
@@ -362,6 +362,7 @@ def walk_in_mujoco(
         DesignError: the design cannot be built.
 
     """
+    check_twin(design)
     mujoco = _mujoco()
     settings = WalkSettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
