@@ -348,7 +348,8 @@ def main() -> None:
     sim = simulate.BipedSimulator(inputs.robot, settings)
     q0, v0, stance = sim.initial_state()
     cset = sim.constraint_set(stance, sim.ground_weld(stance, q0))
-    from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+    from pasibot_pin.dynamics.floor.engine import FloorSimulator
+    from pasibot_pin.dynamics.floor.settings import FloorSettings
 
     floor = FloorSimulator(inputs.robot, FloorSettings(omega=inputs.omega, spring=inputs.fit))
     fq, fv = floor.initial_state()

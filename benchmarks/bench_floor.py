@@ -5,7 +5,7 @@ Measured in one run, on run 1 with the fitted ankle spring (the ``spring`` biped
 1. one step of :class:`~pasibot_pin.dynamics.simulator.BipedSimulator` (stance foot welded,
    RK4 with projection and velocity impulse, its 2 ms step);
 2. one step of :class:`~pasibot_pin.dynamics.floor.FloorSimulator` (the contact QP,
-   :mod:`~pasibot_pin.dynamics.floor_qp`; implicit springs, projection, its 1 ms step) from the
+   :mod:`~pasibot_pin.dynamics.floor.qp`; implicit springs, projection, its 1 ms step) from the
    consistent start with the cranks turning, heel and toe contacts active; per step and per
    simulated second;
 3. ``FloorSimulator.run(10.0)`` from the consistent start (settling included): its wall time
@@ -24,7 +24,8 @@ sys.path.insert(0, str(Path(__file__).parent))
 from bench_dynamics import best_time  # noqa: E402  (one timing rule for every benchmark)
 
 from pasibot_pin.dynamics import simulator as simulate
-from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.studies import spring_study
 
 WELD_DT = 2e-3

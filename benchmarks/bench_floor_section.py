@@ -31,7 +31,7 @@ def one_run() -> dict[str, float]:
     from pasibot_pin.studies.simulation_study import cached_inputs
 
     try:  # absent before the exact active-set solve: then every QP is proxsuite's
-        from pasibot_pin.dynamics import floor_qp
+        from pasibot_pin.dynamics.floor import qp as floor_qp
     except ImportError:
         floor_qp = None
     solvers: list = []

@@ -26,7 +26,7 @@ import math
 import statistics
 import time
 
-from pasibot_pin.dynamics.floor import FloorSimulator
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.studies.mujoco_walk import SAMPLE_DT, _Twin, mujoco_options
 from pasibot_pin.studies.walking import WalkSettings, floor_settings

@@ -66,7 +66,7 @@ def test_the_exceptions_are_few_and_still_needed():
 
 
 def test_the_friction_default_is_the_floor_and_mjcf_default():
-    from pasibot_pin.dynamics.floor import FloorSettings
+    from pasibot_pin.dynamics.floor.settings import FloorSettings
     from pasibot_pin.model.mjcf import MjcfOptions
     from pasibot_pin.studies.contact import CONTACT_MU
     from pasibot_pin.studies.floor_study import FloorStudySettings

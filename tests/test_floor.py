@@ -1,4 +1,4 @@
-"""The floor simulator: unilateral heel/toe contacts with Coulomb friction (dynamics/floor.py).
+"""The floor simulator: unilateral heel/toe contacts with Coulomb friction (dynamics/floor/engine.py).
 
 Independent references: the total weight (a robot standing still on the floor), free fall and
 the momentum balance of an inelastic touchdown (closed form), the friction cone, and MuJoCo on
@@ -14,7 +14,8 @@ import numpy as np
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
 from pasibot_pin.model.robot import total_mass
 from pasibot_pin.studies import spring_study
@@ -160,7 +161,7 @@ def test_simulate_command_on_the_floor_writes_modes_and_outcomes(tmp_path, capsy
     import csv
 
     from pasibot_pin.__main__ import main
-    from pasibot_pin.dynamics.floor import MODES
+    from pasibot_pin.dynamics.floor.run import MODES
 
     out = tmp_path / "sim"
     assert main(["simulate", "--scenario", "4", "--duration", "0.3", "--out", str(out)]) == 0
@@ -268,7 +269,7 @@ def test_a_smooth_crank_start_follows_its_ramp_and_rings_nothing():
     """
     import pinocchio as pin
 
-    from pasibot_pin.dynamics.floor import crank_advance
+    from pasibot_pin.dynamics.floor.settings import crank_advance
     from pasibot_pin.dynamics.simulator import spring_forces
 
     ramp = 0.2
@@ -315,7 +316,7 @@ def test_a_smooth_crank_start_follows_its_ramp_and_rings_nothing():
 
 
 def test_mode_runs_merge_blips_shorter_than_the_dwell():
-    from pasibot_pin.dynamics.floor import mode_runs
+    from pasibot_pin.dynamics.floor.run import mode_runs
 
     modes = ["sliding"] * 3 + ["toe"] * 40 + ["sliding"] * 5 + ["toe"] * 20 + ["sliding"] * 30
     assert mode_runs(modes, 1e-3) == [
@@ -334,7 +335,7 @@ def test_a_diverging_run_stops_with_its_cause_and_time():
     a robot thrown down at 999 m/s passes the speed limit (1000 m/s) when free fall says,
     (1000 - 999) / g = 0.102 s; an absurd spring (1e9 N.m/rad, 1.3 rad from its rest angle, at
     the largest step) throws the feet about: the run stops within its first steps, saying why and when."""
-    from pasibot_pin.dynamics.floor import SPEED_LIMIT
+    from pasibot_pin.dynamics.floor.track import SPEED_LIMIT
     from pasibot_pin.dynamics.simulator import AnkleSpring
 
     robot = pp.load("spring", 2)

@@ -12,9 +12,9 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from pasibot_pin.dynamics.floor import FloorSimulator
-from pasibot_pin.dynamics.floor3d import Floor3D
-from pasibot_pin.dynamics.ground import Ground
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.engine3d import Floor3D
+from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.verdict import FAILURES, TIP_LIMIT
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design, design_robot, load_design

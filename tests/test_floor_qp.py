@@ -1,4 +1,4 @@
-"""The floor step's contact QP (dynamics/floor_qp.py): the exact active-set solve and its proxsuite fallback.
+"""The floor step's contact QP (dynamics/floor/qp.py): the exact active-set solve and its proxsuite fallback.
 
 Independent references: a QP whose answer is known in closed form (H = I, one equality and
 bound rows: x_i = max(-g_i, l_i)), the KKT conditions checked directly on the floor's own QPs,
@@ -11,9 +11,10 @@ import numpy as np
 import pytest
 
 import pasibot_pin as pp
-from pasibot_pin.dynamics import floor_qp
-from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
-from pasibot_pin.dynamics.floor_qp import ContactQP
+from pasibot_pin.dynamics.floor import qp as floor_qp
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.qp import ContactQP
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.studies import spring_study
 
 

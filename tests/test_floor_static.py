@@ -21,7 +21,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import foot_pose
 from pasibot_pin.model.robot import total_mass
 from pasibot_pin.studies.floor_static import (

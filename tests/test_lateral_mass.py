@@ -16,8 +16,8 @@ import numpy as np
 import pinocchio as pin
 import pytest
 
-from pasibot_pin.dynamics.floor import FloorSimulator
-from pasibot_pin.dynamics.floor3d import Floor3D
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.engine3d import Floor3D
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.model.spatial import LATERAL_JOINT, Footprint, LateralMass, free_flyer_model, planar_to_spatial

@@ -18,7 +18,7 @@ import pytest
 import pasibot_pin as pp
 from pasibot_pin.__main__ import main
 from pasibot_pin.dynamics import simulator as simulate
-from pasibot_pin.dynamics.floor import LOAD_TOL
+from pasibot_pin.dynamics.floor.run import LOAD_TOL
 from pasibot_pin.model.description import sides
 from pasibot_pin.model.design import Design
 from pasibot_pin.model.mjcf import MjcfOptions, to_mjcf
@@ -182,7 +182,9 @@ def _mujoco_floor_run(robot, spring, omega, mu, q0, duration):
     """
     from dataclasses import replace
 
-    from pasibot_pin.dynamics.floor import SETTLE_DAMPING, SIDES, FloorSettings, FloorSimulator, crank_advance
+    from pasibot_pin.dynamics.floor.engine import SETTLE_DAMPING, FloorSimulator
+    from pasibot_pin.dynamics.floor.settings import FloorSettings, crank_advance
+    from pasibot_pin.model.coordinates import SIDES
 
     options = replace(MJ_FLOOR, spring_stiffness=spring.stiffness, spring_rest_angle=spring.rest_angle)
     options = replace(options, spring_damping=spring.damping, mu=mu)
@@ -259,7 +261,10 @@ def test_mujoco_on_the_floor_run1_spring_cases():
     Also agreed: which points carry load (>= 95 % of the samples), the outcome (neither falls
     nor lands) and the hip pitch (within 0.3 deg).
     """
-    from pasibot_pin.dynamics.floor import SIDES, FloorSettings, FloorSimulator, mode_runs
+    from pasibot_pin.dynamics.floor.engine import FloorSimulator
+    from pasibot_pin.dynamics.floor.run import mode_runs
+    from pasibot_pin.dynamics.floor.settings import FloorSettings
+    from pasibot_pin.model.coordinates import SIDES
 
     inputs = spring_study.scenario_inputs("run1")
     robot, duration = inputs.robot, 1.0

@@ -8,7 +8,7 @@ import json
 import numpy as np
 import pytest
 
-from pasibot_pin.dynamics.floor_run import FloorResult
+from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design
 from pasibot_pin.studies.motor_load import EXCHANGE_WINDOW, motor_load

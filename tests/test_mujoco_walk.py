@@ -73,7 +73,7 @@ SPRING_ON_AXIS = Design(variant="spring", foot_toe=3.0, foot_heel=3.0, omega=1.0
 
 def _spring_run(options, steps: int = 2000) -> tuple[bool, int]:
     """MuJoCo on :data:`SPRING_ON_AXIS` from our start, cranks held: (state finite, bad-qacc warnings)."""
-    from pasibot_pin.dynamics.floor import FloorSimulator
+    from pasibot_pin.dynamics.floor.engine import FloorSimulator
     from pasibot_pin.model.mjcf import to_mjcf
     from pasibot_pin.studies.walking import floor_settings
 

@@ -1,4 +1,4 @@
-"""The floor step on the free coordinates, the linkage's shape known ahead (dynamics/shape_track.py).
+"""The floor step on the free coordinates, the linkage's shape known ahead (dynamics/floor/shape_track.py).
 
 Independent references: the planar rows' own Jacobian (the closed form's tangents must solve
 J_S D = [0; I]), the rows' residual at the closed-form shapes, and the floor's general path (the
@@ -14,9 +14,10 @@ import math
 import numpy as np
 import pytest
 
-from pasibot_pin.dynamics import shape_track
-from pasibot_pin.dynamics.floor import FloorSimulator, crank_advance, crank_advances
-from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack
+from pasibot_pin.dynamics.floor import shape_track
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.settings import crank_advance, crank_advances
+from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, ShapeTrack
 from pasibot_pin.model.coordinates import HIP_PITCH, SIDES
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.studies.walking import WalkSettings, floor_settings

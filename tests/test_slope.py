@@ -9,8 +9,8 @@ import math
 import numpy as np
 import pytest
 
-from pasibot_pin.dynamics.floor import FloorSimulator
-from pasibot_pin.dynamics.floor_settings import FloorSettings
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.studies.walking import WalkSettings, walk_design

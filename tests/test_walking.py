@@ -73,7 +73,7 @@ def test_one_motor_moves_the_robot_as_two_and_carries_their_sum(walks):
 def test_every_variant_gets_a_verdict_from_a_consistent_start(design):
     """No design fails at t = 0: the start closes every loop with no sole point below the floor,
     and a failure is an outcome with its time, never an exception or NaN."""
-    from pasibot_pin.dynamics.floor import FloorSimulator
+    from pasibot_pin.dynamics.floor.engine import FloorSimulator
     from pasibot_pin.model.design import design_robot
 
     robot = design_robot(design, 2, visuals=False)

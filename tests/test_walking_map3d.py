@@ -31,8 +31,8 @@ MAP = ROOT / "docs" / "results" / "walking_map3d.csv"
 def test_comb_soles_interleave_with_the_stated_clearance(reach):
     """Closed form: the prongs sit COMB_CLEARANCE apart across the midline, the other foot's prong
     COMB_CLEARANCE beside the plate; coal's distance between the two feet's boxes is the least of these."""
-    from pasibot_pin.dynamics.floor import FloorSimulator
-    from pasibot_pin.dynamics.floor3d import Floor3D
+    from pasibot_pin.dynamics.floor.engine import FloorSimulator
+    from pasibot_pin.dynamics.floor.engine3d import Floor3D
     from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
     design = map3d_design("comb", reach, 3.0)

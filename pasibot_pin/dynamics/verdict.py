@@ -372,7 +372,7 @@ class GaitJudge:
         self._decide("diverged", t, detail)
 
     def collided(self, t: float, detail: str) -> None:
-        """A 3-D walk's soles passed through each other at ``t`` [s] (:mod:`pasibot_pin.dynamics.floor3d`)."""
+        """A 3-D walk's soles passed through each other at ``t`` [s] (:mod:`pasibot_pin.dynamics.floor.engine3d`)."""
         self._decide("collided", t, detail)
 
     def roll(self, t: float, roll: float) -> None:

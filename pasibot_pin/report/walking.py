@@ -16,7 +16,7 @@ from pathlib import Path
 import numpy as np
 
 from pasibot_pin.constraints import frame_rows
-from pasibot_pin.dynamics.floor import POINTS
+from pasibot_pin.dynamics.floor.run import POINTS
 from pasibot_pin.files import atomic_path
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import free_flyer_model

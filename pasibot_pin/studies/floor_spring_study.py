@@ -26,7 +26,8 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor import FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
 from pasibot_pin.model.coordinates import HIP_PITCH
 from pasibot_pin.model.scenarios import get_scenario

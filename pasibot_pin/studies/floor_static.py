@@ -47,7 +47,9 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
-from pasibot_pin.dynamics.floor import LOAD_TOL, FloorSettings, FloorSimulator
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.run import LOAD_TOL
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
 from pasibot_pin.model.coordinates import other
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs

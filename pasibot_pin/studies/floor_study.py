@@ -19,9 +19,12 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor import SIDES, FloorResult, FloorSettings, FloorSimulator
-from pasibot_pin.dynamics.floor3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.floor.run import FloorResult
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.model.spatial import Footprint
@@ -48,7 +51,7 @@ class FloorStudySettings:
         design: a :class:`~pasibot_pin.model.design.Design` walked instead of the scenario's robot
             (its geometry, masses, body, crank speed and spring:
             :func:`~pasibot_pin.studies.spring_study.design_inputs`).
-        spatial: run each case on the 3-D floor (:class:`~pasibot_pin.dynamics.floor3d.Floor3D`:
+        spatial: run each case on the 3-D floor (:class:`~pasibot_pin.dynamics.floor.engine3d.Floor3D`:
             the hip free to roll and yaw; the design's soles, else the centred plate), stopping at its verdict.
 
     """

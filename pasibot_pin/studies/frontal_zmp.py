@@ -94,7 +94,7 @@ def frontal_zmp(robot, result, footprint: Footprint, max_samples: int = MAX_SAMP
 
     Args:
         robot: the two-legged robot of the run.
-        result: a :class:`~pasibot_pin.dynamics.floor_run.FloorResult` (its q, v and contact modes).
+        result: a :class:`~pasibot_pin.dynamics.floor.run.FloorResult` (its q, v and contact modes).
         footprint: the soles' lateral shape (a design's ``footprint()``): its widest band's reach.
         max_samples: judge at most about this many samples, evenly spread.
 

@@ -28,8 +28,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.dynamics.floor3d import Floor3D
-from pasibot_pin.dynamics.ground import Ground
+from pasibot_pin.dynamics.floor.engine3d import Floor3D
+from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.verdict import FAILURES
 from pasibot_pin.errors import DivergedError, ParameterError
 from pasibot_pin.model.design import design_robot
@@ -53,7 +53,7 @@ class GaitMap3D:
 
     Args:
         robot: the design's two-legged robot (no free ankle).
-        floor: the walk's :class:`~pasibot_pin.dynamics.floor_settings.FloorSettings`.
+        floor: the walk's :class:`~pasibot_pin.dynamics.floor.settings.FloorSettings`.
         footprint: the soles' lateral shape.
         guess: a planar configuration near the section (Newton's start when the loops are closed).
 

@@ -27,7 +27,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor_run import FloorResult
+from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.errors import ParameterError
 
 EXCHANGE_WINDOW: float = 0.005

@@ -65,7 +65,10 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.dynamics.floor import LOAD_TOL, SPEED_LIMIT, FloorSimulator, crank_advance
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.run import LOAD_TOL
+from pasibot_pin.dynamics.floor.settings import crank_advance
+from pasibot_pin.dynamics.floor.track import SPEED_LIMIT
 from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
 from pasibot_pin.errors import MissingExtraError, SimulationError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES

@@ -3,7 +3,7 @@
 A hub of mass ``m`` (and a small rotational inertia ``I``) carries ``spokes`` massless spokes of
 length ``l``, ``2 alpha = 2 pi / spokes`` apart, rolling down a slope ``gamma`` (McGeer 1990;
 Coleman, Chatterjee and Ruina 1997). Each spoke tip is a unilateral point with Coulomb friction on
-the :class:`~pasibot_pin.dynamics.ground.Ground`, stepped by the floor's scheme (Moreau, Anitescu):
+the :class:`~pasibot_pin.dynamics.floor.ground.Ground`, stepped by the floor's scheme (Moreau, Anitescu):
 the velocity after a step of length ``h`` solves
 
     min_v  1/2 (v - v-)^T M (v - v-) - h (tau - b)^T v   s.t.   (J_n +- mu J_t) v >= -gap / h
@@ -32,8 +32,8 @@ from dataclasses import dataclass
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.dynamics.floor_qp import ContactQP
-from pasibot_pin.dynamics.ground import Ground
+from pasibot_pin.dynamics.floor.ground import Ground
+from pasibot_pin.dynamics.floor.qp import ContactQP
 from pasibot_pin.errors import NoFixedPointError, ParameterError, SimulationError
 from pasibot_pin.model.description import planar_root_joint
 
@@ -122,7 +122,7 @@ class WheelStepper:
         """One floor step: (q+, v+, each tip's normal impulse [N.s]).
 
         Every tip's two cone rows enter the QP (a tip far from the slope holds its rows loosely);
-        the floor's warm-started exact solve (:meth:`~pasibot_pin.dynamics.floor_qp.ContactQP.solve_free`).
+        the floor's warm-started exact solve (:meth:`~pasibot_pin.dynamics.floor.qp.ContactQP.solve_free`).
         """
         h, mu = self.wheel.dt, self.wheel.mu
         mass = pin.crba(self.model, self.data, q)

@@ -19,9 +19,11 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, replace
 
-from pasibot_pin.dynamics.floor import FloorResult, FloorSettings, FloorSimulator
-from pasibot_pin.dynamics.floor3d import Floor3D, Floor3DResult
-from pasibot_pin.dynamics.ground import Ground
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.floor.ground import Ground
+from pasibot_pin.dynamics.floor.run import FloorResult
+from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
@@ -200,7 +202,7 @@ class DesignWalk3D:
 
     Attributes:
         verdict: the :class:`~pasibot_pin.dynamics.verdict.Verdict` (``tipped`` among its outcomes).
-        result: the 3-D run (:class:`~pasibot_pin.dynamics.floor3d.Floor3DResult`).
+        result: the 3-D run (:class:`~pasibot_pin.dynamics.floor.engine3d.Floor3DResult`).
         omega: crank speed [rad/s].
         dt: the time step used [s].
 

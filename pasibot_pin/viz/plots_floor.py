@@ -11,8 +11,9 @@ import math
 import matplotlib.pyplot as plt
 import numpy as np
 
-from pasibot_pin.dynamics.floor import MODES, SIDES
+from pasibot_pin.dynamics.floor.run import MODES
 from pasibot_pin.dynamics.verdict import TIP_LIMIT
+from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.viz.plots import figure_axes
 
 MODE_COLORS = {"flat": "#2a9d8f", "heel": "#e9c46a", "toe": "#f4a261", "sliding": "#e76f51", "air": "#ffffff"}

@@ -2,7 +2,7 @@
 
 With the cranks driven, the floor step (:mod:`pasibot_pin.dynamics.floor`) is left with the free
 coordinates F (the hip; a free ankle) as unknowns: the shape's velocity x_S, its tangent per
-scalar row D and the projection's move are known ahead (:mod:`pasibot_pin.dynamics.shape_track`).
+scalar row D and the projection's move are known ahead (:mod:`pasibot_pin.dynamics.floor.shape_track`).
 The step is the general step's QP written on F,
 
     H_FF u + [M x_S - r]_F = C_F^T z,   C_F u >= -gap / h - C x_S,   r = M v - h (b - tau),
@@ -35,8 +35,8 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import FloatingForm, symmetric_mass_matrix
 from pasibot_pin.constraints.solves import inverse_lists
-from pasibot_pin.dynamics.floor_qp import ContactQP
-from pasibot_pin.dynamics.shape_track import ShapeSplit, TrackStep
+from pasibot_pin.dynamics.floor.qp import ContactQP
+from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, TrackStep
 from pasibot_pin.errors import DivergedError, ParameterError
 
 if TYPE_CHECKING:
@@ -116,7 +116,7 @@ class FreeStepper:
 
     Args:
         robot: the two-legged robot.
-        split: the free coordinates and the shape (:class:`~pasibot_pin.dynamics.shape_track.ShapeSplit`).
+        split: the free coordinates and the shape (:class:`~pasibot_pin.dynamics.floor.shape_track.ShapeSplit`).
         rows: the contact points' planar rows, cached (:class:`PointRows`, shared with the floor's general step).
         qp: the simulator's contact QP (its active set carries over between the two kinds of step).
         springs: ``springs(q, h)``: the ankle springs' torque (nv,) [N.m] and their implicit term
@@ -125,7 +125,7 @@ class FreeStepper:
         motor_rows: the scalar rows that are motors (of the rows D spans).
         mu: Coulomb friction [-].
         form: the points' rigid motion with the hip when the free coordinates are the hip's
-            (:attr:`~pasibot_pin.dynamics.shape_track.ShapeTrack.form`): the contact rows then come
+            (:attr:`~pasibot_pin.dynamics.floor.shape_track.ShapeTrack.form`): the contact rows then come
             from the track's block; ``None``: from the planar rows at each step.
 
     """
@@ -233,7 +233,7 @@ class FreeStepper:
 
         A cone row's entry on a complex Jacobian entry c is Im(c) +- mu Re(c) = Im(c (1 +- i mu)),
         and the entries on the hip's pitch, x_S and D are each the body's unpitched one turned by
-        the pitch (:class:`~pasibot_pin.dynamics.shape_track.StepContact`).
+        the pitch (:class:`~pasibot_pin.dynamics.floor.shape_track.StepContact`).
         """
         turn, mu = self._turn, self.mu
         *base, pitch = q_free

@@ -36,7 +36,7 @@ do not follow), :func:`reduced_qp` solves the QP exactly in the same way;
 proxsuite (cold start) only where it cannot (more than :data:`MAX_FREE` freedoms).
 
 :meth:`ContactQP.solve_free` is the same QP written on the free coordinates alone (no equality
-rows: the floor's shape track has solved them, :mod:`pasibot_pin.dynamics.shape_track`): the
+rows: the floor's shape track has solved them, :mod:`pasibot_pin.dynamics.floor.shape_track`): the
 same passes, their KKT through H^-1 on three unknowns, and :func:`free_qp` (the core of
 :func:`reduced_qp`) where they do not settle.
 On run 1's floor runs (2 s, four spring cases) proxsuite at its eps_abs = 1e-10 differs from

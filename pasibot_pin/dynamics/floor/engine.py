@@ -12,7 +12,7 @@ the step solves the convex QP
     s.t.   J_b v = -Phi_t                                  (loops, cranks: bilateral)
            (J_n +- mu J_t) v >= -gap / h                   (each contact point: its friction cone)
 
-(:mod:`pasibot_pin.dynamics.floor_qp`: an exact KKT solve on the last step's active cone rows,
+(:mod:`pasibot_pin.dynamics.floor.qp`: an exact KKT solve on the last step's active cone rows,
 checked to be the QP's solution; proxsuite where it is not, or where the active rows are
 redundant). Its multipliers are the contact impulses: a point's normal impulse is the sum
 of its two cone rows' and the tangential one mu times their difference, so |F_t| <= mu F_n
@@ -22,7 +22,7 @@ scheduled); a point leaves the floor when its normal impulse is zero. Positions 
 projected back onto the loops (mass metric), so the loops drift by less than Newton's
 tolerance. With the cranks driven the loops fix every leg coordinate, so a run solves the same
 step on the free coordinates (the hip, a free ankle), the legs' shape known ahead in closed form
-(:mod:`pasibot_pin.dynamics.shape_track`, :meth:`FloorSimulator._track_step`). Each step reports
+(:mod:`pasibot_pin.dynamics.floor.shape_track`, :meth:`FloorSimulator._track_step`). Each step reports
 the contact mode of each foot: ``flat`` (heel and toe load),
 ``heel``, ``toe``, ``sliding`` or ``air`` (:func:`mode_runs` run-length encodes a sequence).
 The cranks turn at omega from t = 0, or start smoothly over ``FloorSettings.crank_ramp``
@@ -41,27 +41,19 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, frame_rows, symmetric_mass_matrix
-from pasibot_pin.dynamics.floor_qp import ContactQP
-from pasibot_pin.dynamics.floor_run import (  # noqa: F401 (MODES, POINTS, mode_runs: re-exported)
+from pasibot_pin.dynamics.floor.qp import ContactQP
+from pasibot_pin.dynamics.floor.run import (
     LOAD_TOL,
-    MODES,
     POINTS,
     FloorResult,
     RunLog,
     StartState,
     foot_mode,
-    mode_runs,
     point_sample,
 )
-from pasibot_pin.dynamics.floor_settings import (  # noqa: F401 (crank_advance, crank_advances: re-exported)
-    FloorSettings,
-    check_number,
-    crank_advance,
-    crank_advances,
-    step_count,
-)
-from pasibot_pin.dynamics.floor_track import SPEED_LIMIT, FreeStepper, PointRows, check_speed  # noqa: F401 (SPEED_LIMIT: re-exported)
-from pasibot_pin.dynamics.shape_track import ShapeSplit, ShapeTrack
+from pasibot_pin.dynamics.floor.settings import FloorSettings, crank_advance, crank_advances, step_count
+from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, ShapeTrack
+from pasibot_pin.dynamics.floor.track import FreeStepper, PointRows, check_speed
 from pasibot_pin.dynamics.simulator import ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample
 from pasibot_pin.errors import (
@@ -185,7 +177,7 @@ class FloorSimulator:
         if self._split is False:
             q, _ = self.initial_state()
             self._split = ShapeSplit.of(self.robot, self.bilateral, q, self.targets(0.0), self._target_rates)
-        return self._split
+        return self._split if isinstance(self._split, ShapeSplit) else None
 
     # ---- one step
     def contact_rows(self, q: np.ndarray, flat: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
@@ -199,7 +191,7 @@ class FloorSimulator:
         return rows.imag, rows.real, jac.imag, jac.real
 
     def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor_track.PointRows`).
+        """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor.track.PointRows`).
 
         The arrays are views of the cache: read them, never write into them.
         """

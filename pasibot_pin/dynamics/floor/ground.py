@@ -4,7 +4,7 @@ A :class:`Ground` is a plane through the origin: the flat floor (:meth:`Ground.f
 that rises along +x by a given angle (:meth:`Ground.slope`, uphill positive). It gives a point's
 gap (its signed distance above the plane, negative inside) and the contact frame: the normal and
 two tangents, the first along the slope's fall line (+x on the flat floor), the second across it
-(+y). The 3-D floor (:mod:`pasibot_pin.dynamics.floor3d`) takes its contact rows from here.
+(+y). The 3-D floor (:mod:`pasibot_pin.dynamics.floor.engine3d`) takes its contact rows from here.
 
 Units: SI, lengths [m], angles [rad].
 """

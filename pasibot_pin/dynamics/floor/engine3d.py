@@ -36,12 +36,12 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import symmetric_mass_matrix
 from pasibot_pin.constraints.solves import kkt_solve
-from pasibot_pin.dynamics.floor import FloorSimulator
-from pasibot_pin.dynamics.floor_qp import ContactQP, proxsuite_free_qp, reduced_qp
-from pasibot_pin.dynamics.floor_run import point_sample
-from pasibot_pin.dynamics.floor_settings import step_count
-from pasibot_pin.dynamics.floor_track import check_speed
-from pasibot_pin.dynamics.ground import Ground
+from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.ground import Ground
+from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
+from pasibot_pin.dynamics.floor.run import point_sample
+from pasibot_pin.dynamics.floor.settings import step_count
+from pasibot_pin.dynamics.floor.track import check_speed
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
 from pasibot_pin.errors import (
     ClosureError,
