@@ -33,6 +33,7 @@ from pasibot_pin.errors import DesignError
 from pasibot_pin.files import append_row, read_rows, write_rows
 from pasibot_pin.jobs import Job, run_jobs
 from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.model.variants import get_variant
 from pasibot_pin.progress import progress_bar
 from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
 from pasibot_pin.studies.spring_fit import design_spring
@@ -171,8 +172,8 @@ def map_design(variant: str, sole: float, omega: float, base: Design | None = No
 
     """
     base = Design() if base is None else base
-    key = "parallel" if variant == "parallel" else "foot"
-    return base.with_(variant=variant, omega=float(omega), **{f"{key}_toe": float(sole), f"{key}_heel": float(sole)})
+    toe, heel = get_variant(variant).foot_fields  # the record names the variant's sole fields
+    return base.with_(variant=variant, omega=float(omega), **{toe: float(sole), heel: float(sole)})
 
 
 def twin_walker():
