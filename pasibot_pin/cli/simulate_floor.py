@@ -11,6 +11,7 @@ from __future__ import annotations
 import argparse
 
 from pasibot_pin.cli.common import check_output_folder, design_of, given
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
 from pasibot_pin.studies.floor_static import floor_static_study
 from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
@@ -28,12 +29,12 @@ def run_floor(args: argparse.Namespace) -> int:
         ("--html", args.html or None),
     ):
         if value is not None:
-            raise ValueError(
+            raise ParameterError(
                 f"{flag} applies to --ground weld only (the floor runs the fitted, no, half and twice springs)"
             )
     dt = 1e-3 if args.dt is None else args.dt
     if args.study and args.design is not None:
-        raise ValueError("--study runs the seed scenarios; it takes no --design")
+        raise ParameterError("--study runs the seed scenarios; it takes no --design")
     if args.study:
         return _run_study(args, dt)
     duration = 10.0 if args.duration is None else args.duration

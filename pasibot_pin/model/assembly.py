@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from pasibot_pin.caches import PerObjectCache
+from pasibot_pin.errors import DesignError, ParameterError
 from pasibot_pin.model import jet
 from pasibot_pin.model.params import Geometry
 from pasibot_pin.model.variants import Variant, get_variant
@@ -47,7 +48,7 @@ def _check_meet(d, r1: float, r2: float, loop: str, theta) -> None:
     if np.any(bad):
         th = _first_bad(theta, bad)
         d_bad = float(np.atleast_1d(d)[np.argmax(np.atleast_1d(bad))])
-        raise ValueError(
+        raise DesignError(
             f"loop {loop} cannot assemble at crank angle {math.degrees(th):.3f} deg "
             f"(theta = {th:.6f} rad): distance {d_bad:.6g} m between its pivots is outside "
             f"[{abs(r1 - r2):.6g}, {r1 + r2:.6g}] m; check K and the link ratios"
@@ -129,7 +130,7 @@ def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | V
         theta = np.asarray(theta, dtype=float)
     bare = jet.value(theta)
     if not np.all(np.isfinite(bare)):
-        raise ValueError(f"crank angle theta must be finite, got {_first_bad(bare, ~np.isfinite(bare))!r}")
+        raise ParameterError(f"crank angle theta must be finite, got {_first_bad(bare, ~np.isfinite(bare))!r}")
     length = _lengths(g)
     p: dict = {}
     p["p0"] = 0j
@@ -169,7 +170,7 @@ def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) 
     if np.any(bad):
         th = _first_bad(jet.value(theta), bad)
         dz_bad = float(np.atleast_1d(np.abs(jet.value(dz)))[np.argmax(np.atleast_1d(bad))])
-        raise ValueError(
+        raise DesignError(
             f"loop j4 (stabiliser) cannot assemble at crank angle {math.degrees(th):.3f} deg: "
             f"joint 4 is {dz_bad:.6g} m from the slider line, more than L8 = {l8:.6g} m"
         )
@@ -208,7 +209,7 @@ def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "
     try:
         leg_points(theta, g, variant)
     except ValueError as err:
-        raise ValueError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
+        raise DesignError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
 
 
 def _nearer(c1, r1: float, c2, r2: float, guess, loop: str, theta):

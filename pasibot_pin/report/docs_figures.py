@@ -19,6 +19,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics.gait import walk
 from pasibot_pin.kinematics.leg import crank_grid, leg_cycle
 from pasibot_pin.model.design import Design, design_robot
@@ -87,7 +88,7 @@ def write_simulation_figure(path: Path, scenario: str = "run1") -> Path:
     axes[0].set_title(f"{scenario} ({study.omega:g} rad/s): hip pitch, hip free (x: fell)")
     fitted = (study.fitted.stiffness, study.fitted.rest_angle)
     if study.sweep_stiffness is None or study.sweep_rest is None or study.sweep_excursion is None:
-        raise ValueError(f"the {scenario} study has no spring sweep to draw")
+        raise ParameterError(f"the {scenario} study has no spring sweep to draw")
     plot_spring_sweep(
         study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best, ax=axes[1]
     )
