@@ -1,4 +1,6 @@
-"""The README's pictures, drawn by the library (``make docs-figures``), not by hand.
+"""The README's pictures, drawn by the library, not by hand: each writer draws into the path it is given.
+
+``make docs-figures`` (``tools/docs_figures.py``) writes them into ``docs/``.
 
 - :func:`write_variants_figure`: ``docs/variants.png``, the three variants (two legs) at q0;
 - :func:`write_gait_gif`: ``docs/gait.gif``, the ``analyze`` walk's stick GIF, smaller;
@@ -142,14 +144,3 @@ DOCS_PICTURES = (
     (write_walking_map_figure, "walking_map.png"),
 )
 """Every README picture and the function that draws it."""
-
-
-def main() -> None:
-    """Draw the README's generated pictures into ``docs/``."""
-    docs = Path(__file__).resolve().parents[2] / "docs"
-    for write, name in DOCS_PICTURES:
-        print(write(docs / name))
-
-
-if __name__ == "__main__":
-    main()
