@@ -134,3 +134,15 @@ def test_at_most_60_bare_value_errors_in_the_package():
                 if isinstance(exc, ast.Name) and exc.id == "ValueError":
                     bare.append(f"{path.relative_to(package)}:{node.lineno}")
     assert len(bare) <= 60, bare
+
+
+def test_walk_design_raises_the_design_error_it_documents():
+    """A record-valid K past the full-turn range (1.491 < K < 3 for the seed's links) cannot be built: walk_design
+    raises DesignError before any simulation, as its docstring says."""
+    from pasibot_pin.errors import DesignError
+    from pasibot_pin.model.design import Design
+    from pasibot_pin.studies.walking import walk_design
+
+    design = Design(K=3.5, omega=1.0)  # inside the record's range for K, [1, 4]
+    with pytest.raises(DesignError, match="cannot assemble"):
+        walk_design(design)

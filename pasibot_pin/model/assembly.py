@@ -63,7 +63,7 @@ def circle_meet(c1, r1: float, c2, r2: float, left: bool, loop: str, theta):
     sqrt(r1^2 / s - alpha^2): no square root of s, few operations (each one is the chain rule for jets).
 
     Raises:
-        ValueError: naming ``loop`` and the (first) crank angle where the circles do not meet.
+        DesignError: naming ``loop`` and the (first) crank angle where the circles do not meet.
 
     """
     d_vec = c2 - c1
@@ -106,7 +106,7 @@ def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant =
         Points keyed ``'p0'`` .. ``'p13'``: 2-vectors (x, z), or (N, 2) arrays.
 
     Raises:
-        ValueError: when a loop cannot assemble (named, with the crank angle).
+        DesignError: when a loop cannot assemble (named, with the crank angle).
 
     """
     theta = np.asarray(theta, dtype=float)
@@ -121,7 +121,7 @@ def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | V
     points are then jets too, with their exact velocities and accelerations.
 
     Raises:
-        ValueError: when a loop cannot assemble (named, with the crank angle).
+        DesignError: when a loop cannot assemble (named, with the crank angle).
 
     """
     g = geometry or Geometry()
@@ -195,13 +195,13 @@ FULL_TURN_SAMPLES: int = 720
 
 
 def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "spring") -> None:
-    """Raise ``ValueError`` unless one leg of ``variant`` assembles at every crank angle of a full turn.
+    """Raise DesignError unless one leg of ``variant`` assembles at every crank angle of a full turn.
 
     The analytic assembly (:func:`leg_points`) is tried every 0.5 deg. With the seed's link
     ratios the frame ratio K must lie in about (1.491, 3.0).
 
     Raises:
-        ValueError: naming the loop and the first crank angle where it cannot close.
+        DesignError: naming the loop and the first crank angle where it cannot close.
 
     """
     g = geometry or Geometry()

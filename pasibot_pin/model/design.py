@@ -7,7 +7,8 @@ sweep varies, and a file (TOML or JSON) the command line reads with ``--design F
 
 Each numeric parameter has a :class:`ParameterSpec`: unit, default (the seed's design) and
 the bounds a sweep may explore. A value outside its bounds, NaN, or an unknown name is
-rejected with a one-line ``ValueError`` naming the parameter, before any work starts.
+rejected with a one-line :class:`~pasibot_pin.errors.ParameterError` (a ``ValueError``) naming the
+parameter, before any work starts.
 
 Units: SI; link ratios and sole lengths over the crank length L; angles [rad].
 """
