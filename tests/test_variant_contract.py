@@ -10,7 +10,9 @@ power against the rate of the energy, the start's contact forces against the rob
 
 from __future__ import annotations
 
+import ast
 import math
+from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -146,3 +148,35 @@ def test_the_floor_start_is_consistent(record):
     assert float(np.sum(start.normal)) == pytest.approx(weight, rel=1e-5)
     assert np.all(np.abs(start.tangential) <= sim.settings.mu * start.normal + 1e-9)
     assert math.isfinite(start.loop_residual) and start.loop_residual < 1e-8
+
+
+LEFT_FOR_THEIR_OWNER = {"report/walking_answer.py", "report/designs_catalog.py"}
+"""Modules another engineer restructures in issue 35 (the walking answer and the designs' catalogue), left as they
+are here; each still compares a map cell's variant with ``"spring"`` to word its answer."""
+
+
+def _names_a_variant(node) -> bool:
+    text = ast.unparse(node)
+    return "variant" in text.lower() or text in ("v", "name")
+
+
+def test_no_module_decides_by_a_variant_s_name():
+    """No comparison of a variant (a name holding ``variant``) with a variant's name as a literal: the record decides.
+
+    ``model/variants.py`` is the one place a name decides anything (its table); the xacro's ``xacro:if`` blocks are
+    the description's own.
+    """
+    package = Path(pp.__file__).parent
+    found = []
+    for path in sorted(package.rglob("*.py")):
+        rel = str(path.relative_to(package))
+        if rel == "model/variants.py" or rel in LEFT_FOR_THEIR_OWNER:
+            continue
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if not isinstance(node, ast.Compare):
+                continue
+            sides = [node.left, *node.comparators]
+            literals = [s for s in sides if isinstance(s, ast.Constant) and s.value in VARIANT_RECORDS]
+            if literals and any(_names_a_variant(s) for s in sides if s not in literals):
+                found.append(f"{rel}:{node.lineno}: {ast.unparse(node)}")
+    assert not found, found
