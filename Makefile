@@ -50,12 +50,14 @@ urdf: install
 # the design-exploration answers quoted in the README (docs/results/): three NSGA-II runs, about 2 minutes for
 # question 1 and 3 minutes of CPU for question 2 (the spring designs walked 6 steps on the floor)
 answers: install
-	$(PY) -m pasibot_pin.explore.questions
+	$(PY) tools/answers.py
 
 # the walking map (docs/results/walking_map.csv, docs/walking_map.png): 108 designs walked 20 steps on 2 workers
-# (about 30 minutes of CPU); then the found designs (designs/) and the quoted answer (docs/walking.md, README.md)
+# (about 30 minutes of CPU; tools/walking_map.py); then the picture, the found designs (designs/) and the quoted
+# answer (docs/walking.md, README.md) from the saved map
 walking-map: install
-	$(PY) -m pasibot_pin.report.walking_answer --compute --workers 2
+	$(PY) tools/walking_map.py --compute --workers 2
+	$(PY) -m pasibot_pin.report.walking_answer
 
 # the 3-D walking map (docs/results/walking_map3d.csv, docs/walking_map3d.png): comb reach and leg spacing x crank
 # speed, 6 steps each, ours and the MuJoCo twin (about 40 minutes of CPU); then the upright walkers (designs/3d/)
@@ -83,7 +85,7 @@ bench: install
 # the README's pictures (docs/variants.png, gait.gif, kinematics.png, torques.png, simulation.png) drawn by
 # the library, about 3 s (the other docs pictures: make floor-springs, make answers)
 docs-figures: install
-	$(PY) -m pasibot_pin.report.docs_figures
+	$(PY) tools/docs_figures.py
 
 # docs/timings.md: the demo's wall and CPU time, measured here, and `make demo` from a fresh clone (install
 # included, about 3 minutes), with the machine named
@@ -92,7 +94,7 @@ timings: install
 
 # ruff, and mypy on the package with pyproject.toml's [tool.mypy] settings (zero errors; tests/test_typecheck.py too)
 lint: install
-	$(VENV)/bin/ruff check pasibot_pin tests benchmarks
+	$(VENV)/bin/ruff check pasibot_pin tests benchmarks tools
 	$(VENV)/bin/mypy
 
 clean:

@@ -13,6 +13,8 @@ from __future__ import annotations
 from collections.abc import Callable, Hashable
 from typing import Generic, TypeVar
 
+from pasibot_pin.errors import ParameterError
+
 __all__ = ["CACHE_SIZE", "PerObjectCache"]
 
 V = TypeVar("V")
@@ -32,7 +34,7 @@ class PerObjectCache(Generic[V]):
 
     def __init__(self, size: int = CACHE_SIZE) -> None:
         if size < 1:
-            raise ValueError(f"parameter 'size' must be >= 1, got {size!r}")
+            raise ParameterError(f"parameter 'size' must be >= 1, got {size!r}")
         self.size = size
         self._entries: dict[tuple[int, Hashable], tuple[object, V]] = {}
 

@@ -10,7 +10,7 @@ from __future__ import annotations
 import importlib.util
 from collections.abc import Iterable
 
-from pasibot_pin.errors import MissingExtraError
+from pasibot_pin.errors import MissingExtraError, ParameterError
 
 EXTRAS: dict[str, tuple[str, ...]] = {
     "sweep": ("pyarrow", "scipy", "optuna", "distributed", "tqdm"),
@@ -34,7 +34,7 @@ def require(extra: str, modules: Iterable[str], what: str) -> None:
 
     """
     if extra not in EXTRAS:
-        raise ValueError(f"unknown extra {extra!r}; known: {', '.join(EXTRAS)}")
+        raise ParameterError(f"unknown extra {extra!r}; known: {', '.join(EXTRAS)}")
     absent = missing(modules)
     if absent:
         raise MissingExtraError(

@@ -22,6 +22,8 @@ from collections.abc import Iterable, Iterator
 from pathlib import Path
 from typing import Any
 
+from pasibot_pin.errors import ParameterError
+
 PART_MARKER = ".part-"
 """What the temporary names contain (``.gait.part-1a2b3c4d.png``)."""
 
@@ -124,7 +126,7 @@ def atomic_path(path: Path) -> Iterator[Path]:
     """One file of :func:`atomic_paths`: yields the temporary name to write to."""
     with atomic_paths(path) as (tmp,):
         if tmp is None:  # never: a path was given
-            raise ValueError("atomic_path needs a path")
+            raise ParameterError("atomic_path needs a path")
         yield tmp
 
 

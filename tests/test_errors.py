@@ -99,3 +99,50 @@ def test_bad_q_guess():
     robot = pp.load("rigid", 1)
     with pytest.raises(ValueError, match="q_guess"):
         solve_configuration(robot, np.full(robot.model.nq, np.nan))
+
+
+def test_a_linkage_that_cannot_turn_is_a_design_error_and_still_a_value_error():
+    """K = 7 cannot close the Hoeken loop (|3 - 1| = 6 > 2.5 + 2.5): a DesignError, which code written against
+    ValueError still catches."""
+    from pasibot_pin.errors import DesignError, PasibotError
+
+    with pytest.raises(DesignError) as caught:
+        pp.load("rigid", 1, K=7.0)
+    assert isinstance(caught.value, PasibotError) and isinstance(caught.value, ValueError)
+
+
+def test_bad_input_is_a_parameter_error():
+    from pasibot_pin.errors import ParameterError
+
+    with pytest.raises(ParameterError, match="variant"):
+        pp.load("hoeken")
+    with pytest.raises(ParameterError, match="legs"):
+        pp.load("rigid", 3)
+
+
+def test_at_most_60_bare_value_errors_in_the_package():
+    """Errors that cross the public API are typed (issue 35): a bare ``raise ValueError`` is the exception."""
+    import ast
+    from pathlib import Path
+
+    package = Path(pp.__file__).parent
+    bare = []
+    for path in package.rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, ast.Raise) and node.exc is not None:
+                exc = node.exc.func if isinstance(node.exc, ast.Call) else node.exc
+                if isinstance(exc, ast.Name) and exc.id == "ValueError":
+                    bare.append(f"{path.relative_to(package)}:{node.lineno}")
+    assert len(bare) <= 60, bare
+
+
+def test_walk_design_raises_the_design_error_it_documents():
+    """A record-valid K past the full-turn range (1.491 < K < 3 for the seed's links) cannot be built: walk_design
+    raises DesignError before any simulation, as its docstring says."""
+    from pasibot_pin.errors import DesignError
+    from pasibot_pin.model.design import Design
+    from pasibot_pin.studies.walking import walk_design
+
+    design = Design(K=3.5, omega=1.0)  # inside the record's range for K, [1, 4]
+    with pytest.raises(DesignError, match="cannot assemble"):
+        walk_design(design)

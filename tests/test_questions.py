@@ -9,13 +9,25 @@ import pyarrow.parquet as pq
 import pytest
 
 from pasibot_pin.explore.optimize import pareto_rows
-from pasibot_pin.explore.questions import STRAIGHTNESS_FACTOR, STRIDE_TOLERANCE, answer_path, seed_stride_plan
+from pasibot_pin.explore.questions import (
+    STRAIGHTNESS_FACTOR,
+    STRIDE_TOLERANCE,
+    answer_name,
+    answer_path,
+    seed_stride_plan,
+)
 from pasibot_pin.explore.sweep import design_of_row
 from pasibot_pin.model.design import Design, load_design
 from pasibot_pin.report import design_exploration
 from pasibot_pin.studies.design_metrics import METRICS, design_metrics
 
 ROOT = Path(__file__).resolve().parents[1]
+RESULTS = ROOT / "docs" / "results"
+"""The answers' folder: the designs, the runs' Parquet tables (``make answers``, tools/answers.py, writes them)."""
+
+
+def table_path(straight: bool) -> Path:
+    return RESULTS / answer_name(straight, ".parquet")
 
 
 @pytest.fixture(scope="module")
@@ -35,7 +47,7 @@ def test_answer_keeps_the_stride_and_lowers_the_peak_torque(straight):
 
 @pytest.mark.parametrize("straight", [False, True])
 def test_answer_is_the_least_torque_row_of_its_run(straight):
-    table = pq.read_table(answer_path(straight, ".parquet"))
+    table = pq.read_table(table_path(straight))
     plan = seed_stride_plan(straight)
     assert table.num_rows == plan.trials
     front = pareto_rows(table, plan)
@@ -45,7 +57,7 @@ def test_answer_is_the_least_torque_row_of_its_run(straight):
 @pytest.mark.parametrize("straight", [False, True])
 def test_saved_runs_still_evaluate_to_the_same_numbers(straight):
     """If the model changes, these tables are stale: run ``make answers``."""
-    table = pq.read_table(answer_path(straight, ".parquet"))
+    table = pq.read_table(table_path(straight))
     feasible = np.flatnonzero(table.column("feasible").to_numpy(zero_copy_only=False))
     for row in np.random.default_rng(int(straight)).choice(feasible, 3, replace=False):
         now = design_metrics(design_of_row(table, int(row)))
@@ -70,12 +82,12 @@ def test_report_section_has_units_in_every_column(rows):
 @pytest.mark.slow
 def test_floor_answer_is_quoted_and_still_evaluates_the_same():
     """Question 2: the docs quote the code; the best floor run re-simulates to the same verdict."""
-    from pasibot_pin.explore.questions import FLOOR_STEPS, FLOOR_TABLE, RESULTS_DIR, floor_plan
+    from pasibot_pin.explore.questions import FLOOR_STEPS, FLOOR_TABLE, floor_plan
 
     answer = design_exploration.floor_answer()
     text = (ROOT / "docs" / "design_exploration.md").read_text()
     assert design_exploration.floor_markdown(answer) in text
-    table = pq.read_table(RESULTS_DIR / FLOOR_TABLE)
+    table = pq.read_table(RESULTS / FLOOR_TABLE)
     assert table.num_rows == floor_plan().trials == answer.trials
     assert sum(answer.outcomes.values()) == answer.trials
     for r in floor_plan().ranges:  # the table is this plan's run: every range varied, inside its bounds
@@ -99,14 +111,16 @@ def test_summary_the_report_reads_is_the_tables_summary():
     """``analyze`` reads docs/results/answers_summary.json (no pyarrow); it must say what the Parquet tables say."""
     import json
 
-    from pasibot_pin.explore.questions import RESULTS_DIR, SUMMARY, summarize_tables
+    from pasibot_pin.explore.questions import SUMMARY, read_summary, summarize_tables, summary_text
 
-    stored = json.loads((RESULTS_DIR / SUMMARY).read_text())  # stale: run `make answers`
-    assert stored == summarize_tables()
-    floor = pq.read_table(RESULTS_DIR / "floor_springs.parquet")
+    text = (RESULTS / SUMMARY).read_text()  # stale: run `make answers`
+    stored = json.loads(text)
+    assert stored == summarize_tables(RESULTS) == read_summary()
+    assert summary_text(summarize_tables(RESULTS)) == text  # what tools/answers.py writes, byte for byte
+    floor = pq.read_table(RESULTS / "floor_springs.parquet")
     assert stored["floor"]["trials"] == floor.num_rows
     rows = [r for r in floor.to_pylist() if r["feasible"]]
     most = max(r["floor_steps"] for r in rows)  # the best: the most steps, then the longest run
     assert stored["floor"]["best_steps"] == most
     assert stored["floor"]["best_time"] == max(r["floor_time_s"] for r in rows if r["floor_steps"] == most)
-    assert stored["designs_explored"] == sum(pq.read_table(answer_path(s, ".parquet")).num_rows for s in (False, True))
+    assert stored["designs_explored"] == sum(pq.read_table(table_path(s)).num_rows for s in (False, True))

@@ -15,7 +15,7 @@ from pathlib import Path
 
 import pytest
 
-from pasibot_pin.model.design import load_design
+from pasibot_pin.model.design import Design, load_design
 from pasibot_pin.report.designs_catalog import DESIGNS_DIR, catalog_markdown, pick_designs
 from pasibot_pin.report.walking_answer import walking_answer, walking_markdown, walking_paragraph
 from pasibot_pin.studies.walking import WalkSettings, walk_design
@@ -67,6 +67,20 @@ def test_map_design_makes_a_symmetric_sole_on_the_variant_s_own_foot():
         d = map_design(variant, 6.0, 1.0)
         assert (d.variant, d.foot_toe, d.foot_heel, d.omega) == (variant, 6.0, 6.0, 1.0)
         assert d.spring_stiffness is None  # the spring variant keeps its fitted spring
+
+
+def test_every_cell_s_design_has_its_sole_on_the_variant_s_own_foot(wmap):
+    """Each committed cell rebuilds to a design whose sole (the geometry's extent of its variant, in metres) is the
+    cell's on both sides of the ankle, the other foot's fields left at the seed's: the map's cells are the same
+    designs whatever code picks the sole's fields (before issue 35 a name test, now the variant's record)."""
+    seed = Design()
+    for cell in wmap.cells:
+        d = map_design(cell.variant, cell.sole, cell.omega)
+        L = d.L
+        assert d.geometry().foot_extent(cell.variant) == pytest.approx((cell.sole * L, cell.sole * L), rel=1e-15)
+        changed = {k for k, v in d.values().items() if v != seed.values()[k] and v == v}
+        assert changed <= {"variant", "omega", "foot_toe", "foot_heel", "parallel_toe", "parallel_heel"}
+        assert len(changed & {"foot_toe", "foot_heel", "parallel_toe", "parallel_heel"}) <= 2
 
 
 def test_csv_round_trip(tmp_path, wmap):

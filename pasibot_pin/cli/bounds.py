@@ -11,7 +11,8 @@ here, and tries the same hostile values (huge, tiny, NaN, inf, negative, zero) o
 The bounds follow from what a value implies: a count bounds the memory of its arrays (a few
 hundred MB at most), a time step and a duration the number of integration steps (at most
 :data:`MAX_INTEGRATION_STEPS`), a physical input the range the model is valid in (a crank
-speed within the design record's, a friction coefficient a floor may have).
+speed within the design record's, a friction coefficient a floor may have). A flag that sets a design
+parameter takes the record's range and unit (:func:`spec_bound`): one range per parameter.
 """
 
 from __future__ import annotations
@@ -22,6 +23,7 @@ from dataclasses import dataclass
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import MAX_WORKERS
+from pasibot_pin.model.design import MIN_WALK_OMEGA, SPECS
 
 MAX_INTEGRATION_STEPS: int = 10_000_000
 """The most integration steps one run may take (a duration over a time step)."""
@@ -89,10 +91,30 @@ def _shown(value: object) -> str:
     return repr(value)
 
 
+def spec_bound(
+    name: str, low: float | None = None, low_open: bool = False, scale: float = 1.0, unit: str | None = None
+) -> Bound:
+    """The flag's :class:`Bound` of design parameter ``name``: its range and unit in the design record (``SPECS``).
+
+    Args:
+        name: the parameter's name in :data:`~pasibot_pin.model.design.SPECS`.
+        low: a stricter lower bound the command needs (a walk's crank speed), inside the range.
+        low_open: the lower bound itself is refused.
+        scale: the flag's unit over the record's (``math.degrees(1)`` for a flag in degrees of a record in rad).
+        unit: the flag's unit when it is not the record's (``""`` for none).
+
+    """
+    spec = SPECS[name]
+    bottom = spec.low if low is None else max(spec.low, low)
+    return Bound(bottom * scale, spec.high * scale, spec.unit if unit is None else unit, low_open=low_open)
+
+
 _MU = Bound(0.0, 10.0)
 _FPS = Bound(0.1, 240.0, "1/s")
 _LEGS = Bound(1, 2, integer=True)
-_OMEGA = Bound(0.0, 20.0, "rad/s")  # the design record's crank speeds
+_OMEGA = spec_bound("omega")  # the design record's crank speeds
+_TURNING = spec_bound("omega", low_open=True)  # cranks that turn
+_WALKING = spec_bound("omega", low=MIN_WALK_OMEGA)  # a walk's crank speeds
 _WALK_STEPS = Bound(1, 1000, integer=True)
 _SAMPLES_PER_STEP = Bound(2, 1000, integer=True)
 _EXPLORE = {
@@ -110,7 +132,7 @@ _WALK_VIEW = {
 
 BOUNDS: dict[str, dict[str, Bound]] = {
     "info": {"--legs": _LEGS},
-    "build-urdf": {"--legs": _LEGS, "--L": Bound(0.005, 2.0, "m"), "--K": Bound(1.0, 4.0)},
+    "build-urdf": {"--legs": _LEGS, "--L": spec_bound("L"), "--K": spec_bound("K", unit="")},
     "analyze": {},
     "view": {
         **_WALK_VIEW,
@@ -123,7 +145,7 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--legs": _LEGS,
         "--steps": _WALK_STEPS,
         "--step-deg": Bound(0.0, 90.0, "deg", low_open=True),
-        "--omega": Bound(0.0, 20.0, "rad/s", low_open=True),
+        "--omega": _TURNING,
     },
     "torques": {
         "--omega": _OMEGA,
@@ -134,9 +156,9 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--duration": Bound(0.01, 600.0, "s"),
         "--mu": _MU,
         "--steps": Bound(1, 1000, integer=True),
-        "--stiffness": Bound(0.0, 5000.0, "N.m/rad"),
-        "--rest-angle": Bound(17.2, 160.4, "deg"),  # the design record's beta0, 0.3 .. 2.8 rad
-        "--damping": Bound(0.0, 200.0, "N.m.s/rad"),
+        "--stiffness": spec_bound("spring_stiffness"),
+        "--rest-angle": spec_bound("spring_rest_angle", scale=math.degrees(1.0), unit="deg"),
+        "--damping": spec_bound("spring_damping"),
         "--dt": Bound(1e-5, 0.1, "s"),
         "--fps": _FPS,
     },
@@ -146,20 +168,20 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--sole": Bound(-2.0, 2.0, "m"),
     },
     "energy": {
-        "--omegas": Bound(0.0, 20.0, "rad/s", low_open=True),
-        "--body-mass": Bound(0.5, 500.0, "kg"),
-        "--com-dx": Bound(-1.0, 1.0, "m"),
+        "--omegas": _TURNING,
+        "--body-mass": spec_bound("body_mass"),
+        "--com-dx": spec_bound("body_com_dx"),
         "--nodes": Bound(2, 1000, integer=True),
         "--flywheel": Bound(0.0, 1000.0, "kg.m^2", low_open=True),
     },
     "walk": {
-        "--omega": Bound(0.05, 20.0, "rad/s"),
+        "--omega": _WALKING,
         "--mu": _MU,
         "--slope": Bound(-20.0, 20.0, "deg"),
     },  # --steps: its own type, [1, 1000]
     "sweep": {"--n": Bound(1, 1_000_000, integer=True), **_EXPLORE},
     "find-walker": {
-        "--omega": Bound(0.05, 20.0, "rad/s"),
+        "--omega": _WALKING,
         "--budget": Bound(1, 10_000, integer=True),  # explore.find_walker.MAX_BUDGET
         "--steps": Bound(3, 1000, "steps", integer=True),  # verdict.MIN_STRIDE_STEPS: fewer cannot say walks
         "--workers": Bound(1, 64, integer=True),

@@ -13,6 +13,7 @@ from pasibot_pin.cli.common import (
     check_output_folder,
     design_of,
 )
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.assembly import check_full_turn
 from pasibot_pin.model.description import render_default_urdfs, render_urdf, shape_soles, write_urdf
 from pasibot_pin.model.params import SEED_LINK_RATIOS, Geometry, check_legs, check_variant, percentage_mass_model
@@ -45,11 +46,11 @@ def parse_ratios(items: list[str]) -> dict[str, float]:
         key, sep, value = item.partition("=")
         key = key.strip()
         if not sep or key not in SEED_LINK_RATIOS:
-            raise ValueError(f"--ratio expects rN=VALUE with rN one of r1..r{len(SEED_LINK_RATIOS)}, got {item!r}")
+            raise ParameterError(f"--ratio expects rN=VALUE with rN one of r1..r{len(SEED_LINK_RATIOS)}, got {item!r}")
         try:
             out[key] = float(value)
         except ValueError:
-            raise ValueError(f"--ratio expects rN=VALUE with a number VALUE, got {item!r}") from None
+            raise ParameterError(f"--ratio expects rN=VALUE with a number VALUE, got {item!r}") from None
     return out
 
 
@@ -57,7 +58,7 @@ def run(args: argparse.Namespace) -> int:
     """Render and write (or print) the URDF."""
     if args.defaults:
         if args.L is not None or args.K is not None or args.ratio or args.design is not None:
-            raise ValueError("--defaults renders the default parameters; it takes no --L, --K, --ratio or --design")
+            raise ParameterError("--defaults renders the default parameters; it takes no --L, --K, --ratio or --design")
         out_dir = None if args.out is None else check_output_folder(args.out, "--out")
         for path in render_default_urdfs(out_dir, force=args.force):
             print(f"wrote {path}")

@@ -22,6 +22,7 @@ import argparse
 import os
 from pathlib import Path
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import check_replaceable, temporary_name
 from pasibot_pin.model.design import load_design
 from pasibot_pin.model.params import SOLE_FLOOR_MU, VARIANTS
@@ -194,21 +195,21 @@ def _check_writable_folder(folder: Path, option: str, path: Path) -> None:
     probe = folder
     while not probe.exists():
         if probe.is_symlink():  # a dangling link: mkdir would fail
-            raise ValueError(f"{option} {path}: {probe} is a broken link")
+            raise ParameterError(f"{option} {path}: {probe} is a broken link")
         parent = probe.parent
         if parent == probe:
             break
         probe = parent
     if probe.exists() and not probe.is_dir():
-        raise ValueError(f"{option} {path}: {probe} is a file, not a folder")
+        raise ParameterError(f"{option} {path}: {probe} is a file, not a folder")
     if not os.access(probe, os.W_OK | os.X_OK):
-        raise ValueError(f"{option} {path}: folder {probe} is not writable")
+        raise ParameterError(f"{option} {path}: folder {probe} is not writable")
     if probe != folder:  # the folder will be created: try it (/proc, /sys refuse even root)
         trial = temporary_name(probe / "probe")
         try:
             os.mkdir(trial, 0o700)
         except OSError as err:
-            raise ValueError(f"{option} {path}: cannot create a folder in {probe} ({err.strerror})") from None
+            raise ParameterError(f"{option} {path}: cannot create a folder in {probe} ({err.strerror})") from None
         os.rmdir(trial)
 
 
@@ -232,7 +233,7 @@ def check_output_file(path: Path | None, option: str, force: bool = False) -> Pa
         return None
     path = Path(path)
     if not path.name or path.is_dir() or str(path).endswith(os.sep):
-        raise ValueError(f"{option} {path} is a folder; give a file name")
+        raise ParameterError(f"{option} {path} is a folder; give a file name")
     if os.path.lexists(path):
         if not force:
             raise FileExistsError(f"{option} {path} exists; pass --force to overwrite it")
@@ -254,7 +255,7 @@ def _probe_folder(folder: Path, option: str, path: Path) -> None:
     try:
         fd = os.open(probe, os.O_WRONLY | os.O_CREAT | os.O_EXCL, 0o600)
     except OSError as err:
-        raise ValueError(f"{option} {path}: cannot write in folder {folder} ({err.strerror})") from None
+        raise ParameterError(f"{option} {path}: cannot write in folder {folder} ({err.strerror})") from None
     os.close(fd)
     os.unlink(probe)
 
@@ -268,7 +269,7 @@ def check_output_folder(path: Path, option: str) -> Path:
     """
     path = Path(path)
     if path.exists() and not path.is_dir():
-        raise ValueError(f"{option} {path} is a file, not a folder")
+        raise ParameterError(f"{option} {path} is a file, not a folder")
     _check_writable_folder(path, option, path)
     return path
 
@@ -299,7 +300,9 @@ def check_plot_file(path: Path | None, option: str = "--plot", force: bool = Fal
     formats = plot_formats()
     ext = path.suffix.lower().lstrip(".")
     if path.suffix and ext not in formats:
-        raise ValueError(f"{option} {path}: matplotlib cannot write .{ext}; use one of .{', .'.join(sorted(formats))}")
+        raise ParameterError(
+            f"{option} {path}: matplotlib cannot write .{ext}; use one of .{', .'.join(sorted(formats))}"
+        )
     return check_output_file(path, option, force)
 
 
@@ -321,5 +324,5 @@ def check_outputs(args: argparse.Namespace, stem: str | None = None) -> None:
     csv_path = check_output_file(args.csv, csv_option, args.force)
     plot_path = check_plot_file(args.plot, plot_option, args.force)
     if csv_path is not None and plot_path is not None and csv_path.resolve() == plot_path.resolve():
-        raise ValueError(f"--csv and --plot name the same file {csv_path}")
+        raise ParameterError(f"--csv and --plot name the same file {csv_path}")
     args.csv, args.plot = csv_path, plot_path

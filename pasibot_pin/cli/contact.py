@@ -19,6 +19,7 @@ from pasibot_pin.cli.common import (
     check_outputs,
     design_of,
 )
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.scenarios import PRESETS, get_scenario
 from pasibot_pin.report.files import write_columns_csv
 from pasibot_pin.studies.contact import CONTACT_SAMPLES, check_sole, design_contact, scenario_contact
@@ -62,7 +63,7 @@ def run(args: argparse.Namespace) -> int:
     name = "design" if design is not None else get_scenario(args.scenario).name
     check_outputs(args, f"contact_{args.variant if design is None else design.variant}_{name}")
     if args.samples < 2:
-        raise ValueError(f"parameter '--samples' must be >= 2, got {args.samples!r}")
+        raise ParameterError(f"parameter '--samples' must be >= 2, got {args.samples!r}")
     sole = check_sole(args.sole, "--sole")
     if design is not None:
         _torques, res = design_contact(design, args.mu, args.samples, sole)

@@ -87,7 +87,7 @@ def run(args: argparse.Namespace) -> int:
         )
     design = design_of(args)
     if design is not None and args.flywheel is not None:
-        raise ValueError("--flywheel sizes the variants' motors; it takes no --design")
+        raise ParameterError("--flywheel sizes the variants' motors; it takes no --design")
     settings = ContactEnergySettings(
         design=design,
         omegas=tuple(args.omegas),

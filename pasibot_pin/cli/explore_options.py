@@ -8,6 +8,7 @@ from pathlib import Path
 import numpy as np
 
 from pasibot_pin.cli.common import add_force_option, check_output_folder
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import check_scheduler, check_workers
 from pasibot_pin.explore.plan import DEFAULT_RANGES, check_floor, parse_ranking, ranges_or_default
 from pasibot_pin.extras import require
@@ -63,7 +64,7 @@ def start_run(args: argparse.Namespace):
     check_workers(args.workers)
     check_floor(args.floor)
     if isinstance(args.best, bool) or not 0 <= args.best <= 100:
-        raise ValueError(f"--best must be in [0, 100], got {args.best!r}")
+        raise ParameterError(f"--best must be in [0, 100], got {args.best!r}")
     by = parse_ranking(args.by, "--by")
     check_scheduler(args.dask)  # last: it may wait a few seconds for the scheduler
     return base, ranges, by

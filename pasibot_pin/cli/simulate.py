@@ -97,9 +97,11 @@ def run(args: argparse.Namespace) -> int:
         "--3d": args.spatial,
     }
     for flag in (f for f, value in {**floor_only, "--design": args.design}.items() if value not in (None, False)):
-        raise ValueError(f"{flag} applies to --ground floor only (the welded study: seed scenarios, the foot welded)")
+        raise ParameterError(
+            f"{flag} applies to --ground floor only (the welded study: seed scenarios, the foot welded)"
+        )
     if args.steps < 1:
-        raise ValueError(f"--steps must be a positive integer, got {args.steps}")
+        raise ParameterError(f"--steps must be a positive integer, got {args.steps}")
     if args.gif or args.html:
         check_fps(args.fps)
     common.check_output_folder(args.out, "--out")

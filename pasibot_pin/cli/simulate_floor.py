@@ -29,12 +29,12 @@ def run_floor(args: argparse.Namespace) -> int:
         ("--html", args.html or None),
     ):
         if value is not None:
-            raise ValueError(
+            raise ParameterError(
                 f"{flag} applies to --ground weld only (the floor runs the fitted, no, half and twice springs)"
             )
     dt = 1e-3 if args.dt is None else args.dt
     if args.study and args.design is not None:
-        raise ValueError("--study runs the seed scenarios; it takes no --design")
+        raise ParameterError("--study runs the seed scenarios; it takes no --design")
     if args.study and args.spatial:
         raise ParameterError("--3d runs the spring cases (or --design) on the 3-D floor; --study is the planar floor's")
     if args.study:

@@ -14,6 +14,7 @@ import time
 
 from pasibot_pin.cli.common import design_of
 from pasibot_pin.cli.export_html import add_walk_view_options
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.robot import load
 
@@ -42,11 +43,11 @@ def run(args: argparse.Namespace) -> int:
     )
 
     if args.repeat < 1:
-        raise ValueError(f"--repeat must be >= 1, got {args.repeat}")
+        raise ParameterError(f"--repeat must be >= 1, got {args.repeat}")
     if not (math.isfinite(args.hold) and (args.hold >= 0 or args.hold == -1)):
-        raise ValueError(f"--hold must be >= 0 s or -1 (until Ctrl-C), got {args.hold}")
+        raise ParameterError(f"--hold must be >= 0 s or -1 (until Ctrl-C), got {args.hold}")
     if not (math.isfinite(args.fps) and args.fps > 0):
-        raise ValueError(f"--fps must be a positive frame rate [1/s], got {args.fps}")
+        raise ParameterError(f"--fps must be a positive frame rate [1/s], got {args.fps}")
     if args.zmq_url is not None:
         check_meshcat_server(args.zmq_url)
     design = design_of(args)

@@ -33,6 +33,7 @@ from pasibot_pin.constraints.rows import (
     planar_kinematics,
     wrap_angle,
 )
+from pasibot_pin.errors import ParameterError
 
 _S = TypeVar("_S", bound="RowSystem")
 
@@ -62,13 +63,13 @@ class RowSystem:
         kinematics: str = "planar",
     ):
         if model.nq != model.nv:
-            raise ValueError(f"the constraint system needs nq == nv (revolute/prismatic joints), got {model.nq}")
+            raise ParameterError(f"the constraint system needs nq == nv (revolute/prismatic joints), got {model.nq}")
         self.model, self.data = model, data
         self.cmodels = list(cmodels)
         self.length_scale = float(length_scale)
         self._zero_v = np.zeros(model.nv)
         if kinematics not in ("planar", "pinocchio"):
-            raise ValueError(f"parameter 'kinematics' must be 'planar' or 'pinocchio', got {kinematics!r}")
+            raise ParameterError(f"parameter 'kinematics' must be 'planar' or 'pinocchio', got {kinematics!r}")
         self._planar = planar_kinematics(model) if kinematics == "planar" else None
         # the two ends of every constraint model
         ends = []

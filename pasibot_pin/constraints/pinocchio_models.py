@@ -15,6 +15,8 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
+
 POINT_ROWS: tuple[int, ...] = (0, 2)
 """In-plane rows of a CONTACT_3D constraint (x, z)."""
 WELD_ROWS: tuple[int, ...] = (0, 2, 4)
@@ -196,7 +198,7 @@ def proximal_forward_dynamics(
 
     """
     if not mu > 0:
-        raise ValueError(f"parameter 'mu' must be positive (rank-deficient planar contacts), got {mu!r}")
+        raise ParameterError(f"parameter 'mu' must be positive (rank-deficient planar contacts), got {mu!r}")
     cdatas = create_datas(cmodels)
     pin.initConstraintDynamics(model, data, cmodels, cdatas)
     settings = pin.ProximalSettings(accuracy, mu, max_iter)
@@ -244,7 +246,7 @@ def proximal_impulse(
 
     """
     if not mu > 0:
-        raise ValueError(f"parameter 'mu' must be positive (rank-deficient planar contacts), got {mu!r}")
+        raise ParameterError(f"parameter 'mu' must be positive (rank-deficient planar contacts), got {mu!r}")
     cdatas = create_datas(cmodels)
     pin.initConstraintDynamics(model, data, cmodels, cdatas)
     settings = pin.ProximalSettings(accuracy, mu, max_iter)

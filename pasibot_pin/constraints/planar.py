@@ -25,6 +25,8 @@ from typing import NamedTuple
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
+
 
 def _pitch(rotation: np.ndarray) -> float:
     return math.atan2(rotation[2, 0], rotation[0, 0])
@@ -61,7 +63,7 @@ class PlanarKinematics:
             parent = model.parents[j]
             placement = model.jointPlacements[j]
             if not _is_planar_rotation(placement.rotation):
-                raise ValueError(f"joint {model.names[j]!r}: its placement does not turn about y")
+                raise ParameterError(f"joint {model.names[j]!r}: its placement does not turn about y")
             a0, A = self.joint_a0[parent], self.joint_A[parent].copy()
             terms = list(self.joint_terms[parent])
             terms.append(self._term(a0, A, placement.translation[[0, 2]], -1))
@@ -90,7 +92,7 @@ class PlanarKinematics:
         if kind in ("JointModelRevoluteUnaligned", "JointModelRY"):
             axis = sub.extract().axis if kind == "JointModelRevoluteUnaligned" else np.array([0.0, 1.0, 0.0])
             if abs(abs(axis[1]) - 1.0) > 1e-12:
-                raise ValueError(f"joint {name!r} does not turn about y")
+                raise ParameterError(f"joint {name!r} does not turn about y")
             A = A.copy()
             A[index] -= axis[1]  # about +y by q is a pitch of -q (pitch is about -y)
             return a0, A
@@ -98,7 +100,7 @@ class PlanarKinematics:
             c = np.array([1.0, 0.0]) if kind == "JointModelPX" else np.array([0.0, 1.0])
             terms.append(self._term(a0, A, c, index))
             return a0, A
-        raise ValueError(f"joint {name!r} of kind {kind} is not planar")
+        raise ParameterError(f"joint {name!r} of kind {kind} is not planar")
 
     def ends(self, joints: np.ndarray, translations: np.ndarray, rotations: np.ndarray) -> PlanarEnds:
         """Precompute the points fixed at ``translations`` on ``joints`` (and their frames' pitch)."""

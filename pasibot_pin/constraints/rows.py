@@ -78,7 +78,7 @@ class CoordinateRow:
     def index(self) -> int:
         """The coordinate index of a one-term row."""
         if len(self.terms) != 1:
-            raise ValueError(f"row {self.name!r} combines {len(self.terms)} coordinates: it has no single index")
+            raise ParameterError(f"row {self.name!r} combines {len(self.terms)} coordinates: it has no single index")
         return self.terms[0][0]
 
     def at(self, offset: float, rate: float = 0.0) -> CoordinateRow:

@@ -102,7 +102,7 @@ def split_torques(tau: np.ndarray, s_matrix: np.ndarray, jac: np.ndarray) -> tup
 def square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
     """Solve a batch of square systems (N, n, n) x = (N, n), with the errors of :func:`square_solve`."""
     if matrix.shape[-2] != matrix.shape[-1]:
-        raise ValueError(
+        raise ParameterError(
             f"{what}: constraints plus prescriptions give {matrix.shape[-2]} rows for nv = {matrix.shape[-1]}; "
             "prescribe exactly the free coordinates"
         )
@@ -118,7 +118,7 @@ def square_solve_many(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndar
 def square_solve(matrix: np.ndarray, rhs: np.ndarray, what: str) -> np.ndarray:
     """Solve a square system ``matrix`` x = ``rhs``; ValueError if not square, SingularPoseError if singular."""
     if matrix.shape[0] != matrix.shape[1]:
-        raise ValueError(
+        raise ParameterError(
             f"{what}: constraints plus prescriptions give {matrix.shape[0]} rows for nv = {matrix.shape[1]}; "
             "prescribe exactly the free coordinates"
         )

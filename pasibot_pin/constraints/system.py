@@ -61,7 +61,7 @@ from pasibot_pin.constraints.solves import (  # noqa: F401 (re-exported)
     square_solve_many,
     symmetric_mass_matrix,
 )
-from pasibot_pin.errors import ClosureError, SingularPoseError
+from pasibot_pin.errors import ClosureError, ParameterError, SingularPoseError
 
 
 class ConstraintSystem(RowSystem):
@@ -130,7 +130,7 @@ class ConstraintSystem(RowSystem):
                 step *= STEP_LIMIT / largest
             q = pin.integrate(self.model, q, step)
         if rows is None:
-            raise ValueError(f"parameter 'max_iter' must be >= 1, got {max_iter!r}")
+            raise ParameterError(f"parameter 'max_iter' must be >= 1, got {max_iter!r}")
         worst = int(np.argmax(np.abs(rows.phi) / self.tolerance))
         raise ClosureError(
             f"loop closure failed: constraint {self.labels[worst]} keeps a residual of {abs(rows.phi[worst]):.3e} "
@@ -158,7 +158,7 @@ class ConstraintSystem(RowSystem):
         """
         q = np.array(q, dtype=float)
         if q.ndim != 2 or self._planar_ends is None or self.nrows != self.model.nv:
-            raise ValueError("project_many needs a batch (N, nq) and a square planar constraint system")
+            raise ParameterError("project_many needs a batch (N, nq) and a square planar constraint system")
         targets = np.broadcast_to(np.asarray(targets, dtype=float), (len(q), len(self.scalars)))
         rows = self.evaluate(q, None, 0.0, targets)
         for _ in range(max_iter):

@@ -45,8 +45,10 @@ from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, split_torques
 from pasibot_pin.dynamics.stance_plan import StancePlan, ankle_angles, stance_plan, unwrap_angles
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model import closure
 from pasibot_pin.model.coordinates import other
+from pasibot_pin.model.design import check_parameter
 from pasibot_pin.model.robot import PasibotRobot
 from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import ACCELERATION_MODES, SWING_FOOT_MODES, ModelChoices, Scenario
@@ -85,22 +87,22 @@ def sweep_stances(thetas: np.ndarray, stance: str = "auto") -> list[str]:
 
 
 def check_omega(omega: float) -> float:
-    """Return ``omega`` [rad/s] if it is finite and >= 0, else raise ValueError naming it."""
-    omega = float(omega)
-    if not math.isfinite(omega) or omega < 0:
-        raise ValueError(f"parameter 'omega' must be a finite crank speed >= 0 [rad/s], got {omega!r}")
-    return omega
+    """``omega`` [rad/s] if it lies in the design record's range of crank speeds, else a ParameterError naming it.
+
+    The range is ``SPECS["omega"]`` (:func:`~pasibot_pin.model.design.check_parameter`): 0 (quasi-static) to its top.
+    """
+    return check_parameter("omega", float(omega))
 
 
 def check_fit_window(thetas: Sequence[float]) -> np.ndarray:
     """Validate a fit window of stance-crank angles [rad]: inside stance (+- :data:`STANCE_MARGIN`)."""
     arr = np.asarray(thetas, dtype=float).reshape(-1)
     if arr.size < 2 or not np.all(np.isfinite(arr)):
-        raise ValueError("parameter 'fit_thetas' needs at least two finite crank angles [rad]")
+        raise ParameterError("parameter 'fit_thetas' needs at least two finite crank angles [rad]")
     lo, hi = STANCE_RANGE[0] - STANCE_MARGIN, STANCE_RANGE[1] + STANCE_MARGIN
     bad = arr[(arr < lo - 1e-9) | (arr > hi + 1e-9)]
     if bad.size:
-        raise ValueError(
+        raise ParameterError(
             f"parameter 'fit_thetas': {bad[0]:.4f} rad ({math.degrees(bad[0]):.1f} deg) is outside stance "
             f"[{lo:.4f}, {hi:.4f}] rad (theta in [pi/2, 3 pi/2] +- {STANCE_MARGIN} rad)"
         )
@@ -212,7 +214,7 @@ def _stance_guess(robot: PasibotRobot, thetas, swing_pitch, side, stance_x, angu
 def crank_grid(start: float, stop: float, samples: int) -> np.ndarray:
     """``samples`` right-crank angles from ``start`` to ``stop`` inclusive [rad]."""
     if samples < 2:
-        raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
+        raise ParameterError(f"parameter 'samples' must be >= 2, got {samples!r}")
     return np.linspace(start, stop, int(samples))
 
 
@@ -294,22 +296,22 @@ def _check_sweep(
 ) -> np.ndarray:
     """The crank angles of a sweep as an array, once every argument of :func:`inverse_dynamics` is checked."""
     if robot.legs != 2:
-        raise ValueError(f"inverse_dynamics needs a two-legged robot (load(..., legs=2)), got legs={robot.legs}")
+        raise ParameterError(f"inverse_dynamics needs a two-legged robot (load(..., legs=2)), got legs={robot.legs}")
     if swing_foot not in SWING_FOOT_MODES:
-        raise ValueError(f"unknown swing_foot {swing_foot!r}; valid: {', '.join(SWING_FOOT_MODES)}")
+        raise ParameterError(f"unknown swing_foot {swing_foot!r}; valid: {', '.join(SWING_FOOT_MODES)}")
     if accelerations not in ACCELERATION_MODES:
-        raise ValueError(f"unknown accelerations {accelerations!r}; valid: {', '.join(ACCELERATION_MODES)}")
+        raise ParameterError(f"unknown accelerations {accelerations!r}; valid: {', '.join(ACCELERATION_MODES)}")
     if stance not in ("auto", "right", "left"):
-        raise ValueError(f"unknown stance {stance!r}; valid: auto, right, left")
+        raise ParameterError(f"unknown stance {stance!r}; valid: auto, right, left")
     if not (math.isfinite(step) and step > 0):
-        raise ValueError(f"parameter 'step' must be a positive angle [rad], got {step!r}")
+        raise ParameterError(f"parameter 'step' must be a positive angle [rad], got {step!r}")
     arr = np.asarray(thetas, dtype=float).reshape(-1)
     if arr.size < 1 or not np.all(np.isfinite(arr)):
-        raise ValueError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
+        raise ParameterError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
     if arr.size > 1 and np.any(np.diff(arr) <= 0):
-        raise ValueError("parameter 'thetas' must be strictly increasing")
+        raise ParameterError("parameter 'thetas' must be strictly increasing")
     if accelerations != "exact" and robot.inertia != "point" and omega > 0:
-        raise ValueError("difference accelerations need point masses (inertia='point')")
+        raise ParameterError("difference accelerations need point masses (inertia='point')")
     return arr
 
 

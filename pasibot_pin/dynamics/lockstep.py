@@ -32,7 +32,7 @@ from pasibot_pin.dynamics.simulator import (
     sole_height,
     total_energy,
 )
-from pasibot_pin.errors import SimulationError
+from pasibot_pin.errors import ParameterError, SimulationError
 from pasibot_pin.model.coordinates import other
 
 if TYPE_CHECKING:
@@ -49,15 +49,15 @@ class _Failed(Exception):
 def _check(settings: Sequence[SimulationSettings]) -> SimulationSettings:
     """The shared settings; ValueError unless the walks differ only in spring and initial pitch."""
     if not settings:
-        raise ValueError("simulate_many needs at least one walk")
+        raise ParameterError("simulate_many needs at least one walk")
     first = settings[0]
     for s in settings:
         if s.with_(spring=first.spring, initial_pitch=first.initial_pitch) != first:
-            raise ValueError("simulate_many: the walks may differ only in their spring and initial pitch")
+            raise ParameterError("simulate_many: the walks may differ only in their spring and initial pitch")
     if first.swing_ankle != "rest" or first.integrator != "rk4" or first.feedforward is not None:
-        raise ValueError("simulate_many runs swing_ankle='rest', RK4 walks without feed-forward")
+        raise ParameterError("simulate_many runs swing_ankle='rest', RK4 walks without feed-forward")
     if first.record_every != 1 or not first.omega > 0:
-        raise ValueError("simulate_many records every step of a walk with a positive crank rate")
+        raise ParameterError("simulate_many records every step of a walk with a positive crank rate")
     return first
 
 
@@ -70,7 +70,7 @@ class _Walks:
         self.n = len(settings)
         springs = [s.spring for s in settings if s.spring is not None]
         if len(springs) != self.n:
-            raise ValueError("simulate_many needs a spring in every walk's settings")
+            raise ParameterError("simulate_many needs a spring in every walk's settings")
         self.stiffness = np.array([sp.stiffness for sp in springs])
         self.rest = np.array([sp.rest_angle for sp in springs])
         self.damping = np.array([sp.damping for sp in springs])
@@ -207,7 +207,7 @@ def simulate_many(robot: PasibotRobot, settings: Sequence[SimulationSettings], s
     """
     s = _check(settings)
     if int(steps) != steps or steps < 1:
-        raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
+        raise ParameterError(f"parameter 'steps' must be a positive integer, got {steps!r}")
     run = _Lockstep(robot, settings, s)
     t = 0.0
     ends = run.phase_ends(int(steps))

@@ -30,6 +30,7 @@ from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.constraints import anchor_points, is_weld, model_key, planar_rows
 from pasibot_pin.constraints.planar import PlanarRowBlocks
 from pasibot_pin.constraints.system import planar_kinematics
+from pasibot_pin.errors import ParameterError
 
 
 @dataclass
@@ -89,7 +90,7 @@ def _build_tree_layout(model: pin.Model, cmodels) -> TreeLayout:
     joints = list(range(1, model.njoints))
     kin = planar_kinematics(model)
     if kin is None:
-        raise ValueError("the batched Newton-Euler needs a planar model (every rotation about y)")
+        raise ParameterError("the batched Newton-Euler needs a planar model (every rotation about y)")
     eye = np.eye(3)
     mass = np.array([model.inertias[j].mass for j in joints])
     inertia_y = np.array([model.inertias[j].inertia[1, 1] for j in joints])

@@ -31,6 +31,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints.system import planar_kinematics
 from pasibot_pin.dynamics.newton_euler import TreeLayout
+from pasibot_pin.errors import ParameterError
 
 
 def _cross(r: np.ndarray, f: np.ndarray) -> np.ndarray:
@@ -142,7 +143,7 @@ def planar_inverse_dynamics(model: pin.Model, tree: TreeLayout) -> PlanarInverse
     """
     kin = planar_kinematics(model)
     if kin is None:
-        raise ValueError("the planar inverse dynamics needs a planar model (every rotation about y)")
+        raise ParameterError("the planar inverse dynamics needs a planar model (every rotation about y)")
     n_joints, nv = model.njoints - 1, model.nv
     rate = np.zeros((n_joints, nv))
     slide_conj = np.zeros((n_joints, nv), dtype=complex)
@@ -162,7 +163,7 @@ def planar_inverse_dynamics(model: pin.Model, tree: TreeLayout) -> PlanarInverse
                 slide_conj[j - 1, k] += np.conj(c)
     cols = [k for *_, k in turning]
     if len(set(cols)) != len(cols):
-        raise ValueError("the planar inverse dynamics needs one term per turning slider")
+        raise ParameterError("the planar inverse dynamics needs one term per turning slider")
     return PlanarInverseDynamics(
         tree,
         rate,

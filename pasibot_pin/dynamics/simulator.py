@@ -64,7 +64,7 @@ from pasibot_pin.dynamics.spring_energy import (  # noqa: F401 (re-exported: sim
     spring_forces,
     total_energy,
 )
-from pasibot_pin.errors import SimulationError
+from pasibot_pin.errors import ParameterError, SimulationError
 from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_velocity
 from pasibot_pin.model.coordinates import HIP_PITCH, other
 from pasibot_pin.reprs import short_repr
@@ -126,18 +126,18 @@ class SimulationSettings:
             ("integrator", INTEGRATORS),
         ):
             if getattr(self, name) not in valid:
-                raise ValueError(f"unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")
+                raise ParameterError(f"unknown {name} {getattr(self, name)!r}; valid: {', '.join(valid)}")
         check_finite("omega", self.omega)
         check_finite("theta0", self.theta0)
         check_finite("initial_pitch", self.initial_pitch)
         if not (math.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"parameter 'dt' must be a positive finite step [s], got {self.dt!r}")
+            raise ParameterError(f"parameter 'dt' must be a positive finite step [s], got {self.dt!r}")
         if not (math.isfinite(self.fall_limit) and self.fall_limit > 0):
-            raise ValueError(f"parameter 'fall_limit' must be positive [rad], got {self.fall_limit!r}")
+            raise ParameterError(f"parameter 'fall_limit' must be positive [rad], got {self.fall_limit!r}")
         if int(self.record_every) < 1:
-            raise ValueError(f"parameter 'record_every' must be >= 1, got {self.record_every!r}")
+            raise ParameterError(f"parameter 'record_every' must be >= 1, got {self.record_every!r}")
         if self.swing_ankle == "rest" and self.spring is None:
-            raise ValueError("swing_ankle='rest' needs a spring (its rest angle)")
+            raise ParameterError("swing_ankle='rest' needs a spring (its rest angle)")
 
     def with_(self, **changes) -> SimulationSettings:
         """Copy with some fields changed."""
@@ -229,12 +229,12 @@ class BipedSimulator:
 
     def __init__(self, robot: PasibotRobot, settings: SimulationSettings):
         if not robot.spec.free_ankle or robot.legs != 2:
-            raise ValueError(
+            raise ParameterError(
                 "the simulator needs a two-legged robot with spring ankles (variant 'spring'), "
                 f"got variant={robot.variant!r} legs={robot.legs}"
             )
         if robot.model.nq != robot.model.nv:
-            raise ValueError("the simulator assumes nq == nv (revolute/prismatic joints only)")
+            raise ParameterError("the simulator assumes nq == nv (revolute/prismatic joints only)")
         self.robot = robot
         self.settings = settings
         self.cranks = {side: robot.idx_v(f"{side}_j0_crank") for side in ("right", "left")}
@@ -279,7 +279,7 @@ class BipedSimulator:
         if self.settings.feedforward is not None:
             ff = np.asarray(self.settings.feedforward(t, q, v), dtype=float)
             if ff.shape != tau.shape or not np.all(np.isfinite(ff)):
-                raise ValueError(f"feedforward must return a finite vector of size nv = {len(tau)}")
+                raise ParameterError(f"feedforward must return a finite vector of size nv = {len(tau)}")
             tau = tau + ff
         return tau
 
@@ -379,14 +379,14 @@ class BipedSimulator:
         """The end of each stance phase [s]: touchdowns as the right crank reaches pi/2 + k pi, or ``duration``."""
         s = self.settings
         if (steps is None) == (duration is None):
-            raise ValueError("give exactly one of 'steps' (walk) or 'duration' (one stance)")
+            raise ParameterError("give exactly one of 'steps' (walk) or 'duration' (one stance)")
         if duration is not None:
             return [check_finite("duration", duration, 0.0)]
         assert steps is not None  # one of the two is given (checked above)
         if int(steps) != steps or steps < 1:
-            raise ValueError(f"parameter 'steps' must be a positive integer, got {steps!r}")
+            raise ParameterError(f"parameter 'steps' must be a positive integer, got {steps!r}")
         if not s.omega > 0:
-            raise ValueError(f"walking needs a positive crank rate 'omega', got {s.omega!r}")
+            raise ParameterError(f"walking needs a positive crank rate 'omega', got {s.omega!r}")
         k0 = math.floor((s.theta0 - math.pi / 2) / math.pi + 1e-9) + 1
         return [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(int(steps))]
 

@@ -67,11 +67,11 @@ def check_scheduler(address: str | None) -> None:
 
     refused = tcp_refused(address)
     if refused:
-        raise ValueError(f"--dask {address}: cannot reach a Dask scheduler there ({refused})")
+        raise ParameterError(f"--dask {address}: cannot reach a Dask scheduler there ({refused})")
     try:
         Client(address, timeout=CONNECT_TIMEOUT).close()
     except (OSError, TimeoutError, ValueError) as err:
-        raise ValueError(f"--dask {address}: cannot reach a Dask scheduler there ({err})") from None
+        raise ParameterError(f"--dask {address}: cannot reach a Dask scheduler there ({err})") from None
 
 
 def run_tasks(
@@ -126,7 +126,7 @@ def _run_dask(
         try:
             client = Client(address, timeout=CONNECT_TIMEOUT)
         except (OSError, TimeoutError, ValueError) as err:
-            raise ValueError(f"--dask {address}: cannot reach a Dask scheduler there ({err})") from None
+            raise ParameterError(f"--dask {address}: cannot reach a Dask scheduler there ({err})") from None
     try:
         capacity = max(1, len(client.scheduler_info().get("workers", {})) or workers) * IN_FLIGHT
         pending = iter(tasks)

@@ -28,6 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import check_workers, run_tasks
 from pasibot_pin.explore.plan import DEFAULT_RANGES, Choice, Varied, check_floor, range_record
 from pasibot_pin.explore.store import ResultStore
@@ -50,9 +51,9 @@ class Objective:
 
     def __post_init__(self) -> None:
         if self.metric not in ALL_METRICS:
-            raise ValueError(f"--objective {self.metric!r}: unknown metric; valid: {', '.join(ALL_METRICS)}")
+            raise ParameterError(f"--objective {self.metric!r}: unknown metric; valid: {', '.join(ALL_METRICS)}")
         if self.sense not in ("min", "max"):
-            raise ValueError(f"--objective {self.metric}:{self.sense}: the sense must be min or max")
+            raise ParameterError(f"--objective {self.metric}:{self.sense}: the sense must be min or max")
 
     def text(self) -> str:
         """``METRIC:SENSE``."""
@@ -76,11 +77,11 @@ class Constraint:
 
     def __post_init__(self) -> None:
         if self.metric not in ALL_METRICS:
-            raise ValueError(f"--constraint {self.metric!r}: unknown metric; valid: {', '.join(ALL_METRICS)}")
+            raise ParameterError(f"--constraint {self.metric!r}: unknown metric; valid: {', '.join(ALL_METRICS)}")
         if self.op not in (">=", "<="):
-            raise ValueError(f"--constraint {self.text()}: use >= or <=")
+            raise ParameterError(f"--constraint {self.text()}: use >= or <=")
         if not math.isfinite(self.bound):
-            raise ValueError(f"--constraint {self.metric}: the bound must be a finite number, got {self.bound!r}")
+            raise ParameterError(f"--constraint {self.metric}: the bound must be a finite number, got {self.bound!r}")
 
     def violation(self, value: float) -> float:
         """How far ``value`` is on the wrong side of the bound (<= 0: satisfied)."""
@@ -97,11 +98,11 @@ def parse_constraint(text: str) -> Constraint:
     """A :class:`Constraint` from ``METRIC>=BOUND`` or ``METRIC<=BOUND``."""
     match = re.fullmatch(r"\s*([A-Za-z_][A-Za-z0-9_]*)\s*(>=|<=)\s*(\S+)\s*", str(text))
     if match is None:
-        raise ValueError(f"--constraint {text!r}: write METRIC>=BOUND or METRIC<=BOUND, e.g. cop_margin_m>=0")
+        raise ParameterError(f"--constraint {text!r}: write METRIC>=BOUND or METRIC<=BOUND, e.g. cop_margin_m>=0")
     try:
         bound = float(match.group(3))
     except ValueError:
-        raise ValueError(f"--constraint {text!r}: the bound must be a number") from None
+        raise ParameterError(f"--constraint {text!r}: the bound must be a number") from None
     return Constraint(match.group(1), match.group(2), bound)
 
 
@@ -134,11 +135,11 @@ class OptimizePlan:
         check_floor(self.floor)
         for name, value, low in (("trials", self.trials, 1), ("population", self.population, 2)):
             if isinstance(value, bool) or not isinstance(value, int) or not low <= value <= 1_000_000:
-                raise ValueError(f"parameter {name!r} must be an integer in [{low}, 1e6], got {value!r}")
+                raise ParameterError(f"parameter {name!r} must be an integer in [{low}, 1e6], got {value!r}")
         if not self.objectives:
-            raise ValueError("an optimisation needs at least one --objective")
+            raise ParameterError("an optimisation needs at least one --objective")
         if not self.ranges:
-            raise ValueError("an optimisation needs at least one --vary NAME=LO:HI")
+            raise ParameterError("an optimisation needs at least one --vary NAME=LO:HI")
         for attr in ("ranges", "objectives", "constraints"):
             object.__setattr__(self, attr, tuple(getattr(self, attr)))
 

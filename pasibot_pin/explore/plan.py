@@ -35,18 +35,20 @@ class Range:
         spec = SPECS.get(self.name)
         if spec is None:
             if self.name in CHOICES:
-                raise ValueError(
+                raise ParameterError(
                     f"--vary {self.name}: a categorical parameter: list its values, "
                     f"e.g. {self.name}={','.join(CHOICES[self.name])}"
                 )
-            raise ValueError(f"--vary {self.name}: unknown; numeric parameters: {', '.join(SPECS)}")
+            raise ParameterError(f"--vary {self.name}: unknown; numeric parameters: {', '.join(SPECS)}")
         for label, value in (("low", self.low), ("high", self.high)):
             if not math.isfinite(value):
-                raise ValueError(f"--vary {self.name}: the {label} bound must be a finite number, got {value!r}")
+                raise ParameterError(f"--vary {self.name}: the {label} bound must be a finite number, got {value!r}")
         if not self.low < self.high:
-            raise ValueError(f"--vary {self.name}={self.low:g}:{self.high:g}: the low bound must be below the high one")
+            raise ParameterError(
+                f"--vary {self.name}={self.low:g}:{self.high:g}: the low bound must be below the high one"
+            )
         if self.low < spec.low or self.high > spec.high:
-            raise ValueError(
+            raise ParameterError(
                 f"--vary {self.name}={self.low:g}:{self.high:g}: outside the parameter's bounds "
                 f"[{spec.low:g}, {spec.high:g}] [{spec.unit}]"
             )
@@ -69,15 +71,15 @@ class Choice:
     def __post_init__(self) -> None:
         valid = CHOICES.get(self.name)
         if valid is None:
-            raise ValueError(f"--vary {self.name}: not a categorical parameter; categorical: {', '.join(CHOICES)}")
+            raise ParameterError(f"--vary {self.name}: not a categorical parameter; categorical: {', '.join(CHOICES)}")
         values = tuple(str(v) for v in self.values)
         if not values:
-            raise ValueError(f"--vary {self.name}=: list at least one value of {', '.join(valid)}")
+            raise ParameterError(f"--vary {self.name}=: list at least one value of {', '.join(valid)}")
         bad = [v for v in values if v not in valid]
         if bad:
-            raise ValueError(f"--vary {self.name}: {', '.join(bad)} not among its values {', '.join(valid)}")
+            raise ParameterError(f"--vary {self.name}: {', '.join(bad)} not among its values {', '.join(valid)}")
         if len(set(values)) != len(values):
-            raise ValueError(f"--vary {self.name}: a value is listed twice")
+            raise ParameterError(f"--vary {self.name}: a value is listed twice")
         object.__setattr__(self, "values", values)
 
     def value(self, index: float) -> str:
@@ -104,11 +106,11 @@ def parse_range(text: str) -> Varied:
         return Choice(name.strip(), tuple(v.strip() for v in bounds.split(",") if v.strip()))
     low, sep2, high = bounds.partition(":")
     if not sep or not sep2 or not name.strip():
-        raise ValueError(f"--vary {text!r}: write NAME=LO:HI, e.g. K=1.8:2.4")
+        raise ParameterError(f"--vary {text!r}: write NAME=LO:HI, e.g. K=1.8:2.4")
     try:
         lo, hi = float(low), float(high)
     except ValueError:
-        raise ValueError(f"--vary {text!r}: LO and HI must be numbers") from None
+        raise ParameterError(f"--vary {text!r}: LO and HI must be numbers") from None
     return Range(name.strip(), lo, hi)
 
 
@@ -157,14 +159,14 @@ class SweepPlan:
         if self.spatial and self.floor is None:
             raise ParameterError("--3d walks the designs on the 3-D floor: give --floor STEPS too")
         if isinstance(self.n, bool) or not isinstance(self.n, (int, np.integer)) or not 1 <= self.n <= 10_000_000:
-            raise ValueError(f"parameter 'n' must be an integer in [1, 1e7], got {self.n!r}")
+            raise ParameterError(f"parameter 'n' must be an integer in [1, 1e7], got {self.n!r}")
         if self.method not in METHODS:
-            raise ValueError(f"parameter 'method' must be one of {', '.join(METHODS)}, got {self.method!r}")
+            raise ParameterError(f"parameter 'method' must be one of {', '.join(METHODS)}, got {self.method!r}")
         if not self.ranges:
-            raise ValueError("a sweep needs at least one --vary NAME=LO:HI")
+            raise ParameterError("a sweep needs at least one --vary NAME=LO:HI")
         names = [r.name for r in self.ranges]
         if len(set(names)) != len(names):
-            raise ValueError(
+            raise ParameterError(
                 f"--vary names a parameter twice: {', '.join(sorted({n for n in names if names.count(n) > 1}))}"
             )
         object.__setattr__(self, "ranges", tuple(self.ranges))
@@ -287,10 +289,10 @@ def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
 
     name, _, sense = str(text).partition(":")
     if name not in ALL_METRICS:
-        raise ValueError(f"{option} {text!r}: unknown metric {name!r}; valid: {', '.join(ALL_METRICS)}")
+        raise ParameterError(f"{option} {text!r}: unknown metric {name!r}; valid: {', '.join(ALL_METRICS)}")
     sense = sense or ALL_METRICS[name].sense or "min"
     if sense not in ("min", "max"):
-        raise ValueError(f"{option} {text!r}: the sense must be min or max")
+        raise ParameterError(f"{option} {text!r}: the sense must be min or max")
     return name, sense
 
 

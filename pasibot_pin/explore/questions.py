@@ -13,17 +13,16 @@
    asked to walk :data:`FLOOR_STEPS` steps and judged by the walking verdict
    (:mod:`pasibot_pin.dynamics.verdict`), maximising the steps walked and the time to the verdict.
 
-The answers quoted in the README are the designs in ``docs/results/`` (written by
-:func:`write_answer`); ``tests/test_questions.py`` evaluates them again and checks every quoted
-number and every constraint.
+The answers quoted in the README are the designs in ``docs/results/``: ``make answers``
+(``tools/answers.py``) runs :func:`run_question_one` and :func:`run_floor_question` and writes their designs,
+tables, figures and :func:`summary_text` there; the package reads them back (:func:`answer_path`,
+:func:`read_summary`) and never writes them. ``tests/test_questions.py`` evaluates them again and checks
+every quoted number and every constraint.
 """
 
 from __future__ import annotations
 
-import argparse
 import json
-import shutil
-import tempfile
 from collections import Counter
 from pathlib import Path
 
@@ -31,8 +30,9 @@ import numpy as np
 
 from pasibot_pin.explore.optimize import Constraint, Objective, OptimizePlan, run_optimize
 from pasibot_pin.explore.plan import Range
-from pasibot_pin.explore.sweep import design_of_row, write_figures
+from pasibot_pin.explore.sweep import design_of_row
 from pasibot_pin.model.design import Design
+from pasibot_pin.model.paths import result_path
 from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.studies.design_metrics import path_metrics
 
@@ -69,24 +69,9 @@ COM [m], the crank speed [rad/s] (the walking map's soles and speeds; 0.5 rad/s 
 FLOOR_STEPS: int = 6
 """How many steps each design of question 2 is asked to walk on the floor [-]."""
 
-RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
-"""Where the answers of a source checkout are kept (the designs, the runs' Parquet tables, the figures)."""
-
 SUMMARY = "answers_summary.json"
-"""The figures the report quotes from the runs' tables (:func:`summarize_tables`), as JSON in
-:data:`RESULTS_DIR`: ``pasibot analyze`` reads them without pyarrow."""
-
-
-def _answers_dir() -> Path:
-    # Installed wheel: the answer designs and the summary are packaged as pasibot_pin/results
-    # (pyproject's force-include; the Parquet tables and figures stay in the repository).
-    # Source checkout or editable install: docs/results.
-    packaged = Path(__file__).resolve().parents[1] / "results"
-    return packaged if (packaged / SUMMARY).is_file() else RESULTS_DIR
-
-
-ANSWERS_DIR: Path = _answers_dir()
-"""Where the answer designs (``.toml``) and :data:`SUMMARY` are read: the wheel's copy, else :data:`RESULTS_DIR`."""
+"""The figures the report quotes from the runs' tables (:func:`summarize_tables`), as JSON beside the answers
+(``docs/results/``, packaged in the wheel): ``pasibot analyze`` reads them without pyarrow."""
 
 
 def seed_stride_plan(straight: bool = False, trials: int = 600, population: int = 40, seed: int = 0) -> OptimizePlan:
@@ -129,16 +114,21 @@ def floor_plan(trials: int = 120, population: int = 24, seed: int = 0) -> Optimi
 
 
 FLOOR_TABLE = "floor_springs.parquet"
-"""Question 2's table in :data:`RESULTS_DIR`."""
+"""Question 2's table, beside question 1's (``docs/results/``; the tables are not packaged)."""
 
 
-def answer_path(straight: bool, suffix: str = ".toml") -> Path:
-    """Question 1's answer: its design (``.toml``, in :data:`ANSWERS_DIR`) or the run's table (``.parquet``).
+def answer_name(straight: bool, suffix: str = ".toml") -> str:
+    """The file name of question 1's answer: its design (``.toml``) or its run's table (``.parquet``).
 
     ``straight``: the run with the straightness constraint.
     """
     stem = "least_torque_seed_stride_straight" if straight else "least_torque_seed_stride"
-    return (ANSWERS_DIR if suffix == ".toml" else RESULTS_DIR) / f"{stem}{suffix}"
+    return f"{stem}{suffix}"
+
+
+def answer_path(straight: bool) -> Path:
+    """Question 1's committed answer design (read only: :func:`~pasibot_pin.model.paths.result_path`)."""
+    return result_path(answer_name(straight))
 
 
 def floor_summary(rows: list[dict]) -> dict:
@@ -169,8 +159,12 @@ def floor_summary(rows: list[dict]) -> dict:
     }
 
 
-def summarize_tables() -> dict:
-    """The figures the report quotes, from the runs' Parquet tables in :data:`RESULTS_DIR` (needs pyarrow).
+def summarize_tables(folder: Path) -> dict:
+    """The figures the report quotes, from the runs' Parquet tables in ``folder`` (needs pyarrow).
+
+    Args:
+        folder: where the runs' tables are (:func:`answer_name` ``.parquet`` and :data:`FLOOR_TABLE`:
+            ``docs/results/`` of a source checkout).
 
     Returns:
         ``designs_explored`` (rows of question 1's two runs), ``best_cop_margin_m`` (the best CoP
@@ -179,9 +173,11 @@ def summarize_tables() -> dict:
     """
     import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
 
-    tables = [pq.read_table(answer_path(s, ".parquet"), columns=["feasible", "cop_margin_m"]) for s in (False, True)]
+    folder = Path(folder)
+    columns = ["feasible", "cop_margin_m"]
+    tables = [pq.read_table(folder / answer_name(s, ".parquet"), columns=columns) for s in (False, True)]
     margins = np.concatenate([t.filter(t.column("feasible")).column("cop_margin_m").to_numpy() for t in tables])
-    floor = floor_summary(pq.read_table(RESULTS_DIR / FLOOR_TABLE).to_pylist())
+    floor = floor_summary(pq.read_table(folder / FLOOR_TABLE).to_pylist())
     return {
         "designs_explored": int(sum(t.num_rows for t in tables)),
         "best_cop_margin_m": float(np.max(margins)),
@@ -189,64 +185,31 @@ def summarize_tables() -> dict:
     }
 
 
-def write_summary() -> Path:
-    """Write :func:`summarize_tables` to :data:`RESULTS_DIR` / :data:`SUMMARY` (``make answers`` does)."""
-    path = RESULTS_DIR / SUMMARY
-    path.write_text(json.dumps(summarize_tables(), indent=2, sort_keys=True) + "\n")
-    return path
+def summary_text(summary: dict) -> str:
+    """:func:`summarize_tables`'s figures as the text of :data:`SUMMARY` (sorted JSON, two-space indent)."""
+    return json.dumps(summary, indent=2, sort_keys=True) + "\n"
 
 
 def read_summary() -> dict:
-    """:data:`SUMMARY` as written by :func:`write_summary` (no pyarrow needed)."""
-    return json.loads((ANSWERS_DIR / SUMMARY).read_text())
+    """The committed :data:`SUMMARY` (no pyarrow needed)."""
+    return json.loads(result_path(SUMMARY).read_text())
 
 
-def write_answer(straight: bool, folder: Path, workers: int | None = None, force: bool = False) -> Design:
-    """Run question 1 into ``folder``; save its least-torque design and its table as :func:`answer_path`."""
+def run_question_one(
+    straight: bool, folder: Path, workers: int | None = None, force: bool = False
+) -> tuple[Design, Path]:
+    """Run question 1 into ``folder``: (its least-torque design, the run's table [a Parquet file in ``folder``]).
+
+    Raises:
+        ValueError: no design of the run satisfies the constraints.
+
+    """
     result = run_optimize(seed_stride_plan(straight), folder, workers=workers, force=force, progress=False)
     if not result.pareto:
         raise ValueError("no design satisfies the constraints")
-    design = design_of_row(result.table, result.pareto[0])  # the front sorted by peak torque
-    RESULTS_DIR.mkdir(parents=True, exist_ok=True)
-    design.save(answer_path(straight), force=True)
-    shutil.copyfile(result.results, answer_path(straight, ".parquet"))
-    return design
+    return design_of_row(result.table, result.pareto[0]), Path(result.results)  # the front sorted by peak torque
 
 
-def write_floor_answer(folder: Path, workers: int | None = None) -> Path:
-    """Run question 2 into ``folder``; copy its table to :data:`RESULTS_DIR` / :data:`FLOOR_TABLE`."""
-    result = run_optimize(floor_plan(), folder, workers=workers, force=True, progress=True)
-    shutil.copyfile(result.results, RESULTS_DIR / FLOOR_TABLE)
-    return RESULTS_DIR / FLOOR_TABLE
-
-
-def main(argv: list[str] | None = None) -> None:
-    """Run the questions again (``make answers``): docs/results/*.toml, *.parquet, pareto.png, the summary.
-
-    ``--floor-only``: question 2 alone (and the summary).
-    """
-    parser = argparse.ArgumentParser(description="run the design-exploration questions again (docs/results/)")
-    parser.add_argument("--floor-only", action="store_true", help="only question 2 (the spring designs on the floor)")
-    parser.add_argument("--workers", type=int, default=None, help="worker processes (default: one per core)")
-    args = parser.parse_args(argv)
-    if not args.floor_only:
-        _question_one(args.workers)
-    with tempfile.TemporaryDirectory() as tmp:
-        print(write_floor_answer(Path(tmp) / "floor", workers=args.workers))
-    print(write_summary())
-
-
-def _question_one(workers: int | None) -> None:
-    import pyarrow.parquet as pq  # deferred: optional extra (pyarrow)
-
-    with tempfile.TemporaryDirectory() as tmp:
-        for straight in (False, True):
-            design = write_answer(straight, Path(tmp) / str(straight), workers=workers)
-            print(f"{answer_path(straight)}: K = {design.K:.4g}")
-    table = pq.read_table(answer_path(False, ".parquet"))
-    for path in write_figures(table, RESULTS_DIR, [r.name for r in QUESTION_RANGES]):
-        print(path)
-
-
-if __name__ == "__main__":
-    main()
+def run_floor_question(folder: Path, workers: int | None = None) -> Path:
+    """Run question 2 into ``folder``: the run's table (a Parquet file in ``folder``)."""
+    return Path(run_optimize(floor_plan(), folder, workers=workers, force=True, progress=True).results)

@@ -26,6 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import MARKER, atomic_path, write_text_atomic
 from pasibot_pin.model.design import CHOICES, Design
 from pasibot_pin.studies.design_metrics import METRICS
@@ -107,7 +108,7 @@ class ResultStore:
     def _check(self, force: bool) -> None:
         folder = self.folder
         if folder.exists() and not folder.is_dir():
-            raise ValueError(f"--out {folder} is a file, not a folder")
+            raise ParameterError(f"--out {folder} is a file, not a folder")
         if force and folder.is_dir():
             for name in OWNED:
                 target = folder / name

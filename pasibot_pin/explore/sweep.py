@@ -16,6 +16,7 @@ from pathlib import Path
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import check_workers, run_tasks
 from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.explore.store import RESULTS, RESULTS_CSV, ResultStore, column, design_row, parameter_names
@@ -156,7 +157,7 @@ def run_sweep(
     if chunk is None:
         chunk = 1 if plan.floor else CHUNK  # a walk outweighs a task's overhead: one per task, balanced by cost
     if isinstance(chunk, bool) or not isinstance(chunk, int) or chunk < 1:
-        raise ValueError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
+        raise ParameterError(f"parameter 'chunk' must be a positive integer, got {chunk!r}")
     workers = check_workers(workers)
     points = plan.points()
     if plan.floor:  # bound the walks' work before any of it
@@ -237,7 +238,7 @@ def best_rows(table, by: str, sense: str = "min", count: int = 5, where: Callabl
     In a walking sweep (a ``floor_walks`` column) the designs that walk come first.
     """
     if by not in ALL_METRICS:
-        raise ValueError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(ALL_METRICS)}")
+        raise ParameterError(f"parameter 'by': unknown metric {by!r}; valid: {', '.join(ALL_METRICS)}")
     values = column(table, by).astype(float)
     ok = column(table, "feasible").astype(bool) & np.isfinite(values)
     if where is not None:

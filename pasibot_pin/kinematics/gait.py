@@ -36,8 +36,10 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin import constraints
+from pasibot_pin.errors import ClosureError, ParameterError
 from pasibot_pin.model import closure
 from pasibot_pin.model.coordinates import SIDES, other
+from pasibot_pin.model.design import check_parameter
 from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
@@ -192,24 +194,24 @@ def _is_int(value) -> bool:
 
 def _check_walk_args(robot: PasibotRobot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
     if getattr(robot, "legs", None) != 2:
-        raise ValueError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) to walk")
+        raise ParameterError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) to walk")
     if not _is_int(steps) or steps < 1:
-        raise ValueError(f"parameter 'steps' must be an integer >= 1, got {steps!r}")
+        raise ParameterError(f"parameter 'steps' must be an integer >= 1, got {steps!r}")
     if not _is_int(samples_per_step) or samples_per_step < 2:
-        raise ValueError(f"parameter 'samples_per_step' must be an integer >= 2, got {samples_per_step!r}")
+        raise ParameterError(f"parameter 'samples_per_step' must be an integer >= 2, got {samples_per_step!r}")
     if steps * samples_per_step + 1 > MAX_WALK_SAMPLES:
-        raise ValueError(
+        raise ParameterError(
             f"parameters 'steps' x 'samples_per_step' + 1 = {steps * samples_per_step + 1} samples "
             f"exceed {MAX_WALK_SAMPLES}; take fewer steps or samples"
         )
     if not math.isfinite(theta_start):
-        raise ValueError(f"parameter 'theta_start' must be finite, got {theta_start!r}")
-    if omega is not None and (not math.isfinite(omega) or omega <= 0.0):
-        raise ValueError(f"parameter 'omega' must be a positive finite crank rate [rad/s], got {omega!r}")
+        raise ParameterError(f"parameter 'theta_start' must be finite, got {theta_start!r}")
+    if omega is not None:
+        check_parameter("omega", omega, low_open=True)  # the design record's crank speeds, > 0
     if foot not in FOOT_MODES:
-        raise ValueError(f"unknown foot {foot!r}; valid: {', '.join(FOOT_MODES)}")
+        raise ParameterError(f"unknown foot {foot!r}; valid: {', '.join(FOOT_MODES)}")
     if first_stance not in SIDES:
-        raise ValueError(f"parameter 'first_stance' must be right or left, got {first_stance!r}")
+        raise ParameterError(f"parameter 'first_stance' must be right or left, got {first_stance!r}")
 
 
 def walk(
@@ -272,7 +274,7 @@ def walk(
         step_index[i] = k
         residual[i] = float(np.max(np.abs(closure.constraint_residual(robot, q, cmodels))))
         if residual[i] > CLOSURE_TOL:
-            raise ValueError(
+            raise ClosureError(
                 f"walk: closure residual {residual[i]:.3e} exceeds {CLOSURE_TOL:g} at theta = "
                 f"{math.degrees(theta[i]):.3f} deg (step {k}, stance {stance_side})"
             )
@@ -379,7 +381,7 @@ def walk_and_advances(
     q_end = closure.solve_configuration(robot, q, prescribed, _targets(robot, prescribed, q, dtheta), cmodels)
     residual = float(np.max(np.abs(closure.constraint_residual(robot, q_end, cmodels))))
     if residual > CLOSURE_TOL:
-        raise ValueError(
+        raise ClosureError(
             f"walk: closure residual {residual:.3e} exceeds {CLOSURE_TOL:g} at theta = "
             f"{math.degrees(math.pi / 2 + dtheta * (n - 1)):.3f} deg (step {steps - 1}, stance {stance})"
         )

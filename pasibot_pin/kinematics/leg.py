@@ -28,7 +28,9 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import frame_jacobian, planar_pitch
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model import closure
+from pasibot_pin.model.design import check_parameter
 from pasibot_pin.reprs import short_repr
 
 if TYPE_CHECKING:
@@ -46,12 +48,12 @@ LOCAL_WORLD_ALIGNED = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 def check_one_leg(robot: PasibotRobot) -> None:
     """ValueError unless ``robot`` is a one-leg model (``load(variant, legs=1)``)."""
     if getattr(robot, "legs", None) != 1:
-        raise ValueError("parameter 'robot' must be a one-leg robot (load(variant, legs=1)), the leg frame")
+        raise ParameterError("parameter 'robot' must be a one-leg robot (load(variant, legs=1)), the leg frame")
 
 
 def _check_omega(omega: float | None) -> None:
-    if omega is not None and (not math.isfinite(omega) or omega <= 0.0):
-        raise ValueError(f"parameter 'omega' must be a positive finite crank rate [rad/s], got {omega!r}")
+    if omega is not None:
+        check_parameter("omega", omega, low_open=True)  # the design record's crank speeds, > 0
 
 
 def crank_grid(step: float = math.radians(1.0), start: float = 0.0, turns: float = 1.0) -> np.ndarray:
@@ -62,13 +64,13 @@ def crank_grid(step: float = math.radians(1.0), start: float = 0.0, turns: float
 
     """
     if not math.isfinite(step) or step <= 0.0:
-        raise ValueError(f"parameter 'step' must be a positive crank increment [rad], got {step!r}")
+        raise ParameterError(f"parameter 'step' must be a positive crank increment [rad], got {step!r}")
     if not math.isfinite(turns) or turns <= 0.0:
-        raise ValueError(f"parameter 'turns' must be positive, got {turns!r}")
+        raise ParameterError(f"parameter 'turns' must be positive, got {turns!r}")
     count = 2 * math.pi * turns / step
     n = round(count)
     if n < 2 or abs(count - n) > 1e-9 * max(count, 1.0):
-        raise ValueError(
+        raise ParameterError(
             f"parameter 'step' = {math.degrees(step):.6g} deg must divide {360 * turns:g} deg into at least 2 samples"
         )
     return start + step * np.arange(n + 1)
@@ -150,7 +152,7 @@ def leg_cycle(
     _check_omega(omega)
     thetas = crank_grid() if thetas is None else np.asarray(thetas, dtype=float).reshape(-1)
     if thetas.size == 0 or not np.all(np.isfinite(thetas)):
-        raise ValueError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
+        raise ParameterError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
     qs = sweep(robot, thetas)
     model, data = robot.model, robot.data
     ids = {name: robot.frame_id(f"right_{name}") for name in ("foot", "toe", "heel")}
@@ -195,7 +197,7 @@ def configuration_at(robot: PasibotRobot, theta: float, q_guess: np.ndarray | No
     """
     check_one_leg(robot)
     if not math.isfinite(theta):
-        raise ValueError(f"parameter 'theta' must be finite, got {theta!r}")
+        raise ParameterError(f"parameter 'theta' must be finite, got {theta!r}")
     q_guess = closure.assemble(robot, float(theta)) if q_guess is None else q_guess
     prescribed = leg_prescriptions(robot)
     return closure.solve_configuration(robot, q_guess, prescribed, _leg_targets(robot, prescribed, theta))
@@ -213,7 +215,7 @@ def sweep(robot: PasibotRobot, thetas: Sequence[float] | np.ndarray) -> np.ndarr
     check_one_leg(robot)
     thetas = np.asarray(thetas, dtype=float).reshape(-1)
     if thetas.size == 0 or not np.all(np.isfinite(thetas)):
-        raise ValueError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
+        raise ParameterError("parameter 'thetas' must be a non-empty sequence of finite crank angles [rad]")
     prescribed = leg_prescriptions(robot)
     guess, _ = closure.analytic_configurations(robot, thetas)
     targets = np.array([_leg_targets(robot, prescribed, float(theta)) for theta in thetas])
@@ -275,13 +277,13 @@ def open_chain_jacobian(
     model, data = robot.model, robot.data
     q = np.asarray(q, dtype=float)
     if q.shape != (model.nq,):
-        raise ValueError(f"parameter 'q' must have size nq = {model.nq}")
+        raise ParameterError(f"parameter 'q' must have size nq = {model.nq}")
     frame = ankle_on_chain(robot, side) if frame is None else frame
     fid = robot.frame_id(frame)
     shank = model.getJointId(f"{side}_j6")
     parent = model.frames[fid].parentJoint
     if parent != shank and shank not in model.supports[parent]:
-        raise ValueError(f"frame {frame!r} is not carried by the open chain j0_crank-j1-j4-j6 of the {side} leg")
+        raise ParameterError(f"frame {frame!r} is not carried by the open chain j0_crank-j1-j4-j6 of the {side} leg")
     jac = frame_jacobian(model, data, q, fid)
     cols = jac[:, open_chain_columns(robot, side)]
     if robot.floating:  # express in the hip frame's axes

@@ -19,6 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints import planar_pitch
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics.leg import (
     STANCE,
     LegCycle,
@@ -182,7 +183,7 @@ def straight_line_metrics(
     L = robot.geometry.L
     tolerance = 0.02 * L if tolerance is None else float(tolerance)
     if not math.isfinite(tolerance) or tolerance <= 0.0:
-        raise ValueError(f"parameter 'tolerance' must be a positive height [m], got {tolerance!r}")
+        raise ParameterError(f"parameter 'tolerance' must be a positive height [m], got {tolerance!r}")
     grid = crank_grid(step)
     if cycle is None or cycle.robot is not robot or not np.array_equal(cycle.theta, grid):
         cycle = leg_cycle(robot, grid)
@@ -347,7 +348,7 @@ def k_sweep(
     """
     ks = np.asarray(list(K_values), dtype=float)
     if ks.size == 0 or not np.all(np.isfinite(ks)) or np.any(ks <= 0):
-        raise ValueError(f"parameter 'K_values' must be positive finite ratios, got {list(K_values)!r}")
+        raise ParameterError(f"parameter 'K_values' must be positive finite ratios, got {list(K_values)!r}")
     out = KSweep(variant, ks)
     for k in ks:
         robot = load(variant, 1, K=float(k), **load_kwargs)

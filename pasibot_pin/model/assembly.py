@@ -19,6 +19,7 @@ import math
 import numpy as np
 
 from pasibot_pin.caches import PerObjectCache
+from pasibot_pin.errors import DesignError, ParameterError
 from pasibot_pin.model import jet
 from pasibot_pin.model.params import Geometry
 from pasibot_pin.model.variants import Variant, get_variant
@@ -47,7 +48,7 @@ def _check_meet(d, r1: float, r2: float, loop: str, theta) -> None:
     if np.any(bad):
         th = _first_bad(theta, bad)
         d_bad = float(np.atleast_1d(d)[np.argmax(np.atleast_1d(bad))])
-        raise ValueError(
+        raise DesignError(
             f"loop {loop} cannot assemble at crank angle {math.degrees(th):.3f} deg "
             f"(theta = {th:.6f} rad): distance {d_bad:.6g} m between its pivots is outside "
             f"[{abs(r1 - r2):.6g}, {r1 + r2:.6g}] m; check K and the link ratios"
@@ -62,7 +63,7 @@ def circle_meet(c1, r1: float, c2, r2: float, left: bool, loop: str, theta):
     sqrt(r1^2 / s - alpha^2): no square root of s, few operations (each one is the chain rule for jets).
 
     Raises:
-        ValueError: naming ``loop`` and the (first) crank angle where the circles do not meet.
+        DesignError: naming ``loop`` and the (first) crank angle where the circles do not meet.
 
     """
     d_vec = c2 - c1
@@ -105,7 +106,7 @@ def leg_points(theta, geometry: Geometry | None = None, variant: str | Variant =
         Points keyed ``'p0'`` .. ``'p13'``: 2-vectors (x, z), or (N, 2) arrays.
 
     Raises:
-        ValueError: when a loop cannot assemble (named, with the crank angle).
+        DesignError: when a loop cannot assemble (named, with the crank angle).
 
     """
     theta = np.asarray(theta, dtype=float)
@@ -120,7 +121,7 @@ def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | V
     points are then jets too, with their exact velocities and accelerations.
 
     Raises:
-        ValueError: when a loop cannot assemble (named, with the crank angle).
+        DesignError: when a loop cannot assemble (named, with the crank angle).
 
     """
     g = geometry or Geometry()
@@ -129,7 +130,7 @@ def leg_points_complex(theta, geometry: Geometry | None = None, variant: str | V
         theta = np.asarray(theta, dtype=float)
     bare = jet.value(theta)
     if not np.all(np.isfinite(bare)):
-        raise ValueError(f"crank angle theta must be finite, got {_first_bad(bare, ~np.isfinite(bare))!r}")
+        raise ParameterError(f"crank angle theta must be finite, got {_first_bad(bare, ~np.isfinite(bare))!r}")
     length = _lengths(g)
     p: dict = {}
     p["p0"] = 0j
@@ -169,7 +170,7 @@ def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) 
     if np.any(bad):
         th = _first_bad(jet.value(theta), bad)
         dz_bad = float(np.atleast_1d(np.abs(jet.value(dz)))[np.argmax(np.atleast_1d(bad))])
-        raise ValueError(
+        raise DesignError(
             f"loop j4 (stabiliser) cannot assemble at crank angle {math.degrees(th):.3f} deg: "
             f"joint 4 is {dz_bad:.6g} m from the slider line, more than L8 = {l8:.6g} m"
         )
@@ -194,13 +195,13 @@ FULL_TURN_SAMPLES: int = 720
 
 
 def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "spring") -> None:
-    """Raise ``ValueError`` unless one leg of ``variant`` assembles at every crank angle of a full turn.
+    """Raise DesignError unless one leg of ``variant`` assembles at every crank angle of a full turn.
 
     The analytic assembly (:func:`leg_points`) is tried every 0.5 deg. With the seed's link
     ratios the frame ratio K must lie in about (1.491, 3.0).
 
     Raises:
-        ValueError: naming the loop and the first crank angle where it cannot close.
+        DesignError: naming the loop and the first crank angle where it cannot close.
 
     """
     g = geometry or Geometry()
@@ -208,7 +209,7 @@ def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "
     try:
         leg_points(theta, g, variant)
     except ValueError as err:
-        raise ValueError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
+        raise DesignError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
 
 
 def _nearer(c1, r1: float, c2, r2: float, guess, loop: str, theta):

@@ -26,6 +26,7 @@ from numpy.typing import ArrayLike
 from pasibot_pin import constraints
 from pasibot_pin.caches import PerObjectCache
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, PitchRow, ScalarRow
+from pasibot_pin.errors import ClosureError, ParameterError
 from pasibot_pin.model import jet
 from pasibot_pin.model.assembly import joint_angles_complex, leg_points_complex, sole_angle_from_points
 from pasibot_pin.model.coordinates import HIP_PITCH
@@ -51,7 +52,7 @@ def joint_coordinate(robot: PasibotRobot, joint: str) -> CoordinateRow:
 def hip_pitch(robot: PasibotRobot) -> CoordinateRow:
     """Prescribe the hip pitch (third coordinate of the planar floating hip)."""
     if not robot.floating:
-        raise ValueError("the one-leg model has a fixed hip: its pitch cannot be prescribed")
+        raise ParameterError("the one-leg model has a fixed hip: its pitch cannot be prescribed")
     return constraints.coordinate("hip_pitch", HIP_PITCH)
 
 
@@ -155,20 +156,20 @@ def solve_configuration(
     prescribed = default_prescriptions(robot) if prescribed is None else list(prescribed)
     q = np.array(q_guess, dtype=float)
     if q.shape != (model.nq,) or not np.all(np.isfinite(q)):
-        raise ValueError(f"q_guess must be a finite vector of size nq = {model.nq}")
+        raise ParameterError(f"q_guess must be a finite vector of size nq = {model.nq}")
     sys_ = system(robot, cmodels, prescribed)
     if targets is None:
         targets = prescribed_values(robot, q, prescribed)
     targets = np.asarray(list(targets), dtype=float)
     if targets.shape != (len(prescribed),) or not np.all(np.isfinite(targets)):
-        raise ValueError(f"targets must be {len(prescribed)} finite values for {[p.name for p in prescribed]}")
+        raise ParameterError(f"targets must be {len(prescribed)} finite values for {[p.name for p in prescribed]}")
     try:
         return sys_.project(q, targets=targets, max_iter=max_iter)
     except ValueError as err:
         cranks = ", ".join(
             f"{p.name} = {math.degrees(float(t)):.3f} deg" for p, t in zip(prescribed, targets) if is_crank(robot, p)
         )
-        raise ValueError(f"{err} ({cranks})") from None
+        raise type(err)(f"{err} ({cranks})") from None
 
 
 def prescribed_values(robot: PasibotRobot, q: np.ndarray, prescribed: Sequence[Prescribed]) -> np.ndarray:
@@ -284,7 +285,7 @@ def analytic_configurations(
     thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
     for name, value in (("theta", thetas), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not np.all(np.isfinite(value)):
-            raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+            raise ParameterError(f"parameter {name!r} must be finite, got {value!r}")
     left = thetas + math.pi
     if theta_left is not None:
         left = np.broadcast_to(np.asarray(theta_left, dtype=float), thetas.shape)
@@ -328,7 +329,7 @@ def analytic_motion(
     """
     thetas = np.atleast_1d(np.asarray(thetas, dtype=float))
     if not np.all(np.isfinite(thetas)) or not math.isfinite(omega):
-        raise ValueError("parameters 'thetas' and 'omega' must be finite")
+        raise ParameterError("parameters 'thetas' and 'omega' must be finite")
     n = len(thetas)
     q = np.tile(_assembly_plan(robot).neutral, (n, 1))
     v, a = np.zeros((n, robot.model.nv)), np.zeros((n, robot.model.nv))
@@ -437,7 +438,7 @@ def assemble(
     """
     for name, value in (("theta", theta), ("theta_left", theta_left), ("hip_pitch", hip_pitch_value)):
         if value is not None and not math.isfinite(value):
-            raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+            raise ParameterError(f"parameter {name!r} must be finite, got {value!r}")
     stance = stance or robot.stance or "right"
     q, weld = analytic_configurations(
         robot,
@@ -515,7 +516,7 @@ def crank_sweep(robot: PasibotRobot, thetas: ArrayLike, **assemble_kwargs) -> np
     """
     thetas = np.asarray(thetas, dtype=float)
     if not np.all(np.isfinite(thetas)):
-        raise ValueError("crank angles theta must be finite")
+        raise ParameterError("crank angles theta must be finite")
     out = np.zeros((len(thetas), robot.model.nq))
     q = assemble(robot, float(thetas[0]), **assemble_kwargs)
     stance = assemble_kwargs.get("stance") or robot.stance or "right"
@@ -568,7 +569,7 @@ def _check_branch(robot: PasibotRobot, thetas: np.ndarray, qs: np.ndarray, theta
         for j in range(1, model.njoints):
             if model.joints[j].nq == 1 and model.joints[j].idx_q == columns[int(np.argmax(gap[k]))]:
                 joint = model.names[j]
-        raise ValueError(
+        raise ClosureError(
             f"the crank sweep switched assembly branch (knee or coupler flipped, {joint} off by "
             f"{math.degrees(gap[k].max()):.1f} deg) at crank angle {math.degrees(thetas[k]):.3f} deg; "
             f"K = {robot.geometry.K:g} is near the end of the range where the crank turns fully: "

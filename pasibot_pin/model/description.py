@@ -193,7 +193,7 @@ def write_urdf(path: Path, text: str, force: bool = False) -> Path:
     """Write ``text`` to ``path`` (through a temporary file); refuse to overwrite a different file unless ``force``."""
     path = Path(path)
     if path.is_dir():
-        raise ValueError(f"{path} is a folder; give a file name")
+        raise ParameterError(f"{path} is a folder; give a file name")
     if path.exists() and not force and path.read_text() != text:
         raise FileExistsError(f"{path} exists and differs; pass force=True (--force) to overwrite it")
     return write_text_atomic(path, text)
@@ -218,7 +218,7 @@ def render_default_urdfs(out_dir: Path | None = None, force: bool = True) -> lis
     """
     if out_dir is None:
         if is_installed_package_dir(URDF_DIR):
-            raise ValueError(
+            raise ParameterError(
                 f"the default URDFs belong to the installed package ({URDF_DIR}); it is not rewritten: "
                 "write them elsewhere with --out FOLDER (Python: render_default_urdfs(out_dir=...))"
             )

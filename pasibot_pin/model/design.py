@@ -7,7 +7,8 @@ sweep varies, and a file (TOML or JSON) the command line reads with ``--design F
 
 Each numeric parameter has a :class:`ParameterSpec`: unit, default (the seed's design) and
 the bounds a sweep may explore. A value outside its bounds, NaN, or an unknown name is
-rejected with a one-line ``ValueError`` naming the parameter, before any work starts.
+rejected with a one-line :class:`~pasibot_pin.errors.ParameterError` (a ``ValueError``) naming the
+parameter, before any work starts.
 
 Units: SI; link ratios and sole lengths over the crank length L; angles [rad].
 """
@@ -110,6 +111,44 @@ SPECS: Mapping[str, ParameterSpec] = {
     )
 }
 """Every numeric parameter of a :class:`Design`, by name (``r1`` .. ``r13`` are the link ratios)."""
+
+MIN_WALK_OMEGA: float = 0.05
+"""The slowest crank speed a walk is simulated at [rad/s] (20 steps at 0.05 rad/s are 21 minutes): a walk's
+crank speed lies in [MIN_WALK_OMEGA, ``SPECS["omega"].high``], the design record's range raised at its low end."""
+
+
+def check_parameter(name: str, value: object, low: float | None = None, low_open: bool = False) -> float:
+    """``value`` as a float when it lies in :data:`SPECS` ``name``'s range, else a one-line ParameterError naming it.
+
+    The one check of a design parameter's range outside the record itself: a study that takes a bare number
+    (a crank speed [rad/s], a stiffness) reads its unit and range here.
+
+    Args:
+        name: the parameter's name in :data:`SPECS` (``omega``, ``spring_stiffness``, ...).
+        value: the value given.
+        low: a stricter lower bound the use needs (a walk's :data:`MIN_WALK_OMEGA`), inside the range.
+        low_open: the lower bound itself is refused (a crank speed that must turn: > 0).
+
+    Raises:
+        ParameterError: not a real number, NaN, infinite, or outside the range, naming ``name``, its unit and range.
+
+    """
+    spec = SPECS[name]
+    bottom = spec.low if low is None else max(spec.low, low)
+    opening = "(" if low_open else "["
+    if isinstance(value, bool) or not isinstance(value, numbers.Real):
+        raise ParameterError(f"parameter {name!r} must be a number [{spec.unit}], got {short_repr(value)}")
+    try:
+        number = float(value)
+    except OverflowError:  # an integer too large for a float
+        number = math.inf
+    above = number > bottom if low_open else number >= bottom
+    if not (above and number <= spec.high):  # NaN and infinities fail here
+        raise ParameterError(
+            f"parameter {name!r} = {short_repr(value)} [{spec.unit}] is outside {opening}{bottom:g}, {spec.high:g}]"
+        )
+    return number
+
 
 CHOICES: Mapping[str, tuple[str, ...]] = {
     "variant": VARIANTS,
@@ -234,7 +273,7 @@ class Design:
             )
         unknown = set(self.ratios) - set(SEED_LINK_RATIOS)
         if unknown:
-            raise ValueError(f"unknown link ratio(s) {sorted(unknown)}; valid: {', '.join(SEED_LINK_RATIOS)}")
+            raise ParameterError(f"unknown link ratio(s) {sorted(unknown)}; valid: {', '.join(SEED_LINK_RATIOS)}")
         merged = {**SEED_LINK_RATIOS, **{k: check_value(k, v) for k, v in self.ratios.items()}}
         object.__setattr__(self, "ratios", merged)
         for f in fields(self):
@@ -367,7 +406,7 @@ class Design:
         """
         path = Path(path)
         if path.suffix not in (".toml", ".json"):
-            raise ValueError(f"parameter 'path': a design file ends in .toml or .json, got {path.name!r}")
+            raise ParameterError(f"parameter 'path': a design file ends in .toml or .json, got {path.name!r}")
         if path.exists() and not force:
             raise FileExistsError(f"{path} exists; use --force (force=True) to overwrite it")
         text = _to_toml(self.to_dict()) if path.suffix == ".toml" else _to_json(self.to_dict())

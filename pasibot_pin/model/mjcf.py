@@ -35,7 +35,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.errors import DesignError
+from pasibot_pin.errors import DesignError, ParameterError
 from pasibot_pin.model.description import sides
 from pasibot_pin.model.spatial import FREE_FLYER_NAME, Footprint, planar_to_spatial, sole_boxes
 
@@ -127,27 +127,27 @@ class MjcfOptions:
             if name == "boundinertia" and value is None:
                 continue
             if not (math.isfinite(value) and value >= 0):
-                raise ValueError(f"parameter {name!r} must be a finite number >= 0, got {value!r}")
+                raise ParameterError(f"parameter {name!r} must be a finite number >= 0, got {value!r}")
         if not (isinstance(self.noslip_iterations, int) and 0 <= self.noslip_iterations <= 1000):
-            raise ValueError(
+            raise ParameterError(
                 f"parameter 'noslip_iterations' must be an integer in [0, 1000], got {self.noslip_iterations!r}"
             )
         if self.timestep <= 0 or self.sole_radius <= 0:
-            raise ValueError("parameters 'timestep' and 'sole_radius' must be positive")
+            raise ParameterError("parameters 'timestep' and 'sole_radius' must be positive")
         if not math.isfinite(self.spring_rest_angle):
-            raise ValueError(f"parameter 'spring_rest_angle' must be finite, got {self.spring_rest_angle!r}")
+            raise ParameterError(f"parameter 'spring_rest_angle' must be finite, got {self.spring_rest_angle!r}")
         if self.planar_noslip and not self.noslip_iterations:
-            raise ValueError("parameter 'planar_noslip' needs noslip_iterations > 0")
+            raise ParameterError("parameter 'planar_noslip' needs noslip_iterations > 0")
         if not (math.isfinite(self.contact_solref[0]) and self.contact_solref[0] >= 2 * self.timestep):
-            raise ValueError(
+            raise ParameterError(
                 f"parameter 'contact_solref' must have a time constant >= 2 timesteps, got {self.contact_solref!r}"
             )
         if self.actuator not in ACTUATORS:
-            raise ValueError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
+            raise ParameterError(f"parameter 'actuator' must be one of {', '.join(ACTUATORS)}, got {self.actuator!r}")
         if self.footprint is not None and self.weld_foot is not None:
-            raise ValueError("parameter 'weld_foot': the 3-D export (footprint) has no foot weld")
+            raise ParameterError("parameter 'weld_foot': the 3-D export (footprint) has no foot weld")
         if self.weld_foot not in (None, "right", "left"):
-            raise ValueError(f"parameter 'weld_foot' must be right, left or None, got {self.weld_foot!r}")
+            raise ParameterError(f"parameter 'weld_foot' must be right, left or None, got {self.weld_foot!r}")
 
 
 MIN_BOUNDINERTIA = 1e-8
@@ -264,7 +264,7 @@ def to_mjcf(robot: PasibotRobot, options: MjcfOptions | None = None, q_weld: np.
     _add_settings(root, robot.model, options)
     world = _add_world(root, options)
     if options.footprint is not None and not robot.floating:
-        raise ValueError("parameter 'footprint': the 3-D export needs the two-legged robot with its floating hip")
+        raise ParameterError("parameter 'footprint': the 3-D export needs the two-legged robot with its floating hip")
     bodies, joints = _add_bodies(world, robot.model, free_root=options.footprint is not None)
     if options.footprint is None:
         _add_soles(bodies, robot, options)
@@ -362,7 +362,7 @@ def _add_soles(bodies: dict[int, ET.Element], robot: PasibotRobot, options: Mjcf
     for side in sides(robot.legs):
         toe, heel = (model.frames[robot.frame_id(f"{side}_{p}")] for p in ("toe", "heel"))
         if toe.parentJoint != heel.parentJoint:
-            raise ValueError(f"the {side} toe and heel are on different bodies")
+            raise DesignError(f"the {side} toe and heel are on different bodies")
         ET.SubElement(
             bodies[int(toe.parentJoint)],
             "geom",
@@ -429,7 +429,7 @@ def _add_loop_closures(equality: ET.Element, robot: PasibotRobot) -> None:
 def _add_foot_weld(world: ET.Element, equality: ET.Element, robot: PasibotRobot, foot: str, q: np.ndarray) -> None:
     """Weld ``foot`` (``right``/``left``) to a world site where it stands in configuration ``q``."""
     if not robot.floating:
-        raise ValueError("the one-leg model has a fixed hip: it has no foot to weld")
+        raise ParameterError("the one-leg model has a fixed hip: it has no foot to weld")
     data = robot.model.createData()
     pin.framesForwardKinematics(robot.model, data, q)
     anchor = ET.SubElement(world, "site", name=f"{foot}_foot_anchor", size="0.003")

@@ -105,7 +105,7 @@ def _check_range(name: str, value: float, bounds: tuple[float, float], unit: str
     value = _check_positive(name, value)
     low, high = bounds
     if not low <= value <= high:
-        raise ValueError(f"parameter {name!r} = {value!r} {unit} is outside [{low:g}, {high:g}] {unit}")
+        raise ParameterError(f"parameter {name!r} = {value!r} {unit} is outside [{low:g}, {high:g}] {unit}")
     return value
 
 
@@ -151,10 +151,10 @@ class Geometry:
         object.__setattr__(self, "L", _check_range("L", self.L, LENGTH_RANGE, "m"))
         object.__setattr__(self, "K", _check_range("K", self.K, RATIO_RANGE, "[-]"))
         if not isinstance(self.ratios, Mapping):
-            raise ValueError(f"parameter 'ratios' must map r1..r13 to numbers, got {self.ratios!r}")
+            raise ParameterError(f"parameter 'ratios' must map r1..r13 to numbers, got {self.ratios!r}")
         unknown = set(self.ratios) - set(SEED_LINK_RATIOS)
         if unknown:
-            raise ValueError(f"unknown link ratio(s) {sorted(unknown)}; valid: {list(SEED_LINK_RATIOS)}")
+            raise ParameterError(f"unknown link ratio(s) {sorted(unknown)}; valid: {list(SEED_LINK_RATIOS)}")
         merged = dict(SEED_LINK_RATIOS)
         merged.update(self.ratios)
         for key, value in merged.items():
@@ -166,9 +166,9 @@ class Geometry:
             self, "hip_half_width", _check_range("hip_half_width", self.hip_half_width, LENGTH_RANGE, "m")
         )
         if merged["r4"] <= merged["r7"]:
-            raise ValueError("parameter 'r4' must exceed 'r7' (joint 5 lies on L4 at L4 - L7 from joint 4)")
+            raise ParameterError("parameter 'r4' must exceed 'r7' (joint 5 lies on L4 at L4 - L7 from joint 4)")
         if merged["r5"] <= merged["r6"]:
-            raise ValueError("parameter 'r5' must exceed 'r6' (joint 7 lies on L5 at L6 from joint 6)")
+            raise ParameterError("parameter 'r5' must exceed 'r6' (joint 7 lies on L5 at L6 from joint 6)")
 
     def length(self, index: int) -> float:
         """Length of link ``L<index>`` [m]; ``length(0)`` is the frame link K*L."""
@@ -183,13 +183,13 @@ class Geometry:
         valid = {f.name for f in fields(self)}
         bad = set(other) - valid
         if bad:
-            raise ValueError(
+            raise ParameterError(
                 f"unknown geometry parameter(s) {sorted(bad)}; valid: {sorted(valid | set(SEED_LINK_RATIOS))}"
             )
         if "ratios" in other:
             given = other.pop("ratios")
             if not isinstance(given, Mapping):
-                raise ValueError(f"parameter 'ratios' must map r1..r13 to numbers, got {given!r}")
+                raise ParameterError(f"parameter 'ratios' must map r1..r13 to numbers, got {given!r}")
             ratio_changes = {**given, **ratio_changes}
         ratios = dict(self.ratios)
         ratios.update(ratio_changes)
@@ -228,15 +228,17 @@ class MassModel:
         _check_positive("hip mass", self.hip)
         _check_positive("foot mass", self.foot)
         if not isinstance(self.links, Mapping):
-            raise ValueError(f"parameter 'links' must map link names to masses, got {self.links!r}")
+            raise ParameterError(f"parameter 'links' must map link names to masses, got {self.links!r}")
         unknown = set(self.links) - set(MASS_LINKS)
         if unknown:
-            raise ValueError(f"parameter 'links': unknown link(s) {sorted(unknown)}; valid: {', '.join(MASS_LINKS)}")
+            raise ParameterError(
+                f"parameter 'links': unknown link(s) {sorted(unknown)}; valid: {', '.join(MASS_LINKS)}"
+            )
         for key, value in self.links.items():
             _check_positive(f"mass of {key}", value)
         for value, name in ((self.foot_com, "foot_com"), *zip(self.hip_com, ("hip_com x", "hip_com z"))):
             if not math.isfinite(float(value)):
-                raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+                raise ParameterError(f"parameter {name!r} must be finite, got {value!r}")
 
     def with_(self, **changes: Any) -> MassModel:
         """Copy with some fields changed (``hip=30.0``, ``hip_com=(0.3, 0.0)``, ...)."""
@@ -246,7 +248,7 @@ class MassModel:
         """Raise ``ValueError`` naming the links ``variant`` needs that have no mass here."""
         missing = [n for n in required_mass_links(variant) if n not in self.links]
         if missing:
-            raise ValueError(
+            raise ParameterError(
                 f"parameter 'links' of the mass model lacks {', '.join(missing)} "
                 f"(the {get_variant(variant).name} variant needs {', '.join(required_mass_links(variant))})"
             )
@@ -296,7 +298,7 @@ def percentage_mass_model(
     _check_positive("total_mass", total_mass)
     missing = {"hip", "thigh", "shank", "foot"} - set(fractions)
     if missing:
-        raise ValueError(f"mass fractions lack {sorted(missing)}")
+        raise ParameterError(f"mass fractions lack {sorted(missing)}")
     for key in ("hip", "thigh", "shank", "foot"):
         _check_positive(f"mass fraction {key}", fractions[key])
     links = _shared_by_length(total_mass * fractions["thigh"], THIGH_LINKS, geometry)

@@ -1,4 +1,7 @@
-"""Where the robot description lives. Importable from any working directory."""
+"""Where the robot description and the committed results live. Importable from any working directory.
+
+Both are read, never written, by the package: ``make urdf`` and the scripts of ``tools/`` write them.
+"""
 
 from __future__ import annotations
 
@@ -45,3 +48,25 @@ def urdf_path(variant: str = "spring", legs: int = 2) -> Path:
 
 URDF_PATH: Path = URDF_DIR / "pasibot_spring_2leg.urdf"
 """The default robot: the ankle-spring biped."""
+
+
+RESULTS_FOLDER: str = "results"
+"""The folder of the committed results inside an installed package (``pasibot_pin/results``)."""
+
+
+def result_path(name: str) -> Path:
+    """The committed result ``name`` (``walking_map.csv``, ``answers_summary.json``, ...) the package reads at run time.
+
+    Installed wheel: pyproject's force-include packages ``docs/results/NAME`` as ``pasibot_pin/results/NAME``.
+    Source checkout or editable install: the repository's ``docs/results/NAME``, beside the package as ``urdf/``
+    is. The one place the package looks for its data; it never writes there (``tools/`` does).
+
+    Returns:
+        The first of the two that exists; the packaged path when neither does (the caller's ``is_file()`` says so).
+
+    """
+    packaged = PACKAGE_ROOT / RESULTS_FOLDER / name
+    for candidate in (packaged, PACKAGE_ROOT.parent / "docs" / RESULTS_FOLDER / name):
+        if candidate.is_file():
+            return candidate
+    return packaged

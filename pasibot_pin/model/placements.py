@@ -57,14 +57,8 @@ def _geometry_of(x: np.ndarray, variant: str) -> Geometry:
     L = float(x[0])
     ratios = {f"r{i}": float(x[1 + i]) / L for i in range(1, 14)}
     toe, heel = float(x[15]), float(x[16])
-    sole = (
-        {"parallel_toe": toe / L, "parallel_heel": heel / L}
-        if get_variant(variant).extension
-        else {
-            "foot_toe": toe / L,
-            "foot_heel": heel / L,
-        }
-    )
+    toe_field, heel_field = get_variant(variant).foot_fields  # the record names its sole's fields
+    sole = {toe_field: toe / L, heel_field: heel / L}
     return Geometry(L=L, K=float(x[1]) / L, ratios=ratios, hip_half_width=float(x[17]), **sole)
 
 

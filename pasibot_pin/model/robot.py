@@ -9,6 +9,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin import constraints
+from pasibot_pin.errors import DesignError, ParameterError
 from pasibot_pin.model import placements
 from pasibot_pin.model.assembly import check_full_turn
 from pasibot_pin.model.closure import assemble, mobility
@@ -48,7 +49,7 @@ EXTENSION_BARS: dict[str, tuple[str, int]] = {
 def _link_inertias(masses: MassModel, geometry: Geometry, variant: str | Variant, mode: str) -> dict[str, pin.Inertia]:
     """Inertia of every massive link (without side prefix, and ``hip``) in its own frame."""
     if mode not in INERTIA_MODES:
-        raise ValueError(f"unknown inertia mode {mode!r}; valid: {', '.join(INERTIA_MODES)}")
+        raise ParameterError(f"unknown inertia mode {mode!r}; valid: {', '.join(INERTIA_MODES)}")
 
     def rod(mass: float, length: float, com_x: float) -> pin.Inertia:
         rot = np.zeros((3, 3))
@@ -172,19 +173,19 @@ class PasibotRobot:
     def idx_v(self, joint: str) -> int:
         """Velocity index of a one-dof joint by name."""
         if not self.model.existJointName(joint):
-            raise ValueError(f"unknown joint {joint!r}")
+            raise ParameterError(f"unknown joint {joint!r}")
         return self.model.joints[self.model.getJointId(joint)].idx_v
 
     def idx_q(self, joint: str) -> int:
         """Configuration index of a one-dof joint by name."""
         if not self.model.existJointName(joint):
-            raise ValueError(f"unknown joint {joint!r}")
+            raise ParameterError(f"unknown joint {joint!r}")
         return self.model.joints[self.model.getJointId(joint)].idx_q
 
     def frame_id(self, name: str) -> int:
         """Frame index by name, with a clear error."""
         if not self.model.existFrame(name):
-            raise ValueError(f"unknown frame {name!r}")
+            raise ParameterError(f"unknown frame {name!r}")
         return self.model.getFrameId(name)
 
     def weld_foot(self, side: str, q: np.ndarray) -> pin.RigidConstraintModel:
@@ -193,9 +194,9 @@ class PasibotRobot:
         The target keeps the foot's x and z from ``q`` and sets its pitch to zero.
         """
         if not self.floating:
-            raise ValueError("the one-leg model has a fixed hip: it needs no foot weld")
+            raise ParameterError("the one-leg model has a fixed hip: it needs no foot weld")
         if side not in sides(self.legs):
-            raise ValueError(f"unknown side {side!r}; valid: {', '.join(sides(self.legs))}")
+            raise ParameterError(f"unknown side {side!r}; valid: {', '.join(sides(self.legs))}")
         pin.framesForwardKinematics(self.model, self.data, q)
         position = self.data.oMf[self.frame_id(f"{side}_foot")].translation.copy()
         target = pin.SE3(np.eye(3), position)
@@ -292,7 +293,7 @@ def load(
     check_legs(legs)
     geometry, masses = _geometry_and_masses(spec.name, geometry, masses, mass_rule, geometry_changes)
     if inertia not in INERTIA_MODES:
-        raise ValueError(f"unknown inertia mode {inertia!r}; valid: {', '.join(INERTIA_MODES)}")
+        raise ParameterError(f"unknown inertia mode {inertia!r}; valid: {', '.join(INERTIA_MODES)}")
     model, text = _build_tree(spec.name, legs, geometry, masses, inertia, visuals)
     if footprint is not None and visuals:
         text = shape_soles(text, footprint, geometry.L)
@@ -333,7 +334,7 @@ def _geometry_and_masses(
         geometry = geometry.with_(**geometry_changes)
     if masses is None:
         if mass_rule not in MASS_RULES:
-            raise ValueError(f"unknown mass_rule {mass_rule!r}; valid: {', '.join(MASS_RULES)}")
+            raise ParameterError(f"unknown mass_rule {mass_rule!r}; valid: {', '.join(MASS_RULES)}")
         masses = MASS_RULES[mass_rule](geometry, variant)
     masses.check_links(variant)
     return geometry, masses
@@ -355,7 +356,7 @@ def _build_tree(
     apply_masses(model, masses, geometry, variant, legs, inertia)
     for j in range(model.njoints):
         if not np.all(np.isfinite(model.inertias[j].toDynamicParameters())):
-            raise ValueError(
+            raise DesignError(
                 f"the geometry and masses give a non-finite inertia on joint {model.names[j]!r}; "
                 "check the sizes (L, link ratios, sole) and masses"
             )

@@ -15,6 +15,8 @@ from collections.abc import Mapping
 from dataclasses import dataclass, replace
 from typing import Any
 
+from pasibot_pin.errors import ParameterError
+
 SEED_STEP: float = 0.1
 """The seed's crank sample step [rad] (``Theta1 = 0:0.1:2*pi``)."""
 
@@ -141,11 +143,11 @@ class ModelChoices:
             ("inertia", self.inertia, ("point", "uniform")),
         ):
             if value not in valid:
-                raise ValueError(f"unknown {name} {value!r}; valid: {', '.join(valid)}")
+                raise ParameterError(f"unknown {name} {value!r}; valid: {', '.join(valid)}")
         if not (math.isfinite(self.step) and self.step > 0):
-            raise ValueError(f"parameter 'step' must be a positive angle [rad], got {self.step!r}")
+            raise ParameterError(f"parameter 'step' must be a positive angle [rad], got {self.step!r}")
         if self.accelerations != "exact" and self.inertia != "point":
-            raise ValueError("difference accelerations (the seed's) need point masses: set inertia='point'")
+            raise ParameterError("difference accelerations (the seed's) need point masses: set inertia='point'")
 
     def with_(self, **changes: Any) -> ModelChoices:
         """Copy with some choices changed."""
@@ -191,12 +193,12 @@ def get_scenario(name: str | int) -> Scenario:
     if key not in SCENARIOS and f"run{key}" in SCENARIOS:
         key = f"run{key}"
     if key not in SCENARIOS:
-        raise ValueError(f"unknown scenario {name!r}; valid: {', '.join(SCENARIOS)} (or 1..4)")
+        raise ParameterError(f"unknown scenario {name!r}; valid: {', '.join(SCENARIOS)} (or 1..4)")
     return SCENARIOS[key]
 
 
 def get_preset(name: str) -> ModelChoices:
     """The preset called ``name`` (ValueError naming the valid ones otherwise)."""
     if name not in PRESETS:
-        raise ValueError(f"unknown preset {name!r}; valid: {', '.join(PRESETS)}")
+        raise ParameterError(f"unknown preset {name!r}; valid: {', '.join(PRESETS)}")
     return PRESETS[name]

@@ -16,6 +16,8 @@ import math
 from collections.abc import Mapping
 from dataclasses import dataclass
 
+from pasibot_pin.errors import ParameterError
+
 SOLE_MODES: tuple[str, ...] = ("square", "stabiliser", "ankle")
 """How the sole is held: ``square`` to the shank (rigid foot), parallel to the ``stabiliser``
 L8, or on a revolute ``ankle`` (free, sprung)."""
@@ -50,7 +52,7 @@ class Variant:
 
     def __post_init__(self) -> None:
         if self.sole not in SOLE_MODES:
-            raise ValueError(f"unknown sole mode {self.sole!r}; valid: {', '.join(SOLE_MODES)}")
+            raise ParameterError(f"unknown sole mode {self.sole!r}; valid: {', '.join(SOLE_MODES)}")
 
     @property
     def free_ankle(self) -> bool:
@@ -89,7 +91,7 @@ def get_variant(variant: str | Variant) -> Variant:
     if isinstance(variant, Variant):
         return variant
     if variant not in VARIANT_RECORDS:
-        raise ValueError(f"unknown variant {variant!r}; valid variants: {', '.join(VARIANT_RECORDS)}")
+        raise ParameterError(f"unknown variant {variant!r}; valid variants: {', '.join(VARIANT_RECORDS)}")
     return VARIANT_RECORDS[variant]
 
 
@@ -121,5 +123,5 @@ def get_motor_layout(name: str | MotorLayout) -> MotorLayout:
     if isinstance(name, MotorLayout):
         return name
     if name not in MOTOR_LAYOUTS:
-        raise ValueError(f"unknown motor layout {name!r}; valid: {', '.join(MOTOR_LAYOUTS)}")
+        raise ParameterError(f"unknown motor layout {name!r}; valid: {', '.join(MOTOR_LAYOUTS)}")
     return MOTOR_LAYOUTS[name]

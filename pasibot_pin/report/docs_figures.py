@@ -1,4 +1,6 @@
-"""The README's pictures, drawn by the library (``make docs-figures``), not by hand.
+"""The README's pictures, drawn by the library, not by hand: each writer draws into the path it is given.
+
+``make docs-figures`` (``tools/docs_figures.py``) writes them into ``docs/``.
 
 - :func:`write_variants_figure`: ``docs/variants.png``, the three variants (two legs) at q0;
 - :func:`write_gait_gif`: ``docs/gait.gif``, the ``analyze`` walk's stick GIF, smaller;
@@ -19,6 +21,7 @@ from __future__ import annotations
 
 from pathlib import Path
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics.gait import walk
 from pasibot_pin.kinematics.leg import crank_grid, leg_cycle
 from pasibot_pin.model.design import Design, design_robot
@@ -87,7 +90,7 @@ def write_simulation_figure(path: Path, scenario: str = "run1") -> Path:
     axes[0].set_title(f"{scenario} ({study.omega:g} rad/s): hip pitch, hip free (x: fell)")
     fitted = (study.fitted.stiffness, study.fitted.rest_angle)
     if study.sweep_stiffness is None or study.sweep_rest is None or study.sweep_excursion is None:
-        raise ValueError(f"the {scenario} study has no spring sweep to draw")
+        raise ParameterError(f"the {scenario} study has no spring sweep to draw")
     plot_spring_sweep(
         study.sweep_stiffness, study.sweep_rest, study.sweep_excursion, fitted=fitted, best=study.best, ax=axes[1]
     )
@@ -141,14 +144,3 @@ DOCS_PICTURES = (
     (write_walking_map_figure, "walking_map.png"),
 )
 """Every README picture and the function that draws it."""
-
-
-def main() -> None:
-    """Draw the README's generated pictures into ``docs/``."""
-    docs = Path(__file__).resolve().parents[2] / "docs"
-    for write, name in DOCS_PICTURES:
-        print(write(docs / name))
-
-
-if __name__ == "__main__":
-    main()

@@ -13,6 +13,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.studies.floor_static import CAUSES, FloorStatic, FloorStaticSweep
 
@@ -97,7 +98,7 @@ def _table(rows: list[dict[str, str]]) -> list[str]:
 def map_table(sweep: FloorStaticSweep) -> list[str]:
     """A run's K_e x beta0 map as a markdown table: ``weld / floor`` in each cell."""
     if sweep.stiffness is None or sweep.rest is None:
-        raise ValueError(f"the {sweep.scenario} sweep has no K_e x beta0 grid")
+        raise ParameterError(f"the {sweep.scenario} sweep has no K_e x beta0 grid")
     head = ["beta0 [deg] \\ K_e [N.m/rad]", *(f"{k:.0f}" for k in sweep.stiffness)]
     lines = ["| " + " | ".join(head) + " |", "|" + "---|" * len(head)]
     for i, beta0 in enumerate(sweep.rest):

@@ -169,6 +169,10 @@ def _walk_rows(result: KinematicsSurvey) -> list[str]:
     return lines
 
 
+SHOWN_LEG = "parallel"
+"""The leg whose four panels the section shows (a report's choice, not a variant's property); the others are linked."""
+
+
 def _markdown(result: KinematicsSurvey) -> str:
     s = result.settings
     ks = ", ".join(f"{k:g}" for k in result.sweep.K)
@@ -194,15 +198,15 @@ def _markdown(result: KinematicsSurvey) -> str:
         "```",
         "",
         figure(
-            "kinematics_leg_parallel.png",
-            "One parallel leg over a crank turn (leg frame): ankle, toe and heel paths [m], foot pitch [deg], ankle "
-            "velocity [m/s] and acceleration [m/s^2].",
+            f"kinematics_leg_{SHOWN_LEG}.png",
+            f"One {SHOWN_LEG} leg over a crank turn (leg frame): ankle, toe and heel paths [m], foot pitch [deg], "
+            "ankle velocity [m/s] and acceleration [m/s^2].",
         ),
         figure_links(
             [
                 (f"kinematics_leg_{v}.png", f"the same four panels for the {v} leg")
                 for v in result.legs
-                if v != "parallel"
+                if v != SHOWN_LEG
             ]
             + [
                 ("foot_pitch.png", "foot pitch [deg] of every variant over a crank turn"),

@@ -81,7 +81,7 @@ def check_sole(sole, name: str = "parameter 'sole'") -> tuple[float, float] | No
 def _check_mu(mu: float) -> float:
     mu = float(mu)
     if not math.isfinite(mu) or mu < 0:
-        raise ValueError(f"parameter 'mu' must be a finite friction coefficient >= 0, got {mu!r}")
+        raise ParameterError(f"parameter 'mu' must be a finite friction coefficient >= 0, got {mu!r}")
     return mu
 
 
@@ -158,12 +158,12 @@ def _check_distribute(wrench, s_heel: float, s_toe: float, mu: float, regularisa
     """The wrench as a (3,) array once :func:`distribute`'s arguments are checked (ValueError naming one)."""
     w = np.asarray(wrench, dtype=float).reshape(-1)
     if w.shape != (3,) or not np.all(np.isfinite(w)):
-        raise ValueError(f"parameter 'wrench' must be 3 finite numbers (Fx, Fz, My), got {wrench!r}")
+        raise ParameterError(f"parameter 'wrench' must be 3 finite numbers (Fx, Fz, My), got {wrench!r}")
     _check_mu(mu)
     if not (math.isfinite(s_heel) and math.isfinite(s_toe) and s_heel < s_toe):
-        raise ValueError(f"parameters 's_heel' < 's_toe' must be finite [m], got {s_heel!r}, {s_toe!r}")
+        raise ParameterError(f"parameters 's_heel' < 's_toe' must be finite [m], got {s_heel!r}, {s_toe!r}")
     if not (math.isfinite(regularisation) and regularisation >= 0):
-        raise ValueError(f"parameter 'regularisation' must be >= 0, got {regularisation!r}")
+        raise ParameterError(f"parameter 'regularisation' must be >= 0, got {regularisation!r}")
     return w
 
 
@@ -446,11 +446,11 @@ def contact_along(robot: PasibotRobot, result, mu: float, sole: tuple[float, flo
     """
     mu = _check_mu(mu)
     if not robot.floating:
-        raise ValueError("contact_along needs the two-legged robot (its stance foot carries the ground wrench)")
+        raise ParameterError("contact_along needs the two-legged robot (its stance foot carries the ground wrench)")
     ground = np.asarray(result.ground, dtype=float)
     n = len(result.t)
     if ground.shape != (n, 3) or len(result.q) != n or len(result.stance) != n:
-        raise ValueError("parameter 'result': t, q, stance and ground (N x 3) must have one row per sample")
+        raise ParameterError("parameter 'result': t, q, stance and ground (N x 3) must have one row per sample")
     check_sole(sole)
     arrays: dict[str, Any] = {
         k: np.zeros(n) for k in ("s_cop", "cop_x", "ankle_x", "s_heel", "s_toe", "margin", "mu_needed")
@@ -522,7 +522,7 @@ def scenario_contact(
     from pasibot_pin.model.scenario_robots import scenario_robot  # deferred: keeps the CLI's start fast
 
     if samples < 2:
-        raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
+        raise ParameterError(f"parameter 'samples' must be >= 2, got {samples!r}")
     scenario = get_scenario(name)
     thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
     choices = get_preset(preset).with_(accelerations="exact", fit_thetas=None)
@@ -541,7 +541,7 @@ def design_contact(design, mu: float = CONTACT_MU, samples: int = CONTACT_SAMPLE
     from pasibot_pin.dynamics.inverse import inverse_dynamics  # deferred: keeps the CLI's start fast
 
     if samples < 2:
-        raise ValueError(f"parameter 'samples' must be >= 2, got {samples!r}")
+        raise ParameterError(f"parameter 'samples' must be >= 2, got {samples!r}")
     robot = design_robot(design, 2)
     thetas = np.linspace(math.pi / 2, 3 * math.pi / 2, int(samples), endpoint=False)
     torques = inverse_dynamics(robot, thetas, design.omega, stance="right", motors=design.motors)

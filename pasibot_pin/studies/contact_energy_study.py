@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pasibot_pin.dynamics.inverse import inverse_dynamics
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, SCENARIOS, get_preset, get_scenario
@@ -380,7 +381,7 @@ def check_flywheel_inertia(inertia: float) -> float:
         or not isinstance(inertia, (int, float))
         or not (math.isfinite(inertia) and inertia > 0)
     ):
-        raise ValueError(f"parameter 'flywheel' must be a positive flywheel inertia [kg.m^2], got {inertia!r}")
+        raise ParameterError(f"parameter 'flywheel' must be a positive flywheel inertia [kg.m^2], got {inertia!r}")
     return float(inertia)
 
 

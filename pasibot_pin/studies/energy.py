@@ -40,9 +40,11 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.dynamics.inverse import check_omega, inverse_dynamics
+from pasibot_pin.dynamics.inverse import inverse_dynamics
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics.gait import stride_advance
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, other
+from pasibot_pin.model.design import check_parameter
 from pasibot_pin.model.params import GRAVITY
 from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenario_robots import scenario_robot
@@ -65,7 +67,7 @@ NODES: int = 48
 def gauss_legendre(a: float, b: float, n: int) -> tuple[np.ndarray, np.ndarray]:
     """Gauss-Legendre nodes and weights on [a, b]."""
     if n < 2:
-        raise ValueError(f"parameter 'nodes' must be >= 2, got {n!r}")
+        raise ParameterError(f"parameter 'nodes' must be >= 2, got {n!r}")
     x, w = np.polynomial.legendre.leggauss(int(n))
     half = 0.5 * (b - a)
     return 0.5 * (a + b) + half * x, half * w
@@ -81,7 +83,7 @@ def variant_robot(variant: str, body_mass: float, body_com_dx: float = 0.0) -> P
     :func:`pasibot_pin.model.scenario_robots.scenario_robot` with the default modelling choices.
     """
     if not (math.isfinite(body_mass) and body_mass > 0):
-        raise ValueError(f"parameter 'body_mass' must be positive [kg], got {body_mass!r}")
+        raise ParameterError(f"parameter 'body_mass' must be positive [kg], got {body_mass!r}")
     scenario = Scenario("body", 0.0, float(body_mass), float(body_mass), float(body_com_dx), None, None, "body")
     return scenario_robot(scenario, PRESETS["default"], variant)
 
@@ -286,11 +288,9 @@ def step_energy(
         (StepEnergy, the TorqueResult at [start, nodes..., end]).
 
     """
-    omega = check_omega(omega)
-    if omega == 0:
-        raise ValueError("parameter 'omega' must be > 0 for energy per step (a quasi-static step takes forever)")
+    omega = check_parameter("omega", omega, low_open=True)  # > 0: a quasi-static step takes forever
     if not (STEP_START < theta_end <= STEP_END):
-        raise ValueError(f"parameter 'theta_end' must be in (pi/2, 3 pi/2] [rad], got {theta_end!r}")
+        raise ParameterError(f"parameter 'theta_end' must be in (pi/2, 3 pi/2] [rad], got {theta_end!r}")
     return robot_step_energy(variant_robot(variant, body_mass, body_com_dx), omega, nodes, theta_end, fit)
 
 

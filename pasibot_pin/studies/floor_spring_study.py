@@ -29,6 +29,7 @@ import numpy as np
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import SimulationSettings, simulate
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH
 from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.studies.floor_static import FloorStatic, FloorStaticSweep, floor_static_path, stance_thetas
@@ -61,12 +62,12 @@ class FloorSpringSettings:
     def __post_init__(self) -> None:
         keys = tuple(get_scenario(s).name for s in self.scenarios)  # names an unknown scenario
         if not keys or any(get_scenario(k).omega <= 0 for k in keys):
-            raise ValueError(f"parameter 'scenarios' must name walking runs (run1 .. run4), got {self.scenarios!r}")
+            raise ParameterError(f"parameter 'scenarios' must name walking runs (run1 .. run4), got {self.scenarios!r}")
         object.__setattr__(self, "scenarios", keys)
         if not (math.isfinite(self.duration) and 0 < self.duration <= 600):
-            raise ValueError(f"parameter 'duration' must be in (0, 600] s, got {self.duration!r}")
+            raise ParameterError(f"parameter 'duration' must be in (0, 600] s, got {self.duration!r}")
         if int(self.static_samples) < 1:
-            raise ValueError(f"parameter 'static_samples' must be >= 1, got {self.static_samples!r}")
+            raise ParameterError(f"parameter 'static_samples' must be >= 1, got {self.static_samples!r}")
         FloorSettings(mu=self.mu, dt=self.dt)  # names a bad mu or dt before any work
 
 
@@ -192,7 +193,7 @@ def quasi_static_of(study: FloorSpringStudy) -> list[FloorStaticSweep]:
     for row in study.rows:
         spring = row.floor_static.spring
         if spring is None:
-            raise ValueError(f"{row.scenario} {row.case}: a floor-static answer without its spring")
+            raise ParameterError(f"{row.scenario} {row.case}: a floor-static answer without its spring")
         sweep = out.setdefault(row.scenario, FloorStaticSweep(row.scenario, spring))
         sweep.cases[row.case] = row.floor_static
     return list(out.values())

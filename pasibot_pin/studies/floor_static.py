@@ -51,6 +51,7 @@ from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.run import LOAD_TOL
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import other
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs
 from pasibot_pin.studies.static_batch import static_equilibria
@@ -81,7 +82,7 @@ def stance_of(theta: float) -> str:
 def _check_mu(mu: float) -> float:
     mu = float(mu)
     if not (math.isfinite(mu) and mu >= 0):
-        raise ValueError(f"parameter 'mu' must be a finite number >= 0, got {mu!r}")
+        raise ParameterError(f"parameter 'mu' must be a finite number >= 0, got {mu!r}")
     return mu
 
 
@@ -216,7 +217,7 @@ def floor_static_path(
     mu = _check_mu(mu)
     thetas = np.asarray(thetas, dtype=float)
     if thetas.ndim != 1 or not len(thetas) or not np.all(np.isfinite(thetas)):
-        raise ValueError("parameter 'thetas' must be a non-empty list of finite crank angles [rad]")
+        raise ParameterError("parameter 'thetas' must be a non-empty list of finite crank angles [rad]")
     cache = {} if cache is None else cache
     if "floor_statics" not in cache:  # one floor model per robot, built once
         cache["floor_statics"] = _FloorStatics(robot)
@@ -254,7 +255,7 @@ def floor_static_path(
 def stance_thetas(samples: int) -> np.ndarray:
     """``samples`` right crank angles over one stance, pi/2 to 3 pi/2 (end excluded) [rad], as the weld's."""
     if int(samples) != samples or samples < 1:
-        raise ValueError(f"parameter 'static_samples' must be a positive integer, got {samples!r}")
+        raise ParameterError(f"parameter 'static_samples' must be a positive integer, got {samples!r}")
     return np.linspace(math.pi / 2, 1.5 * math.pi, int(samples), endpoint=False)
 
 
@@ -310,7 +311,7 @@ def floor_static_sweep(
     thetas = stance_thetas(static_samples)
     for name, values in (("sweep_stiffness", sweep_stiffness), ("sweep_rest", sweep_rest)):
         if values is not None and (np.ndim(values) != 1 or not len(values) or not np.all(np.isfinite(values))):
-            raise ValueError(f"parameter {name!r} must be a non-empty list of finite numbers, got {values!r}")
+            raise ParameterError(f"parameter {name!r} must be a non-empty list of finite numbers, got {values!r}")
     inputs = scenario_inputs(scenario)
     robot, fit = inputs.robot, inputs.fit
     cache: dict = {}
@@ -338,7 +339,7 @@ def floor_static_study(
 ) -> list[FloorStaticSweep]:
     """:func:`floor_static_sweep` for each scenario (default runs 1-4)."""
     if not len(scenarios):
-        raise ValueError("parameter 'scenarios' must name at least one scenario")
+        raise ParameterError("parameter 'scenarios' must name at least one scenario")
     _check_mu(mu)
     stance_thetas(static_samples)
     return [floor_static_sweep(s, mu, static_samples=static_samples, sweep=sweep) for s in scenarios]

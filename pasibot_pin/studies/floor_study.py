@@ -24,6 +24,7 @@ from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.scenarios import get_scenario
@@ -67,13 +68,13 @@ class FloorStudySettings:
     def __post_init__(self) -> None:
         if self.design is not None:
             if self.design.omega <= 0:
-                raise ValueError("the design does not walk (omega = 0): set its crank speed 'omega' > 0")
+                raise ParameterError("the design does not walk (omega = 0): set its crank speed 'omega' > 0")
         else:
             scenario = get_scenario(self.scenario)  # names an unknown scenario
             if scenario.omega <= 0:
-                raise ValueError(f"scenario {scenario.name!r} does not walk (omega = 0): pick run1 .. run4")
+                raise ParameterError(f"scenario {scenario.name!r} does not walk (omega = 0): pick run1 .. run4")
         if not (math.isfinite(self.duration) and 0 < self.duration <= MAX_DURATION):
-            raise ValueError(f"parameter 'duration' must be in (0, {MAX_DURATION:g}] s, got {self.duration!r}")
+            raise ParameterError(f"parameter 'duration' must be in (0, {MAX_DURATION:g}] s, got {self.duration!r}")
         FloorSettings(mu=self.mu, dt=self.dt)  # names a bad mu or dt before any work
 
 

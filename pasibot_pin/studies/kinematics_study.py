@@ -19,10 +19,11 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics import leg as kin
 from pasibot_pin.kinematics import path_metrics
 from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk_and_advances
-from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.design import check_parameter, design_robot
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
 from pasibot_pin.reprs import short_repr
@@ -78,7 +79,7 @@ def leg_rows(cycle: kin.LegCycle) -> list[list]:
     stance = cycle.in_stance()
     velocity, acceleration = cycle.ankle_velocity, cycle.ankle_acceleration
     if velocity is None or acceleration is None:
-        raise ValueError("the leg cycle was sampled without omega: no ankle velocity or acceleration")
+        raise ParameterError("the leg cycle was sampled without omega: no ankle velocity or acceleration")
     rows = []
     for k in range(len(cycle.theta)):
         rows.append(
@@ -144,16 +145,18 @@ def samples(span_deg: float, step_deg: float) -> int:
 
     """
     if not math.isfinite(step_deg) or step_deg <= 0.0:
-        raise ValueError(f"parameter '--step-deg' must be a positive crank increment [deg], got {step_deg!r}")
+        raise ParameterError(f"parameter '--step-deg' must be a positive crank increment [deg], got {step_deg!r}")
     count = span_deg / step_deg
     if count > MAX_WALK_SAMPLES:
-        raise ValueError(
+        raise ParameterError(
             f"parameter '--step-deg' = {step_deg:g} deg gives {count:.3g} samples per {span_deg:g} deg; "
             f"at most {MAX_WALK_SAMPLES} (take a step of at least {span_deg / MAX_WALK_SAMPLES:g} deg)"
         )
     n = round(count)
     if n < 2 or abs(count - n) > 1e-9 * count:
-        raise ValueError(f"parameter '--step-deg' = {step_deg:g} deg must divide {span_deg:g} deg into >= 2 samples")
+        raise ParameterError(
+            f"parameter '--step-deg' = {step_deg:g} deg must divide {span_deg:g} deg into >= 2 samples"
+        )
     return n
 
 
@@ -306,24 +309,25 @@ class GaitSettings:
 
     def __post_init__(self) -> None:
         if self.legs not in (1, 2):
-            raise ValueError(f"parameter '--legs' must be 1 or 2, got {self.legs!r}")
-        if not math.isfinite(self.omega) or self.omega <= 0:
-            raise ValueError(f"parameter '--omega' must be a positive crank rate [rad/s], got {self.omega!r}")
+            raise ParameterError(f"parameter '--legs' must be 1 or 2, got {self.legs!r}")
+        check_parameter("omega", self.omega, low_open=True)  # the design record's crank speeds, > 0
         if self.legs == 1:
             if self.steps is not None:
-                raise ValueError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
+                raise ParameterError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
             if self.foot is not None:
-                raise ValueError("parameter '--foot' applies to --legs 2; --legs 1 has no stance contact")
+                raise ParameterError("parameter '--foot' applies to --legs 2; --legs 1 has no stance contact")
             samples(360.0, self.step_deg)
             return
         if self.foot is not None and self.foot not in FOOT_MODES:
-            raise ValueError(f"parameter '--foot' must be one of {', '.join(FOOT_MODES)}, got {self.foot!r}")
+            raise ParameterError(f"parameter '--foot' must be one of {', '.join(FOOT_MODES)}, got {self.foot!r}")
         steps = self.walk_steps
         if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
-            raise ValueError(f"parameter '--steps' must be an integer >= 1, got {steps!r}")
+            raise ParameterError(f"parameter '--steps' must be an integer >= 1, got {steps!r}")
         total = steps * samples(180.0, self.step_deg) + 1
         if total > MAX_WALK_SAMPLES:
-            raise ValueError(f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_WALK_SAMPLES}")
+            raise ParameterError(
+                f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_WALK_SAMPLES}"
+            )
 
     @property
     def walk_steps(self) -> int:
@@ -345,7 +349,7 @@ def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
         robot = design_robot(settings.design, settings.legs)
     if settings.legs == 1:
         if settings.steps is not None:
-            raise ValueError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
+            raise ParameterError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
         return leg_run(robot, settings.step_deg, settings.omega)
     return walk_run(robot, settings.walk_steps, settings.step_deg, settings.omega, settings.foot or "flat")
 

@@ -35,6 +35,7 @@ from pasibot_pin.dynamics.simulator import (
     critical_foot_damping,
     simulate,
 )
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.scenarios import SCENARIOS
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.spring_study import (
@@ -101,33 +102,33 @@ class SimulateSettings:
 
     def __post_init__(self) -> None:
         if int(self.steps) < 1:
-            raise ValueError(f"parameter 'steps' must be a positive integer, got {self.steps!r}")
+            raise ParameterError(f"parameter 'steps' must be a positive integer, got {self.steps!r}")
         if int(self.static_samples) < 1:
-            raise ValueError(f"parameter 'static_samples' must be a positive integer, got {self.static_samples!r}")
+            raise ParameterError(f"parameter 'static_samples' must be a positive integer, got {self.static_samples!r}")
         if self.swing_ankle not in ("rest", "spring"):
-            raise ValueError(f"parameter 'swing_ankle' must be rest or spring, got {self.swing_ankle!r}")
+            raise ParameterError(f"parameter 'swing_ankle' must be rest or spring, got {self.swing_ankle!r}")
         for name in ("stiffness", "rest_angle", "damping"):
             value = getattr(self, name)
             if value is not None and not math.isfinite(value):
-                raise ValueError(f"parameter {name!r} must be finite, got {value!r}")
+                raise ParameterError(f"parameter {name!r} must be finite, got {value!r}")
         for name in ("stiffness", "damping"):
             value = getattr(self, name)
             if value is not None and value < 0:
-                raise ValueError(f"parameter {name!r} must be >= 0, got {value!r}")
+                raise ParameterError(f"parameter {name!r} must be >= 0, got {value!r}")
         omega = SCENARIOS[scenario_key(self.scenario)].omega  # ValueError naming the scenarios
         if self.dt is None:
             return
         if not (math.isfinite(self.dt) and self.dt > 0):
-            raise ValueError(f"parameter 'dt' must be a positive integration step [s], got {self.dt!r}")
+            raise ParameterError(f"parameter 'dt' must be a positive integration step [s], got {self.dt!r}")
         if omega > 0:
             stance = math.pi / omega
             if self.dt > stance / MIN_STEPS_PER_STANCE:
-                raise ValueError(
+                raise ParameterError(
                     f"parameter 'dt' = {self.dt:g} s is too long: a stance of scenario {self.scenario!r} lasts "
                     f"{stance:.3g} s; take dt <= {stance / MIN_STEPS_PER_STANCE:.3g} s"
                 )
             if self.steps * stance / self.dt > MAX_INTEGRATION_STEPS:
-                raise ValueError(
+                raise ParameterError(
                     f"parameter 'dt' = {self.dt:g} s gives {self.steps * stance / self.dt:.3g} integration steps "
                     f"for {self.steps} stance(s); at most {MAX_INTEGRATION_STEPS}"
                 )
@@ -270,7 +271,7 @@ def simulation_columns(robot: PasibotRobot, result: SimulationResult) -> dict[st
 def check_fps(fps: float) -> float:
     """Return ``fps`` if it is a positive finite frame rate [1/s], else raise ``ValueError``."""
     if isinstance(fps, bool) or not isinstance(fps, (int, float)) or not (math.isfinite(fps) and fps > 0):
-        raise ValueError(f"parameter 'fps' must be positive [1/s], got {fps!r}")
+        raise ParameterError(f"parameter 'fps' must be positive [1/s], got {fps!r}")
     return float(fps)
 
 
@@ -542,13 +543,13 @@ def swing_foot_check(
     settings = settings or SimulationStudySettings()
     names = [s.name for s in studies]
     if settings.check_scenario not in names:
-        raise ValueError(f"check scenario {settings.check_scenario!r} not studied; studied: {', '.join(names)}")
+        raise ParameterError(f"check scenario {settings.check_scenario!r} not studied; studied: {', '.join(names)}")
     base = studies[names.index(settings.check_scenario)].study.runs.get("fitted")
     if base is None:
-        raise ValueError(f"check scenario {settings.check_scenario!r} has no walk (omega = 0)")
+        raise ParameterError(f"check scenario {settings.check_scenario!r} has no walk (omega = 0)")
     scen = cached_inputs(settings.check_scenario)
     if base.settings is None:
-        raise ValueError(f"check scenario {settings.check_scenario!r}: its walk carries no settings")
+        raise ParameterError(f"check scenario {settings.check_scenario!r}: its walk carries no settings")
     full_settings = base.settings.with_(swing_ankle="spring", dt=settings.check_dt)
     if full is None or full.settings != full_settings:
         full = simulate(scen.robot, full_settings, steps=settings.check_steps)

@@ -33,7 +33,9 @@ import numpy as np
 
 from pasibot_pin.constraints import split_torques
 from pasibot_pin.dynamics.stance_plan import actuation, couplings
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model import closure
+from pasibot_pin.model.design import check_parameter
 from pasibot_pin.model.variants import get_motor_layout
 from pasibot_pin.reprs import short_repr
 
@@ -94,7 +96,7 @@ def coupled_split(robot: PasibotRobot, result) -> SingleMotorResult:
 
     """
     if robot.legs != 2:
-        raise ValueError(f"coupled_split needs a two-legged robot, got legs={robot.legs}")
+        raise ParameterError(f"coupled_split needs a two-legged robot, got legs={robot.legs}")
     layout = get_motor_layout("one")
     qi_r, qi_l = robot.idx_q("right_j0_crank"), robot.idx_q("left_j0_crank")
     n = len(result.t)
@@ -113,11 +115,13 @@ def coupled_split(robot: PasibotRobot, result) -> SingleMotorResult:
         try:
             u, lam = split_torques(tau, s_matrix, rows.jacobian(q))
         except ValueError as err:
-            raise ValueError(f"coupled split at sample {k}: {err}") from None
+            raise type(err)(f"coupled split at sample {k}: {err}") from None
         motor[k], trans[k] = u[0], lam[-1]
         ankle[k, :n_spring] = -u[1 : 1 + n_spring]  # generalised forces of beta = pi/2 - q_ankle
     if worst > 1e-9:
-        raise ValueError(f"parameter 'result': the cranks are not pi apart (max |q_L - q_R - pi| = {worst:.3e} rad)")
+        raise ParameterError(
+            f"parameter 'result': the cranks are not pi apart (max |q_L - q_R - pi| = {worst:.3e} rad)"
+        )
     return SingleMotorResult(
         t=np.asarray(result.t, dtype=float),
         theta=np.asarray(result.theta, dtype=float),
@@ -173,11 +177,10 @@ def flywheel(theta: np.ndarray, torque: np.ndarray, omega: float, inertia: float
     """
     theta, torque = np.asarray(theta, dtype=float), np.asarray(torque, dtype=float)
     if theta.size < 2 or theta.shape != torque.shape or np.any(np.diff(theta) <= 0):
-        raise ValueError("parameters 'theta' (increasing) and 'torque' must be same-length arrays of >= 2 samples")
-    if not (math.isfinite(omega) and omega > 0):
-        raise ValueError(f"parameter 'omega' must be a positive crank speed [rad/s], got {omega!r}")
+        raise ParameterError("parameters 'theta' (increasing) and 'torque' must be same-length arrays of >= 2 samples")
+    check_parameter("omega", omega, low_open=True)  # the design record's crank speeds, > 0
     if not (math.isfinite(inertia) and inertia > 0):
-        raise ValueError(f"parameter 'inertia' must be a positive flywheel inertia [kg.m^2], got {inertia!r}")
+        raise ParameterError(f"parameter 'inertia' must be a positive flywheel inertia [kg.m^2], got {inertia!r}")
     span = theta[-1] - theta[0]
     mean = float(np.trapezoid(torque, theta) / span)
     dev = torque - mean
@@ -185,7 +188,7 @@ def flywheel(theta: np.ndarray, torque: np.ndarray, omega: float, inertia: float
     swing = float(energy.max() - energy.min())
 
     if swing > inertia * omega**2:
-        raise ValueError(
+        raise ParameterError(
             f"parameter 'inertia': {inertia:g} kg.m^2 is too small to smooth this torque: the energy swing "
             f"{swing:.4g} J exceeds J w^2 = {inertia * omega**2:.4g} J, the speed would vary by more than its mean"
         )
@@ -202,7 +205,7 @@ def flywheel(theta: np.ndarray, torque: np.ndarray, omega: float, inertia: float
 
     lo, hi = floor * (1 + 1e-12) + 1e-300, floor + 2.0 * omega
     if time_mean(lo) >= omega:
-        raise ValueError(
+        raise ParameterError(
             f"parameter 'inertia': {inertia:g} kg.m^2 is too small, the shaft would stop or reverse "
             f"(energy swing {swing:.4g} J against 1/2 J w^2 = {0.5 * inertia * omega**2:.4g} J)"
         )
@@ -230,6 +233,6 @@ def flywheel(theta: np.ndarray, torque: np.ndarray, omega: float, inertia: float
 def inertia_for(theta: np.ndarray, torque: np.ndarray, omega: float, fluctuation: float) -> float:
     """Flywheel inertia that keeps the speed fluctuation at ``fluctuation`` (first order) [kg.m^2]."""
     if not (math.isfinite(fluctuation) and fluctuation > 0):
-        raise ValueError(f"parameter 'fluctuation' must be positive, got {fluctuation!r}")
+        raise ParameterError(f"parameter 'fluctuation' must be positive, got {fluctuation!r}")
     probe = flywheel(theta, torque, omega, 1e6)
     return probe.energy_swing / (fluctuation * omega**2)

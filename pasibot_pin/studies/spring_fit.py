@@ -17,6 +17,7 @@ import numpy as np
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, check_fit_window, crank_grid, inverse_dynamics
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.reprs import short_repr
 
@@ -82,15 +83,15 @@ def fit_spring(beta: np.ndarray, torque: np.ndarray, warn: bool = True) -> Sprin
     beta = np.asarray(beta, dtype=float).reshape(-1)
     torque = np.asarray(torque, dtype=float).reshape(-1)
     if beta.shape != torque.shape:
-        raise ValueError(f"parameters 'beta' and 'torque' differ in length ({beta.size} vs {torque.size})")
+        raise ParameterError(f"parameters 'beta' and 'torque' differ in length ({beta.size} vs {torque.size})")
     if beta.size < 2:
-        raise ValueError("parameter 'beta' needs at least two samples for a spring fit")
+        raise ParameterError("parameter 'beta' needs at least two samples for a spring fit")
     if not (np.all(np.isfinite(beta)) and np.all(np.isfinite(torque))):
-        raise ValueError("parameters 'beta' and 'torque' must be finite")
+        raise ParameterError("parameters 'beta' and 'torque' must be finite")
     db = beta - beta.mean()
     sxx = float(db @ db)
     if sxx <= 1e-24:
-        raise ValueError("parameter 'beta' is constant: the spring slope is undefined")
+        raise ParameterError("parameter 'beta' is constant: the spring slope is undefined")
     slope = float(db @ (torque - torque.mean())) / sxx
     intercept = float(torque.mean() - slope * beta.mean())
     residual = torque - (slope * beta + intercept)
@@ -140,7 +141,7 @@ def fit_result(result, fit_thetas=None, warn: bool = True) -> SpringFit:
         for th in window:
             hit = np.abs(theta - th) < 1e-9
             if not hit.any():
-                raise ValueError(f"parameter 'fit_thetas': {th:.4f} rad is not a sample of the result")
+                raise ParameterError(f"parameter 'fit_thetas': {th:.4f} rad is not a sample of the result")
             mask |= hit
     return fit_spring(result.beta[mask], result.Te[mask], warn=warn)
 

@@ -30,12 +30,12 @@ from pasibot_pin.dynamics.simulator import (
     AnkleSpring,
     SimulationResult,
     SimulationSettings,
-    check_finite,
     critical_foot_damping,
     simulate,
 )
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.closure import assemble
-from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.design import check_parameter, design_robot
 from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import get_preset, get_scenario
 from pasibot_pin.reprs import short_repr
@@ -167,9 +167,9 @@ def sweep_method_for(omega: float, sweep_method: str | None = None) -> str:
     """The sweep method of :func:`spring_study` (static for omega <= 0.1 rad/s, dynamic above)."""
     method = sweep_method or ("static" if omega <= 0.1 else "dynamic")
     if method not in ("static", "dynamic"):
-        raise ValueError(f"unknown sweep_method {method!r}; valid: static, dynamic")
+        raise ParameterError(f"unknown sweep_method {method!r}; valid: static, dynamic")
     if method == "dynamic" and omega <= 0:
-        raise ValueError("a dynamic sweep needs omega > 0")
+        raise ParameterError("a dynamic sweep needs omega > 0")
     return method
 
 
@@ -281,7 +281,7 @@ def spring_study(
         whose spring is one of the cases' is not computed again.
 
     """
-    check_finite("omega", omega, 0.0)
+    check_parameter("omega", omega)  # the design record's crank speeds (0: the static answer only)
     dt = default_dt(swing_ankle) if dt is None else dt
     cache: dict = {}
     common: dict[str, Any] = {
@@ -369,7 +369,7 @@ def design_inputs(design) -> ScenarioInputs:
     fit = fit_result(result, None, warn=False)
     spring = design_spring(design, robot)
     if spring is None:
-        raise ValueError(f"the design's variant {design.variant!r} has no ankle spring to simulate")
+        raise ParameterError(f"the design's variant {design.variant!r} has no ankle spring to simulate")
     return ScenarioInputs("design", design.omega, robot, spring, fit)
 
 

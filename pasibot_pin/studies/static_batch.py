@@ -25,6 +25,7 @@ from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints.system import STEP_LIMIT
 from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem
 
 if TYPE_CHECKING:
@@ -48,7 +49,7 @@ class _Pairs:
         flat = [p for row in problems for p in row]
         self.cset = flat[0].cset
         if any(p.cset.labels != self.cset.labels for p in flat):
-            raise ValueError("static_equilibria: the crank angles must share one stance foot")
+            raise ParameterError("static_equilibria: the crank angles must share one stance foot")
         keys = [round(float(th), 12) for th in thetas]
         anchors = np.array([cache[key][2].joint2_placement.translation[0] for key in keys])
         weld = next(label for label in self.cset.labels if label.endswith("_weld.x"))

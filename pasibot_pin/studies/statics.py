@@ -22,6 +22,7 @@ from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, other
 from pasibot_pin.reprs import short_repr
 
@@ -136,7 +137,7 @@ class StaticProblem:
         # tau_spring on an ankle coordinate is -T = K_e (beta - beta0) (damping: no rate at rest)
         spring = self.sim.settings.spring
         if spring is None:
-            raise ValueError("a static problem needs an ankle spring")
+            raise ParameterError("a static problem needs an ankle spring")
         hold = x_gravity
         for i, x_i in x_ankles:
             hold -= x_i * spring.stiffness * ((math.pi / 2 - q[i]) - spring.rest_angle)

@@ -19,7 +19,8 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, TorqueResult, crank_grid, inverse_dynamics, run_scenario
-from pasibot_pin.model.design import design_robot
+from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.design import check_parameter, design_robot
 from pasibot_pin.model.scenarios import (
     PRESETS,
     SCENARIOS,
@@ -99,27 +100,27 @@ class TorqueSettings:
         get_scenario(self.scenario)
         choices = self.choices()
         if isinstance(self.steps, bool) or not isinstance(self.steps, int) or self.steps < 1:
-            raise ValueError(f"parameter 'steps' must be an integer >= 1, got {self.steps!r}")
-        if self.omega is not None and not math.isfinite(self.omega):
-            raise ValueError(f"parameter 'omega' must be a finite crank speed [rad/s], got {self.omega!r}")
+            raise ParameterError(f"parameter 'steps' must be an integer >= 1, got {self.steps!r}")
+        if self.omega is not None:
+            check_parameter("omega", self.omega)  # the design record's crank speeds (0: quasi-static)
         if self.samples is not None:
             if isinstance(self.samples, bool) or not isinstance(self.samples, int) or self.samples < 2:
-                raise ValueError(f"parameter 'samples' must be an integer >= 2, got {self.samples!r}")
+                raise ParameterError(f"parameter 'samples' must be an integer >= 2, got {self.samples!r}")
             if self.samples > MAX_SAMPLES:
-                raise ValueError(f"parameter 'samples' must be at most {MAX_SAMPLES}, got {self.samples}")
+                raise ParameterError(f"parameter 'samples' must be at most {MAX_SAMPLES}, got {self.samples}")
         if choices.fit_thetas is not None:
             if self.samples is not None:
-                raise ValueError(
+                raise ParameterError(
                     f"parameter 'samples' does not apply to preset {self.preset!r}: it runs its fit window's "
                     f"{len(choices.fit_thetas)} crank angles"
                 )
             if self.steps > 1:
-                raise ValueError(
+                raise ParameterError(
                     f"parameter 'steps' must be 1 with preset {self.preset!r}: its fit window covers one stance"
                 )
         total = (self.per_step - 1) * self.steps + 1
         if total > MAX_SAMPLES:
-            raise ValueError(
+            raise ParameterError(
                 f"parameter 'steps' x ('samples' - 1) + 1 = {total} crank angles exceeds {MAX_SAMPLES}; "
                 "take fewer steps or samples"
             )
@@ -243,9 +244,9 @@ def design_torques(settings: TorqueSettings) -> ScenarioTorques:
     """
     design = settings.design
     if design is None:
-        raise ValueError("design_torques needs settings.design")
+        raise ParameterError("design_torques needs settings.design")
     if settings.preset != "default" or settings.choices() != get_preset("default"):
-        raise ValueError("a --design runs the default modelling choices: no --preset or choice overrides")
+        raise ParameterError("a --design runs the default modelling choices: no --preset or choice overrides")
     omega = design.omega if settings.omega is None else settings.omega
     steps = settings.steps
     thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + math.pi * steps, (settings.per_step - 1) * steps + 1)

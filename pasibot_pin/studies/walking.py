@@ -26,7 +26,7 @@ from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.model.design import design_robot
+from pasibot_pin.model.design import MIN_WALK_OMEGA, check_parameter, design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
 from pasibot_pin.studies.spring_fit import design_spring
 
@@ -36,8 +36,8 @@ RAMP_SHARE = 0.25
 """The cranks reach their speed over this share of a step period (pi / omega) [-]..."""
 RAMP_MAX = 1.0
 """... but over at most this long [s]."""
-MIN_OMEGA = 0.05
-"""The slowest crank speed a walk is simulated at [rad/s] (20 steps at 0.05 rad/s are 21 minutes)."""
+MIN_OMEGA = MIN_WALK_OMEGA
+"""The slowest crank speed a walk is simulated at [rad/s] (the design record's :data:`MIN_WALK_OMEGA`)."""
 STEPS_PER_PERIOD = 1000
 """The time step is at most a step period over this, ..."""
 DT_RANGE = (5e-4, 1e-3)
@@ -159,9 +159,7 @@ def check_walk_budget(cost: float, what: str, limit: int = WALK_BUDGET) -> None:
 
 def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
     """The :class:`FloorSettings` of ``design``'s walk: its speed, spring, motors; the ramp and step."""
-    omega = design.omega
-    if not (math.isfinite(omega) and omega >= MIN_OMEGA):
-        raise ParameterError(f"parameter 'omega' must be at least {MIN_OMEGA:g} rad/s to walk, got {omega!r}")
+    omega = check_parameter("omega", design.omega, low=MIN_WALK_OMEGA)  # a walk's range: the record's, from 0.05
     spring = design_spring(design, robot)
     dt = walk_dt(omega) if settings.dt is None else settings.dt
     ramp = min(RAMP_MAX, RAMP_SHARE * math.pi / omega)

@@ -14,8 +14,8 @@ each cell is walked there too; without it the twin's columns are empty and
 
 The map is saved as CSV (:func:`save_map`, read back by :func:`load_map` with the standard
 library only: no pyarrow needed to read the committed answer) in ``docs/results/walking_map.csv``;
-``make walking-map`` (``python -m pasibot_pin.report.walking_answer --compute``) computes it again,
-draws ``docs/walking_map.png`` and writes what quotes it.
+``make walking-map`` computes it again (``tools/walking_map.py``), then draws ``docs/walking_map.png``
+and writes what quotes it (``python -m pasibot_pin.report.walking_answer``).
 
 Units: SI; soles over the crank length L; crank speed [rad/s]; angles in degrees where named ``_deg``.
 """
@@ -33,6 +33,8 @@ from pasibot_pin.errors import DesignError
 from pasibot_pin.files import append_row, read_rows, write_rows
 from pasibot_pin.jobs import Job, run_jobs
 from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.model.paths import result_path
+from pasibot_pin.model.variants import get_variant
 from pasibot_pin.progress import progress_bar
 from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
 from pasibot_pin.studies.spring_fit import design_spring
@@ -50,12 +52,13 @@ MAP_VARIANTS: tuple[str, ...] = ("parallel", "rigid", "spring")
 MAP_STEPS: int = 20
 """Steps each cell is asked to walk (the verdict's default) [-]."""
 
-RESULTS_DIR = Path(__file__).resolve().parents[2] / "docs" / "results"
-_PACKAGED = Path(__file__).resolve().parents[1] / "results" / "walking_map.csv"
-MAP_CSV = _PACKAGED if _PACKAGED.is_file() else RESULTS_DIR / "walking_map.csv"
-"""The committed map: the wheel's copy (pyproject's force-include), else the source checkout's docs/results."""
-MAP_PNG = RESULTS_DIR.parent / "walking_map.png"
-"""The committed picture of the map."""
+MAP_CSV = result_path("walking_map.csv")
+"""The committed map: the wheel's copy, else the source checkout's docs/results
+(:func:`~pasibot_pin.model.paths.result_path`); ``make walking-map`` (``tools/walking_map.py``) writes it."""
+MAP_PNG = MAP_CSV.parents[1] / "walking_map.png"
+"""The picture of the map beside the results' folder (a source checkout's ``docs/walking_map.png``): kept for
+``report/walking_answer.main`` until that writer moves to ``tools/`` (issue 35); ``tools/walking_map.py``
+names its own files."""
 
 NO_TWIN = "MuJoCo (the mujoco extra) is not installed: the twin's columns are empty"
 
@@ -171,8 +174,8 @@ def map_design(variant: str, sole: float, omega: float, base: Design | None = No
 
     """
     base = Design() if base is None else base
-    key = "parallel" if variant == "parallel" else "foot"
-    return base.with_(variant=variant, omega=float(omega), **{f"{key}_toe": float(sole), f"{key}_heel": float(sole)})
+    toe, heel = get_variant(variant).foot_fields  # the record names the variant's sole fields
+    return base.with_(variant=variant, omega=float(omega), **{toe: float(sole), heel: float(sole)})
 
 
 def twin_walker():

@@ -33,6 +33,7 @@ from pasibot_pin.errors import ParameterError, PasibotError
 from pasibot_pin.files import append_row, read_rows, write_rows
 from pasibot_pin.jobs import Job, run_jobs
 from pasibot_pin.model.design import Design
+from pasibot_pin.model.paths import result_path
 from pasibot_pin.progress import progress_bar
 from pasibot_pin.studies.walking import WalkSettings, walk_design_3d
 from pasibot_pin.studies.walking_map import twin_walker
@@ -58,11 +59,9 @@ MAP3D_STEPS: int = 6
 FAMILIES: tuple[str, ...] = ("comb", "narrow")
 """The lateral foot families."""
 
-_PACKAGED = Path(__file__).resolve().parents[1] / "results" / "walking_map3d.csv"
-MAP3D_CSV = (
-    _PACKAGED if _PACKAGED.is_file() else Path(__file__).resolve().parents[2] / "docs" / "results" / "walking_map3d.csv"
-)
-"""The committed 3-D map: the wheel's copy (pyproject's force-include), else the source checkout's docs/results."""
+MAP3D_CSV = result_path("walking_map3d.csv")
+"""The committed 3-D map (read only): the wheel's copy, else the source checkout's docs/results
+(:func:`~pasibot_pin.model.paths.result_path`); ``make walking-map-3d`` (``tools/walking_map3d.py``) writes it."""
 
 RECOMMENDED: tuple[str, float, float] = ("comb", 0.6, 2.0)
 """The walker to build: (feet, value [L], omega [rad/s]), the fastest comb walker that both engines walk

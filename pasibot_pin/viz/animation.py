@@ -19,6 +19,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import PART_MARKER, atomic_path
 from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUP_COLOURS, robot_segments
@@ -36,9 +37,9 @@ CONTACT_COLOUR = "#1a9e3a"
 def _check(robot: PasibotRobot, qs) -> np.ndarray:
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     if qs.ndim != 2 or qs.shape[1] != robot.model.nq or len(qs) < 2:
-        raise ValueError(f"parameter 'qs' must have shape (N >= 2, {robot.model.nq}), got {np.shape(qs)}")
+        raise ParameterError(f"parameter 'qs' must have shape (N >= 2, {robot.model.nq}), got {np.shape(qs)}")
     if not np.all(np.isfinite(qs)):
-        raise ValueError("parameter 'qs' contains non-finite values")
+        raise ParameterError("parameter 'qs' contains non-finite values")
     return qs
 
 
@@ -63,7 +64,7 @@ def _bar_frames(robot: PasibotRobot, qs: np.ndarray) -> tuple[list[np.ndarray], 
     """Every frame's bars (n_bars, 2, 2) [m], and each bar's colour (by group) and line width."""
     frames = [robot_segments(robot, q) for q in qs]
     if len({len(f) for f in frames}) != 1:
-        raise ValueError("the robot's bar count changes along 'qs'; cannot animate")
+        raise ParameterError("the robot's bar count changes along 'qs'; cannot animate")
     colours = [GROUP_COLOURS[group] for group, _, _ in frames[0]]
     widths = [4.0 if group == "foot" else 2.2 for group, _, _ in frames[0]]
     return [np.array([[a, b] for _, a, b in f]) for f in frames], colours, widths
@@ -119,7 +120,7 @@ def _stick_scene(
 
     qs = _check(robot, qs)
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise ValueError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
+        raise ParameterError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(6.4, 5.0))
@@ -334,9 +335,9 @@ def save_gif(
     if out.exists() and not force:
         raise FileExistsError(f"{out} exists; pass force=True to overwrite it")
     if out.suffix.lower() != ".gif":
-        raise ValueError(f"parameter 'out' must end in .gif, got {out}")
+        raise ParameterError(f"parameter 'out' must end in .gif, got {out}")
     if not (isinstance(dpi, int) and dpi > 0):
-        raise ValueError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
+        raise ParameterError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
     frames = _frame_arrays(robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times)
     if all(f[..., 3].min() == 255 for f in frames):
         images = _shared_palette(frames)

@@ -20,6 +20,7 @@ import sys
 import time
 from dataclasses import dataclass
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.net import tcp_refused
 
 __all__ = ["LOOPBACK", "ZMQ_TIMEOUT", "ServerProcess", "check_meshcat_server", "serve_loopback", "start_server"]
@@ -120,7 +121,7 @@ def start_server(timeout: float = 30.0) -> ServerProcess:
 
     """
     if not timeout > 0:
-        raise ValueError(f"parameter 'timeout' must be > 0 s, got {timeout!r}")
+        raise ParameterError(f"parameter 'timeout' must be > 0 s, got {timeout!r}")
 
     code = "from pasibot_pin.viz.meshcat_server import serve_loopback; serve_loopback()"
     process = subprocess.Popen(
@@ -171,7 +172,7 @@ def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
 
     refused = tcp_refused(zmq_url)
     if refused:
-        raise ValueError(
+        raise ParameterError(
             f"parameter 'zmq_url': no meshcat server answered at {zmq_url} ({refused}; start one with "
             "meshcat-server, or leave --zmq-url out to start our own)"
         )
@@ -182,12 +183,12 @@ def check_meshcat_server(zmq_url: str, timeout: float = ZMQ_TIMEOUT) -> str:
         socket.connect(zmq_url)
         socket.send(b"url")
         if not socket.poll(int(timeout * 1000), zmq.POLLIN):
-            raise ValueError(
+            raise ParameterError(
                 f"parameter 'zmq_url': no meshcat server answered at {zmq_url} within {timeout:g} s "
                 "(start one with meshcat-server, or leave --zmq-url out to start our own)"
             )
         return socket.recv().decode()
     except zmq.ZMQError as err:
-        raise ValueError(f"parameter 'zmq_url': cannot reach {zmq_url}: {err}") from None
+        raise ParameterError(f"parameter 'zmq_url': cannot reach {zmq_url}: {err}") from None
     finally:
         socket.close(linger=0)

@@ -10,6 +10,7 @@ import math
 
 import numpy as np
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics.leg import STANCE, LegCycle
 from pasibot_pin.kinematics.path_metrics import KSweep
 from pasibot_pin.viz.plots import GROUP_COLOURS, figure_axes, plot_robot
@@ -141,7 +142,7 @@ def plot_ankle_acceleration(cycle: LegCycle, ax=None):
 def _plot_motion(cycle: LegCycle, attr: str, ylabel: str, names: tuple[str, str], ax):
     values = getattr(cycle, attr)
     if values is None:
-        raise ValueError("parameter 'cycle' has no velocities: build it with leg_cycle(..., omega=...)")
+        raise ParameterError("parameter 'cycle' has no velocities: build it with leg_cycle(..., omega=...)")
     fig, ax = _axes(ax, (7, 4))
     theta_deg = np.degrees(cycle.theta)
     _shade_stance(ax, theta_deg)

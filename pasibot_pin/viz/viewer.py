@@ -33,6 +33,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import write_text_atomic
 from pasibot_pin.model.robot import load
 from pasibot_pin.studies.walk_forces import walk_trajectory
@@ -137,13 +138,13 @@ class WalkViewer:
 
         if self.offline:
             if self.zmq_url is not None or self.open:
-                raise ValueError("an offline viewer has no server: pass neither 'zmq_url' nor open=True")
+                raise ParameterError("an offline viewer has no server: pass neither 'zmq_url' nor open=True")
             self.meshcat = meshcat.Visualizer(window=OfflineWindow())
         elif self.zmq_url is None:
             self.server = start_server()
             self.zmq_url = self.server.zmq_url
         elif not isinstance(self.zmq_url, str) or not self.zmq_url.startswith(("tcp://", "ipc://")):
-            raise ValueError(f"parameter 'zmq_url' must look like tcp://HOST:PORT, got {self.zmq_url!r}")
+            raise ParameterError(f"parameter 'zmq_url' must look like tcp://HOST:PORT, got {self.zmq_url!r}")
         else:
             check_meshcat_server(self.zmq_url)
         if not self.offline:
@@ -214,9 +215,9 @@ class WalkViewer:
 
         x0, x1 = float(x_range[0]), float(x_range[1])
         if not (math.isfinite(x0) and math.isfinite(x1) and x1 > x0):
-            raise ValueError(f"parameter 'x_range' must be an increasing pair of finite x [m], got {x_range!r}")
+            raise ParameterError(f"parameter 'x_range' must be an increasing pair of finite x [m], got {x_range!r}")
         if not width > 0:
-            raise ValueError(f"parameter 'width' must be > 0 m, got {width!r}")
+            raise ParameterError(f"parameter 'width' must be > 0 m, got {width!r}")
         top = -sole_depth(self.robot) if top is None else float(top)
         node = self.meshcat[f"{ROOT}/ground"]
         material = mg.MeshLambertMaterial(color=hex_int(GROUND_COLOUR))
@@ -231,7 +232,7 @@ class WalkViewer:
 
         points = np.asarray(points, dtype=float)
         if points.ndim != 2 or points.shape[1] != 3 or len(points) < 2 or not np.all(np.isfinite(points)):
-            raise ValueError(f"parameter 'points' of path {name!r} must be finite with shape (N >= 2, 3)")
+            raise ParameterError(f"parameter 'points' of path {name!r} must be finite with shape (N >= 2, 3)")
         line = mg.Line(mg.PointsGeometry(points.T.astype(np.float32)), mg.LineBasicMaterial(color=hex_int(colour)))
         self.meshcat[f"{ROOT}/paths/{name}"].set_object(line)
 
@@ -262,7 +263,7 @@ class WalkViewer:
         import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
         if not isinstance(track, ForceTrack):
-            raise ValueError("parameter 'track' must be a ForceTrack")
+            raise ParameterError("parameter 'track' must be a ForceTrack")
         material = mg.MeshLambertMaterial(color=hex_int(track.colour))
         radius = 0.006
         y_to_x = np.array([[0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
@@ -308,7 +309,7 @@ class WalkViewer:
         extent = float(max(hi[0] - lo[0], hi[2] - lo[2]))
         distance = 0.8 * extent + 0.25 if distance is None else float(distance)
         if not distance > 0:
-            raise ValueError(f"parameter 'distance' must be > 0 m, got {distance!r}")
+            raise ParameterError(f"parameter 'distance' must be > 0 m, got {distance!r}")
         # meshcat's orbit controls always aim at the scene origin: shift the robot's root
         # node so that the walk's centre sits there (poses below the root stay world poses).
         T = np.eye(4)
@@ -324,7 +325,7 @@ class WalkViewer:
         qs = check_trajectory(self.robot, qs)
         fps = check_fps(fps)
         if not (isinstance(repetitions, int) and repetitions >= 1):
-            raise ValueError(f"parameter 'repetitions' must be an integer >= 1, got {repetitions!r}")
+            raise ParameterError(f"parameter 'repetitions' must be an integer >= 1, got {repetitions!r}")
         start = time.monotonic()
         for rep in range(repetitions):
             for k, q in enumerate(qs):
@@ -345,7 +346,7 @@ class WalkViewer:
         fps = check_fps(fps)
         for name, track in self.forces.items():
             if len(track.points) != len(qs):
-                raise ValueError(f"force {name!r} has {len(track.points)} frames, the trajectory {len(qs)}")
+                raise ParameterError(f"force {name!r} has {len(track.points)} frames, the trajectory {len(qs)}")
         anim = Animation(default_framerate=fps)
         for k, q in enumerate(qs):
             with anim.at_frame(self.meshcat, k) as frame:
@@ -365,7 +366,7 @@ class WalkViewer:
     def set_walk_animation(self, qs: np.ndarray, fps: float = 30.0, repetitions: int = 1, play: bool = True):
         """Store the trajectory in the scene as a meshcat animation (what :meth:`static_html` embeds)."""
         if not (isinstance(repetitions, int) and repetitions >= 1):
-            raise ValueError(f"parameter 'repetitions' must be an integer >= 1, got {repetitions!r}")
+            raise ParameterError(f"parameter 'repetitions' must be an integer >= 1, got {repetitions!r}")
         anim = self.walk_animation(qs, fps)
         self.meshcat.set_animation(anim, play=play, repetitions=repetitions)
         return anim
@@ -511,7 +512,7 @@ def export_html(
     if out.exists() and not force:
         raise FileExistsError(f"{out} exists; pass force=True (--force) to overwrite it")
     if out.suffix.lower() not in (".html", ".htm"):
-        raise ValueError(f"parameter 'out' must end in .html, got {out}")
+        raise ParameterError(f"parameter 'out' must end in .html, got {out}")
     fps = check_fps(fps)
     if robot is None:
         robot = load(variant, legs=2)

@@ -18,6 +18,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.studies.walk_forces import quasi_static_ground_force, walk_reaction_forces
 from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
@@ -56,7 +57,7 @@ def hex_int(colour: str) -> int:
 def visuals_of(robot: PasibotRobot) -> pin.GeometryModel:
     """The robot's visual model; ValueError for a robot loaded with ``visuals=False`` (nothing to draw)."""
     if robot.visual_model is None:
-        raise ValueError("parameter 'robot' has no visuals: load it with visuals=True to draw it")
+        raise ParameterError("parameter 'robot' has no visuals: load it with visuals=True to draw it")
     return robot.visual_model
 
 
@@ -161,16 +162,16 @@ def check_trajectory(robot: PasibotRobot, qs) -> np.ndarray:
     """``qs`` as an (N, nq) array of finite configurations of ``robot``, else ValueError naming it."""
     qs = np.atleast_2d(np.asarray(qs, dtype=float))
     if qs.ndim != 2 or qs.shape[1] != robot.model.nq or len(qs) == 0:
-        raise ValueError(f"parameter 'qs' must have shape (N, {robot.model.nq}), got {np.shape(qs)}")
+        raise ParameterError(f"parameter 'qs' must have shape (N, {robot.model.nq}), got {np.shape(qs)}")
     if not np.all(np.isfinite(qs)):
-        raise ValueError("parameter 'qs' contains non-finite values")
+        raise ParameterError("parameter 'qs' contains non-finite values")
     return qs
 
 
 def check_fps(fps: float) -> float:
     """``fps`` as a float if it is a positive frame rate [1/s], else ValueError naming it."""
     if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise ValueError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
+        raise ParameterError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
     return float(fps)
 
 
@@ -209,11 +210,11 @@ class ForceTrack:
         self.points = np.asarray(self.points, dtype=float)
         self.forces = np.asarray(self.forces, dtype=float)
         if self.points.ndim != 2 or self.points.shape[1] != 3 or self.forces.shape != self.points.shape:
-            raise ValueError("ForceTrack: parameters 'points' and 'forces' must both have shape (N, 3)")
+            raise ParameterError("ForceTrack: parameters 'points' and 'forces' must both have shape (N, 3)")
         if not (np.all(np.isfinite(self.points)) and np.all(np.isfinite(self.forces))):
-            raise ValueError("ForceTrack: parameters 'points' and 'forces' must be finite")
+            raise ParameterError("ForceTrack: parameters 'points' and 'forces' must be finite")
         if not (math.isfinite(self.scale) and self.scale > 0):
-            raise ValueError(f"ForceTrack: parameter 'scale' must be a positive [m/N], got {self.scale}")
+            raise ParameterError(f"ForceTrack: parameter 'scale' must be a positive [m/N], got {self.scale}")
 
 
 def quasi_static_ground_reaction(

@@ -12,6 +12,7 @@ from __future__ import annotations
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.spatial import SOLE_HALF_THICKNESS, Footprint, sole_boxes
 from pasibot_pin.viz.meshcat_page import finish_page
 from pasibot_pin.viz.meshcat_scene import OfflineWindow
@@ -41,7 +42,7 @@ def walk3d_html(robot, model: pin.Model, q: np.ndarray, footprint: Footprint, fp
     from meshcat.animation import Animation  # deferred: heavy (meshcat), keeps the CLI's start fast
 
     if not robot.urdf:
-        raise ValueError("parameter 'robot': load it with visuals=True (the page draws its URDF's links)")
+        raise ParameterError("parameter 'robot': load it with visuals=True (the page draws its URDF's links)")
     visual = pin.buildGeomFromUrdfString(model, robot.urdf, pin.GeometryType.VISUAL)
     for box in sole_boxes(model, q[0], footprint):
         obj = pin.GeometryObject(f"{box.side}_sole{box.band}", box.joint, box.placement, coal.Box(*(2 * box.half_size)))
