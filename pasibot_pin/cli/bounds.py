@@ -21,6 +21,7 @@ import argparse
 import math
 from dataclasses import dataclass
 
+from pasibot_pin.dynamics.floor.ground import MAX_SLOPE
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import MAX_WORKERS
 from pasibot_pin.model.design import MIN_WALK_OMEGA, SPECS
@@ -115,6 +116,7 @@ _LEGS = Bound(1, 2, integer=True)
 _OMEGA = spec_bound("omega")  # the design record's crank speeds
 _TURNING = spec_bound("omega", low_open=True)  # cranks that turn
 _WALKING = spec_bound("omega", low=MIN_WALK_OMEGA)  # a walk's crank speeds
+_SLOPE = Bound(-round(math.degrees(MAX_SLOPE), 9), round(math.degrees(MAX_SLOPE), 9), "deg")  # the ground's range
 _WALK_STEPS = Bound(1, 1000, integer=True)
 _SAMPLES_PER_STEP = Bound(2, 1000, integer=True)
 _EXPLORE = {
@@ -177,9 +179,9 @@ BOUNDS: dict[str, dict[str, Bound]] = {
     "walk": {
         "--omega": _WALKING,
         "--mu": _MU,
-        "--slope": Bound(-20.0, 20.0, "deg"),
+        "--slope": _SLOPE,
     },  # --steps: its own type, [1, 1000]
-    "sweep": {"--n": Bound(1, 1_000_000, integer=True), **_EXPLORE},
+    "sweep": {"--n": Bound(1, 1_000_000, integer=True), "--slope": _SLOPE, **_EXPLORE},
     "find-walker": {
         "--omega": _WALKING,
         "--budget": Bound(1, 10_000, integer=True),  # explore.find_walker.MAX_BUDGET

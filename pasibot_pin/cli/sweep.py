@@ -11,6 +11,7 @@ cluster (``dask scheduler`` on one machine, ``dask worker tcp://HOST:8786`` on e
 from __future__ import annotations
 
 import argparse
+import math
 
 from pasibot_pin.cli.explore_options import add_explore_options, finish_run, run_resumable, start_run
 from pasibot_pin.explore.plan import SweepPlan
@@ -34,6 +35,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         action="store_true",
         help="with --floor: walk on the 3-D floor (free hip, the designs' soles; adds floor_max_hip_roll_deg)",
     )
+    p.add_argument("--slope", type=float, default=0.0, metavar="DEG",
+                   help="with --floor: walk up a slope, uphill positive [deg] (default 0: flat; planar)")  # fmt: skip
     p.set_defaults(func=run)
 
 
@@ -43,7 +46,7 @@ def run(args: argparse.Namespace) -> int:
 
     base, ranges, by = start_run(args)
     plan = SweepPlan(ranges=ranges, n=args.n, method=args.method, seed=args.seed, base=base, floor=args.floor,
-                    spatial=args.spatial)  # fmt: skip
+                    spatial=args.spatial, slope=math.radians(args.slope))  # fmt: skip
     result = run_resumable(args, run_sweep, plan, "designs")
     finish_run(args, result.table, plan.names, by, f"{result.evaluated} designs evaluated")
     return 0

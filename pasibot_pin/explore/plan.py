@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from pasibot_pin.dynamics.floor.ground import MAX_SLOPE
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import CHOICES, SPECS, Design
 
@@ -143,6 +144,7 @@ class SweepPlan:
         base: the design every other parameter is taken from (default the seed design).
         floor: also walk every design this many steps on the floor (``None``: no; slower).
         spatial: walk on the 3-D floor (free hip, the designs' soles; about ten times slower).
+        slope: the floor's angle, uphill positive [rad] (with ``floor``, the planar floor; 0: flat).
 
     """
 
@@ -153,11 +155,16 @@ class SweepPlan:
     base: Design = field(default_factory=Design)
     floor: int | None = None
     spatial: bool = False
+    slope: float = 0.0
 
     def __post_init__(self) -> None:
         check_floor(self.floor)
         if self.spatial and self.floor is None:
             raise ParameterError("--3d walks the designs on the 3-D floor: give --floor STEPS too")
+        if self.slope:
+            check_slope(self.slope)
+            if self.floor is None or self.spatial:
+                raise ParameterError("--slope walks the designs up a slope on the planar floor: give --floor, not --3d")
         if isinstance(self.n, bool) or not isinstance(self.n, (int, np.integer)) or not 1 <= self.n <= 10_000_000:
             raise ParameterError(f"parameter 'n' must be an integer in [1, 1e7], got {self.n!r}")
         if self.method not in METHODS:
@@ -249,6 +256,7 @@ class SweepPlan:
             "base": self.base.to_dict(),
             "floor": self.floor,
             "spatial": bool(self.spatial),
+            "slope": float(self.slope),
         }
 
     @classmethod
@@ -262,6 +270,7 @@ class SweepPlan:
             base=Design.from_dict(data["base"]),
             floor=data.get("floor"),
             spatial=bool(data.get("spatial", False)),
+            slope=float(data.get("slope", 0.0)),
         )
 
 
@@ -294,6 +303,15 @@ def parse_ranking(text: str, option: str = "by") -> tuple[str, str]:
     if sense not in ("min", "max"):
         raise ParameterError(f"{option} {text!r}: the sense must be min or max")
     return name, sense
+
+
+def check_slope(slope: float) -> float:
+    """``slope`` [rad] if within the ground's one range (``MAX_SLOPE``), else one line naming ``--slope``."""
+    if not (isinstance(slope, (int, float)) and math.isfinite(slope) and abs(slope) <= MAX_SLOPE):
+        raise ParameterError(
+            f"--slope must be within +-{math.degrees(MAX_SLOPE):.6g} deg, got {math.degrees(slope)!r} deg"
+        )
+    return float(slope)
 
 
 def check_floor(floor: int | None) -> int | None:

@@ -51,12 +51,14 @@ def evaluate_designs(
     items: Sequence[tuple[int, Sequence[float | str]]],
     floor: int | None = None,
     spatial: bool = False,
+    slope: float = 0.0,
 ) -> list[dict]:
     """Rows of ``items`` (index, values of ``names``) on the ``base`` design; runs in a worker.
 
     A value is a number, or a string for a categorical parameter (``variant="parallel"``).
     A design the record rejects (a value outside its bounds) is an ``invalid`` row, not an error.
-    ``floor``: also walk each design this many steps on the floor (``spatial``: the 3-D floor).
+    ``floor``: also walk each design this many steps on the floor (``spatial``: the 3-D floor; ``slope``:
+    up a slope of this angle [rad]).
     """
     base_design = Design.from_dict(base)
     rows = []
@@ -70,7 +72,7 @@ def evaluate_designs(
                 bad = DesignMetrics(bad.values, False, bad.failure, bad.reason, "")
             rows.append(design_row(index, {**base_design.values(), **changes}, bad.row()))
             continue
-        rows.append(design_row(index, design.values(), design_metrics(design, floor, spatial).row()))
+        rows.append(design_row(index, design.values(), design_metrics(design, floor, spatial, slope).row()))
     return rows
 
 
@@ -174,7 +176,7 @@ def run_sweep(
     )
     todo = [(i, plan.values(row)) for i, row in enumerate(points) if i not in store.done]
     tasks = [
-        (plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor, plan.spatial)
+        (plan.base.to_dict(), plan.names, todo[k : k + chunk], plan.floor, plan.spatial, plan.slope)
         for k in range(0, len(todo), chunk)
     ]
     costs = [task_cost(plan, [values for _, values in task[2]]) for task in tasks]

@@ -340,7 +340,7 @@ def warm_caches(design: Design) -> None:
 
 
 def floor_metrics(
-    design: Design, steps: int, robot: PasibotRobot | None = None, spatial: bool = False
+    design: Design, steps: int, robot: PasibotRobot | None = None, spatial: bool = False, slope: float = 0.0
 ) -> tuple[dict[str, float], str]:
     """The design walking ``steps`` steps on the floor: :data:`FLOOR_METRICS` and the outcome.
 
@@ -348,10 +348,13 @@ def floor_metrics(
     start, the cranks at the design's speed, stopped as soon as the verdict is decided. With
     ``spatial``, :func:`~pasibot_pin.studies.walking.walk_design_3d` on the 3-D floor, plus
     :data:`FLOOR3D_METRICS`; soles or legs that meet at the start are the outcome ``collided``.
+    ``slope``: the ground's angle, uphill positive [rad] (the planar floor's; 0: flat).
     """
     extra: dict[str, float] = {}
     load: MotorLoad | None = None  # the 3-D run records no motor torque
     if spatial:
+        if slope:
+            raise ParameterError("a slope is the planar floor's so far: walk the designs without the 3-D floor")
         try:
             walk3d = walk_design_3d(design, WalkSettings(steps=steps), robot)
         except InterferenceError:  # the feet or legs meet before the walk: nothing walked
@@ -365,7 +368,7 @@ def floor_metrics(
             "floor_min_sole_clearance_mm": 1e3 * walk3d.result.min_sole_clearance_m,
         }
     else:
-        walk = walk_design(design, WalkSettings(steps=steps), robot)
+        walk = walk_design(design, WalkSettings(steps=steps, slope=slope), robot)
         v = walk.verdict
         load = motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
     values = {
@@ -394,13 +397,16 @@ def check_floor_steps(floor: int | None, name: str = "floor") -> int | None:
     return int(floor)
 
 
-def design_metrics(design: Design, floor: int | None = None, spatial: bool = False) -> DesignMetrics:
+def design_metrics(
+    design: Design, floor: int | None = None, spatial: bool = False, slope: float = 0.0
+) -> DesignMetrics:
     """Every metric of :data:`METRICS` for one design; an infeasible design is recorded, not raised.
 
     Args:
         design: the design (:class:`~pasibot_pin.model.design.Design`).
         floor: also walk it this many steps on the floor (:func:`floor_metrics`; slower).
         spatial: walk it on the 3-D floor (:data:`FLOOR3D_METRICS` too; about ten times slower).
+        slope: walk it up (positive) or down a slope of this angle [rad] (the planar floor; 0: flat).
 
     Returns:
         :class:`DesignMetrics`: the values, or the failure kind and reason.
@@ -421,7 +427,7 @@ def design_metrics(design: Design, floor: int | None = None, spatial: bool = Fal
         except Infeasible as err:
             failure = err
         if floor is not None and (failure is None or failure.kind in WALKABLE_FAILURES):
-            floor_values, outcome = floor_metrics(design, floor, spatial=spatial)
+            floor_values, outcome = floor_metrics(design, floor, spatial=spatial, slope=slope)
             values.update(floor_values)
     if failure is not None:
         out = infeasible(failure.kind, str(failure))

@@ -18,8 +18,8 @@ import numpy as np
 
 from pasibot_pin.errors import ParameterError
 
-MAX_SLOPE = math.radians(30.0)
-"""Steepest slope a ground may have [rad]."""
+MAX_SLOPE = math.radians(20.0)
+"""Steepest slope a ground may have [rad] (every slope's one range: the floor's settings, the CLI's --slope)."""
 
 
 @dataclass(frozen=True)

@@ -11,6 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
+from pasibot_pin.dynamics.floor.ground import MAX_SLOPE
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
@@ -54,10 +55,6 @@ def check_number(name: str, value: float, low: float, high: float = math.inf, lo
         bound = f"> {low:g}" if low_open else f">= {low:g}"
         raise ParameterError(f"parameter {name!r} must be a finite number {bound}, got {value!r}")
     return value
-
-
-MAX_SLOPE: float = math.radians(20.0)
-"""The steepest ground a walk is simulated on [rad]."""
 
 
 @dataclass(frozen=True)
