@@ -40,6 +40,7 @@ Units: SI, angles [rad] (degrees only in :meth:`Verdict.summary`).
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import NamedTuple
 
@@ -574,3 +575,10 @@ class GaitJudge:
             Margin(rule, value, limit, unit, sense, rule == self.rule, band.get(rule, math.nan))
             for rule, value, limit, unit, sense in rows
         ]
+
+
+JudgeFactory = Callable[[GaitSample], GaitJudge]
+"""What a floor run takes as its judge: built from the run's first sample, it observes the walk
+(``update`` each sample, ``diverged`` when a step fails, ``verdict`` at the end). The engines build
+:class:`GaitJudge` s by default; pass ``functools.partial(GaitJudge, omega, L, weight, criteria)`` or
+a subclass to observe more."""

@@ -33,6 +33,7 @@ Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 from typing import NamedTuple
@@ -55,7 +56,7 @@ from pasibot_pin.dynamics.floor.settings import FloorSettings, crank_advance, cr
 from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, ShapeTrack
 from pasibot_pin.dynamics.floor.track import FreeStepper, PointRows, check_speed
 from pasibot_pin.dynamics.simulator import ankle_indices, spring_forces
-from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample
+from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample, JudgeFactory
 from pasibot_pin.errors import (
     NoRestError,
     ParameterError,
@@ -408,6 +409,7 @@ class FloorSimulator:
         start: str = "consistent",
         criteria: GaitCriteria | None = None,
         stop_on_verdict: bool = False,
+        judge: JudgeFactory | None = None,
     ) -> FloorResult:
         """Integrate for ``duration`` [s], judging the walk (:mod:`pasibot_pin.dynamics.verdict`).
 
@@ -422,6 +424,10 @@ class FloorSimulator:
             criteria: what counts as walking (default :class:`GaitCriteria`).
             stop_on_verdict: stop as soon as the walk's outcome is decided (else at ``duration``,
                 or when the hip passes the fall limit, a foot rolls over or slips far, or a step fails).
+            judge: the observer of the walk, built from the run's first sample
+                (:data:`~pasibot_pin.dynamics.verdict.JudgeFactory`; default: a
+                :class:`~pasibot_pin.dynamics.verdict.GaitJudge` by ``criteria``). It sees every sample
+                and decides the verdict; the engine does not know what it checks.
 
         Returns:
             :class:`FloorResult`, with the :class:`~pasibot_pin.dynamics.verdict.Verdict` when the
@@ -432,13 +438,16 @@ class FloorSimulator:
         n = step_count(duration, s.dt, MAX_STEPS)
         if start not in STARTS:
             raise ParameterError(f"parameter 'start' must be one of {', '.join(STARTS)}, got {start!r}")
+        if judge is not None and criteria is not None:
+            raise ParameterError("give the run a 'judge' or 'criteria', not both (the judge has its own)")
         criteria = GaitCriteria() if criteria is None else criteria
         q, v, begin, start_kind, note = self._begin(q0, v0, start)
         h = duration / n
         log = RunLog(self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows))
-        judge = None
+        observer = None
         if s.omega > 0:
-            judge = GaitJudge(s.omega, self.robot.geometry.L, self.weight, criteria, self._sample(0.0, q, v))
+            first = self._sample(0.0, q, v)
+            observer = judge(first) if judge is not None else self.judge_of(criteria)(first)
         track, stepper = self._tracker(h)
         t = 0.0
         for _ in range(n):
@@ -446,20 +455,26 @@ class FloorSimulator:
                 q, v, normal, tangential, motor, points = self._advance(t, q, v, h, track, stepper)
             except SimulationError as err:
                 log.stop_on(err, t)
-                if judge is not None:
-                    judge.diverged(t, str(err))
+                if observer is not None:
+                    observer.diverged(t, str(err))
                 break
             t += h
             forces = ([x / h for x in normal], [x / h for x in tangential], [x / h for x in motor])
             power = tuple(tau * rate for tau, rate in zip(forces[2], v.take(self._motor_index).tolist()))
             sample, loaded = point_sample(t, self.hip_view(q), points, forces[0], power)
             log.record(t, q, v, sample, forces, loaded, points[2])
-            if judge is not None and judge.update(sample) and stop_on_verdict:
+            if observer is not None and observer.update(sample) and stop_on_verdict:
                 break
             if not stop_on_verdict and log.stopped(t, q):
                 break
-        verdict = None if judge is None else judge.verdict(t)
+        verdict = None if observer is None else observer.verdict(t)
         return log.result(verdict, begin, start_kind, note)
+
+    def judge_of(self, criteria: GaitCriteria | None = None) -> JudgeFactory:
+        """The default judge of this robot's walk: a :class:`GaitJudge` by ``criteria`` (default ones)."""
+        return functools.partial(
+            GaitJudge, self.settings.omega, self.robot.geometry.L, self.weight, criteria or GaitCriteria()
+        )
 
     def _begin(self, q0, v0, start):
         """(q, v, start state or None, start kind, note) of a run (see :meth:`run`)."""

@@ -42,7 +42,7 @@ from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_
 from pasibot_pin.dynamics.floor.run import point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
 from pasibot_pin.dynamics.floor.track import check_speed
-from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitJudge, Verdict
+from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, JudgeFactory, Verdict
 from pasibot_pin.errors import (
     ClosureError,
     ContactSolveError,
@@ -399,8 +399,14 @@ class Floor3D:
         u0: np.ndarray | None = None,
         criteria: GaitCriteria | None = None,
         stop_on_verdict: bool = True,
+        judge: JudgeFactory | None = None,
     ) -> Floor3DResult:
-        """Integrate for ``duration`` [s] from the consistent start (or from ``q0``, ``u0``), judging the walk."""
+        """Integrate for ``duration`` [s] from the consistent start (or from ``q0``, ``u0``), judging the walk.
+
+        ``judge`` builds the walk's observer from the first sample (as :meth:`FloorSimulator.run`'s;
+        default: a :class:`~pasibot_pin.dynamics.verdict.GaitJudge` by ``criteria``); it also hears the
+        hip's roll and the soles' collisions.
+        """
         s = self.settings
         n = step_count(duration, s.dt, MAX_STEPS)
         if s.omega <= 0:
@@ -427,11 +433,11 @@ class Floor3D:
             q = self.extend(np.array(q0, dtype=float))
             u = self.extend_velocity(q, np.array(u0, dtype=float))
         h = duration / n
-        weight = self.planar.weight
-        criteria = GaitCriteria() if criteria is None else criteria
+        if judge is not None and criteria is not None:
+            raise ParameterError("give the run a 'judge' or 'criteria', not both (the judge has its own)")
         points, _ = self._points(q, u, None)
         first, _ = point_sample(0.0, (float(q[0]), roll_pitch_yaw(q)[1]), points, None, (0.0, 0.0))
-        judge = GaitJudge(s.omega, self.planar.robot.geometry.L, weight, criteria, first)
+        observer = (judge or self.planar.judge_of(criteria))(first)
         times, qs, normals = [0.0], [q.copy()], [np.zeros(self.n_corners)]
         t = 0.0
         least = self.sole_clearance(q)
@@ -439,7 +445,7 @@ class Floor3D:
             try:
                 q, u, normal, motor = self.step(t, q, u, h)
             except SimulationError as err:
-                judge.diverged(t, str(err))
+                observer.diverged(t, str(err))
                 break
             t += h
             roll, pitch, _ = roll_pitch_yaw(q)
@@ -449,17 +455,19 @@ class Floor3D:
             times.append(t)
             qs.append(q.copy())
             normals.append(normal / h)
-            judge.update(sample)
-            judge.roll(t, roll)
+            observer.update(sample)
+            observer.roll(t, roll)
             if k % CLEARANCE_EVERY == 0:
                 clearance = self.sole_clearance(q)
                 least = min(least, clearance)
                 if clearance < -TOUCH:
-                    judge.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
-            if stop_on_verdict and judge.final(t):
+                    observer.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
+            if stop_on_verdict and observer.final(t):
                 break
         qs_all = np.array(qs)
-        result = self._result(np.array(times), qs_all[:, : self.nq_robot], np.array(normals), judge.verdict(t), least)
+        result = self._result(
+            np.array(times), qs_all[:, : self.nq_robot], np.array(normals), observer.verdict(t), least
+        )
         lateral = qs_all[:, self.nq_robot] if self.lateral is not None else None
         return replace(result, u_end=u[: self.nv_robot].copy(), lateral_y=lateral)
 
