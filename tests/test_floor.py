@@ -223,7 +223,7 @@ def test_a_sticking_point_does_not_creep_and_the_cranks_turn_at_omega():
     gravity minus spring torque on the loop, crank and loaded-point rows)."""
     import pinocchio as pin
 
-    from pasibot_pin.dynamics.simulator import spring_forces
+    from pasibot_pin.dynamics.spring_energy import spring_forces
 
     inputs = spring_study.scenario_inputs("run1")
     robot = inputs.robot
@@ -270,7 +270,7 @@ def test_a_smooth_crank_start_follows_its_ramp_and_rings_nothing():
     import pinocchio as pin
 
     from pasibot_pin.dynamics.floor.settings import crank_advance
-    from pasibot_pin.dynamics.simulator import spring_forces
+    from pasibot_pin.dynamics.spring_energy import spring_forces
 
     ramp = 0.2
     for t in (0.0, 0.05, 0.1, 0.2, 0.3):
@@ -336,7 +336,7 @@ def test_a_diverging_run_stops_with_its_cause_and_time():
     (1000 - 999) / g = 0.102 s; an absurd spring (1e9 N.m/rad, 1.3 rad from its rest angle, at
     the largest step) throws the feet about: the run stops within its first steps, saying why and when."""
     from pasibot_pin.dynamics.floor.track import SPEED_LIMIT
-    from pasibot_pin.dynamics.simulator import AnkleSpring
+    from pasibot_pin.dynamics.spring_energy import AnkleSpring
 
     robot = pp.load("spring", 2)
     sim = FloorSimulator(robot, FloorSettings(omega=0.0, dt=1e-3))

@@ -23,7 +23,7 @@ import pytest
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.settings import FloorSettings
-from pasibot_pin.dynamics.simulator import foot_pose
+from pasibot_pin.dynamics.spring_energy import foot_pose
 from pasibot_pin.model.robot import total_mass
 from pasibot_pin.studies.floor_static import (
     floor_static_path,

@@ -17,14 +17,8 @@ import scipy.linalg as sl
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, coordinate
-from pasibot_pin.dynamics.simulator import (
-    AnkleSpring,
-    BipedSimulator,
-    SimulationSettings,
-    foot_pose,
-    mass_matrix,
-    simulate,
-)
+from pasibot_pin.dynamics.simulator import BipedSimulator, SimulationSettings, simulate
+from pasibot_pin.dynamics.spring_energy import AnkleSpring, foot_pose, mass_matrix
 from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_configuration
 from pasibot_pin.studies.spring_study import toppling_stiffness
 from pasibot_pin.studies.statics import static_equilibrium

@@ -11,7 +11,7 @@ import math
 import numpy as np
 import pytest
 
-from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.studies import spring_choice
 from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
 from pasibot_pin.studies.static_batch import static_equilibria

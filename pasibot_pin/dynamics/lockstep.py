@@ -23,15 +23,8 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.constraints.system import STEP_LIMIT, ConstraintSystem, kkt_solve
-from pasibot_pin.dynamics.simulator import (
-    BipedSimulator,
-    Impact,
-    SimulationResult,
-    SimulationSettings,
-    foot_pose,
-    sole_height,
-    total_energy,
-)
+from pasibot_pin.dynamics.simulator import BipedSimulator, Impact, SimulationResult, SimulationSettings
+from pasibot_pin.dynamics.spring_energy import foot_pose, sole_height, total_energy
 from pasibot_pin.errors import ParameterError, SimulationError
 from pasibot_pin.model.coordinates import other
 
@@ -98,7 +91,7 @@ class _Walks:
         return rows
 
     def forces(self, q: np.ndarray, v: np.ndarray, idx: np.ndarray) -> np.ndarray:
-        """The ankle springs' generalised forces (N, nv), as :func:`~.simulator.spring_forces`."""
+        """The ankle springs' generalised forces (N, nv), as :func:`~pasibot_pin.dynamics.spring_energy.spring_forces`."""
         tau = np.zeros(q.shape)
         k, b0, c = self.stiffness[idx], self.rest[idx], self.damping[idx]
         for i in self.ankle_index:

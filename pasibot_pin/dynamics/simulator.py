@@ -51,15 +51,11 @@ import pinocchio as pin
 
 from pasibot_pin import constraints
 from pasibot_pin.constraints import ConstraintSystem, CoordinateRow, coordinate
-from pasibot_pin.dynamics.spring_energy import (  # noqa: F401 (re-exported: simulator.<name> as before)
+from pasibot_pin.dynamics.spring_energy import (
     AnkleSpring,
-    ankle_beta,
     ankle_indices,
     check_finite,
-    critical_foot_damping,
-    foot_inertia_about_ankle,
     foot_pose,
-    mass_matrix,
     sole_height,
     spring_forces,
     total_energy,

@@ -50,7 +50,7 @@ from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.run import LOAD_TOL
 from pasibot_pin.dynamics.floor.settings import FloorSettings
-from pasibot_pin.dynamics.simulator import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
+from pasibot_pin.dynamics.spring_energy import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import other
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs

@@ -23,7 +23,7 @@ from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
-from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.design import design_robot

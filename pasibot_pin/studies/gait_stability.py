@@ -30,7 +30,7 @@ import numpy as np
 
 from pasibot_pin.constraints import coordinate
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
-from pasibot_pin.dynamics.simulator import ankle_indices
+from pasibot_pin.dynamics.spring_energy import ankle_indices
 from pasibot_pin.errors import DivergedError, NoFixedPointError, ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z
 from pasibot_pin.model.design import design_robot

@@ -28,13 +28,8 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pasibot_pin.dynamics.simulator import (
-    AnkleSpring,
-    SimulationResult,
-    SimulationSettings,
-    critical_foot_damping,
-    simulate,
-)
+from pasibot_pin.dynamics.simulator import SimulationResult, SimulationSettings, simulate
+from pasibot_pin.dynamics.spring_energy import AnkleSpring, critical_foot_damping
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.scenarios import SCENARIOS
 from pasibot_pin.reprs import short_repr

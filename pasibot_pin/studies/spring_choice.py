@@ -26,7 +26,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
 from pasibot_pin.studies.static_batch import static_equilibria

@@ -16,7 +16,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, check_fit_window, crank_grid, inverse_dynamics
-from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.reprs import short_repr

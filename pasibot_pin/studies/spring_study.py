@@ -26,13 +26,8 @@ import pinocchio as pin
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics, run_scenario
 from pasibot_pin.dynamics.lockstep import simulate_many
-from pasibot_pin.dynamics.simulator import (
-    AnkleSpring,
-    SimulationResult,
-    SimulationSettings,
-    critical_foot_damping,
-    simulate,
-)
+from pasibot_pin.dynamics.simulator import SimulationResult, SimulationSettings, simulate
+from pasibot_pin.dynamics.spring_energy import AnkleSpring, critical_foot_damping
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.closure import assemble
 from pasibot_pin.model.design import check_parameter, design_robot

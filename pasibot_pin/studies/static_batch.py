@@ -24,7 +24,7 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints.system import STEP_LIMIT
-from pasibot_pin.dynamics.simulator import AnkleSpring
+from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem
 

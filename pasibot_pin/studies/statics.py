@@ -21,7 +21,8 @@ import pinocchio as pin
 from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
-from pasibot_pin.dynamics.simulator import AnkleSpring, BipedSimulator, SimulationSettings
+from pasibot_pin.dynamics.simulator import BipedSimulator, SimulationSettings
+from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, other
 from pasibot_pin.reprs import short_repr

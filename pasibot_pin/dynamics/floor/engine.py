@@ -55,7 +55,7 @@ from pasibot_pin.dynamics.floor.run import (
 from pasibot_pin.dynamics.floor.settings import FloorSettings, crank_advance, crank_advances, step_count
 from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, ShapeTrack
 from pasibot_pin.dynamics.floor.track import FreeStepper, PointRows, check_speed
-from pasibot_pin.dynamics.simulator import ankle_indices, spring_forces
+from pasibot_pin.dynamics.spring_energy import ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample, JudgeFactory
 from pasibot_pin.errors import (
     NoRestError,
