@@ -106,15 +106,17 @@ def test_the_slider_follows_its_crank():
 )
 def test_bad_lateral_fields_are_one_line_naming_the_field(changes, name):
     design, _ = _robot()
-    with pytest.raises(ParameterError, match=name):
-        design.with_(**changes).lateral()
+    with pytest.raises(ParameterError, match=name):  # by the record itself, before any robot is built
+        design.with_(**changes)
 
 
 def test_walk_3d_with_a_bad_lateral_mass_is_refused_before_work(tmp_path, capsys):
     from pasibot_pin.__main__ import main
 
     design, _ = _robot()
-    path = design.with_(lateral_mass=30.0, lateral_amplitude=2.0).save(tmp_path / "d.toml")
+    path = tmp_path / "d.toml"
+    design.save(path)
+    path.write_text(path.read_text().replace("omega =", "lateral_mass = 30.0\nlateral_amplitude = 2.0\nomega ="))
     assert main(["walk", "--3d", "--design", str(path), "--steps", "3"]) == 2
     err = capsys.readouterr().err
     assert "lateral_mass" in err and len(err.strip().splitlines()) == 1

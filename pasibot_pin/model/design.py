@@ -281,6 +281,7 @@ class Design:
                 continue
             object.__setattr__(self, f.name, check_value(f.name, getattr(self, f.name)))
         self.footprint()  # the sole's gap lies inside it
+        self.lateral()  # a lateral mass has its reach, and is less than the body
 
     # ---- views for the model layer
     def geometry(self) -> Geometry:
