@@ -91,7 +91,7 @@ class _Walks:
         return rows
 
     def forces(self, q: np.ndarray, v: np.ndarray, idx: np.ndarray) -> np.ndarray:
-        """The ankle springs' generalised forces (N, nv), as :func:`~pasibot_pin.dynamics.spring_energy.spring_forces`."""
+        """The ankle springs' generalised forces (N, nv), as ``spring_energy.spring_forces``."""
         tau = np.zeros(q.shape)
         k, b0, c = self.stiffness[idx], self.rest[idx], self.damping[idx]
         for i in self.ankle_index:

@@ -185,17 +185,7 @@ def check_value(name: str, value: object) -> float | str | None:
         raise ParameterError(f"unknown design parameter {short_repr(name)}; valid: {', '.join([*CHOICES, *SPECS])}")
     if value is None and name in OPTIONAL:
         return None
-    if isinstance(value, bool) or not isinstance(value, numbers.Real):
-        raise ParameterError(f"parameter {name!r} must be a number [{spec.unit}], got {short_repr(value)}")
-    try:
-        number = float(value)
-    except OverflowError:  # an integer too large for a float
-        number = math.inf
-    if not (spec.low <= number <= spec.high):  # NaN and infinities fail here
-        raise ParameterError(
-            f"parameter {name!r} = {short_repr(value)} [{spec.unit}] is outside [{spec.low:g}, {spec.high:g}]"
-        )
-    return number
+    return check_parameter(name, value)  # the number in its one range
 
 
 @dataclass(frozen=True)
