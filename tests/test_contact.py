@@ -200,7 +200,7 @@ def test_energy_cli_table(tmp_path, capsys):
 
 
 def test_parallel_quasi_static_contact_uses_its_longer_sole():
-    """Parallel variant: sole 2.6 L behind and 1.5 L ahead of joint 13 (DESIGN §4); feasible iff the COM is over it."""
+    """Parallel variant: sole 2.6 L behind, 1.5 L ahead of joint 13 (reference.md §4); feasible iff the COM is on it."""
     torques, res = contact.scenario_contact("quasi-static", mu=0.6, samples=24, variant="parallel")
     from pasibot_pin.studies.energy import variant_robot
 

@@ -54,7 +54,7 @@ def test_path_metrics_match_the_pinocchio_leg_cycle(variant):
 
 
 def test_seed_stride_is_the_ankle_path_extent_in_L(seed_metrics):
-    """DESIGN §4: the seed's ankle path spans about 9.4 L by 1.8 L (lift) over a turn."""
+    """docs/reference.md §4: the seed's ankle path spans about 9.4 L by 1.8 L (lift) over a turn."""
     L = SEED.L
     assert 9.0 < seed_metrics["stride_m"] / L < 10.0
     assert 1.7 < seed_metrics["step_height_m"] / L < 1.9

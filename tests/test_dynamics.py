@@ -122,7 +122,7 @@ def test_seed_preset_reproduces_stored_stiffness(preset, table):
 
 
 def test_seed_window_beta_range():
-    """The seed's 23 samples span beta 76.8 to 59.4 deg (DESIGN §5)."""
+    """The seed's 23 samples span beta 76.8 to 59.4 deg (docs/reference.md §5)."""
     res = dynamics.run_scenario(scenarios.SCENARIOS["run1"], scenarios.PRESETS["seed"])
     assert math.degrees(res.beta[0]) == pytest.approx(76.8, abs=0.05)
     assert math.degrees(res.beta[-1]) == pytest.approx(59.4, abs=0.05)

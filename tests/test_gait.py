@@ -102,7 +102,7 @@ def test_level_hip_world_posture(walks, L, case):
     for pts, expected in ((xz["right_foot"], right), (xz["left_foot"], left)):
         assert np.max(np.abs(pts[:, 0] - hip[:, 0] - expected.real)) < 1e-9
         assert np.max(np.abs(pts[:, 1] - hip[:, 1] - expected.imag)) < 1e-9
-    # the hip sits 28 L above the stance ankle at touch-down (DESIGN §4)
+    # the hip sits 28 L above the stance ankle at touch-down (docs/reference.md §4)
     assert hip[0, 1] == pytest.approx(28 * L, abs=1e-9)
 
 

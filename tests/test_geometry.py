@@ -1,4 +1,4 @@
-"""Pinocchio forward kinematics of the closed leg against closed-form geometry (DESIGN §4)."""
+"""Pinocchio forward kinematics of the closed leg against closed-form geometry (docs/reference.md §4)."""
 
 from __future__ import annotations
 

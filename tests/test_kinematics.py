@@ -1,6 +1,6 @@
 """One leg's kinematics against closed-form geometry and finite differences.
 
-The expected values are computed here, from DESIGN §4's construction written out with
+The expected values are computed here, from docs/reference.md §4's construction written out with
 numpy complex numbers (x + i z, units of L), independently of pasibot_pin.model.assembly: the
 Hoeken coupler by a circle intersection, the knee by the law of cosines, the ankle from
 the pantograph identity 13 = 3*8 - 2*4.
@@ -68,7 +68,7 @@ def xz(z):
 
 
 def test_closed_form_matches_design_exact_points():
-    """The test's own geometry reproduces DESIGN §4's exact points (guards the reference)."""
+    """The test's own geometry reproduces docs/reference.md §4's exact points (guards the reference)."""
     p = leg_closed_form(np.array([90, 180, 270]) * DEG)
     assert np.allclose(p[4], [-4j, 2 - 4j, 4 - 4j], atol=1e-12)
     assert np.allclose(p[13], [6 - 28j, 2 - 28j, -2 - 28j], atol=1e-12)
@@ -123,7 +123,7 @@ def metrics(robots):
 
 @pytest.mark.parametrize("variant", pp.VARIANTS)
 def test_straight_line_metrics(metrics, L, dense_closed_form, variant):
-    """Stroke 8L, band 0.0195L, lift 1.798L (DESIGN §4), and the closed form's exact values."""
+    """Stroke 8L, band 0.0195L, lift 1.798L (docs/reference.md §4), and the closed form's exact values."""
     m = metrics[variant]
     theta, p = dense_closed_form
     z13 = p[13].imag
@@ -162,7 +162,7 @@ def test_foot_pitch_in_stance(metrics, dense_closed_form):
     theta, p = dense_closed_form
     stance = (theta >= 90 * DEG) & (theta <= 270 * DEG)
     dev4 = np.max(np.abs(p[4].imag[stance] + 4))
-    assert dev4 == pytest.approx(0.00975, abs=5e-6)  # DESIGN §4
+    assert dev4 == pytest.approx(0.00975, abs=5e-6)  # docs/reference.md §4
     par = metrics["parallel"]
     assert par.stance_pitch_max == pytest.approx(math.asin(dev4 / 4.2), abs=1e-9)
     # DESIGN says 0.12 deg; the exact bound is 0.133 deg (see the report).

@@ -20,7 +20,7 @@ def _size(robots, variant, legs):
     return model.nq, model.nv
 
 
-# One line per model pins nq and nv (DESIGN §2).
+# One line per model pins nq and nv (docs/reference.md §2).
 def test_size_rigid_1leg(robots):
     assert _size(robots, "rigid", 1) == (7, 7)  # noqa: E704
 
@@ -46,7 +46,7 @@ def test_size_spring_2leg(robots):
 
 
 def expected_mobility(variant: str, legs: int) -> int:
-    """DESIGN §4: 1 per leg linkage, +1 per spring ankle, +3 floating hip, -3 stance weld."""
+    """docs/reference.md §4: 1 per leg linkage, +1 per spring ankle, +3 floating hip, -3 stance weld."""
     per_leg = 1 + (1 if variant == "spring" else 0)
     return legs * per_leg + (3 - 3 if legs == 2 else 0)
 

@@ -140,7 +140,7 @@ def test_static_multipliers_are_gradients_of_the_potential(spring2):
 
 
 def test_hip_lock_torque_is_gravity_moment_minus_spring(spring2):
-    """Hip held level at rest: lambda_hip = g sum m_i (x_i - x_ankle) - T_e (DESIGN §5 check)."""
+    """Hip held level at rest: lambda_hip = g sum m_i (x_i - x_ankle) - T_e (docs/reference.md §5 check)."""
     robot = spring2
     spring = AnkleSpring(331.0, math.radians(72.0))
     sim = BipedSimulator(

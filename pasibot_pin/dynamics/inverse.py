@@ -1,6 +1,6 @@
 """Constrained inverse dynamics of the ``spring`` biped: crank and ankle torques, reactions.
 
-The robot follows a prescribed motion (DESIGN §5, §6): the stance foot is welded flat to the
+The robot follows a prescribed motion (docs/reference.md §5, §6): the stance foot is welded flat to the
 ground, the hip stays level (pitch 0), the swing foot stays level (or rigid at 90 deg to its
 shank), and both cranks turn at constant omega, pi apart. Each stance of a sweep is done in
 one batch (its constant parts, :class:`~pasibot_pin.dynamics.stance_plan.StancePlan`, are set up once and cached):
@@ -55,7 +55,7 @@ from pasibot_pin.model.scenarios import ACCELERATION_MODES, SWING_FOOT_MODES, Mo
 from pasibot_pin.model.variants import MotorLayout, get_motor_layout
 
 STANCE_RANGE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
-"""Stance phase of a leg: crank angle theta in [pi/2, 3 pi/2] [rad] (DESIGN §4)."""
+"""Stance phase of a leg: crank angle theta in [pi/2, 3 pi/2] [rad] (docs/reference.md §4)."""
 
 STANCE_MARGIN: float = 0.1
 """How far a fit window may reach past the ends of stance [rad]. The seed's last fit sample,

@@ -3,7 +3,7 @@
 Does the fitted ankle spring hold the hip? The seed fits K_e by inverse dynamics with the hip
 forced level and never lets it go. Here the hip pitch is free and the robot is integrated.
 
-Model (DESIGN §6):
+Model (docs/reference.md §6):
 
 - State (q, v) of the Pinocchio model of ``pp.load("spring", 2)`` (nq = nv = 19).
 - Holonomic constraints Phi(q, t) = 0, in-plane rows only (full row rank):

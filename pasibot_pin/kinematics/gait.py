@@ -63,7 +63,7 @@ def body_pitch(rotation: np.ndarray) -> float:
 def seed_trace_angle(rotation: np.ndarray) -> float:
     """The seed's angle ``arccos((tr R - 1) / 2)`` [rad]: always >= 0, so it loses the sign.
 
-    Kept only to show the seed's error (DESIGN §9); use :func:`body_pitch`.
+    Kept only to show the seed's error (docs/reference.md §9); use :func:`body_pitch`.
     """
     return math.acos(max(-1.0, min(1.0, (float(np.trace(rotation)) - 1.0) / 2.0)))
 

@@ -1,7 +1,7 @@
 """One leg's kinematics: foot paths and Jacobians (seed §4, §5); its metrics are in :mod:`.path_metrics`.
 
 Everything here works on the one-leg model (``load(variant, legs=1)``), whose world frame is
-the leg frame of DESIGN §4: origin at the crank pivot 0, x toward the rocker pivot 3 (forward),
+the leg frame of docs/reference.md §4: origin at the crank pivot 0, x toward the rocker pivot 3 (forward),
 z up. Points are reported as (x, z) [m]; angles [rad]; the crank rate ``omega`` [rad/s].
 
 - :func:`leg_cycle` samples a crank turn on the closure manifold: ankle, toe and heel paths,
@@ -37,7 +37,7 @@ if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
 
 STANCE: tuple[float, float] = (math.pi / 2, 3 * math.pi / 2)
-"""Crank-angle window of the stance phase [rad] (DESIGN §4: 90 deg to 270 deg)."""
+"""Crank-angle window of the stance phase [rad] (docs/reference.md §4: 90 deg to 270 deg)."""
 
 OPEN_CHAIN: tuple[str, ...] = ("j0_crank", "j1", "j4", "j6")
 """Tree joints of the seed's open chain theta1, theta2, theta4, theta6 (joint 0 to the ankle)."""

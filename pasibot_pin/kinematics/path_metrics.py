@@ -40,7 +40,7 @@ __all__ = ["KSweep", "StraightLineMetrics", "k_sweep", "straight_line_metrics"]
 
 @dataclass(frozen=True)
 class StraightLineMetrics:
-    """Straight-line quality of the ankle path (DESIGN §4 reference values in brackets).
+    """Straight-line quality of the ankle path (docs/reference.md §4 reference values in brackets).
 
     Attributes:
         L: crank length [m].

@@ -8,7 +8,7 @@ Every function takes one crank angle or an array of them (shape (N,)): a point i
 array (N, 2) and a joint angle an array (N,), so a whole crank sweep is assembled in a few
 numpy calls.
 
-Coordinates are the leg frame of DESIGN §4: origin at the crank pivot 0, x towards the
+Coordinates are the leg frame of docs/reference.md §4: origin at the crank pivot 0, x towards the
 rocker pivot 3, z up; units [m]; angles [rad], counter-clockwise positive.
 """
 

@@ -25,7 +25,7 @@ from pasibot_pin.model.spatial import CENTRED_SOLE, Footprint, lateral_sign
 from pasibot_pin.model.variants import VARIANT_RECORDS, Variant, get_variant
 
 CUT_JOINTS: dict[str, tuple[int, ...]] = {name: v.cut_joints for name, v in VARIANT_RECORDS.items()}
-"""Seed joint numbers cut open in each variant (seed §5; DESIGN §4 for the extension): from the records."""
+"""Seed joint numbers cut open in each variant (seed §5; docs/reference.md §4 for the extension): from the records."""
 
 CUT_BODIES: dict[int, tuple[str, str]] = {
     2: ("l2_coupler", "l3_rocker"),

@@ -190,7 +190,7 @@ def check_value(name: str, value: object) -> float | str | None:
 
 @dataclass(frozen=True)
 class Design:
-    """One PASIBOT design. Defaults are the seed's design (DESIGN §4, §5).
+    """One PASIBOT design. Defaults are the seed's design (docs/reference.md §4, §5).
 
     Attributes:
         variant: ``rigid``, ``parallel`` or ``spring``.

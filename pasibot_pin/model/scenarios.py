@@ -1,4 +1,4 @@
-"""Scenarios and modelling presets of the torque analysis (seed §7, DESIGN §5): data only.
+"""Scenarios and modelling presets of the torque analysis (seed §7, docs/reference.md §5): data only.
 
 A :class:`Scenario` is what the seed varied between its runs: crank speed, body mass and
 body COM. A :class:`ModelChoices` is *how* the torques are computed: every modelling choice
@@ -99,7 +99,7 @@ SCENARIOS: Mapping[str, Scenario] = {
     "run3": Scenario("run3", 0.1, 30.0, 30.0, 0.30, 453.21, 454.20, "seed §7.4.4: 0.1 rad/s, body 30 kg, COM +0.30 m"),
     "run4": Scenario("run4", 5.0, 20.0, 20.0, 0.30, 424.22, 395.74, "seed §7.4.5: 5 rad/s, body 20 kg, COM +0.30 m"),
 }
-"""The seed's quasi-static run and its four dynamic runs (DESIGN §5 table)."""
+"""The seed's quasi-static run and its four dynamic runs (docs/reference.md §5 table)."""
 
 ACCELERATION_MODES: tuple[str, ...] = ("exact", "central", "lagged")
 SWING_FOOT_MODES: tuple[str, ...] = ("level", "square")

@@ -1,7 +1,7 @@
 """Energy per step: motor power, positive and negative work, the ankle spring, cost of transport.
 
 A step is one stance phase: the stance crank turns from pi/2 to 3 pi/2 at constant omega,
-the stance foot welded (DESIGN §5). Along it:
+the stance foot welded (docs/reference.md §5). Along it:
 
 * each actuator's power is its generalised force times its rate (cranks: T_a theta_dot;
   ankles: T_e beta_dot, beta = pi/2 - q_ankle); by virtual power their sum is the rate of

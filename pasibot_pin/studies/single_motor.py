@@ -4,7 +4,7 @@ The cranks are coupled pi apart by a rigid 1:1 transmission (a chain or a gear t
 the model this is one extra constraint row, c_k(q) = q_L - q_R - pi = 0 (Jacobian
 e_L - e_R), and the actuation map has one motor, on the right crank (S_m = e_R). Pinocchio's
 ``JointModelMimic`` would express the same coupling, but the constraint algorithms reject it
-(DESIGN §7), so the row is added to our own split:
+(docs/reference.md §7), so the row is added to our own split:
 
     tau = S_m^T u_m + S_e^T u_e + J_c^T lambda + (e_L - e_R) lambda_k,
 
