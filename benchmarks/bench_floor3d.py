@@ -21,7 +21,7 @@ import time
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D
 from pasibot_pin.model.design import design_robot, load_design
-from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
+from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco
 from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
 DESIGN = "designs/fastest_parallel_sole6L_omega3.toml"

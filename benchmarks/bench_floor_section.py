@@ -1,7 +1,7 @@
 """Benchmark: the CPU time of ``pasibot analyze``'s floor section, job by job (``report.floor.FloorPlan``).
 
 The floor section is four ``floor: case`` jobs (run 1's spring cases, each weld against floor:
-:func:`~pasibot_pin.studies.floor_spring_study.compare_case`, whose floor run steps the contact
+:func:`~pasibot_pin.studies.weld_vs_floor.compare_case`, whose floor run steps the contact
 QP about 2,900 times) and one ``floor: static`` job (runs 2-4's quasi-static answers). Each
 repetition runs them one at a time in a fresh child process, as ``benchmarks/bench_demo.py
 --breakdown`` does (run 1's inputs computed before the clock starts, as the analysis's other

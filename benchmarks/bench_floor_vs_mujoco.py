@@ -7,7 +7,7 @@ start (the flat double support) for :data:`DURATION` simulated seconds, CPU time
 
 1. ours: ``FloorSimulator.run`` with :func:`~pasibot_pin.studies.walking.walk_design`'s settings
    (its own step, ``walk_dt``: 1 ms at 1 rad/s), no verdict stop;
-2. MuJoCo, bare: ``mj_step`` on the exported model (:data:`~pasibot_pin.studies.mujoco_walk.MJ_WALK`:
+2. MuJoCo, bare: ``mj_step`` on the exported model (:data:`~pasibot_pin.studies.twin.mujoco_walk.MJ_WALK`:
    stiff floor and friction, crank drives as equality constraints) at its own step
    (0.1 ms), the drives set on the crank schedule every step (the least a walk needs);
 3. MuJoCo, the twin: the same with the judge's samples (``walk_in_mujoco``'s loop: contact
@@ -28,7 +28,7 @@ import time
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.model.design import Design, design_robot
-from pasibot_pin.studies.mujoco_walk import SAMPLE_DT, _Twin, mujoco_options
+from pasibot_pin.studies.twin.mujoco_walk import SAMPLE_DT, _Twin, mujoco_options
 from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
 DURATION = 3.0

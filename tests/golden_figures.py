@@ -38,7 +38,7 @@ def _api():
     from pasibot_pin.model import scenarios
     from pasibot_pin.model.scenario_robots import scenario_robot
     from pasibot_pin.studies import contact, energy, single_motor, spring_study
-    from pasibot_pin.studies import spring_fit as spring
+    from pasibot_pin.studies.methods import spring_fit as spring
 
     def run_scenario(name, preset):
         return dynamics.run_scenario(scenarios.get_scenario(name), scenarios.get_preset(preset))

@@ -69,7 +69,7 @@ def test_the_friction_default_is_the_floor_and_mjcf_default():
     from pasibot_pin.dynamics.floor.settings import FloorSettings
     from pasibot_pin.model.mjcf import MjcfOptions
     from pasibot_pin.studies.contact import CONTACT_MU
-    from pasibot_pin.studies.floor_study import FloorStudySettings
+    from pasibot_pin.studies.floor_cases import FloorStudySettings
 
     assert DEFAULTS["--mu"] == SOLE_FLOOR_MU == CONTACT_MU
     assert FloorSettings().mu == MjcfOptions().mu == FloorStudySettings("run1").mu == SOLE_FLOOR_MU

@@ -19,7 +19,7 @@ from pasibot_pin.model.robot import load
 from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
 from pasibot_pin.studies import design_metrics as dm
 from pasibot_pin.studies.contact import contact_along
-from pasibot_pin.studies.spring_fit import fit_result
+from pasibot_pin.studies.methods.spring_fit import fit_result
 
 SEED = Design()
 

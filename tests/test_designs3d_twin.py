@@ -39,7 +39,7 @@ def test_the_readme_lists_exactly_the_committed_walkers_and_each_walked_both_eng
 @pytest.mark.parametrize("name", WALKERS)
 def test_each_3d_walker_in_both_engines(name):
     pytest.importorskip("mujoco")
-    from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
+    from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco
 
     design = load_design(FOLDER / f"{name}.toml")
     ours = walk_design_3d(design, WalkSettings(steps=STEPS))

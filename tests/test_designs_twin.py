@@ -15,7 +15,7 @@ import pytest
 pytest.importorskip("mujoco")
 
 from pasibot_pin.model.design import design_robot, load_design  # noqa: E402
-from pasibot_pin.studies.mujoco_walk import walk_in_mujoco  # noqa: E402
+from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco  # noqa: E402
 from pasibot_pin.studies.walking import WalkSettings, walk_design  # noqa: E402
 
 pytestmark = [pytest.mark.mujoco, pytest.mark.slow]

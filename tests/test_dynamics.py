@@ -12,7 +12,7 @@ from closed_form import leg
 from pasibot_pin.dynamics import inverse as dynamics
 from pasibot_pin.model import scenarios
 from pasibot_pin.model.scenario_robots import scenario_robot
-from pasibot_pin.studies import spring_fit as spring
+from pasibot_pin.studies.methods import spring_fit as spring
 
 L = 0.05
 G = 9.81

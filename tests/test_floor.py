@@ -185,7 +185,7 @@ def test_readme_and_docs_floor_numbers_are_what_the_study_computes():
     from pathlib import Path
 
     from pasibot_pin.report.floor import floor_spring_table
-    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+    from pasibot_pin.studies.weld_vs_floor import FloorSpringSettings, floor_spring_study
 
     root = Path(__file__).resolve().parents[1]
     readme = root.joinpath("README.md").read_text(encoding="utf-8")
@@ -368,7 +368,7 @@ def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, ca
     import csv
 
     from pasibot_pin.__main__ import main
-    from pasibot_pin.studies.floor_spring_study import FloorSpringSettings, floor_spring_study
+    from pasibot_pin.studies.weld_vs_floor import FloorSpringSettings, floor_spring_study
 
     out = tmp_path / "study"
     assert main(["simulate", "--study", "--scenario", "2", "--duration", "0.05", "--no-cases", "--out", str(out)]) == 0

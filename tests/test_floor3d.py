@@ -308,7 +308,7 @@ def test_every_design_in_3d_and_its_twin(name):
     equals MuJoCo's on ``export-mjcf --3d``, decided within 0.25 s of it; every planar walker is tipped
     (the README's 3-D answer)."""
     from pasibot_pin.model.design import load_design
-    from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
+    from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco
     from pasibot_pin.studies.walking import walk_design_3d
 
     design = load_design(DESIGNS / f"{name}.toml")

@@ -1,4 +1,4 @@
-"""The MuJoCo twin of a walk (studies/mujoco_walk.py) against ours (studies/walking.py).
+"""The MuJoCo twin of a walk (studies/twin/mujoco_walk.py) against ours (studies/walking.py).
 
 Independent reference: MuJoCo on the exported model (compliant contacts, its own solver), from
 the same start, with the same crank schedule and the same verdict. Both engines judged by the
@@ -20,7 +20,7 @@ from pasibot_pin.studies.walking import WalkSettings, walk_design
 
 mujoco = pytest.importorskip("mujoco")
 
-from pasibot_pin.studies.mujoco_walk import MJ_WALK, mujoco_options, walk_in_mujoco  # noqa: E402
+from pasibot_pin.studies.twin.mujoco_walk import MJ_WALK, mujoco_options, walk_in_mujoco  # noqa: E402
 
 pytestmark = [pytest.mark.mujoco, pytest.mark.slow]
 

@@ -1,4 +1,4 @@
-"""Gait stability by shooting on a Poincaré map: studies.poincare, validated on Garcia et al.'s simplest walker.
+"""Gait stability by shooting on a Poincaré map: studies.methods.poincare, validated on Garcia et al.'s simplest walker.
 
 References typed in below (not produced by this package):
 
@@ -31,7 +31,7 @@ from pasibot_pin.errors import (
     PasibotError,
     SimulationError,
 )
-from pasibot_pin.studies.poincare import (
+from pasibot_pin.studies.methods.poincare import (
     BasinEstimate,
     FixedPoint,
     basin_estimate,
@@ -42,7 +42,7 @@ from pasibot_pin.studies.poincare import (
 )
 
 pytest.importorskip("scipy")
-from pasibot_pin.studies.simplest_walker import FallError, SimplestWalker  # noqa: E402
+from pasibot_pin.studies.methods.simplest_walker import FallError, SimplestWalker  # noqa: E402
 
 # [G98] (Garcia's code for the paper), gamma = 0.009, stable long-period gait
 G98_THETA = 0.20031090049483

@@ -18,7 +18,7 @@ import pytest
 from pasibot_pin.dynamics.inverse import run_scenario
 from pasibot_pin.model.scenarios import PRESETS, SCENARIOS
 from pasibot_pin.studies.contact import scenario_contact
-from pasibot_pin.studies.spring_fit import fit_result
+from pasibot_pin.studies.methods.spring_fit import fit_result
 
 ROOT = Path(__file__).resolve().parents[1]
 PAGES = {

@@ -177,7 +177,7 @@ def _legend_without_drawing(fig) -> list[str]:
 def test_static_equilibrium_figure_is_not_clipped_and_lists_only_drawn_lines():
     import matplotlib.pyplot as plt
 
-    from pasibot_pin.studies.statics import StaticEquilibrium
+    from pasibot_pin.studies.methods.statics import StaticEquilibrium
     from pasibot_pin.viz.plots_simulation import plot_static_equilibrium
 
     theta = np.linspace(math.pi / 2, 3 * math.pi / 2, 5)

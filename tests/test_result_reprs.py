@@ -53,7 +53,7 @@ def test_leg_run_and_walk_run_repr(robots):
 
 
 def test_spring_fit_repr():
-    from pasibot_pin.studies.spring_fit import fit_spring
+    from pasibot_pin.studies.methods.spring_fit import fit_spring
 
     beta = np.linspace(0.5, 1.5, 200)
     fit = fit_spring(beta, 300.0 * (beta - 1.2))

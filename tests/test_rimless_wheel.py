@@ -8,7 +8,7 @@ import math
 import pytest
 
 from pasibot_pin.errors import NoFixedPointError, ParameterError
-from pasibot_pin.studies.rimless_wheel import RimlessWheel, WheelStepper, check
+from pasibot_pin.studies.methods.rimless_wheel import RimlessWheel, WheelStepper, check
 
 
 def test_closed_form_is_the_issues_figure():

@@ -20,8 +20,8 @@ from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.simulator import BipedSimulator, SimulationSettings, simulate
 from pasibot_pin.dynamics.spring_energy import AnkleSpring, foot_pose, mass_matrix
 from pasibot_pin.model.closure import assemble, hip_pitch, joint_coordinate, solve_configuration
+from pasibot_pin.studies.methods.statics import static_equilibrium
 from pasibot_pin.studies.spring_study import toppling_stiffness
-from pasibot_pin.studies.statics import static_equilibrium
 
 G = 9.81
 
@@ -502,8 +502,8 @@ def test_batched_static_equilibria_equal_the_one_angle_path():
     """static_equilibria (the static sweep's cells, all at once) finds the same equilibria as
     static_equilibrium angle by angle: where, the pitch, and the stability; no spring, a softer one
     with another rest angle, a stiffer one (angles with and without an equilibrium)."""
+    from pasibot_pin.studies.methods.static_batch import static_equilibria
     from pasibot_pin.studies.spring_study import scenario_inputs
-    from pasibot_pin.studies.static_batch import static_equilibria
 
     scen = scenario_inputs("run2")
     fit = scen.fit

@@ -18,7 +18,7 @@ import pytest
 from pasibot_pin.__main__ import main
 from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.model.spatial import free_flyer_model
-from pasibot_pin.studies.floor_study import FloorStudySettings, floor_study
+from pasibot_pin.studies.floor_cases import FloorStudySettings, floor_study
 
 ROOT = Path(__file__).resolve().parents[1]
 SLOW_COMB = ROOT / "designs" / "3d" / "upright_smallest_reach_comb0.2L_omega0.5.toml"

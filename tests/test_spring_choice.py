@@ -13,8 +13,8 @@ import pytest
 
 from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.studies import spring_choice
+from pasibot_pin.studies.methods.static_batch import static_equilibria
 from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
-from pasibot_pin.studies.static_batch import static_equilibria
 
 
 @pytest.fixture(scope="module")

@@ -10,7 +10,7 @@ import pytest
 
 from pasibot_pin.dynamics import inverse as dynamics
 from pasibot_pin.model import scenarios
-from pasibot_pin.studies import spring_fit as spring
+from pasibot_pin.studies.methods import spring_fit as spring
 
 
 def test_exact_line_is_recovered():

@@ -50,7 +50,7 @@ def register(sub: argparse._SubParsersAction) -> None:
 def run(args: argparse.Namespace) -> int:
     """Build the design's robot and spring, write the MJCF."""
     from pasibot_pin.model.mjcf import MjcfOptions, check_twin, to_mjcf  # deferred: keeps the CLI's start fast
-    from pasibot_pin.studies.spring_fit import design_spring  # deferred: keeps the CLI's start fast
+    from pasibot_pin.studies.methods.spring_fit import design_spring  # deferred: keeps the CLI's start fast
 
     check_output_file(args.out, "--out", args.force)
     if args.spatial and (args.legs != 2 or args.weld != "none"):

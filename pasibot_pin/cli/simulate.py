@@ -1,7 +1,7 @@
 """``pasibot simulate``: walk the spring biped with its hip pitch free (does the fitted spring hold the hip?).
 
 ``--ground floor`` (default): both feet on a floor, heel and toe unilateral with Coulomb friction
-(:mod:`pasibot_pin.studies.floor_study`); writes ``floor_<scenario>.csv`` (the fitted case: t_s,
+(:mod:`pasibot_pin.studies.floor_cases`); writes ``floor_<scenario>.csv`` (the fitted case: t_s,
 hip_pitch_deg, right_mode, left_mode, forces, crank torques) and ``floor_<scenario>.png``, and
 prints each case's outcome. ``--ground weld``: the stance foot welded flat
 (:mod:`pasibot_pin.studies.simulation_study`); writes ``simulation_<scenario>.png`` and ``.csv``.

@@ -1,8 +1,8 @@
 """``pasibot simulate --ground floor``: the spring cases with both feet on a floor (the default ground).
 
-Maps the flags to :func:`pasibot_pin.studies.floor_study.floor_study` and
+Maps the flags to :func:`pasibot_pin.studies.floor_cases.floor_study` and
 :mod:`pasibot_pin.report.floor`; with ``--study``, to
-:func:`pasibot_pin.studies.floor_spring_study.floor_spring_study` (weld against floor, the
+:func:`pasibot_pin.studies.weld_vs_floor.floor_spring_study` (weld against floor, the
 scenario or ``all`` of runs 1-4). The welded-only flags are refused.
 """
 
@@ -12,10 +12,10 @@ import argparse
 
 from pasibot_pin.cli.common import check_output_folder, design_of, given
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.studies.floor_spring_study import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
+from pasibot_pin.studies.floor_cases import FloorStudySettings, case_summary, floor_study
 from pasibot_pin.studies.floor_static import floor_static_study
-from pasibot_pin.studies.floor_study import FloorStudySettings, case_summary, floor_study
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_key
+from pasibot_pin.studies.weld_vs_floor import WALKING_SCENARIOS, FloorSpringSettings, floor_spring_study
 
 
 def run_floor(args: argparse.Namespace) -> int:

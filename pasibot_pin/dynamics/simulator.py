@@ -94,7 +94,7 @@ class SimulationSettings:
         integrator: ``rk4`` or ``euler`` (semi-implicit).
         theta0: initial right crank angle [rad] (default pi/2: the right foot just landed).
         initial_pitch: hip pitch at t = 0 [rad] (the hip starts still at this pitch; see
-            :func:`pasibot_pin.studies.statics.static_equilibrium` for the pitch where it stands still).
+            :func:`pasibot_pin.studies.methods.statics.static_equilibrium` for the pitch where it stands still).
         feedforward: extra generalised force tau_ff(t, q, v) (nv,) or ``None``.
         fall_limit: the run stops (``fell``) when |hip pitch| exceeds this [rad].
         record_every: keep one sample every this many steps.

@@ -36,7 +36,7 @@ from pasibot_pin.studies.design_metrics import (
     pareto_mask,  # noqa: F401 (re-exported)
     warm_caches,
 )
-from pasibot_pin.studies.spring_fit import design_spring
+from pasibot_pin.studies.methods.spring_fit import design_spring
 from pasibot_pin.studies.walking import MIN_OMEGA, SEARCH_BUDGET, check_walk_budget, walk_cost, walk_duration
 from pasibot_pin.viz.figure_files import save_figure_file
 from pasibot_pin.viz.plots_sweep import plot_pareto, plot_sensitivity

@@ -1,6 +1,6 @@
 """Files of the floor studies: a scenario's fitted case (CSV, figure) and the weld-against-floor spring study.
 
-``floor_<scenario>.csv`` holds :func:`~pasibot_pin.studies.floor_study.floor_columns` of the fitted
+``floor_<scenario>.csv`` holds :func:`~pasibot_pin.studies.floor_cases.floor_columns` of the fitted
 case (strings for the contact modes, full precision for numbers); ``floor_<scenario>.png`` is
 :func:`~pasibot_pin.viz.plots_floor.plot_floor_study`. Both are written under temporary names
 and renamed together.
@@ -22,7 +22,11 @@ from pasibot_pin.model.scenarios import get_scenario
 from pasibot_pin.report.files import save_figure_file, write_dict_rows
 from pasibot_pin.report.floor_static import cases_markdown, floor_text, static_files, sweep_markdown, write_static_into
 from pasibot_pin.report.markdown import Section
-from pasibot_pin.studies.floor_spring_study import (
+from pasibot_pin.studies.floor_cases import FloorStudy, floor3d_columns, floor_columns
+from pasibot_pin.studies.floor_static import floor_static_study
+from pasibot_pin.studies.simulation_study import cached_inputs
+from pasibot_pin.studies.spring_study import SPRING_CASES
+from pasibot_pin.studies.weld_vs_floor import (
     CaseComparison,
     FloorSpringSettings,
     FloorSpringStudy,
@@ -30,10 +34,6 @@ from pasibot_pin.studies.floor_spring_study import (
     floor_spring_study,
     quasi_static_of,
 )
-from pasibot_pin.studies.floor_static import floor_static_study
-from pasibot_pin.studies.floor_study import FloorStudy, floor3d_columns, floor_columns
-from pasibot_pin.studies.simulation_study import cached_inputs
-from pasibot_pin.studies.spring_study import SPRING_CASES
 from pasibot_pin.units import with_unit
 from pasibot_pin.viz.plots_floor import plot_floor3d_study, plot_floor_study, plot_weld_vs_floor
 
@@ -275,7 +275,7 @@ def build(out_dir: Path):
 
 _STATIC_CACHES: dict[str, dict] = {}
 """Per scenario, the quasi-static solves' cache its spring cases share in this process (as
-:func:`~pasibot_pin.studies.floor_spring_study.floor_spring_study` shares it between them)."""
+:func:`~pasibot_pin.studies.weld_vs_floor.floor_spring_study` shares it between them)."""
 
 
 def floor_case_task(scenario: str, label: str, settings) -> CaseComparison:
@@ -297,7 +297,7 @@ class FloorPlan:
 
     :meth:`jobs` gives the cases; :meth:`done` takes each one and, once all are in, releases the
     job writing the CSV and the figure; :meth:`section` gives the text and facts. The rows keep
-    :func:`~pasibot_pin.studies.floor_spring_study.floor_spring_study`'s order, so the files and
+    :func:`~pasibot_pin.studies.weld_vs_floor.floor_spring_study`'s order, so the files and
     the text are the same as :func:`build`'s.
     """
 

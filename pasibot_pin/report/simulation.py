@@ -27,6 +27,7 @@ from pasibot_pin.report.animation import export_animation
 from pasibot_pin.report.files import save_figure_file, write_columns_csv
 from pasibot_pin.report.markdown import Section, figure, figure_links
 from pasibot_pin.studies import simulation_study as sim
+from pasibot_pin.studies.methods.statics import StaticEquilibrium
 from pasibot_pin.studies.simulation_study import (
     SimulationStudySettings,
     SwingFootCheck,
@@ -35,7 +36,6 @@ from pasibot_pin.studies.simulation_study import (
     simulation_columns,
 )
 from pasibot_pin.studies.spring_study import SPRING_CASES, SWEEP_OFFSETS_DEG, sweep_method_for
-from pasibot_pin.studies.statics import StaticEquilibrium
 from pasibot_pin.viz.plots_simulation import fall_window, plot_simulation, plot_spring_sweep, plot_static_equilibrium
 
 PLOT_NAME = "simulation_{scenario}.png"
@@ -128,7 +128,7 @@ def case_line(label: str, outcome) -> str:
     Args:
         label: the case label (``fitted``, ``no spring``, ...).
         outcome: a :class:`~pasibot_pin.dynamics.simulator.SimulationResult` or, at omega = 0, a
-            :class:`~pasibot_pin.studies.statics.StaticEquilibrium`.
+            :class:`~pasibot_pin.studies.methods.statics.StaticEquilibrium`.
 
     """
     if isinstance(outcome, StaticEquilibrium):

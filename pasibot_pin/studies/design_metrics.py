@@ -59,8 +59,8 @@ from pasibot_pin.model.variants import get_motor_layout, get_variant
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.contact import cop_metrics, sole_geometry
 from pasibot_pin.studies.energy import STEP_END, STEP_START, gauss_legendre, robot_step_energy
+from pasibot_pin.studies.methods.spring_fit import fit_spring
 from pasibot_pin.studies.motor_load import MotorLoad, motor_load
-from pasibot_pin.studies.spring_fit import fit_spring
 from pasibot_pin.studies.spring_study import toppling_stiffness
 from pasibot_pin.studies.walking import WalkSettings, walk_design, walk_design_3d
 

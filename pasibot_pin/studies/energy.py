@@ -9,7 +9,7 @@ the stance foot welded (docs/reference.md §5). Along it:
 * the integrals use Gauss-Legendre nodes in the crank angle (dt = d theta / omega): the
   net work is exact to round-off for the smooth power; positive and negative work
   integrate a clipped power and converge more slowly (about 1e-4 relative with 48 nodes),
-* the ankle spring is the fitted line T_s = -K_e (beta - beta0) (:mod:`pasibot_pin.studies.spring_fit`).
+* the ankle spring is the fitted line T_s = -K_e (beta - beta0) (:mod:`pasibot_pin.studies.methods.spring_fit`).
   Its energy 1/2 K_e (beta - beta0)^2 is stored and released; what T_e needs beyond it is
   the residual ankle work,
 * a single motor for both cranks (:mod:`pasibot_pin.studies.single_motor`) gives T_a + T_a'; its
@@ -50,11 +50,11 @@ from pasibot_pin.model.robot import PasibotRobot, total_mass
 from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import DEFAULT_BODY_MASS, PRESETS, Scenario
 from pasibot_pin.reprs import short_repr
-from pasibot_pin.studies.spring_fit import fit_spring
+from pasibot_pin.studies.methods.spring_fit import fit_spring
 
 if TYPE_CHECKING:
     from pasibot_pin.dynamics.inverse import TorqueResult
-    from pasibot_pin.studies.spring_fit import SpringFit
+    from pasibot_pin.studies.methods.spring_fit import SpringFit
 
 STEP_START: float = math.pi / 2
 """Stance crank angle where a step starts [rad]."""
@@ -310,7 +310,7 @@ def robot_step_energy(
         nodes: Gauss-Legendre nodes.
         theta_end: stance crank angle where the integration stops [rad].
         fit: with a spring ankle: ``True`` fits the spring (K_e, beta0) on 61 uniform samples
-            of the same stance and speed; a :class:`~pasibot_pin.studies.spring_fit.SpringFit`
+            of the same stance and speed; a :class:`~pasibot_pin.studies.methods.spring_fit.SpringFit`
             is used as given; ``False`` leaves the spring out.
         motors: ``two`` or ``one`` (the inverse dynamics' motor layout).
 

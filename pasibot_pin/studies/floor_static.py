@@ -1,6 +1,6 @@
 """The quasi-static spring study on the floor: the weld's omega -> 0 answer, checked against a real sole.
 
-The welded quasi-static answer (:func:`~pasibot_pin.studies.statics.static_equilibrium`) holds
+The welded quasi-static answer (:func:`~pasibot_pin.studies.methods.statics.static_equilibrium`) holds
 the cranks at each crank angle along the stance, keeps the swing foot in the air at its spring's
 rest angle, welds the stance foot flat, and finds the hip pitch where the robot stands still.
 On a floor nothing welds the stance foot: its heel and toe are unilateral contacts with Coulomb
@@ -53,9 +53,9 @@ from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.spring_energy import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import other
+from pasibot_pin.studies.methods.static_batch import static_equilibria
+from pasibot_pin.studies.methods.statics import StaticEquilibrium, StaticProblem, static_equilibrium
 from pasibot_pin.studies.spring_study import SPRING_CASES, scenario_inputs, sweep_springs
-from pasibot_pin.studies.static_batch import static_equilibria
-from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem, static_equilibrium
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -211,7 +211,7 @@ def floor_static_path(
         mu: sole-floor Coulomb friction [-].
         cache: shared between calls on the same robot (the weld's assemblies and the floor's rows).
         weld: the weld's equilibria of ``spring`` along ``thetas`` if already solved (a sweep
-            solves all its springs at once: :func:`~pasibot_pin.studies.static_batch.static_equilibria`).
+            solves all its springs at once: :func:`~pasibot_pin.studies.methods.static_batch.static_equilibria`).
 
     """
     mu = _check_mu(mu)

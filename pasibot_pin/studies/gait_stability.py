@@ -12,10 +12,10 @@ ankles. A state is made whole by Newton on the loops with the cranks at the sect
 (:meth:`GaitMap.configuration`); one map evaluation is a floor run of pi / omega from it.
 
 :func:`gait_stability` walks the design a few steps (the warm-up), takes the state at the last
-section as the guess, shoots the fixed point (:func:`~pasibot_pin.studies.poincare.find_fixed_point`),
+section as the guess, shoots the fixed point (:func:`~pasibot_pin.studies.methods.poincare.find_fixed_point`),
 and gives the Floquet multipliers (eigenvalues of the linearised map; the gait is stable when all
 have modulus < 1) and a basin estimate: the largest hip-pitch rate kick at the section from which
-the walk returns (:func:`~pasibot_pin.studies.poincare.basin_estimate`).
+the walk returns (:func:`~pasibot_pin.studies.methods.poincare.basin_estimate`).
 
 Units: SI, angles [rad], rates [rad/s, m/s].
 """
@@ -34,7 +34,7 @@ from pasibot_pin.dynamics.spring_energy import ankle_indices
 from pasibot_pin.errors import DivergedError, NoFixedPointError, ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z
 from pasibot_pin.model.design import design_robot
-from pasibot_pin.studies.poincare import BasinEstimate, FixedPoint, basin_estimate, find_fixed_point
+from pasibot_pin.studies.methods.poincare import BasinEstimate, FixedPoint, basin_estimate, find_fixed_point
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
 SECTION_THETA = math.pi
@@ -159,9 +159,9 @@ class GaitStability:
     """The gait's fixed point, multipliers and basin.
 
     Attributes:
-        fixed_point: the :class:`~pasibot_pin.studies.poincare.FixedPoint` (its ``multipliers``,
+        fixed_point: the :class:`~pasibot_pin.studies.methods.poincare.FixedPoint` (its ``multipliers``,
             sorted by modulus, and ``stable``).
-        basin: the hip-pitch rate kick bracket (:class:`~pasibot_pin.studies.poincare.BasinEstimate`)
+        basin: the hip-pitch rate kick bracket (:class:`~pasibot_pin.studies.methods.poincare.BasinEstimate`)
             [rad/s], or ``None`` if not estimated.
         labels: the names of the state's components.
         evaluations: map evaluations (each a floor run of pi / omega) [-].

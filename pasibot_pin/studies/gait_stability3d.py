@@ -35,7 +35,7 @@ from pasibot_pin.errors import DivergedError, ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.spatial import Footprint, planar_to_spatial, planar_velocity_to_spatial
 from pasibot_pin.studies.gait_stability import GaitMap, StabilitySettings, gait_stability
-from pasibot_pin.studies.poincare import FixedPoint, find_fixed_point
+from pasibot_pin.studies.methods.poincare import FixedPoint, find_fixed_point
 from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
 LABELS_3D: tuple[str, ...] = (
@@ -122,7 +122,7 @@ class GaitStability3D:
     """The 3-D gait's fixed point and multipliers.
 
     Attributes:
-        fixed_point: the :class:`~pasibot_pin.studies.poincare.FixedPoint` (9 states).
+        fixed_point: the :class:`~pasibot_pin.studies.methods.poincare.FixedPoint` (9 states).
         planar_multipliers: the planar gait's multipliers, for comparison.
         evaluations: 3-D step-map evaluations [-].
         cpu_s: CPU time, the planar shooting included [s].

@@ -33,6 +33,7 @@ from pasibot_pin.dynamics.spring_energy import AnkleSpring, critical_foot_dampin
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.scenarios import SCENARIOS
 from pasibot_pin.reprs import short_repr
+from pasibot_pin.studies.methods.statics import StaticEquilibrium, static_equilibrium
 from pasibot_pin.studies.spring_study import (
     SPRING_CASES,
     ScenarioInputs,
@@ -50,11 +51,10 @@ from pasibot_pin.studies.spring_study import (
     sweep_springs,
     toppling_stiffness,
 )
-from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
-    from pasibot_pin.studies.spring_fit import SpringFit
+    from pasibot_pin.studies.methods.spring_fit import SpringFit
 
 MIN_STEPS_PER_STANCE: int = 20
 """Fewest integration steps per stance :class:`SimulateSettings` accepts (``dt`` <= stance / 20)."""
@@ -316,7 +316,7 @@ class ScenarioStudy:
     Attributes:
         study: the spring study (fitted / none / half / twice K_e, the (K_e, beta0) sweep).
         toppling: gravity's toppling stiffness k_g about the stance ankle [N.m/rad].
-        spring_fit: the inverse-dynamics fit (:class:`pasibot_pin.studies.spring_fit.SpringFit`, its R^2).
+        spring_fit: the inverse-dynamics fit (:class:`pasibot_pin.studies.methods.spring_fit.SpringFit`, its R^2).
 
     """
 

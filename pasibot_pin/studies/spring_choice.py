@@ -5,7 +5,7 @@ The definition (stated once, quoted by the report's answers box):
 * the robot of a seed scenario (default run 1: body 16 kg, 0.1 rad/s), stance foot welded flat,
   the swing foot at the spring's rest angle;
 * quasi-static: the cranks held at :data:`STATIC_SAMPLES` crank angles along the stance, the hip
-  pitch at its stable equilibrium (:func:`~pasibot_pin.studies.static_batch.static_equilibria`);
+  pitch at its stable equilibrium (:func:`~pasibot_pin.studies.methods.static_batch.static_equilibria`);
 * the **recommended spring** is the smallest stiffness K_e [N.m/rad], over rest angles beta0 of the
   fit +- 6 deg (every :data:`REST_STEP_DEG`), whose equilibrium |hip pitch| stays within
   :data:`MAX_PITCH` at every crank angle, found by bisection on K_e to :data:`STIFFNESS_TOL`;
@@ -28,8 +28,8 @@ import numpy as np
 
 from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.reprs import short_repr
+from pasibot_pin.studies.methods.static_batch import static_equilibria
 from pasibot_pin.studies.spring_study import scenario_inputs, toppling_stiffness
-from pasibot_pin.studies.static_batch import static_equilibria
 
 MAX_PITCH = math.radians(20.0)
 """The stated limit on the welded hip's quasi-static |pitch| [rad] (20 deg)."""

@@ -3,13 +3,13 @@
 Built on the simulator of :mod:`pasibot_pin.dynamics.simulator`:
 
 - the hip pitch where the robot stands still at each crank angle (the omega -> 0 answer):
-  :func:`~pasibot_pin.studies.statics.static_equilibrium`.
+  :func:`~pasibot_pin.studies.methods.statics.static_equilibrium`.
 - :func:`toppling_stiffness`: gravity's negative stiffness k_g = g sum m_i (z_i - z_ankle) about
   the stance ankle; a spring must exceed it to hold the hip at all.
 - :func:`spring_study`: the hip-pitch excursion with the fitted spring, none, half and twice the
   stiffness, and a (K_e, beta0) sweep for the most level hip.
 - :func:`scenario_inputs`: robot, crank rate and fitted spring of a seed scenario, from the
-  inverse dynamics (:mod:`pasibot_pin.dynamics.inverse`, :mod:`pasibot_pin.studies.spring_fit`).
+  inverse dynamics (:mod:`pasibot_pin.dynamics.inverse`, :mod:`pasibot_pin.studies.methods.spring_fit`).
 
 Units: SI; angles [rad].
 """
@@ -34,13 +34,13 @@ from pasibot_pin.model.design import check_parameter, design_robot
 from pasibot_pin.model.scenario_robots import scenario_robot
 from pasibot_pin.model.scenarios import get_preset, get_scenario
 from pasibot_pin.reprs import short_repr
-from pasibot_pin.studies.spring_fit import design_spring, fit_result
-from pasibot_pin.studies.static_batch import static_equilibria
-from pasibot_pin.studies.statics import StaticEquilibrium, static_equilibrium
+from pasibot_pin.studies.methods.spring_fit import design_spring, fit_result
+from pasibot_pin.studies.methods.static_batch import static_equilibria
+from pasibot_pin.studies.methods.statics import StaticEquilibrium, static_equilibrium
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
-    from pasibot_pin.studies.spring_fit import SpringFit
+    from pasibot_pin.studies.methods.spring_fit import SpringFit
 
 # --------------------------------------------------------------------------- the spring study
 SPRING_CASES: tuple[tuple[str, float], ...] = (
@@ -182,7 +182,7 @@ def sweep_cells(
     """Cells of the (K_e, beta0) sweep, one per spring: the largest |hip pitch| [rad] (inf: fell / none stable).
 
     A static sweep solves every spring's equilibria together
-    (:func:`~pasibot_pin.studies.static_batch.static_equilibria`); a dynamic one with the swing foot
+    (:func:`~pasibot_pin.studies.methods.static_batch.static_equilibria`); a dynamic one with the swing foot
     at its rest angle walks every spring together
     (:func:`~pasibot_pin.dynamics.lockstep.simulate_many`: the same walks as :func:`simulate`, to
     round-off), each from its :func:`standing_pitch`.
@@ -318,7 +318,7 @@ class ScenarioInputs:
         omega: crank rate [rad/s].
         robot: the scenario's robot (its body mass and COM).
         fit: the inverse-dynamics spring (K_e, beta0) with the foot's critical damping.
-        spring_fit: the full fit (:class:`pasibot_pin.studies.spring_fit.SpringFit`: R^2, residuals).
+        spring_fit: the full fit (:class:`pasibot_pin.studies.methods.spring_fit.SpringFit`: R^2, residuals).
 
     """
 
@@ -357,7 +357,7 @@ def design_inputs(design) -> ScenarioInputs:
 
     Its two-legged robot, crank speed, and ankle spring: the design's K_e and beta0 where it sets
     them, else the stance fit of its inverse dynamics; the damping is the design's
-    (:func:`~pasibot_pin.studies.spring_fit.design_spring`).
+    (:func:`~pasibot_pin.studies.methods.spring_fit.design_spring`).
     """
     robot = design_robot(design, 2)
     result = inverse_dynamics(robot, crank_grid(*STANCE_RANGE, 61), design.omega, stance="right", reactions=False)

@@ -2,7 +2,7 @@
 
 - :class:`TorqueSettings` / :func:`scenario_torques`: one scenario under one modelling preset
   (with optional overrides): the inverse dynamics (:func:`pasibot_pin.dynamics.inverse.run_scenario`)
-  and the K_e fit (:func:`pasibot_pin.studies.spring_fit.fit_result`).
+  and the K_e fit (:func:`pasibot_pin.studies.methods.spring_fit.fit_result`).
 - :func:`attribution`: K_e as the seed's modelling choices are switched on one at a time, from
   the default model to the ``seed`` preset.
 - :func:`torque_survey`: every scenario with the default model and the seed preset, the
@@ -31,7 +31,7 @@ from pasibot_pin.model.scenarios import (
     get_scenario,
 )
 from pasibot_pin.reprs import short_repr
-from pasibot_pin.studies.spring_fit import SpringFit, fit_result
+from pasibot_pin.studies.methods.spring_fit import SpringFit, fit_result
 
 if TYPE_CHECKING:
     from pasibot_pin.model.design import Design

@@ -28,7 +28,7 @@ from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import MIN_WALK_OMEGA, check_parameter, design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
-from pasibot_pin.studies.spring_fit import design_spring
+from pasibot_pin.studies.methods.spring_fit import design_spring
 
 WALK_MU = SOLE_FLOOR_MU
 """Sole-floor Coulomb friction of a walk [-] (the project's one sole-floor friction)."""

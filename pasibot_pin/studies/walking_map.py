@@ -8,7 +8,7 @@ so the three variants are compared foot for foot; the ``spring`` variant keeps i
 spring), its cranks turning at ``omega``. It walks :data:`MAP_STEPS` steps on the floor
 (:func:`~pasibot_pin.studies.walking.walk_design`) and the walking verdict
 (:mod:`pasibot_pin.dynamics.verdict`) is its outcome. Where the MuJoCo twin is installed
-(``pasibot_pin.studies.mujoco_walk.walk_in_mujoco``, the same verdict on the exported model),
+(``pasibot_pin.studies.twin.mujoco_walk.walk_in_mujoco``, the same verdict on the exported model),
 each cell is walked there too; without it the twin's columns are empty and
 :attr:`WalkingMap.twin_note` says why.
 
@@ -36,8 +36,8 @@ from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.paths import result_path
 from pasibot_pin.model.variants import get_variant
 from pasibot_pin.progress import progress_bar
-from pasibot_pin.studies.mujoco_walk import walk_in_mujoco
-from pasibot_pin.studies.spring_fit import design_spring
+from pasibot_pin.studies.methods.spring_fit import design_spring
+from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
 SOLES: tuple[float, ...] = (1.5, 3.0, 4.5, 6.0, 8.0, 10.0)

@@ -12,7 +12,7 @@ with one of two lateral foot families:
   (``hip_half_width``), the other way to bring the support under the body.
 
 Where MuJoCo (the ``mujoco`` extra) is installed each cell is also walked on the 3-D export
-(:func:`~pasibot_pin.studies.mujoco_walk.walk_in_mujoco` with ``spatial=True``), judged the same way.
+(:func:`~pasibot_pin.studies.twin.mujoco_walk.walk_in_mujoco` with ``spatial=True``), judged the same way.
 
 The map is saved as CSV (:func:`save_map3d`, read back by :func:`load_map3d` with the standard
 library only); ``make walking-map-3d`` (``python tools/walking_map3d.py``) computes it.

@@ -34,7 +34,7 @@ def plot_torques_vs_beta(result, fit=None, ax=None, title: str | None = None):
 
     Args:
         result: a :class:`~pasibot_pin.dynamics.inverse.TorqueResult`.
-        fit: a :class:`~pasibot_pin.studies.spring_fit.SpringFit` to draw (optional).
+        fit: a :class:`~pasibot_pin.studies.methods.spring_fit.SpringFit` to draw (optional).
         ax: matplotlib axes (default: a new figure).
         title: figure title.
 

@@ -16,7 +16,7 @@ from pasibot_pin.viz.plots import figure_axes
 
 if TYPE_CHECKING:
     from pasibot_pin.dynamics.simulator import SimulationResult
-    from pasibot_pin.studies.statics import StaticEquilibrium
+    from pasibot_pin.studies.methods.statics import StaticEquilibrium
 
 
 def _axes(ax, figsize=(7, 3.5)):

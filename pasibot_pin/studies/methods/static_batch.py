@@ -1,7 +1,7 @@
 """Static equilibria of many (spring, crank angle) pairs at once: the static spring sweep's cells.
 
 :func:`static_equilibria` runs, for every spring and every crank angle together, the secant of
-:func:`~pasibot_pin.studies.statics.static_equilibrium` (same start, same steps, same stops,
+:func:`~pasibot_pin.studies.methods.statics.static_equilibrium` (same start, same steps, same stops,
 the same central difference for the stability): the hip-holding torque of each pair comes from one
 batched Newton closure (``ConstraintSystem.evaluate`` on (N, nv), one ``np.linalg.solve`` on
 (N, nv, nv) per iteration) and J^T lambda = g - tau_spring. The pairs share one constraint system:
@@ -26,7 +26,7 @@ from numpy.typing import ArrayLike
 from pasibot_pin.constraints.system import STEP_LIMIT
 from pasibot_pin.dynamics.spring_energy import AnkleSpring
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.studies.statics import StaticEquilibrium, StaticProblem
+from pasibot_pin.studies.methods.statics import StaticEquilibrium, StaticProblem
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -137,7 +137,7 @@ def static_equilibria(
     search: float = math.radians(30.0),
     cache: dict | None = None,
 ) -> list:
-    """:func:`~pasibot_pin.studies.statics.static_equilibrium` of each spring, all pairs at once.
+    """:func:`~pasibot_pin.studies.methods.statics.static_equilibrium` of each spring, all pairs at once.
 
     Args:
         robot: the scenario's two-legged ``spring`` robot.
@@ -147,7 +147,7 @@ def static_equilibria(
         cache: the static solves' cache (shared with the one-angle path).
 
     Returns:
-        One :class:`~pasibot_pin.studies.statics.StaticEquilibrium` per spring.
+        One :class:`~pasibot_pin.studies.methods.statics.StaticEquilibrium` per spring.
 
     """
     thetas = np.asarray(thetas, dtype=float)

@@ -129,7 +129,7 @@ def fd_jacobian(
 
     Central differences (``2 n`` map calls, error ``O(h^2)``) by default; ``scheme="forward"``
     (``n + 1`` calls, error ``O(h)``) reproduces results computed that way (e.g. Garcia et al.'s
-    published multipliers, see :mod:`pasibot_pin.studies.simplest_walker`).
+    published multipliers, see :mod:`pasibot_pin.studies.methods.simplest_walker`).
 
     Args:
         step_map: the map ``F``.

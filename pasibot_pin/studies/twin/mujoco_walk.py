@@ -5,7 +5,7 @@ of our floor simulator. Everything but the engine is shared:
 
 * the robot: the design's two-legged robot exported by :func:`~pasibot_pin.model.mjcf.to_mjcf`
   (its variant, masses, sole; its ankle spring from
-  :func:`~pasibot_pin.studies.spring_fit.design_spring`, as ours);
+  :func:`~pasibot_pin.studies.methods.spring_fit.design_spring`, as ours);
 * the start: ours (:meth:`~pasibot_pin.dynamics.floor.FloorSimulator.start_state`: the flat
   double support, or the settled one of a preloaded spring; the flat one where the robot cannot
   stand at theta0, as :func:`walk_design`), the soles' capsules :data:`SINK` into the floor;

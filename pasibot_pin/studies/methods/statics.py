@@ -3,7 +3,7 @@
 At each crank angle (cranks held, the swing foot at the spring's rest angle) the hip-holding
 torque tau(pitch) (:meth:`StaticProblem.torque`) is driven to zero by the
 secant method (:func:`static_equilibrium`), with its stability d^2V/dpitch^2. A whole sweep of
-springs and angles at once: :func:`pasibot_pin.studies.static_batch.static_equilibria`. Used by the
+springs and angles at once: :func:`pasibot_pin.studies.methods.static_batch.static_equilibria`. Used by the
 spring study (:mod:`pasibot_pin.studies.spring_study`) and the floor's quasi-static answer
 (:mod:`pasibot_pin.studies.floor_static`).
 
