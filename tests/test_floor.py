@@ -416,3 +416,22 @@ def test_analyze_floor_section_links_its_figure_and_states_its_facts(tmp_path):
         assert "| " + " | ".join(row.values()) + " |" in quasi
     for run in ("run1", "run2", "run3"):
         assert quasi.count(f"| {run} |") == 4
+
+
+def test_the_settling_start_is_the_same_simulator_held_at_theta0():
+    """The settled start steps this simulator with its cranks held (no second simulator): it stands
+    where a simulator built with omega = 0 settles, bit for bit, and the run after it is unchanged by
+    the settling (its QP and rows are its own)."""
+    from dataclasses import replace
+
+    from pasibot_pin.studies.spring_study import scenario_inputs
+
+    inputs = scenario_inputs("run1")
+    settings = FloorSettings(omega=inputs.omega, spring=inputs.fit)
+    sim = FloorSimulator(inputs.robot, settings)
+    start = sim.start_state()
+    assert start.kind == "settled"
+    held = FloorSimulator(inputs.robot, replace(settings, omega=0.0)).start_state()  # a robot whose cranks never turn
+    np.testing.assert_array_equal(start.q, held.q)
+    assert start.settle_time == held.settle_time
+    assert not hasattr(sim, "_held_sim")

@@ -35,7 +35,6 @@ from __future__ import annotations
 
 import functools
 import math
-from dataclasses import replace
 from typing import NamedTuple
 
 import numpy as np
@@ -144,8 +143,10 @@ class FloorSimulator:
         # toe both stick has four dependent rows
         n_points = len(frames)
         feet = [[k, k + 1, k + n_points, k + 1 + n_points] for k in range(0, n_points, len(POINTS))]
+        self._feet = feet
         self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
-        self._held_sim: FloorSimulator | None = None
+        self._held_qp: ContactQP | None = None  # the settling's own QP (its active set is not the run's)
+        self._held_targets = self.targets(0.0) if settings.crank_ramp > 0 else self.bilateral.targets(0.0)
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
         self.turn = complex(math.cos(settings.slope), -math.sin(settings.slope))  # the ground's frame, e^(-i slope)
         self._contact_rows = PointRows(self.points, self.turn)  # the contact rows at the last configuration asked
@@ -200,14 +201,22 @@ class FloorSimulator:
         return rows.imag, rows.real, jac.imag, jac.real
 
     def step(
-        self, t: float, q: np.ndarray, v: np.ndarray, h: float, spring_scale: float = 1.0, mu: float | None = None
+        self,
+        t: float,
+        q: np.ndarray,
+        v: np.ndarray,
+        h: float,
+        spring_scale: float = 1.0,
+        mu: float | None = None,
+        held: bool = False,
     ):
         """One step: (q+, v+, normal and tangential impulses (4,) [N.s], the motors' impulses [N.m.s]).
 
         The ankle springs and dampers are linearly implicit: their torque at the end of the step,
         tau(q + h v+, v+) = tau(q, 0) - (K h + c) v+, so the stiff foot-on-spring mode is stable at
         any step. ``spring_scale`` scales the springs (the settling ramps it), ``mu`` overrides the
-        friction coefficient. The QP on every coordinate, then Newton's projection (the general
+        friction coefficient; ``held`` holds the cranks at theta0 (the targets of t = 0, at rest: the
+        settling start), with a QP of its own. The QP on every coordinate, then Newton's projection (the general
         path; :meth:`run` takes :meth:`_track_step` where the shape is known ahead).
 
         Raises:
@@ -216,10 +225,17 @@ class FloorSimulator:
 
         """
         terms = self._terms(q, v, h, spring_scale, mu)
-        targets = self.targets(t + h) if self.settings.crank_ramp > 0 else None  # None: offset + rate t, as before
+        targets: np.ndarray | None = self._held_targets
+        if not held:
+            targets = self.targets(t + h) if self.settings.crank_ramp > 0 else None  # None: offset + rate t
         phi, jac = self._bilateral_rows(q, t + h, targets)
         # Phi(q + h v, t + h) = 0 to first order (Phi at t + h holds the rate)
-        v_new, bilateral, z = self._qp.solve(terms.hessian, terms.g, jac, -phi / h, terms.cone, terms.lower)
+        qp = self._qp
+        if held:
+            if self._held_qp is None:
+                self._held_qp = ContactQP(self.robot.model, self._feet)
+            qp = self._held_qp
+        v_new, bilateral, z = qp.solve(terms.hessian, terms.g, jac, -phi / h, terms.cone, terms.lower)
         check_speed(v_new)
         normal, tangential = _impulses(z, terms.mu)
         q_new, after, _ = self.bilateral.project_rows(q + h * v_new, t + h, targets, metric="mass", max_iter=20)
@@ -325,12 +341,6 @@ class FloorSimulator:
             return float(q[HIP_X]), float(q[HIP_PITCH])
         return (complex(q[HIP_X], q[HIP_Z]) * self.turn).real, float(q[HIP_PITCH]) - self.settings.slope
 
-    def _held(self) -> FloorSimulator:
-        """A copy of the simulator with the cranks held at theta0 (omega = 0), built once."""
-        if self._held_sim is None:
-            self._held_sim = FloorSimulator(self.robot, replace(self.settings, omega=0.0))
-        return self._held_sim
-
     def rest_forces(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """Contact forces holding ``q`` at rest, the cranks held.
 
@@ -339,9 +349,9 @@ class FloorSimulator:
             velocity that step reaches [m/s, rad/s] (0 when ``q`` is an equilibrium).
 
         """
-        held = self._held()
         h = self.settings.dt
-        _, v, normal, tangential, _ = held.step(0.0, q, np.zeros(self.robot.model.nv), h)
+        _, v, normal, tangential, _ = self.step(0.0, q, np.zeros(self.robot.model.nv), h, held=True)
+        self._rows_at = None  # the run's rows are its own
         return normal / h, tangential / h, float(np.max(np.abs(v)))
 
     def start_state(self) -> StartState:
@@ -366,13 +376,12 @@ class FloorSimulator:
         normal, tangential, speed = self.rest_forces(q)
         if speed <= REST_SPEED:
             return self._start(q, "flat", 0.0, normal, tangential)
-        held = self._held()
         v = np.zeros(self.robot.model.nv)
         h, t = SETTLE_DT, 0.0
         while t < SETTLE_MAX:
             ramp = min(1.0, t / SETTLE_RAMP)
             scale = ramp * ramp * (3 - 2 * ramp)
-            q, v, *_ = held.step(0.0, q, v * (1.0 - SETTLE_DAMPING * h), h, scale, s.mu * SETTLE_MARGIN)
+            q, v, *_ = self.step(0.0, q, v * (1.0 - SETTLE_DAMPING * h), h, scale, s.mu * SETTLE_MARGIN, held=True)
             t += h
             if abs(q[HIP_PITCH]) > s.fall_limit:
                 raise NoRestError(
