@@ -78,3 +78,27 @@ def test_on_a_slope_the_motors_pay_the_lift_and_no_energy_is_made():
         rises[degrees] = potential / (mass * 9.81 * advance)
     for degrees in (3.0, -3.0):
         assert rises[degrees] - rises[0.0] == pytest.approx(math.tan(math.radians(degrees)), rel=0.05)
+
+
+def test_every_friction_coefficient_has_one_range():
+    """The ground, the floor's settings, a walk's settings, the contact studies and the CLI's --mu agree."""
+    from pasibot_pin.cli.bounds import BOUNDS
+    from pasibot_pin.dynamics.floor.ground import MAX_MU
+    from pasibot_pin.studies.walking import WalkSettings
+
+    for build in (lambda mu: Ground(0.0, mu), lambda mu: FloorSettings(mu=mu), lambda mu: WalkSettings(mu=mu)):
+        build(MAX_MU)
+        for bad in (MAX_MU * (1 + 1e-9), -1e-12, math.nan):
+            with pytest.raises(ParameterError, match="mu"):
+                build(bad)
+    assert BOUNDS["walk"]["--mu"].high == MAX_MU
+
+
+def test_the_floor_s_crank_speed_is_the_record_s():
+    """FloorSettings reads omega's range from the design record (0 holds the cranks)."""
+    from pasibot_pin.model.design import SPECS
+
+    FloorSettings(omega=0.0)
+    FloorSettings(omega=SPECS["omega"].high)
+    with pytest.raises(ParameterError, match="omega"):
+        FloorSettings(omega=SPECS["omega"].high * 1.001)

@@ -21,7 +21,7 @@ import argparse
 import math
 from dataclasses import dataclass
 
-from pasibot_pin.dynamics.floor.ground import MAX_SLOPE
+from pasibot_pin.dynamics.floor.ground import MAX_MU, MAX_SLOPE
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import MAX_WORKERS
 from pasibot_pin.model.design import MIN_WALK_OMEGA, SPECS
@@ -110,7 +110,7 @@ def spec_bound(
     return Bound(bottom * scale, spec.high * scale, spec.unit if unit is None else unit, low_open=low_open)
 
 
-_MU = Bound(0.0, 10.0)
+_MU = Bound(0.0, MAX_MU)  # the ground's one range
 _FPS = Bound(0.1, 240.0, "1/s")
 _LEGS = Bound(1, 2, integer=True)
 _OMEGA = spec_bound("omega")  # the design record's crank speeds

@@ -34,6 +34,7 @@ import numpy as np
 import pinocchio as pin
 import proxsuite
 
+from pasibot_pin.dynamics.floor.ground import check_mu
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
@@ -76,13 +77,6 @@ def check_sole(sole, name: str = "parameter 'sole'") -> tuple[float, float] | No
             f"on either side of the ankle, got {tuple(sole)!r}"
         )
     return float(sole[0]), float(sole[1])
-
-
-def _check_mu(mu: float) -> float:
-    mu = float(mu)
-    if not math.isfinite(mu) or mu < 0:
-        raise ParameterError(f"parameter 'mu' must be a finite friction coefficient >= 0, got {mu!r}")
-    return mu
 
 
 @dataclass(frozen=True)
@@ -159,7 +153,7 @@ def _check_distribute(wrench, s_heel: float, s_toe: float, mu: float, regularisa
     w = np.asarray(wrench, dtype=float).reshape(-1)
     if w.shape != (3,) or not np.all(np.isfinite(w)):
         raise ParameterError(f"parameter 'wrench' must be 3 finite numbers (Fx, Fz, My), got {wrench!r}")
-    _check_mu(mu)
+    check_mu(mu)
     if not (math.isfinite(s_heel) and math.isfinite(s_toe) and s_heel < s_toe):
         raise ParameterError(f"parameters 's_heel' < 's_toe' must be finite [m], got {s_heel!r}, {s_toe!r}")
     if not (math.isfinite(regularisation) and regularisation >= 0):
@@ -444,7 +438,7 @@ def contact_along(robot: PasibotRobot, result, mu: float, sole: tuple[float, flo
         A :class:`ContactResult`; never raises for an infeasible contact (it is flagged).
 
     """
-    mu = _check_mu(mu)
+    mu = check_mu(mu)
     if not robot.floating:
         raise ParameterError("contact_along needs the two-legged robot (its stance foot carries the ground wrench)")
     ground = np.asarray(result.ground, dtype=float)

@@ -48,6 +48,7 @@ from numpy.typing import ArrayLike
 
 from pasibot_pin.constraints import ConstraintSystem, coordinate
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
+from pasibot_pin.dynamics.floor.ground import check_mu
 from pasibot_pin.dynamics.floor.run import LOAD_TOL
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.spring_energy import AnkleSpring, ankle_indices, foot_pose, sole_height, spring_forces
@@ -77,13 +78,6 @@ WALKING_SCENARIOS: tuple[str, ...] = ("run1", "run2", "run3", "run4")
 def stance_of(theta: float) -> str:
     """The stance side at right crank angle ``theta`` [rad] (right from pi/2 to 3 pi/2), as the weld's."""
     return "right" if (theta - math.pi / 2) % (2 * math.pi) < math.pi - 1e-9 else "left"
-
-
-def _check_mu(mu: float) -> float:
-    mu = float(mu)
-    if not (math.isfinite(mu) and mu >= 0):
-        raise ParameterError(f"parameter 'mu' must be a finite number >= 0, got {mu!r}")
-    return mu
 
 
 @dataclass
@@ -214,7 +208,7 @@ def floor_static_path(
             solves all its springs at once: :func:`~pasibot_pin.studies.methods.static_batch.static_equilibria`).
 
     """
-    mu = _check_mu(mu)
+    mu = check_mu(mu)
     thetas = np.asarray(thetas, dtype=float)
     if thetas.ndim != 1 or not len(thetas) or not np.all(np.isfinite(thetas)):
         raise ParameterError("parameter 'thetas' must be a non-empty list of finite crank angles [rad]")
@@ -307,7 +301,7 @@ def floor_static_sweep(
         sweep: False: the cases only.
 
     """
-    mu = _check_mu(mu)
+    mu = check_mu(mu)
     thetas = stance_thetas(static_samples)
     for name, values in (("sweep_stiffness", sweep_stiffness), ("sweep_rest", sweep_rest)):
         if values is not None and (np.ndim(values) != 1 or not len(values) or not np.all(np.isfinite(values))):
@@ -340,6 +334,6 @@ def floor_static_study(
     """:func:`floor_static_sweep` for each scenario (default runs 1-4)."""
     if not len(scenarios):
         raise ParameterError("parameter 'scenarios' must name at least one scenario")
-    _check_mu(mu)
+    check_mu(mu)
     stance_thetas(static_samples)
     return [floor_static_sweep(s, mu, static_samples=static_samples, sweep=sweep) for s in scenarios]

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
-from pasibot_pin.dynamics.floor.ground import Ground
+from pasibot_pin.dynamics.floor.ground import Ground, check_mu
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
@@ -77,8 +77,7 @@ class WalkSettings:
         integer = isinstance(self.steps, int) and not isinstance(self.steps, bool)
         if not integer or not 1 <= self.steps <= 10_000:
             raise ParameterError(f"parameter 'steps' must be an integer in [1, 10000], got {self.steps!r}")
-        if not (isinstance(self.mu, (int, float)) and math.isfinite(self.mu) and 0.0 <= self.mu <= 10.0):
-            raise ParameterError(f"parameter 'mu' must be a friction coefficient in [0, 10], got {self.mu!r}")
+        check_mu(self.mu)
         if self.dt is not None and not (
             isinstance(self.dt, (int, float)) and math.isfinite(self.dt) and 1e-5 <= self.dt <= 1e-2
         ):

@@ -12,14 +12,24 @@ Units: SI, lengths [m], angles [rad].
 from __future__ import annotations
 
 import math
+import numbers
 from dataclasses import dataclass
 
 import numpy as np
 
 from pasibot_pin.errors import ParameterError
 
+MAX_MU = 10.0
+"""Largest Coulomb friction coefficient a sole and a ground may have [-] (every mu's one range)."""
 MAX_SLOPE = math.radians(20.0)
 """Steepest slope a ground may have [rad] (every slope's one range: the floor's settings, the CLI's --slope)."""
+
+
+def check_mu(mu: object) -> float:
+    """``mu`` as a float if it is a friction coefficient in [0, :data:`MAX_MU`], else one line naming it."""
+    if isinstance(mu, bool) or not isinstance(mu, numbers.Real) or not (0.0 <= float(mu) <= MAX_MU):  # NaN fails
+        raise ParameterError(f"parameter 'mu' must be a friction coefficient in [0, {MAX_MU:g}], got {mu!r}")
+    return float(mu)
 
 
 @dataclass(frozen=True)
@@ -41,8 +51,7 @@ class Ground:
                 f"parameter 'slope' = {self.angle!r} rad is outside [-{MAX_SLOPE:.4g}, {MAX_SLOPE:.4g}] "
                 f"(+-{math.degrees(MAX_SLOPE):g} deg)"
             )
-        if not (isinstance(self.mu, (int, float)) and 0.0 <= self.mu <= 10.0):
-            raise ParameterError(f"parameter 'mu' must be in [0, 10], got {self.mu!r}")
+        check_mu(self.mu)
 
     @classmethod
     def flat(cls, mu: float = 0.8) -> Ground:

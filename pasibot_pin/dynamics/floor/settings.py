@@ -11,8 +11,9 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor.ground import MAX_SLOPE
+from pasibot_pin.dynamics.floor.ground import MAX_SLOPE, check_mu
 from pasibot_pin.errors import ParameterError
+from pasibot_pin.model.design import check_parameter
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 if TYPE_CHECKING:
@@ -89,10 +90,10 @@ class FloorSettings:
     slope: float = 0.0
 
     def __post_init__(self) -> None:
-        check_number("omega", self.omega, 0.0)
+        check_parameter("omega", self.omega)  # the design record's range (0: cranks held)
         check_number("slope", self.slope, -MAX_SLOPE, MAX_SLOPE)
         check_number("crank_ramp", self.crank_ramp, 0.0, 1e3)
-        check_number("mu", self.mu, 0.0)
+        check_mu(self.mu)
         check_number("dt", self.dt, 0.0, 0.01, low_open=True)
         check_number("theta0", self.theta0, -1e3, 1e3)
         check_number("fall_limit", self.fall_limit, 0.0, math.pi, low_open=True)
