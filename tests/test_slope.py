@@ -56,3 +56,27 @@ def test_walk_uphill_and_downhill():
     for degrees in (-3.0, 3.0):
         v = walk_design(FAST, WalkSettings(steps=4, slope=math.radians(degrees))).verdict
         assert v.walks and v.advance_per_step == pytest.approx(1.0, abs=0.05)  # along the ground, 8 L a step
+
+
+@pytest.mark.slow
+def test_on_a_slope_the_tracked_step_is_the_general_step():
+    """The tracked step (the legs' shape known ahead, the contact rows turned by the hip's pitch) reads
+    the ground's frame as the general step does: 5 s up a 5 deg slope, the hip within 1e-6 m / rad of
+    the general step's (their difference on the flat floor is the same order), the same verdict."""
+    from pasibot_pin.studies.walking import floor_settings
+    from pasibot_pin.studies.walking_map3d import walker_base
+
+    design = walker_base().with_(omega=1.0)
+    robot = design_robot(design, 2, visuals=False)
+    settings = floor_settings(design, WalkSettings(slope=math.radians(5.0)), robot)
+    tracked_sim = FloorSimulator(robot, settings)
+    tracked = tracked_sim.run(5.0)
+    assert tracked_sim._shape_split() is not None  # the tracked step ran
+    general_sim = FloorSimulator(robot, settings)
+    general_sim._shape_split = lambda: None  # the general step on every coordinate
+    general = general_sim.run(5.0)
+    n = min(len(tracked.t), len(general.t))
+    assert n > 4000
+    assert np.abs(tracked.q[:n, :3] - general.q[:n, :3]).max() < 1e-6
+    assert tracked.verdict.outcome == general.verdict.outcome
+    assert tracked.verdict.steps == general.verdict.steps

@@ -507,7 +507,7 @@ class FloorSimulator:
     def _tracker(self, h: float) -> tuple[ShapeTrack | None, FreeStepper | None]:
         """A run's shape track and its tracked step (``None``, ``None`` where the rows have no split)."""
         split = self._shape_split()
-        if split is None or self.turn != 1.0:  # the tracked step reads a flat floor; a slope takes the general step
+        if split is None:
             return None, None
         track = ShapeTrack(self.robot, split, self.targets_many, h, self.points)
         ankles = list(self.ankles.values())

@@ -149,14 +149,17 @@ class FreeStepper:
         self.sprung = [free.index(i) for i in ankles if i in free]
         self._form = form
         self._turn = 1.0 if form is None else form.turn
+        self._ground = complex(rows.turn)  # the ground's frame, e^(-i slope): world points read along and across it
         if form is not None:  # the free coordinates, in order, are the base's sliders, then its pitch
             if free != [*form.base, form.pitch]:
                 raise ParameterError("parameter 'form': its base and pitch must be the free coordinates, in order")
             self._fixed = form.fixed.tolist()
             self._slide = form.slide.tolist()
             # each point's cone rows' entries on the sliders, Im(slide (1 +- i mu)): constants
+            ground = self._ground
             self._slide_cone = [
-                tuple([(c * (1.0 + sign * 1j * mu)).imag for c in row] for sign in (1.0, -1.0)) for row in self._slide
+                tuple([(ground * c * (1.0 + sign * 1j * mu)).imag for c in row] for sign in (1.0, -1.0))
+                for row in self._slide
             ]
 
     def step(self, q: np.ndarray, v: np.ndarray, h: float, shape: TrackStep) -> StepOut | None:
@@ -235,15 +238,15 @@ class FreeStepper:
         and the entries on the hip's pitch, x_S and D are each the body's unpitched one turned by
         the pitch (:class:`~pasibot_pin.dynamics.floor.shape_track.StepContact`).
         """
-        turn, mu = self._turn, self.mu
+        turn, mu, ground = self._turn, self.mu, self._ground
         *base, pitch = q_free
         e = complex(math.cos(pitch), turn * math.sin(pitch))
         to_body = e * complex(0.0, -turn)  # e B = e (i a B) / (i a)
-        plus, minus = e * complex(1.0, mu), e * complex(1.0, -mu)
+        plus, minus = ground * e * complex(1.0, mu), ground * e * complex(1.0, -mu)
         upper, lower, bound_up, bound_low = [], [], [], []
         scale = -1.0 / h
         for fixed, slide, (cone_up, cone_low), row in zip(self._fixed, self._slide, self._slide_cone, start):
-            gap = (fixed + sum(map(mul, slide, base)) + to_body * row[0]).imag
+            gap = (ground * (fixed + sum(map(mul, slide, base)) + to_body * row[0])).imag
             up = [(plus * c).imag for c in row]
             low = [(minus * c).imag for c in row]
             upper.append(cone_up + up)
@@ -254,15 +257,15 @@ class FreeStepper:
 
     def _floating_points(self, q_free: list[float], u: list[float], end: list[list[complex]]):
         """Each point's height [m], x [m] and tangential speed [m/s] after the step, from the track's body rows."""
-        turn = self._turn
+        turn, ground = self._turn, self._ground
         *base, pitch = q_free
         *rate, spin = u
         e = complex(math.cos(pitch), turn * math.sin(pitch))
         to_body = e * complex(0.0, -turn)
         heights, xs, slip = [], [], []
         for fixed, slide, (spun, along) in zip(self._fixed, self._slide, end):
-            at = fixed + sum(map(mul, slide, base)) + to_body * spun
+            at = ground * (fixed + sum(map(mul, slide, base)) + to_body * spun)  # along and across the ground
             heights.append(at.imag)
             xs.append(at.real)
-            slip.append((sum(map(mul, slide, rate)) + spin * e * spun + e * along).real)
+            slip.append((ground * (sum(map(mul, slide, rate)) + spin * e * spun + e * along)).real)
         return heights, xs, slip
