@@ -16,7 +16,10 @@ from __future__ import annotations
 
 import numpy as np
 from matplotlib.layout_engine import LayoutEngine
-from matplotlib.text import Text
+from matplotlib.text import (  # type: ignore[attr-defined]  # _get_text_metrics_with_cache: matplotlib's own cache
+    Text,
+    _get_text_metrics_with_cache,
+)
 from matplotlib.ticker import AutoLocator, MaxNLocator
 
 PAD = 4.0 / 72.0
@@ -29,7 +32,12 @@ _POINT = 1.0 / 72.0  # [in]
 
 
 def _text_size(renderer, text: Text, s: str | None = None) -> tuple[float, float]:
-    """(width, height) [in] of ``text`` (or of the string ``s`` in its font), unrotated; multi-line aware."""
+    """(width, height) [in] of ``text`` (or of the string ``s`` in its font), unrotated; multi-line aware.
+
+    The width comes through matplotlib's own per-renderer cache of text metrics (the one ``Text`` measures
+    itself with when drawn), so a tick label measured here is not measured again when it is drawn, and the
+    figure's draw measures it the same way (the same call, the same numbers).
+    """
     s = text.get_text() if s is None else s
     if not s or not text.get_visible():
         return 0.0, 0.0
@@ -38,7 +46,7 @@ def _text_size(renderer, text: Text, s: str | None = None) -> tuple[float, float
     lines = s.split("\n")
     for line in lines:
         body, ismath = text._preprocess_math(line)  # type: ignore[attr-defined]  # matplotlib's own splitting
-        w, _, _ = renderer.get_text_width_height_descent(body, prop, ismath=ismath)
+        w, _, _ = _get_text_metrics_with_cache(renderer, body, prop, ismath, renderer.dpi)
         width = max(width, w)
     height = len(lines) * LINE_HEIGHT * prop.get_size_in_points() / 72.0
     return width / renderer.dpi, height
