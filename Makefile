@@ -4,7 +4,7 @@ VENV := .venv
 PY := $(VENV)/bin/python
 OUT ?= out
 
-.PHONY: install browser-deps urdf-tools test test-fast demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs-3d lateral-mass
+.PHONY: install browser-deps urdf-tools test test-fast demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs designs-3d lateral-mass
 
 # the plain install (what `pasibot analyze` needs: make demo), then the extras the tests need (make test)
 $(VENV)/.installed-base: pyproject.toml
@@ -53,11 +53,15 @@ answers: install
 	$(PY) tools/answers.py
 
 # the walking map (docs/results/walking_map.csv, docs/walking_map.png): 108 designs walked 20 steps on 2 workers
-# (about 30 minutes of CPU; tools/walking_map.py); then the picture, the found designs (designs/) and the quoted
+# (about 30 minutes of CPU; tools/walking_answer.py); then the picture, the found designs (designs/) and the quoted
 # answer (docs/walking.md, README.md) from the saved map
 walking-map: install
-	$(PY) tools/walking_map.py --compute --workers 2
-	$(PY) -m pasibot_pin.report.walking_answer
+	$(PY) tools/walking_answer.py --compute --workers 2
+
+# designs/: the found designs (the walking sweep's fastest walker and the walking map's picks) from the committed
+# tables, each with its picture (about 20 s); `$(PY) tools/designs_catalog.py --check` re-simulates them
+designs: install
+	$(PY) tools/designs_catalog.py
 
 # the 3-D walking map (docs/results/walking_map3d.csv, docs/walking_map3d.png): comb reach and leg spacing x crank
 # speed, 6 steps each, ours and the MuJoCo twin (about 40 minutes of CPU); then the upright walkers (designs/3d/)

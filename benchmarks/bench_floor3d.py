@@ -1,6 +1,6 @@
 """Benchmark: the 3-D floor against the planar floor and against MuJoCo on the 3-D export, in one run.
 
-The same design (the fast walker, ``designs/fastest_parallel_sole6L_omega3.toml``, its soles cut
+The same design (the fast walker, ``designs/map_top_speed_parallel_sole6L_omega3.toml``, its soles cut
 into a plate and an inner prong 1-3 cm past the midline: a comb that walks upright in 3-D), the
 same simulated time from the same start, each engine at its own time step:
 
@@ -24,7 +24,7 @@ from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco
 from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
-DESIGN = "designs/fastest_parallel_sole6L_omega3.toml"
+DESIGN = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 COMB = {"sole_inner": 2.6, "sole_gap_from": 0.6, "sole_gap_to": 2.2}
 SIMULATED = 2.0
 ROUNDS = 2

@@ -21,7 +21,7 @@ from pasibot_pin.model.design import Design, design_robot, load_design
 from pasibot_pin.model.spatial import Footprint, free_flyer_model, planar_to_spatial, roll_pitch_yaw
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_design_3d
 
-FAST = "designs/fastest_parallel_sole6L_omega3.toml"
+FAST = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 
 
 @functools.cache
@@ -327,7 +327,7 @@ def test_walk_3d_page(tmp_path, capsys):
     from pasibot_pin.__main__ import main
 
     assert main(["walk", "--design", FAST, "--3d", "--steps", "2", "--html", "--out", str(tmp_path)]) == 0
-    page = (tmp_path / "walk_fastest_parallel_sole6L_omega3.html").read_text(encoding="utf-8")
+    page = (tmp_path / "walk_map_top_speed_parallel_sole6L_omega3.html").read_text(encoding="utf-8")
     assert "<title>parallel in 3-D, 3 rad/s: tipped" in page and "max roll 10.0 deg" in page
     assert len(page) > 100_000  # the scene and its frames, base64 in the page
     assert not list(tmp_path.glob(".*.part-*"))  # no temporary file left (the .pasibot marker says whose folder)

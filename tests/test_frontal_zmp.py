@@ -14,7 +14,7 @@ from pasibot_pin.model.spatial import free_flyer_model
 from pasibot_pin.studies.frontal_zmp import frontal_zmp, ground_wrench
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
-FAST = "designs/fastest_parallel_sole6L_omega3.toml"
+FAST = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 
 
 @functools.cache

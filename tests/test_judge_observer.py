@@ -14,7 +14,7 @@ from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.studies.walking import WalkSettings, floor_settings
 
-FAST = Path(__file__).resolve().parents[1] / "designs" / "fastest_parallel_sole6L_omega3.toml"
+FAST = Path(__file__).resolve().parents[1] / "designs" / "map_top_speed_parallel_sole6L_omega3.toml"
 
 
 class CountingJudge(GaitJudge):

@@ -70,7 +70,7 @@ def test_walk_prints_and_json_has_the_margins(capsys):
 
     from pasibot_pin.__main__ import main
 
-    fast = Path(__file__).resolve().parents[1] / "designs" / "fastest_parallel_sole6L_omega3.toml"
+    fast = Path(__file__).resolve().parents[1] / "designs" / "map_top_speed_parallel_sole6L_omega3.toml"
     argv = ["walk", "--design", str(fast), "--steps", "3"]
     assert main(argv) == 0
     text = capsys.readouterr().out

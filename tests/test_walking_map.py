@@ -4,7 +4,7 @@ The map's table (docs/results/walking_map.csv) records 20-step verdicts. A cell 
 its failure, so re-simulating it with the same 20 steps is cheap and must give the same outcome, steps
 and time. A walker re-simulated for fewer steps runs the same trajectory up to its last step: it must
 walk those steps, with a hip pitch no larger than the 20-step run's largest. The full 20-step check of
-every committed design is ``python -m pasibot_pin.report.designs_catalog --check`` (offline, minutes).
+every committed design is ``python tools/designs_catalog.py --check`` (offline, minutes).
 """
 
 from __future__ import annotations
@@ -16,7 +16,7 @@ from pathlib import Path
 import pytest
 
 from pasibot_pin.model.design import Design, load_design
-from pasibot_pin.report.designs_catalog import DESIGNS_DIR, catalog_markdown, pick_designs
+from pasibot_pin.report.designs_catalog import catalog_markdown, pick_designs, sweep_rows
 from pasibot_pin.report.walking_answer import walking_answer, walking_markdown, walking_paragraph
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 from pasibot_pin.studies.walking_map import (
@@ -143,8 +143,11 @@ def test_a_sample_of_cells_re_simulates_to_the_table(wmap):
         check_cell(cell, wmap.steps)
 
 
+DESIGNS_DIR = ROOT / "designs"
+
+
 def test_designs_folder_is_the_catalog_of_the_map(wmap):
-    entries = pick_designs(wmap)
+    entries = pick_designs(wmap, sweep_rows())
     assert (DESIGNS_DIR / "README.md").read_text() == catalog_markdown(entries, wmap.steps)
     assert sorted(p.stem for p in DESIGNS_DIR.glob("*.toml")) == sorted(e.name for e in entries)
     for e in entries:
@@ -153,13 +156,18 @@ def test_designs_folder_is_the_catalog_of_the_map(wmap):
 
 
 @pytest.mark.slow
-@pytest.mark.parametrize("k", range(5))
+@pytest.mark.parametrize("k", range(6))
 def test_each_committed_design_re_simulates_to_its_row(wmap, k):
-    entries = pick_designs(wmap)
+    entries = pick_designs(wmap, sweep_rows())
     if k >= len(entries):
         pytest.skip(f"{len(entries)} designs committed")
     e = entries[k]
     design = load_design(DESIGNS_DIR / f"{e.name}.toml")
+    if e.cell is None:  # the sweep's fastest walker: it walks its first steps (its row: the sweep's test below)
+        assert design == e.design
+        v = walk_design(design, WalkSettings(steps=SHORT_STEPS)).verdict
+        assert v.outcome == "walks" and v.steps == SHORT_STEPS
+        return
     assert design == map_design(e.cell.variant, e.cell.sole, e.cell.omega)
     check_cell(e.cell, wmap.steps)
 
@@ -210,7 +218,8 @@ def test_the_twin_column_re_simulates_in_mujoco(wmap):
 @pytest.mark.slow
 def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
     """The sweep's paragraph is in docs/walking.md; its fastest walker, re-simulated for fewer steps, walks."""
-    from pasibot_pin.report.walking_answer import fastest_sweep_design, sweep_paragraph, sweep_rows
+    from pasibot_pin.report.designs_catalog import fastest_sweep_design
+    from pasibot_pin.report.walking_answer import sweep_paragraph
 
     rows = sweep_rows()
     assert sweep_paragraph(rows) in (ROOT / "docs" / "walking.md").read_text()
@@ -225,7 +234,7 @@ def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
 
 def test_the_cost_paragraph_is_quoted_and_counts_the_committed_runs(wmap):
     """docs/walking.md's paragraph on where the time goes is the code's, from the committed map and sweep."""
-    from pasibot_pin.report.walking_answer import cost_paragraph, sweep_rows
+    from pasibot_pin.report.walking_answer import cost_paragraph
 
     rows = sweep_rows()
     text = cost_paragraph(wmap, rows)

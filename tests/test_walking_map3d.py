@@ -62,7 +62,7 @@ def test_a_comb_that_leaves_no_plate_is_refused_by_name():
 def test_the_map_walker_is_the_committed_fastest_walker_but_for_its_feet():
     from pasibot_pin.model.design import load_design
 
-    fast = load_design(ROOT / "designs" / "fastest_parallel_sole6L_omega3.toml")
+    fast = load_design(ROOT / "designs" / "map_top_speed_parallel_sole6L_omega3.toml")
     assert walker_base().with_(omega=3.0) == fast
     narrow = map3d_design("narrow", 1.0, 3.0)
     assert narrow.hip_half_width == 1.0 and narrow.sole_inner == fast.sole_inner

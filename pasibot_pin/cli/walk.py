@@ -69,7 +69,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--stability", action="store_true", help="also the gait's Floquet multipliers (shooting)")
     p.add_argument("--json", action="store_true", help="print one JSON object instead of text")
     p.add_argument("--html", action="store_true", help="also write the walk as a meshcat page (walk_NAME.html)")
-    p.add_argument("--gif", action="store_true", help="also write the walk as a stick GIF (walk_NAME.gif in --out)")
+    p.add_argument(
+        "--gif",
+        action="store_true",
+        help="also write the walk as a stick GIF, 640 px wide, its camera following the robot (walk_NAME.gif)",
+    )
     add_out_folder_option(p, Path("out"), "the animations (NAME: the design file's stem, else the variant)")
     add_force_option(p, "overwrite existing animations")
     p.set_defaults(func=run)

@@ -59,6 +59,9 @@ def walking_answer_lines() -> list[str]:
         f"by variant {', '.join(walking) or 'none'}; no {' or '.join(v for v, n in a.walkers.items() if not n)} "
         f"design walks. Smallest walking sole: {smallest}."
     )
+    if a.fastest_found is not None:
+        omega = a.fastest_found.design.omega
+        head += f" Fastest walker found (the walking sweep): `designs/{a.fastest_found.name}.toml`, {omega:.2f} rad/s."
     seed = Design(variant="parallel", omega=2.0)
     walk = walk_design(seed, WalkSettings(steps=4))
     sole = f"toe {seed.parallel_toe:g} L, heel {seed.parallel_heel:g} L"

@@ -55,7 +55,7 @@ def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
 
 
 def write_walk_animation(
-    walk, robot, html: Path | None = None, gif: Path | None = None, fps: float = 20.0, dpi: int = 80
+    walk, robot, html: Path | None = None, gif: Path | None = None, fps: float = 20.0, dpi: int = 100
 ):
     """Write the walk as a one-file meshcat page and/or a stick GIF (each to a temporary name, then renamed).
 
@@ -65,7 +65,8 @@ def write_walk_animation(
         html: the HTML file (``None``: none).
         gif: the GIF file (``None``: none).
         fps: frames per second of simulated time [1/s].
-        dpi: the GIF's resolution [dots per inch] (6.4 x 5 in).
+        dpi: the GIF's resolution [dots per inch] (6.4 x 5 in: 640 x 500 px at the default). The GIF's
+            camera follows the robot (:func:`~pasibot_pin.viz.animation.save_gif`'s ``follow``).
 
     Returns:
         The files written (none when none was asked for, or the run has no sample to draw: a walk
@@ -79,12 +80,22 @@ def write_walk_animation(
     qs, times = result.q[index], result.t[index]
     forces = floor_force_tracks(robot, result, index)
     modes = {side: [result.modes[side][k] for k in index] for side in SIDES}
-    title = f"{robot.variant} on the floor, {walk.omega:g} rad/s: {walk.verdict.short()}"
+    title = f"{robot.variant} on the floor, {walk.omega:.3g} rad/s: {walk.verdict.short()}"
     written = []
     if gif is not None:
         with atomic_path(gif) as temp:
             save_gif(
-                robot, qs, temp, fps=fps, dpi=dpi, force=True, title=title, forces=forces, modes=modes, times=times
+                robot,
+                qs,
+                temp,
+                fps=fps,
+                dpi=dpi,
+                force=True,
+                title=title,
+                forces=forces,
+                modes=modes,
+                times=times,
+                follow=True,
             )
         written.append(gif)
     if html is not None:

@@ -11,33 +11,20 @@ Units: SI; soles over the crank length L; crank speed [rad/s].
 
 from __future__ import annotations
 
-import argparse
-import csv
 import math
 import statistics
-import time
 from collections import Counter
-from collections.abc import Sequence
 from dataclasses import dataclass, field
-from pathlib import Path
 
-from pasibot_pin.files import write_text_atomic
-from pasibot_pin.model.design import CHOICES, Design, design_robot
-from pasibot_pin.report.designs_catalog import write_catalog
+from pasibot_pin.dynamics.verdict import LINKAGE_ADVANCE_PER_STEP
+from pasibot_pin.model.design import Design, design_robot
+from pasibot_pin.report.designs_catalog import SWEEP_CSV, Entry, fastest_sweep_design, sweep_entry, sweep_rows
 from pasibot_pin.report.markdown import sentence_lines
 from pasibot_pin.studies.spring_study import toppling_stiffness
 from pasibot_pin.studies.walking_map import (
-    MAP_CSV,
-    MAP_PNG,
     MapCell,
     WalkingMap,
-    add_twin,
-    compute_walking_map,
-    load_map,
-    save_map,
-    with_twin_of,
 )
-from pasibot_pin.viz.plots_walking import save_walking_map_figure
 
 
 @dataclass(frozen=True)
@@ -50,7 +37,8 @@ class WalkingAnswer:
         walkers: walkers per variant [-] (every variant, 0 included).
         smallest_sole: per crank speed [rad/s], the smallest walking sole [L] and its variants
             (speeds without a walker are absent).
-        fastest: the walker of the highest crank speed (then the smallest sole), or ``None``.
+        fastest: the walker of the highest crank speed on the map's grid (then the smallest sole), or ``None``
+            (the map's top-speed walker; the fastest walker found is ``fastest_found``).
         least_energy: the walker of the least motor energy per metre, or ``None``.
         failures: per variant, the count of each failure outcome.
         spring_details: the spring cells' failure details and their counts, most common first.
@@ -61,6 +49,7 @@ class WalkingAnswer:
         twin_cells: cells the MuJoCo twin walked too [-]; twin_agree: of them, where both engines agree
             that it walks or not [-]; twin_same: where the outcomes are the same [-].
         twin_walkers: the twin's walkers, in words; twin_note: which cells the twin ran (``""``: all).
+        fastest_found: the fastest walker found, the walking sweep's (its ``designs/`` entry), or ``None``.
 
     """
 
@@ -82,6 +71,7 @@ class WalkingAnswer:
     twin_same: int = 0
     twin_walkers: tuple[str, ...] = ()
     twin_note: str = ""
+    fastest_found: Entry | None = None
 
 
 def _detail_kind(detail: str) -> str:
@@ -90,8 +80,10 @@ def _detail_kind(detail: str) -> str:
     return " ".join(words).replace("the foot", "a foot").replace("  ", " ")
 
 
-def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
-    """The figures of the answer, read off ``wmap``."""
+def walking_answer(wmap: WalkingMap, rows: list[dict] | None = None) -> WalkingAnswer:
+    """The figures of the answer, read off ``wmap`` and the walking sweep's ``rows`` (default: the committed sweep)."""
+    rows = (sweep_rows() if SWEEP_CSV.is_file() else []) if rows is None else rows
+    found = sweep_entry(rows) if any(r["floor_outcome"] == "walks" for r in rows) else None
     walkers = wmap.walkers()
     smallest: dict[float, tuple[float, tuple[str, ...]]] = {}
     for omega in wmap.omegas:
@@ -132,6 +124,7 @@ def walking_answer(wmap: WalkingMap) -> WalkingAnswer:
         spring_median_s=median,
         spring_by_speed=by_speed,
         **_twin_figures(wmap),
+        fastest_found=found,
     )
 
 
@@ -220,15 +213,20 @@ def walking_paragraph(a: WalkingAnswer) -> str:
     f, e = a.fastest, a.least_energy
     assert f is not None
     lead = (
-        f"{total} of the walking map's {a.cells} designs walk {a.steps} steps on the floor, the fastest at "
-        f"{f.omega:g} rad/s on {f.sole:g} L soles; no {' or '.join(none) or 'other'} design walks."
+        f"{total} of the walking map's {a.cells} designs walk {a.steps} steps on the floor, at up to "
+        f"{f.omega:g} rad/s; no {' or '.join(none) or 'other'} design walks."
     )
+    if a.fastest_found is not None:
+        lead += f" The fastest walker found walks at {a.fastest_found.design.omega:.2f} rad/s."
     by_speed = "; ".join(f"{s:g} L at {w:g} rad/s ({'/'.join(vs)})" for w, (s, vs) in a.smallest_sole.items())
     slow = [f"{w:g}" for w in a.omegas if w not in a.smallest_sole]
     rows.append(("smallest sole that walks", by_speed + (f"; none at {_list(slow)} rad/s" if slow else "")))
     speed = 8.0 * f.advance_per_step * f.omega / math.pi  # L/s: 8 L a step, a step every pi/omega
-    rows.append(("fastest walker", f"{_cell_text(f)}: {speed:.1f} L/s of hip advance, max hip pitch "
-                 f"{f.max_hip_pitch_deg:.1f} deg"))  # fmt: skip
+    if a.fastest_found is not None:  # the map's top speed is the smallest-sole row's last speed
+        rows.append(("fastest walker", _fastest_found_text(a.fastest_found)))
+    else:
+        rows.append(("fastest walker", f"{_cell_text(f)}: {speed:.1f} L/s of hip advance, max hip pitch "
+                     f"{f.max_hip_pitch_deg:.1f} deg"))  # fmt: skip
     if e is not None:
         rows.append(("least energy per metre", f"{e.energy_per_m_J:.1f} J/m (cost of transport "
                      f"{e.cost_of_transport:.2f}): {_cell_text(e)}"))  # fmt: skip
@@ -237,6 +235,22 @@ def walking_paragraph(a: WalkingAnswer) -> str:
     if a.twin_cells or a.twin_note:
         rows.append(("the MuJoCo twin", _twin_sentence(a)))
     return _lead_and_table(lead, rows)
+
+
+def _fastest_found_text(entry: Entry) -> str:
+    """The fastest walker found, in words: its file, soles, speed, hip advance and pitch (the sweep's 20 steps)."""
+    d, r = entry.design, entry.sweep
+    assert r is not None
+    steps = int(float(r["floor_steps"]))
+    speed = float(r["floor_advance_m"]) / steps * d.omega / math.pi / d.L  # L/s: a step every pi/omega
+    share = float(r["floor_advance_m"]) / (steps * LINKAGE_ADVANCE_PER_STEP * d.L)
+    pitch = float(r["floor_max_hip_pitch_deg"])
+    return (
+        f"`designs/{entry.name}.toml` (the walking sweep's): {d.variant}, soles {d.parallel_toe:.1f} L ahead of "
+        f"and {d.parallel_heel:.1f} L behind the ankle, {d.omega:.2f} rad/s: walks {steps} steps, "
+        f"{100 * share:.1f} % of the linkage's 8 L a step, {speed:.1f} L/s of hip advance, max hip pitch "
+        f"{pitch:.1f} deg"
+    )
 
 
 def _lead_and_table(lead: str, rows: list[tuple[str, str]]) -> str:
@@ -291,7 +305,6 @@ def walking_markdown(wmap: WalkingMap) -> str:
     return "\n".join(lines)
 
 
-ROOT = Path(__file__).resolve().parents[2]
 PARAGRAPH = ("<!-- walking answer: generated by pasibot_pin.report.walking_answer.walking_paragraph() -->",
              "<!-- end walking answer -->")  # fmt: skip
 """The markers around the quoted paragraph in docs/walking.md and README.md."""
@@ -310,77 +323,26 @@ def replace_between(text: str, markers: tuple[str, str], body: str) -> str:
     return f"{head}{start}\n{body}\n{end}{tail}"
 
 
-def update_docs(wmap: WalkingMap | None = None) -> list[Path]:
-    """Write the generated blocks of docs/walking.md (paragraph, tables) and README.md (paragraph)."""
-    wmap = load_map() if wmap is None else wmap
-    paragraph = walking_paragraph(walking_answer(wmap))
-    doc, readme = ROOT / "docs" / "walking.md", ROOT / "README.md"
-    text = replace_between(doc.read_text(), PARAGRAPH, paragraph)
+def docs_texts(wmap: WalkingMap, doc: str, readme: str, rows: list[dict] | None = None) -> tuple[str, str]:
+    """``docs/walking.md`` and ``README.md`` (their texts ``doc`` and ``readme``) with their generated blocks renewed.
+
+    The blocks: the walking answer's paragraph (both), the map's tables, and with the sweep's ``rows``
+    (default: the committed sweep, when it is there) its paragraph and the cost paragraph (``doc``).
+    ``tools/walking_answer.py`` reads and writes the files.
+    """
+    rows = (sweep_rows() if SWEEP_CSV.is_file() else []) if rows is None else rows
+    paragraph = walking_paragraph(walking_answer(wmap, rows))
+    text = replace_between(doc, PARAGRAPH, paragraph)
     text = replace_between(text, TABLES, walking_markdown(wmap))
-    if SWEEP_CSV.is_file():
-        rows = sweep_rows()
+    if rows:
         text = replace_between(text, SWEEP, sweep_paragraph(rows))
         text = replace_between(text, COST, cost_paragraph(wmap, rows))
-    write_text_atomic(doc, text)
-    write_text_atomic(readme, replace_between(readme.read_text(), PARAGRAPH, paragraph))
-    return [doc, readme]
+    return text, replace_between(readme, PARAGRAPH, paragraph)
 
 
-def main(argv: Sequence[str] | None = None) -> None:
-    """``make walking-map``: (``--compute``: the map on 2 workers, saved as CSV) the picture, designs/, the quotes."""
-    parser = argparse.ArgumentParser(description="the walking map's files: CSV, picture, designs/, quoted answer")
-    parser.add_argument("--compute", action="store_true", help="walk every cell again first (about 30 min CPU)")
-    parser.add_argument("--workers", type=int, default=2, help="worker processes of --compute (default 2)")
-    parser.add_argument(
-        "--twin", action="store_true", help="walk the MuJoCo twin in every cell of the map that has no twin outcome yet"
-    )
-    parser.add_argument(
-        "--keep-twin",
-        action="store_true",
-        help="with --compute: walk our engine only and keep the committed twin's outcomes (our engine changed)",
-    )
-    args = parser.parse_args(argv)
-    if args.twin and not args.compute:
-        start = time.monotonic()
-        save_map(add_twin(load_map(), 0.0, workers=args.workers))
-        print(f"{MAP_CSV}: the twin's missing cells walked in {time.monotonic() - start:.0f} s wall")
-    if args.compute:
-        start = time.monotonic()
-        partial = MAP_CSV.with_name("walking_map.partial.csv")  # an interrupted map resumes from it
-        wmap = compute_walking_map(workers=args.workers, partial=partial, twin=not args.keep_twin)
-        if args.keep_twin:
-            wmap = with_twin_of(wmap, load_map())
-        save_map(wmap)
-        partial.unlink()
-        cpu = sum(c.cpu_s for c in wmap.cells)
-        print(f"{MAP_CSV}: {len(wmap.cells)} cells, {time.monotonic() - start:.0f} s wall, {cpu:.0f} s CPU of walks")
-    wmap = load_map()
-    print(save_walking_map_figure(wmap, MAP_PNG, dpi=100))  # the README's resolution (report/docs_figures)
-    for written in [*write_catalog(wmap), *update_docs(wmap)]:
-        print(written)
-
-
-_PACKAGED_SWEEP = Path(__file__).resolve().parents[1] / "results" / "walking_sweep.csv"
-SWEEP_CSV = _PACKAGED_SWEEP if _PACKAGED_SWEEP.is_file() else ROOT / "docs" / "results" / "walking_sweep.csv"
-"""The committed walking sweep (``pasibot sweep --floor 20 --n 200`` over the variants, omega and the soles)."""
 SWEEP = ("<!-- walking sweep: generated by pasibot_pin.report.walking_answer.sweep_paragraph() -->",
          "<!-- end walking sweep -->")  # fmt: skip
 """The markers around the sweep's paragraph in docs/walking.md."""
-
-
-def sweep_rows(path: Path = SWEEP_CSV) -> list[dict]:
-    """The sweep's rows as dicts of strings (the csv module: no pyarrow)."""
-    with open(path, newline="") as handle:
-        return list(csv.DictReader(handle))
-
-
-def fastest_sweep_design(rows: list[dict]):
-    """The :class:`~pasibot_pin.model.design.Design` of the sweep's fastest walker, and its row."""
-    walkers = [r for r in rows if r["floor_outcome"] == "walks"]
-    row = max(walkers, key=lambda r: float(r["omega"]))
-    names = [k for k in Design().values() if k in row]
-    values = {k: (row[k] if k in CHOICES else float(row[k]) if row[k] not in ("", "nan") else None) for k in names}
-    return Design.from_dict(values), row
 
 
 def sweep_paragraph(rows: list[dict]) -> str:
@@ -399,8 +361,8 @@ def sweep_paragraph(rows: list[dict]) -> str:
         f"{speeds[0]:.2f}-{speeds[-1]:.2f} rad/s. The fastest walks at {float(fast['omega']):.2f} rad/s on "
         f"soles of {design.parallel_toe:.1f} L ahead and {design.parallel_heel:.1f} L behind the ankle "
         f"(max |hip pitch| {float(fast['floor_max_hip_pitch_deg']):.1f} deg, "
-        f"{float(fast['floor_energy_per_m_J']):.0f} J/m; `docs/results/fastest_sweep_walker.toml`; the map's soles "
-        "are symmetric). "
+        f"{float(fast['floor_energy_per_m_J']):.0f} J/m; `designs/{sweep_entry(rows).name}.toml`; the "
+        "map's soles are symmetric). "
         + (
             f"{_counts(dict(infeasible))} designs were not walked: their linkage does not work (`design_metrics`). "
             if infeasible
@@ -442,7 +404,3 @@ def cost_paragraph(wmap: WalkingMap, rows: list[dict]) -> str:
         "such a sweep. `benchmarks/bench_floor_vs_mujoco.py` gives each engine's simulated seconds per CPU second "
         "on a walker."
     )
-
-
-if __name__ == "__main__":
-    main()

@@ -84,6 +84,30 @@ def _frame_walk(ax, segments: list[np.ndarray]) -> None:
     ax.grid(True, alpha=0.3)
 
 
+def _follow_window(fig, ax, segments: list[np.ndarray]):
+    """The camera of a followed walk: frame ``k`` -> the x limits [m] around the robot's middle.
+
+    The limits' width is the y range's at equal scale in the axes' box; the centre moves in
+    sixteenths of that width (each move redraws the still part, so a few dozen over a walk).
+    """
+    z = np.concatenate([s[:, :, 1].ravel() for s in segments])
+    z0, z1 = min(float(z.min()), 0.0), float(z.max())
+    y0, y1 = z0 - 0.08 * (z1 - z0), z1 + 0.08 * (z1 - z0)  # the robot's height and the ground, a margin each side
+    ax.set_ylim(y0, y1)
+    pos = ax.get_position(original=True)  # the box before the equal scale shrinks it
+    width_in, height_in = pos.width * fig.get_figwidth(), pos.height * fig.get_figheight()
+    width = (y1 - y0) * width_in / height_in  # [m]
+    quantum = width / 16.0
+    middles = np.array([0.5 * (s[:, :, 0].min() + s[:, :, 0].max()) for s in segments])
+    centres = np.round(middles / quantum) * quantum
+    ax.set_xlim(centres[0] - 0.5 * width, centres[0] + 0.5 * width)
+
+    def window(k: int) -> tuple[float, float]:
+        return float(centres[k] - 0.5 * width), float(centres[k] + 0.5 * width)
+
+    return window
+
+
 def _force_arrow(ax, colour: str):
     """An empty quiver arrow in ``colour``, drawn in data units (set per frame)."""
     return ax.quiver(
@@ -108,12 +132,16 @@ def _stick_scene(
     forces=None,
     modes=None,
     times=None,
+    follow: bool = False,
 ):
     """Draw the still part of the stick animation; return (figure, frame updater, moving artists).
 
     The moving artists (the bars, the ground line, the ankle paths: faint full path and bold
     walked part, the clock and the legend) are listed in the order the axes draw them (z-order,
-    then order of creation). ``update(k)`` moves them to frame ``k``.
+    then order of creation). ``update(k)`` moves them to frame ``k``. With ``follow``, the view
+    is as tall as the whole walk and as wide as the axes' shape allows at equal scale, and
+    ``update(k)`` moves it along x with the robot (its bars' middle, in steps of a sixteenth of
+    its width [m]): the robot stays in frame over any number of steps.
     """
     import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
     from matplotlib.collections import LineCollection  # deferred: heavy (matplotlib), keeps the CLI's start fast
@@ -129,6 +157,7 @@ def _stick_scene(
         fig = ax.figure
     segments, colours, widths = _bar_frames(robot, qs)
     _frame_walk(ax, segments)
+    window = _follow_window(fig, ax, segments) if follow else None
     ax.set_title(title or f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
     lines = []
     if robot.floating:
@@ -150,6 +179,9 @@ def _stick_scene(
         marks.append(dots)
     for name, track in (forces or {}).items():
         arrows[name] = (track, _force_arrow(ax, track.colour))
+    for colour, scale in sorted({(t.colour, t.scale) for t, _q in arrows.values()}):  # the arrows' legend entry
+        label = f"ground reaction on a foot (0.1 m: {0.1 / scale:.0f} N)"
+        ax.plot([], [], marker=r"$\uparrow$", ls="", ms=10, color=colour, label=label)
     times = np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float)
     if paths:
         _place_legend(ax, fig, own)
@@ -161,6 +193,8 @@ def _stick_scene(
     )
 
     def update(k: int):
+        if window is not None:
+            ax.set_xlim(window(k))
         bars.set_segments(list(segments[k]))
         for side, line in trails.items():
             line.set_data(paths[side][: k + 1, 0], paths[side][: k + 1, 1])
@@ -261,9 +295,14 @@ def _frame_arrays(
         moving.remove(clock)
         paint = _clock_painter(fig, clock)
         frames = []
+        limits = fig.axes[0].get_xlim()
         for k in range(len(qs)):
-            canvas.restore_region(background)
             update(k)
+            if fig.axes[0].get_xlim() != limits:  # the camera moved (follow): the still part again
+                limits = fig.axes[0].get_xlim()
+                canvas.draw()
+                background = canvas.copy_from_bbox(fig.bbox)
+            canvas.restore_region(background)
             for artist in moving:
                 artist.draw(renderer)
             image = Image.fromarray(np.asarray(canvas.buffer_rgba()), "RGBA")
@@ -304,6 +343,7 @@ def save_gif(
     forces=None,
     modes=None,
     times=None,
+    follow: bool = False,
 ) -> Path:
     """Write the stick animation of ``qs`` as a GIF, one frame per row (Pillow).
 
@@ -319,6 +359,8 @@ def save_gif(
             ``colour`` (:class:`pasibot_pin.viz.viewer.ForceTrack`), e.g. the ground reaction.
         modes: each foot's contact mode per frame (default: from the geometry).
         times: each frame's time [s] for the caption (default: k / fps).
+        follow: the camera follows the robot along x (the view as tall as the walk), else the
+            whole walk is in view.
 
     Returns:
         The path written.
@@ -338,7 +380,7 @@ def save_gif(
         raise ParameterError(f"parameter 'out' must end in .gif, got {out}")
     if not (isinstance(dpi, int) and dpi > 0):
         raise ParameterError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
-    frames = _frame_arrays(robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times)
+    frames = _frame_arrays(robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times, follow=follow)
     if all(f[..., 3].min() == 255 for f in frames):
         images = _shared_palette(frames)
     else:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from typing import TYPE_CHECKING
 
 import numpy as np
@@ -83,8 +84,11 @@ GROUP_LABELS = {
 """The legend's name of each link group of :data:`GROUP_COLOURS`."""
 
 
-def robot_legend(ax, groups, pivots: bool, ground: bool) -> None:
-    """A legend below ``ax`` naming every symbol :func:`plot_robot` drew: link groups, pivots, hip, ground."""
+def robot_legend(ax, groups, pivots: bool, ground: bool, extra: Sequence = ()) -> None:
+    """A legend below ``ax`` naming every symbol :func:`plot_robot` drew: link groups, pivots, hip, ground.
+
+    ``extra``: more legend handles (matplotlib artists with a label) the caller drew, listed last.
+    """
     from matplotlib.lines import Line2D  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     handles = [
@@ -96,6 +100,7 @@ def robot_legend(ax, groups, pivots: bool, ground: bool) -> None:
     handles.append(Line2D([], [], color="k", marker="+", ls="", ms=10, label="hip frame (body origin)"))
     if ground:
         handles.append(Line2D([], [], color="#8b5a2b", lw=1, label="ground z = 0"))
+    handles += list(extra)
     ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
 
 
