@@ -21,6 +21,7 @@ broke.
 from __future__ import annotations
 
 __all__ = [
+    "AssemblyError",
     "ClosureError",
     "ContactSolveError",
     "DesignError",
@@ -45,6 +46,17 @@ class ParameterError(PasibotError):
 
 class DesignError(PasibotError):
     """A design that cannot be built: its linkage does not assemble, or its parts contradict each other."""
+
+
+class AssemblyError(DesignError):
+    """A linkage that cannot assemble at some crank angle.
+
+    ``fields``: the design fields (K, r1 .. r13, in L) a user can change to make the failing loop close.
+    """
+
+    def __init__(self, message: str, fields: tuple[str, ...] = ()):
+        super().__init__(message)
+        self.fields = fields
 
 
 class InterferenceError(ParameterError):

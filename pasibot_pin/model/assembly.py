@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 from pasibot_pin.caches import PerObjectCache
-from pasibot_pin.errors import DesignError, ParameterError
+from pasibot_pin.errors import AssemblyError, ParameterError
 from pasibot_pin.model import jet
 from pasibot_pin.model.params import Geometry
 from pasibot_pin.model.variants import Variant, get_variant
@@ -42,16 +42,42 @@ def _first_bad(theta, bad) -> float:
     return float(np.atleast_1d(theta)[np.argmax(np.atleast_1d(bad))])
 
 
+LOOP_FIELDS: dict[str, tuple[str, ...]] = {
+    "j2": ("K", "r1", "r2", "r3"),
+    "j5": ("K", "r1", "r2", "r3", "r4", "r6", "r7", "r13"),
+    "j4 (stabiliser)": ("K", "r1", "r2", "r3", "r8", "r12"),
+    "j11": ("r4", "r8", "r9", "r10"),
+    "j13": ("r5", "r9", "r10", "r11"),
+}
+"""Per loop of :func:`leg_points`, the design fields of the links that place its pivots and form its two
+sides: the frame ratio K and the link ratios r1 .. r13 (each a length over the crank length L, the design
+file's ``K`` and ``[ratios]``): the fields a user changes to make that loop close."""
+
+
+def loop_fields(loop: str) -> tuple[str, ...]:
+    """The design fields (``K``, ``r1`` .. ``r13``) the closure of ``loop`` depends on (all of them if unknown)."""
+    return LOOP_FIELDS.get(loop, ("K", *(f"r{k}" for k in range(1, 14))))
+
+
+def _fields_text(loop: str) -> str:
+    names = loop_fields(loop)
+    return f"change {', '.join(names[:-1])} or {names[-1]} (the design file's K and [ratios], in L)"
+
+
 def _check_meet(d, r1: float, r2: float, loop: str, theta) -> None:
-    """Raise ``ValueError`` naming ``loop`` and the first crank angle where two circles do not meet."""
+    """Raise :class:`~pasibot_pin.errors.AssemblyError` where two circles do not meet.
+
+    It names ``loop``, the first such crank angle, and the design fields to change.
+    """
     bad = ~((abs(r1 - r2) < d) & (d < r1 + r2))
     if np.any(bad):
         th = _first_bad(theta, bad)
         d_bad = float(np.atleast_1d(d)[np.argmax(np.atleast_1d(bad))])
-        raise DesignError(
+        raise AssemblyError(
             f"loop {loop} cannot assemble at crank angle {math.degrees(th):.3f} deg "
             f"(theta = {th:.6f} rad): distance {d_bad:.6g} m between its pivots is outside "
-            f"[{abs(r1 - r2):.6g}, {r1 + r2:.6g}] m; check K and the link ratios"
+            f"[{abs(r1 - r2):.6g}, {r1 + r2:.6g}] m; {_fields_text(loop)}",
+            loop_fields(loop),
         )
 
 
@@ -170,9 +196,11 @@ def _extension_points(p: dict, theta, g: Geometry, length: list[float], u4, u5) 
     if np.any(bad):
         th = _first_bad(jet.value(theta), bad)
         dz_bad = float(np.atleast_1d(np.abs(jet.value(dz)))[np.argmax(np.atleast_1d(bad))])
-        raise DesignError(
+        raise AssemblyError(
             f"loop j4 (stabiliser) cannot assemble at crank angle {math.degrees(th):.3f} deg: "
-            f"joint 4 is {dz_bad:.6g} m from the slider line, more than L8 = {l8:.6g} m"
+            f"joint 4 is {dz_bad:.6g} m from the slider line, more than the link r8 x L = {l8:.6g} m; "
+            + _fields_text("j4 (stabiliser)"),
+            loop_fields("j4 (stabiliser)"),
         )
     p["p10"] = (p["p4"].real - jet.sqrt(l8**2 - dz * dz)) - 1j * length[12]
     u8 = (p["p4"] - p["p10"]) / l8
@@ -195,21 +223,22 @@ FULL_TURN_SAMPLES: int = 720
 
 
 def check_full_turn(geometry: Geometry | None = None, variant: str | Variant = "spring") -> None:
-    """Raise DesignError unless one leg of ``variant`` assembles at every crank angle of a full turn.
+    """Raise :class:`~pasibot_pin.errors.AssemblyError` unless one leg of ``variant`` assembles over a full turn.
 
     The analytic assembly (:func:`leg_points`) is tried every 0.5 deg. With the seed's link
     ratios the frame ratio K must lie in about (1.491, 3.0).
 
     Raises:
-        DesignError: naming the loop and the first crank angle where it cannot close.
+        AssemblyError: naming the loop, the first crank angle where it cannot close, and the design
+            fields (K, r1 .. r13, in L) to change (its ``fields``).
 
     """
     g = geometry or Geometry()
     theta = np.linspace(0.0, 2 * math.pi, FULL_TURN_SAMPLES, endpoint=False)
     try:
         leg_points(theta, g, variant)
-    except ValueError as err:
-        raise DesignError(f"the crank cannot make a full turn with K = {g.K:g}: {err}") from None
+    except AssemblyError as err:
+        raise AssemblyError(f"the crank cannot make a full turn with K = {g.K:g}: {err}", err.fields) from None
 
 
 def _nearer(c1, r1: float, c2, r2: float, guess, loop: str, theta):

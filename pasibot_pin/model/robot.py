@@ -235,7 +235,10 @@ class PasibotRobot:
             f"  Gruebler DOF = {mob.grubler} (bodies {mob.moving_bodies}, 1-dof pairs {mob.pairs}, welds {mob.welds})",
             f"  numerical mobility nv - rank(J_c) = {self.model.nv} - {mob.rank} = {mob.numerical}",
             f"  leg-linkage mobility per leg = {mob.leg_linkage}",
-            f"  mass model: {self.masses.rule}, total {total_mass(self):.3f} kg, inertia: {self.inertia}",
+            f"  mass model: {self.masses.rule}, inertia: {self.inertia}",
+            f"  robot mass: {total_mass(self):.3f} kg (its moving bodies; the hip {self.masses.hip:.3f} kg of it)"
+            if self.legs == 2
+            else f"  one leg's mass: {total_mass(self):.3f} kg (no hip)",
         ]
         return "\n".join(lines)
 

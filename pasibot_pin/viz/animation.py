@@ -84,6 +84,13 @@ def _frame_walk(ax, segments: list[np.ndarray]) -> None:
     ax.grid(True, alpha=0.3)
 
 
+def _check_fps(fps: float) -> float:
+    """``fps`` [1/s] if it is a positive frame rate (ParameterError naming it otherwise)."""
+    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
+        raise ParameterError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
+    return fps
+
+
 def _follow_window(fig, ax, segments: list[np.ndarray]):
     """The camera of a followed walk: frame ``k`` -> the x limits [m] around the robot's middle.
 
@@ -115,6 +122,15 @@ def _force_arrow(ax, colour: str):
     )
 
 
+def _force_arrows(ax, forces: dict) -> dict:
+    """Name -> (track, its empty arrow) for every force track, and a legend entry per colour and scale."""
+    arrows = {name: (track, _force_arrow(ax, track.colour)) for name, track in forces.items()}
+    for colour, scale in sorted({(t.colour, t.scale) for t, _q in arrows.values()}):
+        label = f"ground reaction on a foot (0.1 m: {0.1 / scale:.0f} N)"
+        ax.plot([], [], marker=r"$\uparrow$", ls="", ms=10, color=colour, label=label)
+    return arrows
+
+
 def _place_legend(ax, fig, own: bool) -> None:
     """The legend below the axes across a figure of our own (away from the clock), else upper right."""
     if own:
@@ -138,17 +154,13 @@ def _stick_scene(
 
     The moving artists (the bars, the ground line, the ankle paths: faint full path and bold
     walked part, the clock and the legend) are listed in the order the axes draw them (z-order,
-    then order of creation). ``update(k)`` moves them to frame ``k``. With ``follow``, the view
-    is as tall as the whole walk and as wide as the axes' shape allows at equal scale, and
-    ``update(k)`` moves it along x with the robot (its bars' middle, in steps of a sixteenth of
-    its width [m]): the robot stays in frame over any number of steps.
+    then order of creation). ``update(k)`` moves them to frame ``k``, and with ``follow`` the
+    view along x with the robot (:func:`_follow_window`: it stays in frame over any walk).
     """
     import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
     from matplotlib.collections import LineCollection  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    qs = _check(robot, qs)
-    if not (isinstance(fps, (int, float)) and math.isfinite(fps) and fps > 0):
-        raise ParameterError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
+    qs, fps = _check(robot, qs), _check_fps(fps)
     own = ax is None
     if own:
         fig, ax = plt.subplots(figsize=(6.4, 5.0))
@@ -157,7 +169,8 @@ def _stick_scene(
         fig = ax.figure
     segments, colours, widths = _bar_frames(robot, qs)
     _frame_walk(ax, segments)
-    window = _follow_window(fig, ax, segments) if follow else None
+    still = ax.get_xlim()  # the whole walk's view [m], unless the camera follows
+    window = _follow_window(fig, ax, segments) if follow else (lambda k: still)
     ax.set_title(title or f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
     lines = []
     if robot.floating:
@@ -171,17 +184,13 @@ def _stick_scene(
     bars = LineCollection(list(segments[0]), colors=colours, linewidths=widths, capstyle="round")
     ax.add_collection(bars)
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
-    marks, arrows, contacts = [], {}, None
+    marks, contacts = [], None
     if robot.floating:
         contacts = foot_contacts(robot, qs)
         modes = contacts.modes if modes is None else modes
         (dots,) = ax.plot([], [], "o", color=CONTACT_COLOUR, ms=5, zorder=3, label="sole on the ground")
         marks.append(dots)
-    for name, track in (forces or {}).items():
-        arrows[name] = (track, _force_arrow(ax, track.colour))
-    for colour, scale in sorted({(t.colour, t.scale) for t, _q in arrows.values()}):  # the arrows' legend entry
-        label = f"ground reaction on a foot (0.1 m: {0.1 / scale:.0f} N)"
-        ax.plot([], [], marker=r"$\uparrow$", ls="", ms=10, color=colour, label=label)
+    arrows = _force_arrows(ax, forces or {})
     times = np.arange(len(qs)) / fps if times is None else np.asarray(times, dtype=float)
     if paths:
         _place_legend(ax, fig, own)
@@ -193,8 +202,7 @@ def _stick_scene(
     )
 
     def update(k: int):
-        if window is not None:
-            ax.set_xlim(window(k))
+        ax.set_xlim(window(k))
         bars.set_segments(list(segments[k]))
         for side, line in trails.items():
             line.set_data(paths[side][: k + 1, 0], paths[side][: k + 1, 1])
