@@ -174,6 +174,15 @@ class FloorSimulator:
         advance = crank_advances(times, self.settings.crank_ramp)
         return self._target_offsets + self._target_rates * advance[:, None]
 
+    def shape_track(self, h: float) -> ShapeTrack | None:
+        """The legs' shape along the crank schedule, for steps of ``h`` [s] (``None``: the rows have no split).
+
+        Without the planar contact rows: the 3-D floor (:mod:`~pasibot_pin.dynamics.floor.track3d`) reads
+        the shapes, their velocities and tangents, and computes its own contacts.
+        """
+        split = self._shape_split()
+        return None if split is None else ShapeTrack(self.robot, split, self.targets_many, h)
+
     def _shape_split(self) -> ShapeSplit | None:
         """The free coordinates and the shape of the bilateral rows (found once; ``None``: no such split)."""
         if self._split is False:

@@ -38,10 +38,12 @@ from pasibot_pin.constraints import symmetric_mass_matrix
 from pasibot_pin.constraints.solves import kkt_solve
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.ground import Ground
+from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor.run import point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
 from pasibot_pin.dynamics.floor.track import check_speed
+from pasibot_pin.dynamics.floor.track3d import SpatialShape, SpatialTrack
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, JudgeFactory, Verdict
 from pasibot_pin.errors import (
     ClosureError,
@@ -96,7 +98,7 @@ class Floor3DResult:
         yaw_per_step_deg: the hip's yaw at the end over the steps taken [deg/step].
         lateral_drift_m: the hip's y at the end [m].
         roll_margin_deg: the tip limit less the largest |roll| [deg] (negative: tipped).
-        fallback: QP solves answered by proxsuite (the rest exactly).
+        fallback: QP solves answered by proxsuite (the rest exactly: held, by the active set; free, by NNLS).
         min_sole_clearance_m: the least distance between the two feet's sole plates over the walk,
             every :data:`CLEARANCE_EVERY` steps [m] (negative: they intersected, ``collided``).
         leg_clearance_m: the least lateral gap between a leg and the other leg's links
@@ -148,6 +150,11 @@ class Floor3D:
             (:class:`~pasibot_pin.model.spatial.LateralMass`): one more bilateral row,
             ``y - amplitude sin(theta + phase) = 0``, on the model's slider.
 
+    Attributes:
+        tracked: take the tracked step (:mod:`~pasibot_pin.dynamics.floor.track3d`: the legs' shape known
+            ahead, the hip and a free ankle left to the QP) where the track has the shape; ``False``:
+            the general step on every coordinate (the check of the tracked one).
+
     """
 
     def __init__(
@@ -175,6 +182,7 @@ class Floor3D:
         self.data = self.model.createData()
         self._kkt_data = self.model.createData()
         self._contact_cache: tuple[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
+        self._rotation_key, self._rotation_value = b"", np.eye(3)
         self.per_point = len(footprint.contact_offsets)  # corners at each of heel and toe
         n = len(self.corners)
         self.n_corners = n
@@ -190,6 +198,8 @@ class Floor3D:
         self._shift = NV_ROOT - PLANAR_NQ_ROOT
         self._crank_rows = planar.crank_rows
         self._motor_index = [i + self._shift for i in planar.motor_index]
+        self._motor_targets = [row - planar.bilateral.n_constraint_rows for row in planar.crank_rows]
+        self.tracked = True
         self.fallback = 0
 
     # ---- coordinates
@@ -216,7 +226,11 @@ class Floor3D:
         return np.concatenate(([q[0], q[2], pitch], q[NQ_ROOT : self.nq_robot]))
 
     def _rotation(self, q: np.ndarray) -> np.ndarray:
-        return pin.Quaternion(q[3:7]).normalized().toRotationMatrix()
+        """The root's rotation matrix (kept for the quaternion asked last: read it, never write into it)."""
+        key = q[3:7].tobytes()
+        if key != self._rotation_key:
+            self._rotation_key, self._rotation_value = key, pin.Quaternion(q[3:7]).normalized().toRotationMatrix()
+        return self._rotation_value
 
     def _advance(self, q: np.ndarray, du: np.ndarray) -> np.ndarray:
         """Q moved by du: the hip by du's world-axes translation and rotation, the legs by addition."""
@@ -235,20 +249,35 @@ class Floor3D:
         transform[3:6, 3:6] = rotation.T
         return transform
 
+    @staticmethod
+    def _times_transform(matrix: np.ndarray, rotation: np.ndarray) -> np.ndarray:
+        """``matrix @ T`` without forming T: the root's linear and angular columns turned by R^T."""
+        out = matrix.copy()
+        out[..., :3] = matrix[..., :3] @ rotation.T
+        out[..., 3:6] = matrix[..., 3:6] @ rotation.T
+        return out
+
     def _mass(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-        """M in world-aligned coordinates, and T (v = T u, Pinocchio's local root velocity)."""
-        transform = self._transform(q)
-        mass = symmetric_mass_matrix(self.model, self.data, q)
-        return transform.T @ mass @ transform, transform
+        """M in world-aligned coordinates, and R (the root's rotation: v = T u, T = diag(R^T, R^T, I))."""
+        rotation = self._rotation(q)
+        mass = self._times_transform(symmetric_mass_matrix(self.model, self.data, q), rotation)
+        mass[:3] = rotation @ mass[:3]  # T^T (M T): the root's rows turned by R
+        mass[3:6] = rotation @ mass[3:6]
+        return mass, rotation
 
     def _mass_and_bias(self, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """M and b in world-aligned coordinates, and T (v = T u, Pinocchio's local root velocity)."""
-        mass_u, transform = self._mass(q)
-        v = transform @ u
+        mass_u, rotation = self._mass(q)
+        v = u.copy()
+        v[:3], v[3:6] = rotation.T @ u[:3], rotation.T @ u[3:6]
         # d/dt (R^T p') = R^T p'' - w x v: the local acceleration that a world-aligned u' = 0 means
         drift = np.zeros(self.model.nv)
-        drift[:3] = -np.cross(v[3:6], v[:3])
-        bias = transform.T @ pin.rnea(self.model, self.data, q, v, drift)
+        (wx, wy, wz), (vx, vy, vz) = v[3:6], v[:3]
+        drift[:3] = (wz * vy - wy * vz, wx * vz - wz * vx, wy * vx - wx * vy)  # -(w x v)
+        bias = pin.rnea(self.model, self.data, q, v, drift)
+        bias[:3], bias[3:6] = rotation @ bias[:3], rotation @ bias[3:6]  # T^T b
+        transform = np.eye(self.model.nv)
+        transform[:3, :3] = transform[3:6, 3:6] = rotation.T
         return mass_u, bias, transform
 
     def contact(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -265,7 +294,7 @@ class Floor3D:
         pin.updateFramePlacements(model, data)
         points = np.array([data.oMf[i].translation for i in self.corners])
         local = np.array([pin.getFrameJacobian(model, data, i, pin.LOCAL_WORLD_ALIGNED)[:3] for i in self.corners])
-        jac = np.einsum("ij,kjn->kin", self.ground.frame(), local) @ self._transform(q)
+        jac = self._times_transform(self.ground.frame() @ local, self._rotation(q))
         out = (points, jac, self.ground.gap(points))
         self._contact_cache = (key, out)
         return out
@@ -298,16 +327,15 @@ class Floor3D:
         return np.concatenate((tol, np.full(3, 1e-12))) if self.hold else tol
 
     def project(self, q: np.ndarray, t: float, max_iter: int = 20) -> np.ndarray:
-        """Newton onto the loops (and held rows) from ``q``, minimum mass-norm corrections."""
+        """Newton onto the loops (and held rows) from ``q``, minimum mass-norm corrections (M at each iterate)."""
         tol = self._tolerance()
         phi = np.zeros(0)
+        data = self._kkt_data
         for _ in range(max_iter):
             phi, jac = self._bilateral(q, t)
             if (np.abs(phi) < tol).all():
                 return q
-            mass, _ = self._mass(q)
-            data = self._kkt_data
-            data.M[:] = mass
+            data.M[:] = self._mass(q)[0]
             data.nle[:] = 0.0
             try:
                 step, _ = kkt_solve(self.model, data, np.zeros(self.model.nv), jac, phi)
@@ -323,9 +351,11 @@ class Floor3D:
         )
 
     # ---- one step
-    def step(self, t: float, q: np.ndarray, u: np.ndarray, h: float):
-        """One step from (q, u) at ``t``: (q+, u+, each corner's normal impulse (k,), the motors' impulses) [N.s]."""
+    def _terms(self, q: np.ndarray, u: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The step's M, H (M and the springs' implicit term) and g = -(M u + h (tau - b)), world-aligned."""
         mass, bias, _ = self._mass_and_bias(q, u)
+        if self.settings.spring is None:  # no ankle spring: no torque, no implicit term
+            return mass, mass, -(mass @ u - h * bias)
         hessian = mass
         spring_tau, stiffness = self.planar.springs(self.planar_view(q), h)
         tau = np.zeros(self.model.nv)
@@ -334,29 +364,87 @@ class Floor3D:
             hessian = mass.copy()
             for i in self.planar.ankles.values():
                 hessian[i + self._shift, i + self._shift] += stiffness
-        g = -(mass @ u + h * (tau - bias))
+        return mass, hessian, -(mass @ u + h * (tau - bias))
+
+    def _cone(self, q: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, int]:
+        """The corners' pyramid rows C (blocks x corners, nv) on u, their bounds l = -gap / h, and the blocks."""
         _, jac, gap = self.contact(q)
         mu = self.ground.mu
         normal_rows, along, across = jac[:, 0], jac[:, 1], jac[:, 2]
         blocks = [normal_rows + mu * along, normal_rows - mu * along]
         if not self.hold:
             blocks += [normal_rows + mu * across, normal_rows - mu * across]
-        cone = np.concatenate(blocks)
-        lower = np.tile(-gap / h, len(blocks))
+        return np.concatenate(blocks), np.tile(-gap / h, len(blocks)), len(blocks)
+
+    def step(self, t: float, q: np.ndarray, u: np.ndarray, h: float):
+        """One step from (q, u) at ``t``: (q+, u+, each corner's normal impulse (k,), the motors' impulses) [N.s]."""
+        _, hessian, g = self._terms(q, u, h)
+        cone, lower, blocks = self._cone(q, h)
         phi, a_eq = self._bilateral(q, t + h)
         if self._qp is not None:
             u_new, bilateral, z = self._qp.solve(hessian, g, a_eq, -phi / h, cone, lower)
         else:
-            # on the free motions the loops and cranks leave (the hip's six, a free ankle): 32 rows, few unknowns
-            solved = reduced_qp(hessian, g, a_eq, -phi / h, cone, lower, solver=proxsuite_free_qp)
+            # on the free motions the loops and cranks leave (the hip's six, a free ankle): 32 rows, few unknowns,
+            # exactly by a least-distance NNLS; proxsuite where that does not answer
+            solved = floating_qp(hessian, g, a_eq, -phi / h, cone, lower, NV_ROOT)
+            if solved is None:
+                solved = reduced_qp(hessian, g, a_eq, -phi / h, cone, lower, solver=proxsuite_free_qp)
+                self.fallback += 1
             if solved is None:  # pragma: no cover - proxsuite answers or raises
                 raise ContactSolveError("the 3-D contact QP did not solve")
             u_new, bilateral, z = solved
-            self.fallback += 1
         check_speed(u_new)
-        normal = z.reshape(len(blocks), -1).sum(axis=0)
+        normal = z.reshape(blocks, -1).sum(axis=0)
         q_new = self.project(self._advance(q, h * u_new), t + h)
         return q_new, u_new, normal, bilateral[self._crank_rows]
+
+    def tracked_step(self, q: np.ndarray, u: np.ndarray, h: float, shape: SpatialShape, track: SpatialTrack):
+        """One step with the legs' shape known ahead (:mod:`~pasibot_pin.dynamics.floor.track3d`), as :meth:`step`'s.
+
+        ``None`` where the free coordinates' QP does not answer exactly (the general step takes it).
+        """
+        mass, hessian, g = self._terms(q, u, h)
+        cone, lower, blocks = self._cone(q, h)
+        free, block = track.rows, track.block
+        base = hessian @ shape.velocity + g
+        found = ldp_free_qp(hessian[block], base[free], cone[:, free], lower - cone @ shape.velocity)
+        if found is None:
+            return None
+        u_free, z = found
+        check_speed(u_free)
+        x = shape.velocity.copy()
+        x[free] = u_free
+        motor = shape.tangent[:, self._motor_targets].T @ (hessian @ x + g - cone.T @ z)
+        try:  # the projection: F by the mass metric's answer to the shape's move
+            shift = np.linalg.solve(mass[block], (mass @ shape.moved)[free])
+        except np.linalg.LinAlgError:
+            shift = np.zeros(len(u_free))
+        du = np.zeros(self.model.nv)
+        du[free] = h * u_free - shift
+        q_new = self._advance(q, du)
+        legs = shape.end.copy()
+        legs[track.free_legs] = q_new[NQ_ROOT + track.free_legs]
+        q_new[NQ_ROOT : self.nq_robot] = legs
+        return q_new, x, z.reshape(blocks, -1).sum(axis=0), motor
+
+    def _step_any(self, t: float, q: np.ndarray, u: np.ndarray, h: float, track: SpatialTrack | None):
+        """The tracked step where the track has the legs' shape at ``t``, else the general :meth:`step`."""
+        if track is not None and (shape := track.step(t, q[NQ_ROOT : self.nq_robot])) is not None:
+            out = self.tracked_step(q, u, h, shape, track)
+            if out is not None:
+                return out
+        return self.step(t, q, u, h)
+
+    def spatial_track(self, h: float) -> SpatialTrack | None:
+        """The legs' shape track for steps of ``h`` [s].
+
+        ``None`` held (the planar walk's own step), with a lateral mass (its slider is no planar
+        coordinate), with :attr:`tracked` off, or where the planar rows have no split.
+        """
+        if self.hold or self.lateral is not None or not self.tracked:
+            return None
+        track = self.planar.shape_track(h)
+        return None if track is None else SpatialTrack(track, self.model.nv, NV_ROOT, PLANAR_NQ_ROOT)
 
     def _points(self, q: np.ndarray, u: np.ndarray, normal: np.ndarray | None):
         """The judge's view: each foot's heel and toe (heights, x along the ground, speeds) and their loads."""
@@ -365,10 +453,10 @@ class Floor3D:
         speed = jac[:, 1] @ u
         k = self.per_point
         # heel and toe of each foot: the mean of their corners (one corner: the point itself)
-        heights = [float(np.min(gap[i : i + k])) for i in range(0, self.n_corners, k)]
-        xs = [float(np.mean(along[i : i + k])) for i in range(0, self.n_corners, k)]
-        speeds = [float(np.mean(speed[i : i + k])) for i in range(0, self.n_corners, k)]
-        loads = None if normal is None else [float(np.sum(normal[i : i + k])) for i in range(0, self.n_corners, k)]
+        heights = gap.reshape(-1, k).min(axis=1).tolist()
+        xs = along.reshape(-1, k).mean(axis=1).tolist()
+        speeds = speed.reshape(-1, k).mean(axis=1).tolist()
+        loads = None if normal is None else normal.reshape(-1, k).sum(axis=1).tolist()
         return (heights, xs, speeds), loads
 
     def sole_clearance(self, q: np.ndarray) -> float:
@@ -438,12 +526,13 @@ class Floor3D:
         points, _ = self._points(q, u, None)
         first, _ = point_sample(0.0, (float(q[0]), roll_pitch_yaw(q)[1]), points, None, (0.0, 0.0))
         observer = (judge or self.planar.judge_of(criteria))(first)
+        track = self.spatial_track(h)
         times, qs, normals = [0.0], [q.copy()], [np.zeros(self.n_corners)]
         t = 0.0
         least = self.sole_clearance(q)
         for k in range(1, n + 1):
             try:
-                q, u, normal, motor = self.step(t, q, u, h)
+                q, u, normal, motor = self._step_any(t, q, u, h, track)
             except SimulationError as err:
                 observer.diverged(t, str(err))
                 break

@@ -1,0 +1,158 @@
+"""The contact QP on a few free motions with many cone rows, exactly: a least-distance problem solved by NNLS.
+
+The 3-D floor's step leaves, once the loops and cranks are eliminated (:func:`floating_qp`),
+
+    min_x  1/2 x^T H x + g^T x   s.t.   C x >= l
+
+on the hip's six freedoms (and a free ankle's), with four pyramid rows at each sole corner: 32
+rows on six unknowns, most of them redundant when a foot is flat. With H = L L^T and u = L^T x
+the QP is the projection of u_0 = -L^-1 g onto the polyhedron G u >= l (G = C L^-T): with
+w = u - u_0, the least-distance program
+
+    min ||w||   s.t.   G w >= d,   d = l - G u_0.
+
+Lawson and Hanson (*Solving Least Squares Problems*, 1974, ch. 23) solve it through one
+non-negative least squares problem: with E = [G^T; d^T] ((n+1) x k) and f = (0, ..., 0, 1),
+v = argmin_{v >= 0} ||E v - f|| and r = E v - f give w = -r_{1:n} / r_{n+1} and the row
+multipliers v / (-r_{n+1}) >= 0 (w = G^T z). SciPy's ``nnls`` (an active-set method) finds the
+active rows exactly, where an interior-point or ADMM solver stops at its tolerance: the step map
+is then smooth to round-off, which the Floquet multipliers' finite differences need.
+
+The motion u is unique; the impulses z are not when rows are redundant. Of those that give it,
+the least-norm one on the touching rows is taken when it is >= 0 (each cone edge an equal stiff
+spring, as :func:`~pasibot_pin.dynamics.floor.qp.free_qp` does: Menabrea's least work), else
+NNLS's own (a vertex of the set).
+
+Units: as the caller's.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from scipy.optimize import nnls
+
+from pasibot_pin.dynamics.floor.qp import SIGN_TOL, TOUCH_TOL, reduced_qp
+
+GRAM_TOL = 1e-12
+"""Largest relative residual of the least-norm split through the rows' Gram matrix before the SVD is asked [-]."""
+FEASIBLE_TOL = 1e-9
+"""Largest violation of a cone row by the NNLS answer, relative to the row's scale, before proxsuite is asked [-]."""
+
+
+def ldp_free_qp(
+    hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray
+) -> tuple[np.ndarray, np.ndarray] | None:
+    """The QP min 1/2 x^T H x + g^T x s.t. C x >= l, exactly, by a least-distance NNLS (module docstring).
+
+    Args:
+        hessian: H (n, n), symmetric positive definite.
+        g: linear term (n,).
+        c_in: the cone rows C (k, n).
+        lower: l (k,).
+
+    Returns:
+        (x, z) with H x + g = C^T z, z >= 0, C x >= l; ``None`` when H is not positive definite
+        or NNLS does not give a feasible answer (left to proxsuite).
+
+    """
+    n = len(g)
+    try:
+        to_u = np.linalg.inv(np.linalg.cholesky(hessian))  # L^-1: u = L^T x
+    except np.linalg.LinAlgError:
+        return None
+    u_0 = -to_u.dot(g)
+    rows = c_in.dot(to_u.T)  # G = C L^-T (k, n)
+    need = lower - rows.dot(u_0)  # d
+    if need.max() <= 0.0:  # u_0 meets every row: no impulse
+        w, z = np.zeros(n), np.zeros(len(lower))
+    else:
+        e = np.empty((n + 1, len(need)))
+        e[:n], e[n] = rows.T, need
+        f = np.zeros(n + 1)
+        f[n] = 1.0
+        try:
+            v, _ = nnls(e, f)
+        except RuntimeError:  # NNLS's iteration limit
+            return None
+        r = e @ v - f
+        if not -r[n] > 0.0:  # an infeasible program (cannot happen on a floor: moving up meets every row)
+            return None
+        w, z = -r[:n] / r[n], v / -r[n]
+    scale = 1.0 + np.abs(need).max()
+    slack = rows @ w - need
+    if not (np.isfinite(w).all() and slack.min() >= -FEASIBLE_TOL * scale):
+        return None
+    touching = np.flatnonzero(slack <= TOUCH_TOL)
+    if len(touching) and z.any():
+        least = _least_norm(rows[touching], w)
+        if float(least.min()) >= -SIGN_TOL * (1.0 + float(np.abs(least).max())):
+            z = np.zeros(len(lower))
+            z[touching] = np.maximum(least, 0.0)
+    x = to_u.T.dot(u_0 + w)
+    return x, z
+
+
+def _least_norm(rows: np.ndarray, w: np.ndarray) -> np.ndarray:
+    """The least-norm z with rows^T z = w: z = rows y, (rows^T rows) y = w (Cholesky), or by SVD when rank-deficient."""
+    gram = rows.T @ rows
+    try:
+        y = np.linalg.solve(gram, w)
+        z = rows @ y
+        if np.abs(rows.T @ z - w).max() <= GRAM_TOL * (1.0 + np.abs(w).max()):
+            return z
+    except np.linalg.LinAlgError:
+        pass
+    return np.linalg.lstsq(rows.T, w, rcond=None)[0]
+
+
+def floating_qp(
+    hessian: np.ndarray,
+    g: np.ndarray,
+    a_eq: np.ndarray,
+    b_eq: np.ndarray,
+    c_in: np.ndarray,
+    lower: np.ndarray,
+    root: int,
+) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The contact QP of a floating robot whose equality rows leave its root free, exactly.
+
+    min 1/2 x^T H x + g^T x s.t. A x = b, C x >= l, where A's first ``root`` columns are zero
+    (the loops and cranks act on the legs, not on the free hip). With x = (x_r, x_L), the rows
+    A_L x_L = b fix the legs' velocities on their own when A_L is square (the cranks driven, no
+    free ankle): x_L = A_L^-1 b, and the QP is on the root's ``root`` unknowns alone,
+    :func:`ldp_free_qp` with H_rr, g_r + H_rL x_L, C_r and l - C_L x_L. Otherwise the legs'
+    remaining freedoms join the root's through :func:`~pasibot_pin.dynamics.floor.qp.reduced_qp`.
+    The equality multipliers solve A_L^T y = (H x + g - C^T z)_L.
+
+    Args:
+        hessian: H (n, n), symmetric positive definite.
+        g: linear term (n,).
+        a_eq: A (m, n), zero on the first ``root`` columns.
+        b_eq: b (m,).
+        c_in: the cone rows C (k, n).
+        lower: l (k,).
+        root: the root's unknowns, the first columns (6 for a free flyer).
+
+    Returns:
+        (x, y, z) as :func:`~pasibot_pin.dynamics.floor.qp.reduced_qp`'s; ``None`` when it does not solve.
+
+    """
+    legs = a_eq[:, root:]
+    if legs.shape[0] != legs.shape[1]:  # a free ankle: the general elimination
+        return reduced_qp(hessian, g, a_eq, b_eq, c_in, lower, solver=ldp_free_qp)
+    try:
+        x_legs = np.linalg.solve(legs, b_eq)
+    except np.linalg.LinAlgError:
+        return None
+    found = ldp_free_qp(
+        hessian[:root, :root],
+        g[:root] + hessian[:root, root:] @ x_legs,
+        c_in[:, :root],
+        lower - c_in[:, root:] @ x_legs,
+    )
+    if found is None:
+        return None
+    x_root, z = found
+    x = np.concatenate((x_root, x_legs))
+    residual = hessian[root:] @ x + g[root:] - c_in[:, root:].T @ z
+    return x, np.linalg.solve(legs.T, residual), z
