@@ -143,7 +143,7 @@ class SweepPlan:
         seed: the Latin hypercube's random seed.
         base: the design every other parameter is taken from (default the seed design).
         floor: also walk every design this many steps on the floor (``None``: no; slower).
-        spatial: walk on the 3-D floor (free hip, the designs' soles; about ten times slower).
+        spatial: walk on the 3-D floor (free hip, the designs' soles; about four times slower).
         slope: the floor's angle, uphill positive [rad] (with ``floor``, the planar floor; 0: flat).
 
     """

@@ -405,7 +405,7 @@ def design_metrics(
     Args:
         design: the design (:class:`~pasibot_pin.model.design.Design`).
         floor: also walk it this many steps on the floor (:func:`floor_metrics`; slower).
-        spatial: walk it on the 3-D floor (:data:`FLOOR3D_METRICS` too; about ten times slower).
+        spatial: walk it on the 3-D floor (:data:`FLOOR3D_METRICS` too; about four times slower).
         slope: walk it up (positive) or down a slope of this angle [rad] (the planar floor; 0: flat).
 
     Returns:

@@ -117,14 +117,14 @@ def walk_duration(omega: float, steps: int) -> float:
 
 
 WALK_BUDGET: int = 2_000_000
-"""Most time steps one command may simulate, planar steps counted once and 3-D ones ten times [-]
+"""Most time steps one command may simulate, planar steps counted once and 3-D ones :data:`SPATIAL_COST` times [-]
 (about 8 minutes of CPU on the planar floor)."""
 
 STEP_CPU: float = 2.5e-4
 """A planar floor step's CPU time, for the estimate in words [s] (``benchmarks/bench_floor3d.py``)."""
 
-SPATIAL_COST: float = 10.0
-"""A 3-D floor step's cost in planar steps [-]."""
+SPATIAL_COST: float = 4.0
+"""A 3-D floor step's cost in planar steps [-] (3.4 in `benchmarks/bench_floor3d.py`, the tracked 3-D step)."""
 
 SEARCH_BUDGET: int = 100_000_000
 """Most time steps a sweep or a search may simulate over all its designs [-] (about 7 hours of CPU)."""
