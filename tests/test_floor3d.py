@@ -72,11 +72,14 @@ def test_world_aligned_dynamics_match_aba():
         q[7:] = robot.q0[3:] + rng.uniform(-0.2, 0.2, model.nq - 7)
         u = rng.normal(size=model.nv)
         tau = rng.normal(size=model.nv)
-        mass, bias, transform = engine._mass_and_bias(q, u)
+        mass, bias, turned = engine._mass_and_bias(q, u)
+        rotation = pin.Quaternion(q[3:7]).normalized().toRotationMatrix()  # the free flyer's, from its quaternion
+        np.testing.assert_allclose(turned, rotation, atol=1e-15)
+        transform = np.eye(model.nv)  # v = T u: Pinocchio's local root velocity from the world-aligned one
+        transform[:3, :3] = transform[3:6, 3:6] = rotation.T
         du = np.linalg.solve(mass, transform.T @ tau - bias)
         v = transform @ u
         a = pin.aba(model, model.createData(), q, v, tau)  # local axes
-        rotation = transform[:3, :3].T
         linear = rotation @ (a[:3] + np.cross(v[3:6], v[:3]))  # p'' in world axes
         angular = rotation @ a[3:6]
         np.testing.assert_allclose(du[:3], linear, rtol=1e-9, atol=1e-9)

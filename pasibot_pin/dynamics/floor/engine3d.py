@@ -38,7 +38,7 @@ from pasibot_pin.constraints import symmetric_mass_matrix
 from pasibot_pin.constraints.solves import kkt_solve
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.ground import Ground
-from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp
+from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor.run import point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
@@ -251,11 +251,12 @@ class Floor3D:
 
     @staticmethod
     def _times_transform(matrix: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-        """``matrix @ T`` without forming T: the root's linear and angular columns turned by R^T."""
-        out = matrix.copy()
-        out[..., :3] = matrix[..., :3] @ rotation.T
-        out[..., 3:6] = matrix[..., 3:6] @ rotation.T
-        return out
+        """``matrix @ T`` (any leading axes) without forming T: the root's linear and angular columns turned by R^T."""
+        flat = matrix.reshape(-1, matrix.shape[-1])
+        out = flat.copy()
+        out[:, :3] = flat[:, :3] @ rotation.T
+        out[:, 3:6] = flat[:, 3:6] @ rotation.T
+        return out.reshape(matrix.shape)
 
     def _mass(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """M in world-aligned coordinates, and R (the root's rotation: v = T u, T = diag(R^T, R^T, I))."""
@@ -266,7 +267,7 @@ class Floor3D:
         return mass, rotation
 
     def _mass_and_bias(self, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """M and b in world-aligned coordinates, and T (v = T u, Pinocchio's local root velocity)."""
+        """M and b in world-aligned coordinates, and the root's rotation R (v = T u, T = diag(R^T, R^T, I))."""
         mass_u, rotation = self._mass(q)
         v = u.copy()
         v[:3], v[3:6] = rotation.T @ u[:3], rotation.T @ u[3:6]
@@ -276,9 +277,7 @@ class Floor3D:
         drift[:3] = (wz * vy - wy * vz, wx * vz - wz * vx, wy * vx - wx * vy)  # -(w x v)
         bias = pin.rnea(self.model, self.data, q, v, drift)
         bias[:3], bias[3:6] = rotation @ bias[:3], rotation @ bias[3:6]  # T^T b
-        transform = np.eye(self.model.nv)
-        transform[:3, :3] = transform[3:6, 3:6] = rotation.T
-        return mass_u, bias, transform
+        return mass_u, bias, rotation
 
     def contact(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """Each corner's position (k, 3) [m], its Jacobian in the ground's frame (k, 3, nv) on u, its gap (k,) [m].
@@ -415,9 +414,8 @@ class Floor3D:
         x = shape.velocity.copy()
         x[free] = u_free
         motor = shape.tangent[:, self._motor_targets].T @ (hessian @ x + g - cone.T @ z)
-        try:  # the projection: F by the mass metric's answer to the shape's move
-            shift = np.linalg.solve(mass[block], (mass @ shape.moved)[free])
-        except np.linalg.LinAlgError:
+        shift = solve_spd(mass[block], (mass @ shape.moved)[free])  # the projection: F by the mass metric
+        if shift is None:  # M_FF singular: as the general projection's least-norm step, F stays
             shift = np.zeros(len(u_free))
         du = np.zeros(self.model.nv)
         du[free] = h * u_free - shift

@@ -29,6 +29,7 @@ Units: as the caller's.
 from __future__ import annotations
 
 import numpy as np
+from scipy.linalg import lapack
 from scipy.optimize import nnls
 
 from pasibot_pin.dynamics.floor.qp import SIGN_TOL, TOUCH_TOL, reduced_qp
@@ -56,9 +57,8 @@ def ldp_free_qp(
 
     """
     n = len(g)
-    try:
-        to_u = np.linalg.inv(np.linalg.cholesky(hessian))  # L^-1: u = L^T x
-    except np.linalg.LinAlgError:
+    to_u = cholesky_inverse(hessian)  # L^-1: u = L^T x
+    if to_u is None:
         return None
     u_0 = -to_u.dot(g)
     rows = c_in.dot(to_u.T)  # G = C L^-T (k, n)
@@ -94,15 +94,31 @@ def ldp_free_qp(
 
 def _least_norm(rows: np.ndarray, w: np.ndarray) -> np.ndarray:
     """The least-norm z with rows^T z = w: z = rows y, (rows^T rows) y = w (Cholesky), or by SVD when rank-deficient."""
-    gram = rows.T @ rows
-    try:
-        y = np.linalg.solve(gram, w)
+    y = solve_spd(rows.T @ rows, w)
+    if y is not None:
         z = rows @ y
         if np.abs(rows.T @ z - w).max() <= GRAM_TOL * (1.0 + np.abs(w).max()):
             return z
-    except np.linalg.LinAlgError:
-        pass
     return np.linalg.lstsq(rows.T, w, rcond=None)[0]
+
+
+def cholesky_inverse(matrix: np.ndarray) -> np.ndarray | None:
+    """L^-1 of the Cholesky factor L (lower) of a small SPD matrix, by LAPACK directly; ``None`` when not SPD.
+
+    On the 6 x 6 systems of a step, ``numpy.linalg``'s per-call cost (its error-state context and
+    generalised ufunc) is several times LAPACK's own work.
+    """
+    factor, info = lapack.dpotrf(matrix, lower=1, clean=1)
+    if info != 0:
+        return None
+    inverse, info = lapack.dtrtri(factor, lower=1)
+    return inverse if info == 0 else None
+
+
+def solve_spd(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
+    """x with A x = b for a small SPD A (LAPACK's posv, Cholesky); ``None`` when A is not positive definite."""
+    _, x, info = lapack.dposv(matrix, rhs, lower=1)
+    return x if info == 0 else None
 
 
 def floating_qp(
@@ -140,9 +156,8 @@ def floating_qp(
     legs = a_eq[:, root:]
     if legs.shape[0] != legs.shape[1]:  # a free ankle: the general elimination
         return reduced_qp(hessian, g, a_eq, b_eq, c_in, lower, solver=ldp_free_qp)
-    try:
-        x_legs = np.linalg.solve(legs, b_eq)
-    except np.linalg.LinAlgError:
+    _, _, x_legs, info = lapack.dgesv(legs, b_eq)
+    if info != 0:  # singular: a dead point of the linkage
         return None
     found = ldp_free_qp(
         hessian[:root, :root],
@@ -155,4 +170,5 @@ def floating_qp(
     x_root, z = found
     x = np.concatenate((x_root, x_legs))
     residual = hessian[root:] @ x + g[root:] - c_in[:, root:].T @ z
-    return x, np.linalg.solve(legs.T, residual), z
+    _, _, y, info = lapack.dgesv(legs.T, residual)
+    return (x, y, z) if info == 0 else None
