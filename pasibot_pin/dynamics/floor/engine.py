@@ -148,8 +148,9 @@ class FloorSimulator:
         self._held_qp: ContactQP | None = None  # the settling's own QP (its active set is not the run's)
         self._held_targets = self.targets(0.0) if settings.crank_ramp > 0 else self.bilateral.targets(0.0)
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
-        self.turn = complex(math.cos(settings.slope), -math.sin(settings.slope))  # the ground's frame, e^(-i slope)
-        self._contact_rows = PointRows(self.points, self.turn)  # the contact rows at the last configuration asked
+        self.ground = settings.ground  # its treads and frame: the general step, the tracked step and the judge
+        self.turn = self.ground.turn  # the ground's frame, e^(-i slope)
+        self._contact_rows = PointRows(self.points, self.ground)  # the contact rows at the last configuration asked
 
     @property
     def crank_rows(self) -> list[int]:
@@ -185,12 +186,14 @@ class FloorSimulator:
     def contact_rows(self, q: np.ndarray, flat: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Gaps (4,) [m], tangential positions (4,) [m], J_n (4, nv) and J_t (4, nv) of heel and toe points.
 
-        Across and along the ground; ``flat``: against a flat floor whatever the slope.
+        Across and along the ground, each gap above the tread under the point
+        (:meth:`~pasibot_pin.dynamics.floor.ground.Ground.planar_gaps`); ``flat``: the world's x and z
+        read as along and across the ground, whatever its slope (the start before it is turned onto it).
         """
         rows, jac, _, _ = self.points.evaluate(q)
         if self.turn != 1.0 and not flat:  # along and across a sloped ground
             rows, jac = rows * self.turn, jac * self.turn
-        return rows.imag, rows.real, jac.imag, jac.real
+        return self.ground.planar_gaps(rows), rows.real, jac.imag, jac.real
 
     def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor.track.PointRows`).
@@ -198,7 +201,7 @@ class FloorSimulator:
         The arrays are views of the cache: read them, never write into them.
         """
         rows, jac = self._contact_rows.at(q)
-        return rows.imag, rows.real, jac.imag, jac.real
+        return self._contact_rows.gaps(q), rows.real, jac.imag, jac.real
 
     def step(
         self,
@@ -315,6 +318,7 @@ class FloorSimulator:
         q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance
         # the lowest sole point on the floor, none below it: a foot the linkage tilts (the rigid
         # variant's, square to its shank) touches at one point instead of sinking into the floor
+        # (a point past a step edge, on the tread it is over)
         gap, _, jn, jt = self.contact_rows(q, flat=True)  # the Jacobians do not depend on the hip's height
         q[HIP_Z] -= float(np.min(gap))
         rows = self.bilateral.evaluate(q, None, 0.0)
@@ -472,12 +476,26 @@ class FloorSimulator:
             power = tuple(tau * rate for tau, rate in zip(forces[2], v.take(self._motor_index).tolist()))
             sample, loaded = point_sample(t, self.hip_view(q), points, forces[0], power)
             log.record(t, q, v, sample, forces, loaded, points[2])
+            if self.ground.has_step and self._tripped(t, points[0], log, observer):
+                break
             if observer is not None and observer.update(sample) and stop_on_verdict:
                 break
             if not stop_on_verdict and log.stopped(t, q):
                 break
         verdict = None if observer is None else observer.verdict(t)
         return log.result(verdict, begin, start_kind, note)
+
+    def _tripped(self, t: float, gaps: list[float], log: RunLog, observer: GaitJudge | None) -> bool:
+        """True when a contact point came through the step's riser at ``t`` [s] (the run stops: ``tripped``)."""
+        k = self.ground.riser_hit(gaps)
+        if k is None:
+            return False
+        side, point = SIDES[k // len(POINTS)], POINTS[k % len(POINTS)]
+        detail = f"the {side} {point} hit the step's riser, {1e3 * -gaps[k]:.1f} mm below the tread"
+        log.stop_reason = f"{detail} at t = {t:.3f} s"
+        if observer is not None:
+            observer.tripped(t, detail)
+        return True
 
     def judge_of(self, criteria: GaitCriteria | None = None) -> JudgeFactory:
         """The default judge of this robot's walk: a :class:`GaitJudge` by ``criteria`` (default ones)."""
