@@ -67,17 +67,7 @@ OUTCOMES: tuple[str, ...] = (
 """Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
 the walk needs, see :data:`FAILURES`)."""
 
-FAILURES: tuple[str, ...] = (
-    "fell",
-    "rolled",
-    "slipped",
-    "stalled",
-    "hopped",
-    "tipped",
-    "collided",
-    "tripped",
-    "diverged",
-)
+FAILURES: tuple[str, ...] = tuple(o for o in OUTCOMES if o not in ("walks", "undecided"))
 """The outcomes that are failures."""
 
 
