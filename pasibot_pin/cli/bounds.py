@@ -142,7 +142,7 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--hold": Bound(0.0, 86400.0, "s", extra=((-1, "until Ctrl-C"),)),
     },
     "export-html": dict(_WALK_VIEW),
-    "export-mjcf": {"--legs": _LEGS, "--mu": _MU},
+    "export-mjcf": {"--legs": _LEGS, "--mu": _MU, "--slope": _SLOPE},
     "gait": {
         "--legs": _LEGS,
         "--steps": _WALK_STEPS,
