@@ -22,6 +22,7 @@ from pasibot_pin.dynamics.verdict import FAILURES
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_design
+from tests.test_slope import tracked_and_general
 
 FAST = Design(variant="parallel", parallel_toe=6.0, parallel_heel=6.0, omega=3.0)
 CLIMB = (0.002, 0.35)
@@ -93,12 +94,7 @@ def test_on_a_step_the_tracked_step_is_the_general_step(robot):
     """2.5 s onto the 2 mm step (both feet reach the upper tread): the hip within 1e-6 m / rad of the general step's."""
     height, at = CLIMB
     settings = floor_settings(FAST, WalkSettings(step_height=height, step_at=at), robot)
-    tracked_sim = FloorSimulator(robot, settings)
-    tracked = tracked_sim.run(2.5)
-    assert tracked_sim._shape_split() is not None  # the tracked step ran
-    general_sim = FloorSimulator(robot, settings)
-    general_sim._shape_split = lambda: None  # the general step on every coordinate
-    general = general_sim.run(2.5)
+    tracked_sim, tracked, general = tracked_and_general(robot, settings, 2.5)
     n = min(len(tracked.t), len(general.t))
     assert n > 2000
     assert np.abs(tracked.q[:n, :3] - general.q[:n, :3]).max() < 1e-6
