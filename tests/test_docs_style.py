@@ -32,7 +32,7 @@ def test_no_prose_line_runs_past_400_characters(page):
 
 
 def test_the_walking_answer_leads_with_at_most_40_words():
-    from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
+    from pasibot_pin.report.answers.walking import walking_answer, walking_paragraph
     from pasibot_pin.studies.walking_map import load_map
 
     lead = walking_paragraph(walking_answer(load_map())).split("\n\n")[0]

@@ -9,16 +9,16 @@ import pyarrow.parquet as pq
 import pytest
 
 from pasibot_pin.explore.optimize import pareto_rows
-from pasibot_pin.explore.questions import (
+from pasibot_pin.explore.sweep import design_of_row
+from pasibot_pin.model.design import Design, load_design
+from pasibot_pin.report import design_exploration
+from pasibot_pin.report.answers.questions import (
     STRAIGHTNESS_FACTOR,
     STRIDE_TOLERANCE,
     answer_name,
     answer_path,
     seed_stride_plan,
 )
-from pasibot_pin.explore.sweep import design_of_row
-from pasibot_pin.model.design import Design, load_design
-from pasibot_pin.report import design_exploration
 from pasibot_pin.studies.design_metrics import METRICS, design_metrics
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -82,7 +82,7 @@ def test_report_section_has_units_in_every_column(rows):
 @pytest.mark.slow
 def test_floor_answer_is_quoted_and_still_evaluates_the_same():
     """Question 2: the docs quote the code; the best floor run re-simulates to the same verdict."""
-    from pasibot_pin.explore.questions import FLOOR_STEPS, FLOOR_TABLE, floor_plan
+    from pasibot_pin.report.answers.questions import FLOOR_STEPS, FLOOR_TABLE, floor_plan
 
     answer = design_exploration.floor_answer()
     text = (ROOT / "docs" / "design_exploration.md").read_text()
@@ -111,7 +111,7 @@ def test_summary_the_report_reads_is_the_tables_summary():
     """``analyze`` reads docs/results/answers_summary.json (no pyarrow); it must say what the Parquet tables say."""
     import json
 
-    from pasibot_pin.explore.questions import SUMMARY, read_summary, summarize_tables, summary_text
+    from pasibot_pin.report.answers.questions import SUMMARY, read_summary, summarize_tables, summary_text
 
     text = (RESULTS / SUMMARY).read_text()  # stale: run `make answers`
     stored = json.loads(text)

@@ -69,14 +69,20 @@ def test_on_a_slope_the_tracked_step_is_the_general_step():
     design = walker_base().with_(omega=1.0)
     robot = design_robot(design, 2, visuals=False)
     settings = floor_settings(design, WalkSettings(slope=math.radians(5.0)), robot)
-    tracked_sim = FloorSimulator(robot, settings)
-    tracked = tracked_sim.run(5.0)
-    assert tracked_sim._shape_split() is not None  # the tracked step ran
-    general_sim = FloorSimulator(robot, settings)
-    general_sim._shape_split = lambda: None  # the general step on every coordinate
-    general = general_sim.run(5.0)
+    _, tracked, general = tracked_and_general(robot, settings, 5.0)
     n = min(len(tracked.t), len(general.t))
     assert n > 4000
     assert np.abs(tracked.q[:n, :3] - general.q[:n, :3]).max() < 1e-6
     assert tracked.verdict.outcome == general.verdict.outcome
     assert tracked.verdict.steps == general.verdict.steps
+
+
+def tracked_and_general(robot, settings, duration: float):
+    """One run twice, by the tracked step and by the general step on every coordinate [s]: (tracked simulator,
+    its run, the general run). The tracked step is checked to have run."""
+    tracked_sim = FloorSimulator(robot, settings)
+    tracked = tracked_sim.run(duration)
+    assert tracked_sim._shape_split() is not None  # the tracked step ran
+    general_sim = FloorSimulator(robot, settings)
+    general_sim._shape_split = lambda: None  # the general step on every coordinate
+    return tracked_sim, tracked, general_sim.run(duration)

@@ -16,8 +16,8 @@ from pathlib import Path
 import pytest
 
 from pasibot_pin.model.design import Design, load_design
+from pasibot_pin.report.answers.walking import walking_answer, walking_markdown, walking_paragraph
 from pasibot_pin.report.designs_catalog import catalog_markdown, pick_designs, sweep_rows
-from pasibot_pin.report.walking_answer import walking_answer, walking_markdown, walking_paragraph
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 from pasibot_pin.studies.walking_map import (
     MAP_CSV,
@@ -218,8 +218,8 @@ def test_the_twin_column_re_simulates_in_mujoco(wmap):
 @pytest.mark.slow
 def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
     """The sweep's paragraph is in docs/walking.md; its fastest walker, re-simulated for fewer steps, walks."""
+    from pasibot_pin.report.answers.walking import sweep_paragraph
     from pasibot_pin.report.designs_catalog import fastest_sweep_design
-    from pasibot_pin.report.walking_answer import sweep_paragraph
 
     rows = sweep_rows()
     assert sweep_paragraph(rows) in (ROOT / "docs" / "walking.md").read_text()
@@ -234,7 +234,7 @@ def test_sweep_paragraph_is_quoted_and_its_fastest_walker_walks():
 
 def test_the_cost_paragraph_is_quoted_and_counts_the_committed_runs(wmap):
     """docs/walking.md's paragraph on where the time goes is the code's, from the committed map and sweep."""
-    from pasibot_pin.report.walking_answer import cost_paragraph
+    from pasibot_pin.report.answers.walking import cost_paragraph
 
     rows = sweep_rows()
     text = cost_paragraph(wmap, rows)

@@ -3,7 +3,7 @@
 Question 1 (twice: with and without the straight-path constraint) writes its least-torque design (``.toml``) and
 its run's table (``.parquet``), and ``pareto.png`` and ``sensitivity.png``; question 2 writes its table
 (``floor_springs.parquet``); then ``answers_summary.json``, the figures the report quotes from the tables.
-``--floor-only``: question 2 alone (and the summary). The questions are ``pasibot_pin.explore.questions``'s.
+``--floor-only``: question 2 alone (and the summary). The questions are ``pasibot_pin.report.answers.questions``'s.
 """
 
 from __future__ import annotations
@@ -13,7 +13,8 @@ import shutil
 import tempfile
 from pathlib import Path
 
-from pasibot_pin.explore.questions import (
+from pasibot_pin.explore.sweep import write_figures
+from pasibot_pin.report.answers.questions import (
     FLOOR_TABLE,
     QUESTION_RANGES,
     SUMMARY,
@@ -23,7 +24,6 @@ from pasibot_pin.explore.questions import (
     summarize_tables,
     summary_text,
 )
-from pasibot_pin.explore.sweep import write_figures
 
 ROOT = Path(__file__).resolve().parents[1]
 RESULTS = ROOT / "docs" / "results"

@@ -16,7 +16,7 @@ from pathlib import Path
 from pasibot_pin.files import write_text_atomic
 from pasibot_pin.model.design import load_design
 from pasibot_pin.report.designs_catalog import (
-    SWEEP_CSV,
+    SWEEP_NAME,
     Entry,
     catalog_markdown,
     draw_design,
@@ -28,6 +28,8 @@ from pasibot_pin.studies.walking_map import WalkingMap, load_map
 
 ROOT = Path(__file__).resolve().parents[1]
 DESIGNS_DIR = ROOT / "designs"
+SWEEP_CSV = ROOT / "docs" / "results" / SWEEP_NAME
+"""The repository's committed walking sweep (the tool names its own files; the package finds its copy)."""
 
 
 def entries(wmap: WalkingMap) -> list[Entry]:

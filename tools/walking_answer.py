@@ -2,7 +2,7 @@
 
 (``--compute``: the map walked again on the process pool, saved as CSV.) Then the map's picture,
 ``designs/`` (``tools/designs_catalog.py``) and the generated blocks of ``docs/walking.md`` and
-``README.md`` (:func:`pasibot_pin.report.walking_answer.docs_texts`). The package computes and
+``README.md`` (:func:`pasibot_pin.report.answers.walking.docs_texts`). The package computes and
 returns; this tool reads and writes the repository's files.
 """
 
@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from pathlib import Path
 
 from pasibot_pin.files import write_text_atomic
-from pasibot_pin.report.walking_answer import docs_texts
+from pasibot_pin.report.answers.walking import docs_texts
 from pasibot_pin.studies.walking_map import (
     MAP_CSV,
     MAP_PNG,

@@ -21,7 +21,7 @@ import argparse
 import math
 from dataclasses import dataclass
 
-from pasibot_pin.dynamics.floor.ground import MAX_MU, MAX_SLOPE
+from pasibot_pin.dynamics.floor.ground import MAX_MU, MAX_SLOPE, MAX_STEP_AT, MAX_STEP_HEIGHT
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.explore.executors import MAX_WORKERS
 from pasibot_pin.model.design import MIN_WALK_OMEGA, SPECS
@@ -142,7 +142,7 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--hold": Bound(0.0, 86400.0, "s", extra=((-1, "until Ctrl-C"),)),
     },
     "export-html": dict(_WALK_VIEW),
-    "export-mjcf": {"--legs": _LEGS, "--mu": _MU},
+    "export-mjcf": {"--legs": _LEGS, "--mu": _MU, "--slope": _SLOPE},
     "gait": {
         "--legs": _LEGS,
         "--steps": _WALK_STEPS,
@@ -180,6 +180,8 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--omega": _WALKING,
         "--mu": _MU,
         "--slope": _SLOPE,
+        "--step-height": Bound(-MAX_STEP_HEIGHT, MAX_STEP_HEIGHT, "m"),  # the ground's ranges
+        "--step-at": Bound(-MAX_STEP_AT, MAX_STEP_AT, "m"),
     },  # --steps: its own type, [1, 1000]
     "sweep": {"--n": Bound(1, 1_000_000, integer=True), "--slope": _SLOPE, **_EXPLORE},
     "find-walker": {

@@ -4,7 +4,8 @@ The tree, masses and COMs are the Pinocchio model's; the loop closures are ``equ
 connect`` constraints at the cut joints; the ankle springs are joint stiffness and damping
 about their rest angle (the design's, or fitted by the torque analysis where the design
 leaves them unset); the cranks have position (default) or velocity servos; the soles are
-capsules on a floor plane. The ``home`` keyframe closes every loop. ``--3d`` writes the hip as a
+capsules on a floor plane (``--slope DEG``: the plane tilted, rising along +x, gravity vertical, as
+``pasibot walk --slope``). The ``home`` keyframe closes every loop. ``--3d`` writes the hip as a
 ``freejoint`` and each sole as boxes of the design's footprint (``sole_inner``, ``sole_outer``,
 its gap), the two-legged robot only.
 """
@@ -12,6 +13,7 @@ its gap), the two-legged robot only.
 from __future__ import annotations
 
 import argparse
+import math
 from pathlib import Path
 
 from pasibot_pin.cli.common import (
@@ -43,6 +45,8 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="a free hip (freejoint) and the soles as boxes of the design's footprint (two legs)",
     )
     add_mu_option(p)
+    p.add_argument("--slope", type=float, default=0.0, metavar="DEG",
+                   help="tilt the floor plane: its slope, uphill positive [deg] (default 0; planar)")  # fmt: skip
     add_force_option(p, "overwrite an existing file")
     p.set_defaults(func=run)
 
@@ -55,6 +59,8 @@ def run(args: argparse.Namespace) -> int:
     check_output_file(args.out, "--out", args.force)
     if args.spatial and (args.legs != 2 or args.weld != "none"):
         raise ParameterError("--3d exports the two-legged robot on the floor: drop --legs 1 and --weld")
+    if args.slope and (args.spatial or args.no_floor):
+        raise ParameterError("--slope tilts the planar export's floor: drop --3d and --no-floor")
     design = load_design(args.design) if args.design is not None else Design()
     if given(args, "variant"):
         design = design.with_(variant=args.variant)
@@ -66,6 +72,7 @@ def run(args: argparse.Namespace) -> int:
         weld_foot=None if args.weld == "none" else args.weld,
         floor=not args.no_floor,
         mu=args.mu,
+        slope=math.radians(args.slope),
         footprint=design.footprint() if args.spatial else None,
         **(
             {}
@@ -79,6 +86,6 @@ def run(args: argparse.Namespace) -> int:
     )
     write_text_atomic(args.out, to_mjcf(robot, options))
     text = f" (ankle spring K_e = {spring.stiffness:.2f} N.m/rad)" if spring is not None else ""
-    kind = ", 3-D (free hip, box soles)" if args.spatial else ""
+    kind = ", 3-D (free hip, box soles)" if args.spatial else (f", on a {args.slope:g} deg slope" if args.slope else "")
     print(f"wrote {args.out}: {design.variant}, {args.legs} leg(s){kind}, {len(robot.loops)} loop closures{text}")
     return 0

@@ -3,13 +3,14 @@
 The design (``--design FILE``, else the seed's; ``--variant`` and ``--omega`` override it)
 starts from a consistent state on the floor, its cranks turn at its speed after a smooth ramp,
 and the run stops as soon as the verdict is decided: ``walks`` after ``--steps`` steps, or a
-named failure (fell, rolled, slipped, stalled, hopped, diverged). It prints the outcome, the
+named failure (fell, rolled, slipped, stalled, hopped, tripped on a step edge, diverged). It prints the outcome, the
 steps, the advance, the largest hip pitch, the slip, the motor torque and power and the cost of
 transport; ``--json`` prints one JSON object instead. ``--stability`` adds the Floquet
 multipliers of the gait (a fixed point of the step-to-step map, found by shooting).
 ``--html``/``--gif`` write the walk on the floor with its contact forces. The frontal ZMP line
 says whether the soles could hold the planar walk upright sideways; ``--3d`` walks it with the hip
-free to roll.
+free to roll. ``--slope DEG`` tilts the ground; ``--step-height M --step-at M`` puts a step edge on it
+(its treads only: a heel or toe that hits the riser has ``tripped``).
 """
 
 from __future__ import annotations
@@ -60,6 +61,11 @@ def register(sub: argparse._SubParsersAction) -> None:
     add_mu_option(p)
     p.add_argument("--slope", type=float, default=0.0, metavar="DEG",
                    help="the ground's slope, uphill positive [deg] (default 0: flat; planar walks only)")  # fmt: skip
+    p.add_argument("--step-height", type=float, default=0.0, metavar="M",
+                   help="a step edge on the ground, up positive [m] (default 0: none; planar walks only; "
+                        "a heel or toe that hits its riser has tripped)")  # fmt: skip
+    p.add_argument("--step-at", type=float, default=0.0, metavar="M",
+                   help="where the step edge is along the ground [m] (default 0; the world's x)")  # fmt: skip
     p.add_argument(
         "--3d",
         dest="spatial",
@@ -102,8 +108,9 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.spatial and args.gif:
         raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
-    if args.spatial and args.slope:
-        raise ParameterError("--slope is the planar floor's so far: walk without --3d")
+    if args.spatial and (args.slope or args.step_height):
+        flag = "--slope" if args.slope else "--step-height"
+        raise ParameterError(f"{flag} is the planar floor's so far: walk without --3d")
     if html is None and gif is None:
         return _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, None, None)
     folder = OutputFolder(args.out).claim()  # one writer per folder, refused at once (--force: per file, above)
@@ -125,7 +132,9 @@ def _run_planar(design: Design, steps: int, args: argparse.Namespace, html: Path
     )
     from pasibot_pin.studies.walking import WalkSettings, walk_design  # deferred: keeps the CLI's start fast
 
-    settings = WalkSettings(steps=steps, mu=args.mu, slope=math.radians(args.slope))
+    settings = WalkSettings(
+        steps=steps, mu=args.mu, slope=math.radians(args.slope), step_height=args.step_height, step_at=args.step_at
+    )
     robot = design_robot(design, 2, visuals=html is not None)
     walk = walk_design(design, settings, robot)
     stability, no_gait = None, ""

@@ -24,6 +24,8 @@ Outcomes (:data:`OUTCOMES`):
     (it was lifted and put down, not stepped), or both feet left the floor;
   - ``tipped``: (3-D floor only) the hip rolled past :data:`TIP_LIMIT` sideways;
   - ``collided``: (3-D floor only) a sole passed through the other foot's sole;
+  - ``tripped``: (a ground with a step edge) a heel or toe hit the step's riser
+    (:meth:`~pasibot_pin.dynamics.floor.ground.Ground.riser_hit`);
   - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`).
 
 * ``undecided``: the run ended (its given duration) before any of the above was decided, less
@@ -58,13 +60,14 @@ OUTCOMES: tuple[str, ...] = (
     "hopped",
     "tipped",
     "collided",
+    "tripped",
     "diverged",
     "undecided",
 )
 """Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
 the walk needs, see :data:`FAILURES`)."""
 
-FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "tipped", "collided", "diverged")
+FAILURES: tuple[str, ...] = tuple(o for o in OUTCOMES if o not in ("walks", "undecided"))
 """The outcomes that are failures."""
 
 
@@ -375,6 +378,10 @@ class GaitJudge:
     def collided(self, t: float, detail: str) -> None:
         """A 3-D walk's soles passed through each other at ``t`` [s] (:mod:`pasibot_pin.dynamics.floor.engine3d`)."""
         self._decide("collided", t, detail)
+
+    def tripped(self, t: float, detail: str) -> None:
+        """A heel or toe hit a step's riser at ``t`` [s] (:mod:`pasibot_pin.dynamics.floor.ground`)."""
+        self._decide("tripped", t, detail, "riser")
 
     def roll(self, t: float, roll: float) -> None:
         """Take the 3-D hip's roll [rad] at ``t`` [s]: past :data:`TIP_LIMIT` the walk is ``tipped``.

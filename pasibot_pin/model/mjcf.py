@@ -87,6 +87,8 @@ class MjcfOptions:
             default (0.02, 1): a soft floor); the time constant must be >= 2 timesteps.
         contact_solimp: impedance (d0, dwidth, width) of the sole-floor contacts (MuJoCo's
             default (0.9, 0.95, 0.001)).
+        slope: the floor plane's slope, rising along +x (uphill positive) [rad]; gravity stays vertical,
+            as on our planar floor's sloped ground (0: the flat floor; less than pi/2 in size: a plane).
         footprint: the 3-D export (``None``: the planar one): the hip a ``freejoint`` named
             :data:`~pasibot_pin.model.spatial.FREE_FLYER_NAME` (qpos: x, y, z, quaternion w x y z,
             then the legs), each sole a box per band of this
@@ -120,6 +122,7 @@ class MjcfOptions:
     contact_solimp: tuple[float, float, float] = (0.9, 0.95, 0.001)
     boundinertia: float | None = None
     footprint: Footprint | None = None
+    slope: float = 0.0
 
     def __post_init__(self) -> None:
         for name in ("spring_stiffness", "spring_damping", "kp", "kv", "mu", "sole_radius", "timestep", "boundinertia"):
@@ -136,6 +139,8 @@ class MjcfOptions:
             raise ParameterError("parameters 'timestep' and 'sole_radius' must be positive")
         if not math.isfinite(self.spring_rest_angle):
             raise ParameterError(f"parameter 'spring_rest_angle' must be finite, got {self.spring_rest_angle!r}")
+        if not (isinstance(self.slope, (int, float)) and abs(self.slope) < 0.5 * math.pi):  # NaN fails
+            raise ParameterError(f"parameter 'slope' must be an angle in (-pi/2, pi/2) rad, got {self.slope!r}")
         if self.planar_noslip and not self.noslip_iterations:
             raise ParameterError("parameter 'planar_noslip' needs noslip_iterations > 0")
         if not (math.isfinite(self.contact_solref[0]) and self.contact_solref[0] >= 2 * self.timestep):
@@ -306,7 +311,7 @@ def _add_world(root: ET.Element, options: MjcfOptions) -> ET.Element:
     """The ``worldbody``: a light and the floor plane (colliding with the soles only when ``options.floor``)."""
     world = ET.SubElement(root, "worldbody")
     ET.SubElement(world, "light", pos="0 -2 3", dir="0 1 -1")
-    ET.SubElement(
+    floor = ET.SubElement(
         world,
         "geom",
         name="floor",
@@ -317,6 +322,8 @@ def _add_world(root: ET.Element, options: MjcfOptions) -> ET.Element:
         friction=_sole_friction(options),
         rgba="0.85 0.85 0.8 1",
     )
+    if options.slope:  # the plane's normal, (-sin, 0, cos) of the slope: it rises along +x
+        floor.set("zaxis", _vec(np.array([-math.sin(options.slope), 0.0, math.cos(options.slope)])))
     return world
 
 

@@ -33,6 +33,10 @@ PLANAR_NQ_ROOT = 3
 """Size of the planar root (x, z, pitch) in q and v."""
 CENTRED_SOLE = 0.6
 """The default sole's reach each side of its leg's plane over L: the xacro's 1.2 L wide plate [-]."""
+SOLE_POINTS: tuple[str, ...] = ("heel", "toe")
+"""A foot's contact points along its sole, heel first and toe last: each is the frame ``<side>_<point>`` of
+the robot description (the xacro's ``foot`` macro). The planar floor's contact points; with the
+footprint's lateral offsets, the 3-D floor's corners (:attr:`Footprint.points`)."""
 
 
 @dataclass(frozen=True)
@@ -44,14 +48,20 @@ class Footprint:
             the prong spans from ``outer`` outside the plane to ``inner`` toward the midline.
             One band is a plain rectangular sole; several are a comb whose prongs may
             interleave with the other foot's.
+        points: the sole's contact points along the foot, heel first and toe last, each a frame
+            ``<side>_<point>`` of the robot (default :data:`SOLE_POINTS`): a contact point is added
+            here, once, for the planar floor's general and tracked steps, its judge and the 3-D corners.
 
     """
 
     bands: tuple[tuple[float, float], ...]
+    points: tuple[str, ...] = SOLE_POINTS
 
     def __post_init__(self) -> None:
         if not self.bands:
             raise ParameterError("parameter 'sole': a footprint needs at least one band")
+        if len(self.points) < 2 or len(set(self.points)) != len(self.points):
+            raise ParameterError(f"parameter 'points' must name two or more distinct sole frames, got {self.points!r}")
         for inner, outer in self.bands:
             for name, value in (("sole_inner", inner), ("sole_outer", outer)):
                 if not math.isfinite(value):
@@ -198,10 +208,10 @@ def _add_slider(model: pin.Model, mass: float) -> None:
 def corner_frames(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list[int]:
     """Add each foot's sole corners to ``model`` as frames; their ids, right heel first.
 
-    The corners lie at the heel and at the toe of each foot (its frames ``<side>_heel`` and
-    ``<side>_toe``), moved across the leg's plane by each of the footprint's contact offsets
-    (:attr:`Footprint.contact_offsets`, toward the midline positive). Order: side, then heel and
-    toe, then offset.
+    The corners lie at each of the sole's points (:attr:`Footprint.points`: its frames ``<side>_heel``
+    and ``<side>_toe``), moved across the leg's plane by each of the footprint's contact offsets
+    (:attr:`Footprint.contact_offsets`, toward the midline positive). Order: side, then the sole's
+    points, then offset.
 
     Args:
         model: the free-flyer model (changed in place).
@@ -215,7 +225,7 @@ def corner_frames(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list
     ids = []
     for side in SIDES:
         sign = lateral_sign(side)
-        for point in ("heel", "toe"):
+        for point in footprint.points:
             base = model.getFrameId(f"{side}_{point}")
             parent = model.frames[base].parentJoint
             world = data.oMf[base]

@@ -1,6 +1,6 @@
 """The design-exploration section: the designer's questions and their answers (docs/results/).
 
-The answers are the designs :mod:`pasibot_pin.explore.questions` found (NSGA-II, 600 trials each,
+The answers are the designs :mod:`pasibot_pin.report.answers.questions` found (NSGA-II, 600 trials each,
 ``make answers`` runs them again); here they are evaluated afresh and set beside the seed design.
 The same text is quoted in ``docs/design_exploration.md`` and the README; a test compares them.
 """
@@ -13,7 +13,8 @@ from pathlib import Path
 
 from pasibot_pin.dynamics.verdict import GaitCriteria
 from pasibot_pin.explore.plan import Range
-from pasibot_pin.explore.questions import (
+from pasibot_pin.model.design import SPECS, Design, design_robot, load_design
+from pasibot_pin.report.answers.questions import (
     FLOOR_STEPS,
     QUESTION_RANGES,
     STRAIGHTNESS_FACTOR,
@@ -23,9 +24,8 @@ from pasibot_pin.explore.questions import (
     read_summary,
     seed_stride_plan,
 )
-from pasibot_pin.model.design import SPECS, Design, design_robot, load_design
+from pasibot_pin.report.answers.walking import walking_answer, walking_paragraph
 from pasibot_pin.report.markdown import Section, sentence_lines
-from pasibot_pin.report.walking_answer import walking_answer, walking_paragraph
 from pasibot_pin.studies.design_metrics import dynamic_metrics, path_metrics
 from pasibot_pin.studies.walking import WALK_MU
 from pasibot_pin.studies.walking_map import MAP_CSV, load_map
@@ -172,7 +172,7 @@ def floor_markdown(answer: FloorAnswer | None = None) -> str:
 
 
 def walking_text() -> str:
-    """The walking map's answer (:func:`~pasibot_pin.report.walking_answer.walking_paragraph` of the committed map)."""
+    """The walking map's answer (:func:`~pasibot_pin.report.answers.walking.walking_paragraph` of the committed map)."""
     if not MAP_CSV.is_file():  # an installed wheel: the map's table stays in the source repository
         return "The walking map's table (docs/results/walking_map.csv) is in the source repository (make walking-map)."
     return walking_paragraph(walking_answer(load_map()))

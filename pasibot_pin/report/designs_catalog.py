@@ -29,15 +29,15 @@ import pinocchio as pin
 from pasibot_pin.dynamics.verdict import LINKAGE_ADVANCE_PER_STEP
 from pasibot_pin.files import atomic_path
 from pasibot_pin.model.design import CHOICES, Design, design_robot
+from pasibot_pin.model.paths import result_path
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 from pasibot_pin.studies.walking_map import MapCell, WalkingMap, map_design
 from pasibot_pin.viz.figure_files import save_figure_file
 from pasibot_pin.viz.plots import plot_robot, robot_segments
 
-_ROOT = Path(__file__).resolve().parents[2]
-_PACKAGED_SWEEP = Path(__file__).resolve().parents[1] / "results" / "walking_sweep.csv"
-SWEEP_CSV = _PACKAGED_SWEEP if _PACKAGED_SWEEP.is_file() else _ROOT / "docs" / "results" / "walking_sweep.csv"
-"""The committed walking sweep (``pasibot sweep --floor 20 --n 200`` over the variants, omega and the soles)."""
+SWEEP_NAME = "walking_sweep.csv"
+"""The committed walking sweep (``pasibot sweep --floor 20 --n 200`` over the variants, omega and the soles),
+read where :func:`~pasibot_pin.model.paths.result_path` finds it; ``tools/`` passes its own path."""
 
 PICTURE_STEPS = 4
 """Steps simulated for a design's picture (a non-walker stops at its failure) [-]."""
@@ -52,9 +52,9 @@ TWIN_OUTCOMES = {"fastest": "slipped"}
 """The MuJoCo twin's 3-step outcome of those entries, by role (``tests/test_designs_twin.py``)."""
 
 
-def sweep_rows(path: Path = SWEEP_CSV) -> list[dict]:
-    """The walking sweep's rows as dicts of strings (the csv module: no pyarrow)."""
-    with open(path, newline="") as handle:
+def sweep_rows(path: Path | None = None) -> list[dict]:
+    """The walking sweep's rows as dicts of strings (the csv module: no pyarrow); default: the committed sweep."""
+    with open(result_path(SWEEP_NAME) if path is None else path, newline="") as handle:
         return list(csv.DictReader(handle))
 
 

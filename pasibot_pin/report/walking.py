@@ -16,7 +16,6 @@ from pathlib import Path
 import numpy as np
 
 from pasibot_pin.constraints import frame_rows
-from pasibot_pin.dynamics.floor.run import POINTS
 from pasibot_pin.files import atomic_path
 from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import free_flyer_model
@@ -39,14 +38,14 @@ def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
 
     The heel and toe points of every frame are evaluated in one batch (:func:`~pasibot_pin.constraints.frame_rows`).
     """
-    frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
-    xz = frame_rows(robot.model, frames, range(len(frames))).positions(result.q[index])  # (N, 4) x + i z [m]
-    tracks = {}
+    frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in result.points]
+    xz = frame_rows(robot.model, frames, range(len(frames))).positions(result.q[index])  # (N, points) x + i z [m]
+    tracks, n = {}, len(result.points)
     for i, side in enumerate(SIDES):
-        feet = slice(2 * i, 2 * i + 2)
+        feet = slice(n * i, n * i + n)
         fn, ft = result.normal[index, feet], result.tangential[index, feet]
         total = fn.sum(axis=1)
-        weights = np.where(total[:, None] > 0, fn / np.where(total > 0, total, 1.0)[:, None], 0.5)
+        weights = np.where(total[:, None] > 0, fn / np.where(total > 0, total, 1.0)[:, None], 1.0 / n)
         cop = np.sum(weights * xz[:, feet], axis=1)
         points = np.column_stack((cop.real, np.zeros(len(index)), cop.imag))
         forces = np.column_stack((ft.sum(axis=1), np.zeros(len(index)), total))

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
-from pasibot_pin.dynamics.floor.ground import Ground, check_mu
+from pasibot_pin.dynamics.floor.ground import Ground, check_mu, check_step
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
@@ -64,6 +64,9 @@ class WalkSettings:
         dt: time step [s] (``None``: :func:`walk_dt` of the design's speed).
         criteria: the verdict's other thresholds (its ``steps`` is replaced by ``steps``).
         slope: the ground's angle, uphill positive [rad] (the planar floor; 0: flat, as every walk so far).
+        step_height: a step edge on the ground, up positive [m] (the planar floor; 0: none).
+        step_at: where the step edge is, along the ground from the origin [m] (the world's x: the
+            start stands where the linkage puts it at theta0, ``StartState.along`` its heels and toes).
 
     """
 
@@ -72,8 +75,11 @@ class WalkSettings:
     dt: float | None = None
     criteria: GaitCriteria = GaitCriteria()
     slope: float = 0.0
+    step_height: float = 0.0
+    step_at: float = 0.0
 
     def __post_init__(self) -> None:
+        check_step(self.step_height, self.step_at)
         integer = isinstance(self.steps, int) and not isinstance(self.steps, bool)
         if not integer or not 1 <= self.steps <= 10_000:
             raise ParameterError(f"parameter 'steps' must be an integer in [1, 10000], got {self.steps!r}")
@@ -164,7 +170,7 @@ def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
     ramp = min(RAMP_MAX, RAMP_SHARE * math.pi / omega)
     return FloorSettings(
         omega=omega, spring=spring, crank_ramp=ramp, mu=settings.mu, dt=dt, motors=design.motors,
-        fall_limit=math.pi / 2, slope=settings.slope,
+        fall_limit=math.pi / 2, slope=settings.slope, step_height=settings.step_height, step_at=settings.step_at,
     )  # fmt: skip
 
 

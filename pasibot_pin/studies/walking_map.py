@@ -15,7 +15,7 @@ each cell is walked there too; without it the twin's columns are empty and
 The map is saved as CSV (:func:`save_map`, read back by :func:`load_map` with the standard
 library only: no pyarrow needed to read the committed answer) in ``docs/results/walking_map.csv``;
 ``make walking-map`` computes it again (``tools/walking_map.py``), then draws ``docs/walking_map.png``
-and writes what quotes it (``python -m pasibot_pin.report.walking_answer``).
+and writes what quotes it (``python -m pasibot_pin.report.answers.walking``).
 
 Units: SI; soles over the crank length L; crank speed [rad/s]; angles in degrees where named ``_deg``.
 """
@@ -56,9 +56,8 @@ MAP_CSV = result_path("walking_map.csv")
 """The committed map: the wheel's copy, else the source checkout's docs/results
 (:func:`~pasibot_pin.model.paths.result_path`); ``make walking-map`` (``tools/walking_map.py``) writes it."""
 MAP_PNG = MAP_CSV.parents[1] / "walking_map.png"
-"""The picture of the map beside the results' folder (a source checkout's ``docs/walking_map.png``): kept for
-``report/walking_answer.main`` until that writer moves to ``tools/`` (issue 35); ``tools/walking_map.py``
-names its own files."""
+"""The picture of the map beside the results' folder (a source checkout's ``docs/walking_map.png``), the one
+``tools/walking_answer.py`` (``make walking-map``) draws."""
 
 NO_TWIN = "MuJoCo (the mujoco extra) is not installed: the twin's columns are empty"
 

@@ -17,14 +17,17 @@ from typing import TYPE_CHECKING
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.model.spatial import SOLE_POINTS
+
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
 
 CONTACT_TOLERANCE = 1e-3
 """A sole point this close to z = 0 [m] touches the ground."""
 
-POINTS = ("heel", "toe")
-"""The sole points of each foot (frames ``<side>_heel`` and ``<side>_toe``)."""
+POINTS = (SOLE_POINTS[0], SOLE_POINTS[-1])
+"""The sole's two ends of each foot, heel and toe (frames ``<side>_heel`` and ``<side>_toe``;
+:data:`~pasibot_pin.model.spatial.SOLE_POINTS`)."""
 
 
 @dataclass(frozen=True)

@@ -44,7 +44,6 @@ from pasibot_pin.constraints import ConstraintSystem, coordinate, coupling, fram
 from pasibot_pin.dynamics.floor.qp import ContactQP
 from pasibot_pin.dynamics.floor.run import (
     LOAD_TOL,
-    POINTS,
     FloorResult,
     RunLog,
     StartState,
@@ -63,6 +62,7 @@ from pasibot_pin.errors import (
 )
 from pasibot_pin.model.closure import analytic_configurations
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
+from pasibot_pin.model.spatial import Footprint
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
 
 MAX_STEPS = 20_000_000
@@ -110,13 +110,17 @@ class FloorSimulator:
     Args:
         robot: ``pp.load("spring", 2)`` (or a copy with other masses).
         settings: :class:`FloorSettings`.
+        footprint: the soles (default the centred plate); its :attr:`~pasibot_pin.model.spatial.Footprint.points`
+            are each foot's contact points, heel to toe (heel and toe by default).
 
     """
 
-    def __init__(self, robot, settings: FloorSettings):
+    def __init__(self, robot, settings: FloorSettings, footprint: Footprint | None = None):
         if robot.legs != 2 or not robot.floating:
             raise ParameterError("the floor simulator needs the two-legged robot with its floating hip")
         self.robot, self.settings = robot, settings
+        self.footprint = Footprint.centred(robot.geometry.L) if footprint is None else footprint
+        names = self.sole_points = self.footprint.points
         model = robot.model
         self.ankles = ankle_indices(robot) if robot.spec.free_ankle else {}
         layout = MOTOR_LAYOUTS[settings.motors]
@@ -131,7 +135,7 @@ class FloorSimulator:
         self._target_offsets = np.array([row.offset for row in scalars])
         self._target_rates = np.array([row.rate for row in scalars])
         self.bilateral = ConstraintSystem(model, robot.data, robot.loop_constraints, scalars, robot.geometry.L)
-        frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in POINTS]
+        frames = [robot.frame_id(f"{side}_{point}") for side in SIDES for point in names]
         self.points = frame_rows(model, frames, range(len(frames)))
         self._crank_rows = [self.bilateral.labels.index(name) for name in layout.motors]
         self._motor_targets = [row - self.bilateral.n_constraint_rows for row in self._crank_rows]
@@ -139,17 +143,18 @@ class FloorSimulator:
         gravity = float(np.linalg.norm(model.gravity.linear))
         self.weight = gravity * sum(model.inertias[j].mass for j in range(1, model.njoints))
         self._zero_v = np.zeros(model.nv)
-        # cone rows k (jn + mu jt) and k + 4 (jn - mu jt) of each point k; a flat foot whose heel and
+        # cone rows k (jn + mu jt) and k + points (jn - mu jt) of each point k; a flat foot whose heel and
         # toe both stick has four dependent rows
-        n_points = len(frames)
-        feet = [[k, k + 1, k + n_points, k + 1 + n_points] for k in range(0, n_points, len(POINTS))]
+        n_points, n = len(frames), len(names)
+        feet = [[k + j for j in range(n)] + [k + j + n_points for j in range(n)] for k in range(0, n_points, n)]
         self._feet = feet
         self._qp = ContactQP(model, feet)  # remembers the last step's active cone rows
         self._held_qp: ContactQP | None = None  # the settling's own QP (its active set is not the run's)
         self._held_targets = self.targets(0.0) if settings.crank_ramp > 0 else self.bilateral.targets(0.0)
         self._rows_at: tuple | None = None  # (q bytes, the projection's rows there, their targets)
-        self.turn = complex(math.cos(settings.slope), -math.sin(settings.slope))  # the ground's frame, e^(-i slope)
-        self._contact_rows = PointRows(self.points, self.turn)  # the contact rows at the last configuration asked
+        self.ground = settings.ground  # its treads and frame: the general step, the tracked step and the judge
+        self.turn = self.ground.turn  # the ground's frame, e^(-i slope)
+        self._contact_rows = PointRows(self.points, self.ground)  # the contact rows at the last configuration asked
 
     @property
     def crank_rows(self) -> list[int]:
@@ -194,12 +199,14 @@ class FloorSimulator:
     def contact_rows(self, q: np.ndarray, flat: bool = False) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """Gaps (4,) [m], tangential positions (4,) [m], J_n (4, nv) and J_t (4, nv) of heel and toe points.
 
-        Across and along the ground; ``flat``: against a flat floor whatever the slope.
+        Across and along the ground, each gap above the tread under the point
+        (:meth:`~pasibot_pin.dynamics.floor.ground.Ground.planar_gaps`); ``flat``: the world's x and z
+        read as along and across the ground, whatever its slope (the start before it is turned onto it).
         """
         rows, jac, _, _ = self.points.evaluate(q)
         if self.turn != 1.0 and not flat:  # along and across a sloped ground
             rows, jac = rows * self.turn, jac * self.turn
-        return rows.imag, rows.real, jac.imag, jac.real
+        return self.ground.planar_gaps(rows), rows.real, jac.imag, jac.real
 
     def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
         """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor.track.PointRows`).
@@ -207,7 +214,7 @@ class FloorSimulator:
         The arrays are views of the cache: read them, never write into them.
         """
         rows, jac = self._contact_rows.at(q)
-        return rows.imag, rows.real, jac.imag, jac.real
+        return self._contact_rows.gaps(q), rows.real, jac.imag, jac.real
 
     def step(
         self,
@@ -305,7 +312,8 @@ class FloorSimulator:
     def modes(self, normal: np.ndarray, slip: np.ndarray) -> dict[str, str]:
         """Contact mode of each foot from its heel and toe normal forces [N] and tangential speeds [m/s]."""
         loaded = [float(f) > LOAD_TOL for f in normal]
-        return {side: foot_mode(loaded, [float(x) for x in slip], i) for i, side in enumerate(SIDES)}
+        slips = [float(x) for x in slip]
+        return {side: foot_mode(loaded, slips, i, self.sole_points) for i, side in enumerate(SIDES)}
 
     # ---- the start
     def initial_state(self, swing_pitch: float | None = 0.0) -> tuple[np.ndarray, np.ndarray]:
@@ -324,6 +332,7 @@ class FloorSimulator:
         q = self.bilateral.project(guess[0], 0.0)  # loops closed to Newton's tolerance
         # the lowest sole point on the floor, none below it: a foot the linkage tilts (the rigid
         # variant's, square to its shank) touches at one point instead of sinking into the floor
+        # (a point past a step edge, on the tread it is over)
         gap, _, jn, jt = self.contact_rows(q, flat=True)  # the Jacobians do not depend on the hip's height
         q[HIP_Z] -= float(np.min(gap))
         rows = self.bilateral.evaluate(q, None, 0.0)
@@ -461,7 +470,7 @@ class FloorSimulator:
         criteria = GaitCriteria() if criteria is None else criteria
         q, v, begin, start_kind, note = self._begin(q0, v0, start)
         h = duration / n
-        log = RunLog(self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows))
+        log = RunLog(self.weight, s.fall_limit, self.robot.model.nq, len(self._crank_rows), self.sole_points)
         observer = None
         if s.omega > 0:
             first = self._sample(0.0, q, v)
@@ -479,14 +488,28 @@ class FloorSimulator:
             t += h
             forces = ([x / h for x in normal], [x / h for x in tangential], [x / h for x in motor])
             power = tuple(tau * rate for tau, rate in zip(forces[2], v.take(self._motor_index).tolist()))
-            sample, loaded = point_sample(t, self.hip_view(q), points, forces[0], power)
+            sample, loaded = point_sample(t, self.hip_view(q), points, forces[0], power, self.sole_points)
             log.record(t, q, v, sample, forces, loaded, points[2])
+            if self.ground.has_step and self._tripped(t, points[0], log, observer):
+                break
             if observer is not None and observer.update(sample) and stop_on_verdict:
                 break
             if not stop_on_verdict and log.stopped(t, q):
                 break
         verdict = None if observer is None else observer.verdict(t)
         return log.result(verdict, begin, start_kind, note)
+
+    def _tripped(self, t: float, gaps: list[float], log: RunLog, observer: GaitJudge | None) -> bool:
+        """True when a contact point came through the step's riser at ``t`` [s] (the run stops: ``tripped``)."""
+        k = self.ground.riser_hit(gaps)
+        if k is None:
+            return False
+        side, point = SIDES[k // len(self.sole_points)], self.sole_points[k % len(self.sole_points)]
+        detail = f"the {side} {point} hit the step's riser, {1e3 * -gaps[k]:.1f} mm below the tread"
+        log.stop_reason = f"{detail} at t = {t:.3f} s"
+        if observer is not None:
+            observer.tripped(t, detail)
+        return True
 
     def judge_of(self, criteria: GaitCriteria | None = None) -> JudgeFactory:
         """The default judge of this robot's walk: a :class:`GaitJudge` by ``criteria`` (default ones)."""
@@ -551,4 +574,4 @@ class FloorSimulator:
     def _sample(self, t: float, q: np.ndarray, v: np.ndarray) -> GaitSample:
         """The :class:`GaitSample` at ``t`` without forces (a run's start: a point on the floor counts as loaded)."""
         points = self._contact_rows.lists(q, v)
-        return point_sample(t, self.hip_view(q), points, None, (0.0, 0.0))[0]
+        return point_sample(t, self.hip_view(q), points, None, (0.0, 0.0), self.sole_points)[0]

@@ -1,10 +1,21 @@
 """The ground a foot stands on: its height, normal and friction at a point.
 
 A :class:`Ground` is a plane through the origin: the flat floor (:meth:`Ground.flat`) or a slope
-that rises along +x by a given angle (:meth:`Ground.slope`, uphill positive). It gives a point's
-gap (its signed distance above the plane, negative inside) and the contact frame: the normal and
-two tangents, the first along the slope's fall line (+x on the flat floor), the second across it
-(+y). The 3-D floor (:mod:`pasibot_pin.dynamics.floor.engine3d`) takes its contact rows from here.
+that rises along +x by a given angle (:meth:`Ground.slope`, uphill positive), with at most one
+step edge on it (:meth:`Ground.step`): at ``step_at`` along the ground its height jumps by
+``step_height`` (up positive). It gives a point's gap (its signed distance above the tread under it,
+negative inside) and the contact frame: the normal and two tangents, the first along the slope's
+fall line (+x on the flat floor), the second across it (+y). Both floors take their contact rows
+from here: the planar one (:meth:`Ground.planar_gaps`, :attr:`Ground.turn`) in its general and its
+tracked step, the 3-D one (:mod:`pasibot_pin.dynamics.floor.engine3d`, :meth:`Ground.gap`).
+
+The step edge is its two treads only: the height is a step function of the position along the
+ground, the tread under a point is the one it is over, and the normal is the treads' normal. The riser
+is not a contact surface: a contact point that crosses it below the upper tread has hit the riser,
+and :meth:`Ground.riser_hit` names it (a walk ``tripped``: the planar floor stops there). Between heel
+and toe the sole is not a contact either, so the edge's corner may lie inside a sole that
+straddles it, by less than ``|step_height|`` (its two ends stand on the two treads): the model is
+for steps small against the foot.
 
 Units: SI, lengths [m], angles [rad].
 """
@@ -23,6 +34,13 @@ MAX_MU = 10.0
 """Largest Coulomb friction coefficient a sole and a ground may have [-] (every mu's one range)."""
 MAX_SLOPE = math.radians(20.0)
 """Steepest slope a ground may have [rad] (every slope's one range: the floor's settings, the CLI's --slope)."""
+MAX_STEP_HEIGHT = 0.2
+"""Highest step edge, up or down, a ground may have [m] (every step height's one range)."""
+MAX_STEP_AT = 1000.0
+"""Farthest a step edge may be from the origin along the ground, either way [m]."""
+RISER_DEPTH = 1e-5
+"""A contact point more than this below the tread it is over has come through the riser [m] (the
+step's contact rows leave a point at most about 1e-6 m inside a tread)."""
 
 
 def check_mu(mu: object) -> float:
@@ -34,16 +52,20 @@ def check_mu(mu: object) -> float:
 
 @dataclass(frozen=True)
 class Ground:
-    """A planar ground through the origin.
+    """A planar ground through the origin, with at most one step edge (see the module docstring).
 
     Attributes:
         angle: its slope, rising along +x [rad] (0: the flat floor).
         mu: Coulomb friction between a sole and the ground [-].
+        step_at: where the step edge is, along the ground from the origin [m].
+        step_height: how far the ground rises there [m] (negative: a step down; 0: no step).
 
     """
 
     angle: float = 0.0
     mu: float = 0.8
+    step_at: float = 0.0
+    step_height: float = 0.0
 
     def __post_init__(self) -> None:
         if not (isinstance(self.angle, (int, float)) and abs(self.angle) <= MAX_SLOPE):
@@ -52,6 +74,7 @@ class Ground:
                 f"(+-{math.degrees(MAX_SLOPE):g} deg)"
             )
         check_mu(self.mu)
+        check_step(self.step_height, self.step_at)
 
     @classmethod
     def flat(cls, mu: float = 0.8) -> Ground:
@@ -62,6 +85,43 @@ class Ground:
     def slope(cls, degrees: float, mu: float = 0.8) -> Ground:
         """A slope of ``degrees`` [deg], uphill along +x."""
         return cls(math.radians(float(degrees)), mu)
+
+    @classmethod
+    def step(cls, height: float, at: float, mu: float = 0.8) -> Ground:
+        """The flat floor with a step edge ``height`` [m] high (down if negative) at x = ``at`` [m]."""
+        return cls(0.0, mu, float(at), float(height))
+
+    @property
+    def has_step(self) -> bool:
+        """True when the ground has a step edge (a height other than 0)."""
+        return self.step_height != 0.0
+
+    @property
+    def turn(self) -> complex:
+        """The planar ground's frame, e^(-i angle): a world point x + i z times it is along + i across [-]."""
+        return complex(math.cos(self.angle), -math.sin(self.angle))
+
+    def rise(self, along: float) -> float:
+        """The tread's height at ``along`` [m] along the ground: ``step_height`` past the edge, else 0 [m]."""
+        return self.step_height if along >= self.step_at else 0.0
+
+    def planar_gaps(self, rows: np.ndarray) -> np.ndarray:
+        """Each planar point's gap above its tread (rows: along + i across the ground, complex (k,) [m]) (k,) [m]."""
+        if not self.has_step:
+            return rows.imag
+        return rows.imag - np.where(rows.real >= self.step_at, self.step_height, 0.0)
+
+    def riser_hit(self, gaps: list[float]) -> int | None:
+        """The first point that came through the riser, or None (``gaps``: each point's gap after a step [m]).
+
+        The contact rows keep every point on its tread (to about 1e-6 m): only a point that crossed the
+        edge below the upper tread is more than :data:`RISER_DEPTH` inside one.
+        """
+        if self.has_step:
+            for k, gap in enumerate(gaps):
+                if gap < -RISER_DEPTH:
+                    return k
+        return None
 
     @property
     def normal(self) -> np.ndarray:
@@ -78,5 +138,19 @@ class Ground:
         return np.vstack((self.normal, self.tangents))
 
     def gap(self, points: np.ndarray) -> np.ndarray:
-        """Each point's signed distance above the ground (points (k, 3) [m]) (k,) [m]."""
-        return np.asarray(points, dtype=float) @ self.normal
+        """Each point's signed distance above the tread under it (points (k, 3) [m]) (k,) [m]."""
+        points = np.asarray(points, dtype=float)
+        if not self.has_step:
+            return points @ self.normal
+        along = points @ self.tangents[0]
+        return points @ self.normal - np.where(along >= self.step_at, self.step_height, 0.0)
+
+
+def check_step(height: object, at: object) -> tuple[float, float]:
+    """A step edge's (height, position) [m] as floats, or one line naming the parameter out of its range."""
+    out = []
+    for name, value, limit in (("step_height", height, MAX_STEP_HEIGHT), ("step_at", at, MAX_STEP_AT)):
+        if isinstance(value, bool) or not isinstance(value, numbers.Real) or not abs(float(value)) <= limit:
+            raise ParameterError(f"parameter {name!r} must be a length in [-{limit:g}, {limit:g}] m, got {value!r}")
+        out.append(float(value))
+    return out[0], out[1]

@@ -19,9 +19,11 @@ import numpy as np
 from pasibot_pin.dynamics.verdict import FootSample, GaitSample, Verdict
 from pasibot_pin.errors import ClosureError, DivergedError, SimulationError, SingularPoseError
 from pasibot_pin.model.coordinates import HIP_PITCH, SIDES
+from pasibot_pin.model.spatial import SOLE_POINTS
 
-POINTS = ("heel", "toe")
-MODES = ("flat", "heel", "toe", "sliding", "air")
+MODES = ("flat", *SOLE_POINTS, "sliding", "air")
+"""A foot's contact modes: ``flat`` (two or more of its points load), one point's name (it alone loads),
+``sliding`` or ``air`` (the default sole's points: :data:`~pasibot_pin.model.spatial.SOLE_POINTS`)."""
 LOAD_TOL = 1e-3
 """A contact point carries load when its normal force exceeds this [N] (the QP's impulses are
 accurate to about 1e-8 N.s)."""
@@ -69,6 +71,7 @@ def point_sample(
     points: tuple[list[float], list[float], list[float]],
     normal: list[float] | None,
     power: tuple[float, ...],
+    names: tuple[str, ...] = SOLE_POINTS,
 ) -> tuple[GaitSample, list[bool]]:
     """The :class:`~pasibot_pin.dynamics.verdict.GaitSample` at ``t`` from the contact points, and their load flags.
 
@@ -76,10 +79,12 @@ def point_sample(
         t: time [s].
         hip: the hip's forward position [m] and pitch [rad].
         points: each point's height above the floor [m], x [m] and tangential speed [m/s]
-            (right heel, right toe, left heel, left toe).
+            (the right foot's points, heel to toe, then the left foot's).
         normal: each point's normal force [N]; ``None`` at the start, where a point on the floor
             (within 1e-6 m) counts as loaded.
         power: each motor's power [W].
+        names: a foot's points, heel first and toe last (:attr:`~pasibot_pin.model.spatial.Footprint.points`):
+            a foot's x is midway between its heel and toe, its pitch along them.
 
     """
     gaps, xs, slip = points
@@ -89,32 +94,38 @@ def point_sample(
     else:
         f_n = normal
         loaded = [f > LOAD_TOL for f in f_n]
+    n = len(names)
     feet = []
     for i in range(len(SIDES)):
-        heel, toe = 2 * i, 2 * i + 1
+        heel, toe = n * i, n * i + n - 1
+        own = range(heel, toe + 1)
+        count = sum(loaded[k] for k in own)
         feet.append(
             FootSample(  # loaded, x, pitch, normal, slip, on_point
-                loaded[heel] or loaded[toe],
+                count > 0,
                 0.5 * (xs[heel] + xs[toe]),
                 math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
-                f_n[heel] + f_n[toe],
-                max(abs(slip[heel]) if loaded[heel] else 0.0, abs(slip[toe]) if loaded[toe] else 0.0),
-                loaded[heel] != loaded[toe],
+                sum(f_n[k] for k in own),
+                max(abs(slip[k]) if loaded[k] else 0.0 for k in own),
+                count == 1,
             )
         )
     return GaitSample(t, hip[0], hip[1], (feet[0], feet[1]), power), loaded
 
 
-def foot_mode(loaded: list[bool], slip: list[float], foot: int) -> str:
-    """The contact mode of foot ``foot`` (0 right, 1 left) from every point's load flag and tangential speed [m/s]."""
-    heel, toe = 2 * foot, 2 * foot + 1
-    if not (loaded[heel] or loaded[toe]):
+def foot_mode(loaded: list[bool], slip: list[float], foot: int, names: tuple[str, ...] = SOLE_POINTS) -> str:
+    """The contact mode of foot ``foot`` (0 right, 1 left) from every point's load flag and tangential speed [m/s].
+
+    ``air`` (no point loads), ``sliding`` (a loaded point slides), ``flat`` (two or more load: the
+    sole lies on the floor) or the name of the one point that loads (``names``: a foot's points).
+    """
+    own = range(len(names) * foot, len(names) * (foot + 1))
+    on = [k for k in own if loaded[k]]
+    if not on:
         return "air"
-    if (loaded[heel] and abs(slip[heel]) > SLIP_TOL) or (loaded[toe] and abs(slip[toe]) > SLIP_TOL):
+    if any(abs(slip[k]) > SLIP_TOL for k in on):
         return "sliding"
-    if loaded[heel] and loaded[toe]:
-        return "flat"
-    return POINTS[0] if loaded[heel] else POINTS[1]
+    return "flat" if len(on) > 1 else names[on[0] - own.start]
 
 
 @dataclass
@@ -126,7 +137,8 @@ class FloorResult:
         q, v: configurations and velocities.
         hip_pitch: [rad].
         modes: contact mode of each foot per sample, ``{"right": [...], "left": [...]}`` (:data:`MODES`).
-        normal, tangential: contact forces (n, 4) [N], columns right heel, right toe, left heel, left toe.
+        normal, tangential: contact forces (n, points) [N], columns the right foot's points (heel to toe),
+            then the left's (right heel, right toe, left heel, left toe).
         motor_torque: torque of each motor (n, motors) [N.m]: right and left crank, or the one motor.
         touchdowns: (t, side, point) of every point that starts to carry load after carrying none.
         landings: (t, side, x) of every landing of a foot from the air, steps and hops alike [m].
@@ -141,6 +153,7 @@ class FloorResult:
             or ``given``.
         start_note: why a ``consistent`` start fell back to ``flat`` (the robot cannot stand at
             theta0: no static state holds it), else ``""``.
+        points: a foot's contact points, heel to toe (the force columns' order within a foot).
 
     """
 
@@ -162,6 +175,7 @@ class FloorResult:
     start: StartState | None = None
     start_kind: str = ""
     start_note: str = ""
+    points: tuple[str, ...] = SOLE_POINTS
 
     def __repr__(self) -> str:
         head = self.verdict.summary() if self.verdict is not None else f"{self.outcome}: {self.stop_reason}"
@@ -230,7 +244,9 @@ class RunLog:
     fixed-length run (``stop_on_verdict=False``); the walking verdict is the judge's.
     """
 
-    def __init__(self, weight: float, fall_limit: float, nq: int, n_motors: int) -> None:
+    def __init__(
+        self, weight: float, fall_limit: float, nq: int, n_motors: int, names: tuple[str, ...] = SOLE_POINTS
+    ) -> None:
         """A log for one run.
 
         Args:
@@ -238,15 +254,16 @@ class RunLog:
             fall_limit: |hip pitch| that ends a run without a verdict [rad].
             nq: configuration size.
             n_motors: motors (columns of the motor torque).
+            names: a foot's contact points, heel to toe.
 
         """
         self.weight, self.fall_limit = weight, fall_limit
-        self.nq, self.n_motors = nq, n_motors
+        self.nq, self.n_motors, self.names = nq, n_motors, tuple(names)
         self.rec: dict[str, list] = {k: [] for k in ("t", "q", "v", "normal", "tangential", "motor")}
         self.modes: dict[str, list[str]] = {side: [] for side in SIDES}
         self.touchdowns: list[tuple[float, str, str]] = []
         self.landings: list[tuple[float, str, float]] = []
-        self.loaded_before = [False] * (2 * len(SIDES))
+        self.loaded_before = [False] * (len(self.names) * len(SIDES))
         self.air_before = [True] * len(SIDES)
         self.slid = [0.0] * len(SIDES)
         self.stop_reason = ""
@@ -269,19 +286,20 @@ class RunLog:
         ``loaded`` and ``slip``: each point's load flag and tangential speed [m/s] (as the sample's).
         """
         h = t - (self.rec["t"][-1] if self.rec["t"] else 0.0)
+        names, n = self.names, len(self.names)
         for k, now in enumerate(loaded):
             if now and not self.loaded_before[k]:
-                self.touchdowns.append((t, SIDES[k // 2], POINTS[k % 2]))
+                self.touchdowns.append((t, SIDES[k // n], names[k % n]))
         for i, side in enumerate(SIDES):
             foot = sample.feet[i]
-            mode = foot_mode(loaded, slip, i)
+            mode = foot_mode(loaded, slip, i, names)
             self.modes[side].append(mode)
             if foot.loaded and self.air_before[i] and t > h:
                 self.landings.append((t, side, foot.x))
             self.air_before[i] = not foot.loaded
             if foot.normal > BEARING_SHARE * self.weight:
                 self.slid[i] += h * foot.slip
-            if mode in POINTS and abs(foot.pitch) > ROLL_LIMIT:
+            if mode in names and abs(foot.pitch) > ROLL_LIMIT:
                 self.stop_reason = f"the {side} foot rolled over its {mode} at t = {t:.3f} s"
             if self.slid[i] > SLIP_LIMIT:
                 self.stop_reason = f"the {side} foot slipped {1e3 * self.slid[i]:.0f} mm by t = {t:.3f} s"
@@ -315,8 +333,8 @@ class RunLog:
             v=np.array(rec["v"]).reshape(qs.shape),
             hip_pitch=qs[:, HIP_PITCH].copy(),
             modes=self.modes,
-            normal=np.array(rec["normal"]).reshape(-1, 4),
-            tangential=np.array(rec["tangential"]).reshape(-1, 4),
+            normal=np.array(rec["normal"]).reshape(-1, len(self.names) * len(SIDES)),
+            tangential=np.array(rec["tangential"]).reshape(-1, len(self.names) * len(SIDES)),
             motor_torque=np.array(rec["motor"]).reshape(-1, n_motors),
             touchdowns=self.touchdowns,
             landings=self.landings,
@@ -328,4 +346,5 @@ class RunLog:
             start=begin,
             start_kind=start_kind,
             start_note=note,
+            points=self.names,
         )

@@ -11,7 +11,7 @@ from typing import TYPE_CHECKING
 
 import numpy as np
 
-from pasibot_pin.dynamics.floor.ground import MAX_SLOPE, check_mu
+from pasibot_pin.dynamics.floor.ground import MAX_SLOPE, Ground, check_mu, check_step
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import check_parameter
 from pasibot_pin.model.variants import MOTOR_LAYOUTS
@@ -75,6 +75,9 @@ class FloorSettings:
         motors: the motor layout (:data:`~pasibot_pin.model.variants.MOTOR_LAYOUTS`): ``two``
             (each crank on its own motor) or ``one`` (one motor, the cranks coupled pi apart).
         slope: the ground's angle, rising along +x (uphill positive) [rad], at most :data:`MAX_SLOPE`.
+        step_height: a step edge's height on the ground, up positive [m] (0: none;
+            :class:`~pasibot_pin.dynamics.floor.ground.Ground`).
+        step_at: where the step edge is along the ground [m].
 
     """
 
@@ -88,10 +91,13 @@ class FloorSettings:
     fall_limit: float = math.radians(60.0)
     motors: str = "two"
     slope: float = 0.0
+    step_height: float = 0.0
+    step_at: float = 0.0
 
     def __post_init__(self) -> None:
         check_parameter("omega", self.omega)  # the design record's range (0: cranks held)
         check_number("slope", self.slope, -MAX_SLOPE, MAX_SLOPE)
+        check_step(self.step_height, self.step_at)
         check_number("crank_ramp", self.crank_ramp, 0.0, 1e3)
         check_mu(self.mu)
         check_number("dt", self.dt, 0.0, 0.01, low_open=True)
@@ -101,6 +107,11 @@ class FloorSettings:
             raise ParameterError(f"parameter 'hip' must be free or level, got {self.hip!r}")
         if self.motors not in MOTOR_LAYOUTS:
             raise ParameterError(f"parameter 'motors' must be one of {', '.join(MOTOR_LAYOUTS)}, got {self.motors!r}")
+
+    @property
+    def ground(self) -> Ground:
+        """The ground of these settings: its slope, friction and step edge."""
+        return Ground(self.slope, self.mu, self.step_at, self.step_height)
 
 
 def step_count(duration: float, dt: float, most: int) -> int:

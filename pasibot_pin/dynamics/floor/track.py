@@ -35,6 +35,7 @@ import pinocchio as pin
 
 from pasibot_pin.constraints import FloatingForm, symmetric_mass_matrix
 from pasibot_pin.constraints.solves import inverse_lists
+from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.floor.qp import ContactQP
 from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, TrackStep
 from pasibot_pin.errors import DivergedError, ParameterError
@@ -84,16 +85,19 @@ class PointRows:
 
     Args:
         points: the heel and toe points' planar rows.
-        turn: the ground's frame, e^(-i slope): the rows are read along the ground (x) and across it (z);
-            1 (a flat floor) reads them as they are.
+        ground: the ground (default the flat floor): the rows are read along it (x) and across it (z),
+            turned by its frame e^(-i slope) (1 on the flat floor reads them as they are), and each
+            point's gap is above the tread under it.
 
     """
 
-    def __init__(self, points: PlanarRowBlocks, turn: complex = 1.0) -> None:
+    def __init__(self, points: PlanarRowBlocks, ground: Ground | None = None) -> None:
         self.points = points
-        self.turn = complex(turn)
+        self.ground = Ground() if ground is None else ground
+        self.turn = self.ground.turn
         self._key: bytes | None = None
         self._rows: tuple[np.ndarray, np.ndarray] = (np.zeros(0, dtype=complex), np.zeros((0, 0), dtype=complex))
+        self._gaps = np.zeros(0)
 
     def at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """The rows x + i z (points,) [m] and their Jacobian (points, nv), complex, at ``q``."""
@@ -102,13 +106,19 @@ class PointRows:
         if key != self._key:
             rows, jac = self.points.rows_and_jacobian(q)
             self._rows = (rows, jac) if self.turn == 1.0 else (rows * self.turn, jac * self.turn)
+            self._gaps = self.ground.planar_gaps(self._rows[0])
             self._key = key
         return self._rows
 
+    def gaps(self, q: np.ndarray) -> np.ndarray:
+        """Each point's gap above the tread under it (points,) [m] at ``q``."""
+        self.at(q)
+        return self._gaps
+
     def lists(self, q: np.ndarray, v: np.ndarray) -> tuple[list[float], list[float], list[float]]:
-        """Each point's height [m], x [m] and tangential speed [m/s] at (q, v)."""
+        """Each point's height above its tread [m], x [m] and tangential speed [m/s] at (q, v)."""
         rows, jac = self.at(q)
-        return rows.imag.tolist(), rows.real.tolist(), jac.dot(v).real.tolist()
+        return self._gaps.tolist(), rows.real.tolist(), jac.dot(v).real.tolist()
 
 
 class FreeStepper:
@@ -150,6 +160,7 @@ class FreeStepper:
         self._form = form
         self._turn = 1.0 if form is None else form.turn
         self._ground = complex(rows.turn)  # the ground's frame, e^(-i slope): world points read along and across it
+        self._rise = rows.ground.rise if rows.ground.has_step else None  # the treads' height along the ground
         if form is not None:  # the free coordinates, in order, are the base's sliders, then its pitch
             if free != [*form.base, form.pitch]:
                 raise ParameterError("parameter 'form': its base and pitch must be the free coordinates, in order")
@@ -224,11 +235,11 @@ class FreeStepper:
 
     def _cone_rows(self, q: np.ndarray, shape: TrackStep, h: float) -> tuple[list[list[float]], list[float]]:
         """The cone rows on [F, x_S, D] and their bounds, from the planar rows at ``q``."""
-        rows, jac = self.rows.at(q)
+        _, jac = self.rows.at(q)
         f, mu = shape.free, self.mu
         jac = np.concatenate((jac[:, self.split.at], jac.dot(shape.columns[:, f:-1])), axis=1)
         cone = np.concatenate((jac.imag + mu * jac.real, jac.imag - mu * jac.real))
-        bound = rows.imag * (-1.0 / h)
+        bound = self.rows.gaps(q) * (-1.0 / h)
         return cone.tolist(), (np.concatenate((bound, bound)) - cone[:, f]).tolist()
 
     def _floating_cone(self, q_free: list[float], start: list[list[complex]], h: float):
@@ -244,9 +255,10 @@ class FreeStepper:
         to_body = e * complex(0.0, -turn)  # e B = e (i a B) / (i a)
         plus, minus = ground * e * complex(1.0, mu), ground * e * complex(1.0, -mu)
         upper, lower, bound_up, bound_low = [], [], [], []
-        scale = -1.0 / h
+        scale, rise = -1.0 / h, self._rise
         for fixed, slide, (cone_up, cone_low), row in zip(self._fixed, self._slide, self._slide_cone, start):
-            gap = (ground * (fixed + sum(map(mul, slide, base)) + to_body * row[0])).imag
+            at = ground * (fixed + sum(map(mul, slide, base)) + to_body * row[0])  # along + i across the ground
+            gap = at.imag if rise is None else at.imag - rise(at.real)
             up = [(plus * c).imag for c in row]
             low = [(minus * c).imag for c in row]
             upper.append(cone_up + up)
@@ -257,7 +269,7 @@ class FreeStepper:
 
     def _floating_points(self, q_free: list[float], u: list[float], end: list[list[complex]]):
         """Each point's height [m], x [m] and tangential speed [m/s] after the step, from the track's body rows."""
-        turn, ground = self._turn, self._ground
+        turn, ground, rise = self._turn, self._ground, self._rise
         *base, pitch = q_free
         *rate, spin = u
         e = complex(math.cos(pitch), turn * math.sin(pitch))
@@ -265,7 +277,7 @@ class FreeStepper:
         heights, xs, slip = [], [], []
         for fixed, slide, (spun, along) in zip(self._fixed, self._slide, end):
             at = ground * (fixed + sum(map(mul, slide, base)) + to_body * spun)  # along and across the ground
-            heights.append(at.imag)
+            heights.append(at.imag if rise is None else at.imag - rise(at.real))
             xs.append(at.real)
             slip.append((ground * (sum(map(mul, slide, rate)) + spin * e * spun + e * along)).real)
         return heights, xs, slip

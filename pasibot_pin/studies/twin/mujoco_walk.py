@@ -70,7 +70,7 @@ from pasibot_pin.dynamics.floor.run import LOAD_TOL
 from pasibot_pin.dynamics.floor.settings import crank_advance
 from pasibot_pin.dynamics.floor.track import SPEED_LIMIT
 from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
-from pasibot_pin.errors import MissingExtraError, SimulationError
+from pasibot_pin.errors import MissingExtraError, ParameterError, SimulationError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES
 from pasibot_pin.model.design import design_robot
 from pasibot_pin.model.mjcf import MjcfOptions, check_twin, spatial_qpos, to_mjcf
@@ -147,9 +147,11 @@ class MujocoWalk:
 
 
 def mujoco_options(design, settings: WalkSettings, robot, base: MjcfOptions = MJ_WALK) -> MjcfOptions:
-    """The export options of ``design``'s walk: ``base`` with the design's spring and the walk's mu."""
+    """The export options of ``design``'s walk: ``base`` with the design's spring and the walk's mu and slope."""
     floor = floor_settings(design, settings, robot)
-    options = replace(base, mu=floor.mu)
+    if floor.step_height:
+        raise ParameterError("parameter 'step_height': the MuJoCo twin walks a flat floor or a slope, not a step")
+    options = replace(base, mu=floor.mu, slope=floor.slope)
     if floor.spring is not None:
         spring = floor.spring
         options = replace(
@@ -175,6 +177,7 @@ class _Twin:
             (q0, v0), self.start_kind = sim.initial_state(), "flat"
         self.weight, self.options = sim.weight, options
         self.spatial = options.footprint is not None
+        self.turn = sim.turn  # the ground's frame, e^(-i slope): the judge reads along and across it, as ours
         model = mujoco.MjModel.from_xml_string(to_mjcf(robot, options, q_weld=q0))
         floor_geom = model.geom("floor").id  # MuJoCo mixes both geoms' solref/solimp: make them equal
         model.geom_solref[floor_geom] = options.contact_solref
@@ -188,7 +191,11 @@ class _Twin:
             self.data.qpos[2] += options.sole_radius - SINK  # box bottoms where our points are
         else:
             self.data.qpos[:], self.data.qvel[:] = q0, v0
-            self.data.qpos[HIP_Z] += options.sole_radius - SINK  # capsule bottoms where our points are
+            lift = options.sole_radius - SINK  # capsule bottoms where our points are: along the ground's normal
+            if self.turn != 1.0:
+                self.data.qpos[HIP_X] += lift * self.turn.imag  # -sin(slope)
+                lift *= self.turn.real
+            self.data.qpos[HIP_Z] += lift
         motors = list(robot.actuated_joints)
         self.theta0 = np.array([q0[robot.idx_q(m)] for m in motors])
         self.qadr = [model.joint(m).qposadr[0] for m in motors]
@@ -266,13 +273,13 @@ class _Twin:
         velocity = np.zeros(6)
         feet = []
         for i in range(len(SIDES)):
-            heel, toe = (data.site_xpos[s] for s in self.sites[i])
+            heel, toe = (self._grounded(data.site_xpos[s]) for s in self.sites[i])
             half_loaded = force[i] > LOAD_TOL
             slip = 0.0
             for k in range(2):
                 if half_loaded[k]:
                     mj.mj_objectVelocity(self.model, data, mj.mjtObj.mjOBJ_SITE, self.sites[i][k], velocity, 0)
-                    slip = max(slip, abs(float(velocity[3])))
+                    slip = max(slip, abs(float(self._grounded(velocity[3:6])[0])))
             feet.append(
                 FootSample(
                     loaded=bool(force[i].sum() > LOAD_TOL),
@@ -291,11 +298,20 @@ class _Twin:
         hip_x, pitch = self.hip()
         return GaitSample(t, hip_x, pitch, (feet[0], feet[1]), tuple(power))
 
+    def _grounded(self, point: np.ndarray) -> np.ndarray:
+        """A world point or velocity (3,) read along the ground (x) and across it (z) (itself on the flat floor)."""
+        if self.turn == 1.0:
+            return point
+        at = complex(point[0], point[2]) * self.turn
+        return np.array([at.real, point[1], at.imag])
+
     def hip(self) -> tuple[float, float]:
-        """The hip's forward position [m] and pitch [rad] (the planar convention)."""
+        """The hip's position along the ground [m] and its pitch from the ground's normal [rad] (as ours)."""
         qpos = self.data.qpos
         if not self.spatial:
-            return float(qpos[HIP_X]), float(qpos[HIP_PITCH])
+            if self.turn == 1.0:
+                return float(qpos[HIP_X]), float(qpos[HIP_PITCH])
+            return (complex(qpos[HIP_X], qpos[HIP_Z]) * self.turn).real, float(qpos[HIP_PITCH]) - self.floor.slope
         return float(qpos[0]), self.attitude()[1]
 
     def attitude(self) -> tuple[float, float, float]:
@@ -309,7 +325,7 @@ class _Twin:
         self._slot = 0  # the start's zero forces are no part of the first window
         feet = []
         for i, foot in enumerate(sample.feet):
-            heights = [self.data.site_xpos[s][2] - self.options.sole_radius for s in self.sites[i]]
+            heights = [self._grounded(self.data.site_xpos[s])[2] - self.options.sole_radius for s in self.sites[i]]
             on = [h < 1e-6 for h in heights]
             feet.append(foot._replace(loaded=any(on), on_point=on[0] != on[1], normal=0.0, slip=0.0))
         return sample._replace(feet=(feet[0], feet[1]), motor_power=tuple(0.0 for _ in sample.motor_power))

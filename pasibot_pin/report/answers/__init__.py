@@ -1,4 +1,14 @@
-"""The answers box that opens ``report.md`` (and that the README's results section quotes).
+"""Every answer the package gives a builder, in one place.
+
+The box that opens ``report.md`` (here); the walking map's answer in words
+(:mod:`pasibot_pin.report.answers.walking`, quoted by ``docs/walking.md`` and the README); the design
+questions' answers (:mod:`pasibot_pin.report.answers.questions`: the optimisation plans, and the committed
+answer files in ``docs/results/`` read back). The studies compute (:mod:`pasibot_pin.studies.walking_map`,
+:mod:`pasibot_pin.studies.spring_choice`, :mod:`pasibot_pin.studies.motor_load`); these modules say the
+answers and return texts; ``tools/answers.py``, ``tools/walking_answer.py`` and ``tools/designs_catalog.py``
+write the files.
+
+The answers box that opens ``report.md`` (and that the README's results section quotes).
 
 A builder's questions, each answered in one bullet whose numbers come from code and are stated once:
 
@@ -24,8 +34,8 @@ import math
 from pathlib import Path
 
 from pasibot_pin.model.design import Design
+from pasibot_pin.report.answers.walking import walking_answer
 from pasibot_pin.report.markdown import Section
-from pasibot_pin.report.walking_answer import walking_answer
 from pasibot_pin.studies.motor_load import MotorLoad, motor_load
 from pasibot_pin.studies.spring_choice import recommended_spring
 from pasibot_pin.studies.walking import WalkSettings, walk_design
