@@ -15,7 +15,7 @@ from pathlib import Path
 
 import matplotlib.pyplot as plt
 
-from pasibot_pin.dynamics.floor.engine3d import Floor3DResult
+from pasibot_pin.dynamics.floor.result3d import Floor3DResult
 from pasibot_pin.files import atomic_paths, check_replaceable
 from pasibot_pin.jobs import Job
 from pasibot_pin.model.scenarios import get_scenario

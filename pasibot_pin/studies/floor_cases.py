@@ -20,7 +20,8 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
-from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.floor.engine3d import Floor3D
+from pasibot_pin.dynamics.floor.result3d import Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.spring_energy import AnkleSpring

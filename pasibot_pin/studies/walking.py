@@ -20,8 +20,9 @@ import math
 from dataclasses import dataclass, replace
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
-from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.floor.engine3d import Floor3D
 from pasibot_pin.dynamics.floor.ground import Ground, check_mu, check_step
+from pasibot_pin.dynamics.floor.result3d import Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict

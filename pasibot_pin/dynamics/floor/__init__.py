@@ -22,8 +22,9 @@ classes; the rest is imported from the module that defines it.
 """
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
-from pasibot_pin.dynamics.floor.engine3d import Floor3D, Floor3DResult
+from pasibot_pin.dynamics.floor.engine3d import Floor3D
 from pasibot_pin.dynamics.floor.ground import Ground
+from pasibot_pin.dynamics.floor.result3d import Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult, StartState
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 

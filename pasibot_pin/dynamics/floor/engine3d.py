@@ -28,7 +28,7 @@ Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import replace
 
 import coal
 import numpy as np
@@ -40,6 +40,7 @@ from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.floor.ldp import TouchingRows, floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
+from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
 from pasibot_pin.dynamics.floor.run import point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
 from pasibot_pin.dynamics.floor.track import check_speed
@@ -73,68 +74,12 @@ STEP_LIMIT = 0.5
 """Largest correction of one Newton iteration of the projection [m, rad]."""
 MAX_STEPS = 2_000_000
 """Most time steps one 3-D run takes."""
-CLEARANCE_EVERY = 5
-"""The soles' clearance is measured every this many steps (5 ms at 1 ms: a sole moves ~5 mm) [-]."""
 TOUCH = 1e-9
 """Soles that touch (plates meeting edge to edge at the midline) are clear; deeper than this they intersect [m]."""
 HELD = (1, 3, 5)
 """The world-aligned velocity entries the planar walk holds: y, roll and yaw."""
 LATERAL_TOLERANCE = 1e-10
 """The lateral mass's row is closed to this [m]."""
-
-
-@dataclass
-class Floor3DResult:
-    """A 3-D floor run, one sample per step.
-
-    Attributes:
-        t: times [s] (n,).
-        q: free-flyer configurations (n, nq).
-        hip: the hip's x, y, z [m] (n, 3).
-        roll, pitch, yaw: the hip's attitude [rad] (n,) (pitch: the planar convention).
-        normal: each corner's normal force [N] (n, corners).
-        verdict: the walk's :class:`~pasibot_pin.dynamics.verdict.Verdict` (``tipped`` among its outcomes).
-        max_hip_roll_deg: largest |roll| [deg].
-        yaw_per_step_deg: the hip's yaw at the end over the steps taken [deg/step].
-        lateral_drift_m: the hip's y at the end [m].
-        roll_margin_deg: the tip limit less the largest |roll| [deg] (negative: tipped).
-        fallback: QP solves answered by proxsuite (the rest exactly: held, by the active set; free, by NNLS).
-        min_sole_clearance_m: the least distance between the two feet's sole plates over the walk,
-            every :data:`CLEARANCE_EVERY` steps [m] (negative: they intersected, ``collided``).
-        leg_clearance_m: the least lateral gap between a leg and the other leg's links
-            (:func:`~pasibot_pin.model.spatial.leg_clearance`, the same all walk long) [m].
-        u_end: the velocity at the last sample, in world-aligned root coordinates.
-        lateral_y: the lateral mass's place on its slider [m] (n,), ``None`` without one; ``q`` and
-            ``u_end`` are the robot's own coordinates, without it.
-
-    """
-
-    t: np.ndarray
-    q: np.ndarray
-    hip: np.ndarray
-    roll: np.ndarray
-    pitch: np.ndarray
-    yaw: np.ndarray
-    normal: np.ndarray
-    verdict: Verdict
-    max_hip_roll_deg: float
-    yaw_per_step_deg: float
-    lateral_drift_m: float
-    roll_margin_deg: float
-    fallback: int
-    min_sole_clearance_m: float
-    leg_clearance_m: float = math.nan
-    u_end: np.ndarray | None = None
-    lateral_y: np.ndarray | None = None
-
-    def summary(self) -> str:
-        """One line: the verdict, then the sideways figures."""
-        return (
-            f"{self.verdict.summary()}; 3-D: max |roll| {self.max_hip_roll_deg:.2f} deg "
-            f"(limit {math.degrees(TIP_LIMIT):g}), yaw {self.yaw_per_step_deg:+.3f} deg/step, "
-            f"lateral drift {1000 * self.lateral_drift_m:+.1f} mm, "
-            f"soles {1000 * self.min_sole_clearance_m:.1f} mm apart, legs {1000 * self.leg_clearance_m:.1f} mm"
-        )
 
 
 class Floor3D:
