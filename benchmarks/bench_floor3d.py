@@ -11,7 +11,7 @@ same simulated time from the same start, each engine at its own time step:
 
 Prints the CPU seconds per simulated second of each and the ratios (the issue's goal: the 3-D
 floor at least 1.5x MuJoCo's rate, the planar floor unchanged). Each engine runs ``ROUNDS``
-times in turn; the best round counts. Run: ``.venv/bin/python benchmarks/bench_floor3d.py``.
+times in turn (ROUNDS); the best round counts. Run: ``.venv/bin/python benchmarks/bench_floor3d.py``.
 """
 
 from __future__ import annotations
@@ -27,7 +27,7 @@ from pasibot_pin.studies.walking import WalkSettings, floor_settings
 DESIGN = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 COMB = {"sole_inner": 2.6, "sole_gap_from": 0.6, "sole_gap_to": 2.2}
 SIMULATED = 2.0
-ROUNDS = 2
+ROUNDS = 3
 
 
 def main() -> int:
