@@ -170,8 +170,9 @@ def test_floor_metrics_are_the_walking_verdict():
     out = dm.design_metrics(design, floor=2)
     assert out.feasible and out.floor_outcome
     row = out.row()
-    assert list(row)[len(dm.METRICS) : len(dm.METRICS) + len(dm.FLOOR_METRICS) + 1] == [
+    assert list(row)[len(dm.METRICS) : len(dm.METRICS) + len(dm.FLOOR_METRICS) + 2] == [
         *dm.FLOOR_METRICS,
+        *dm.FLOOR_PLANAR_METRICS,
         "floor_outcome",
     ]
     verdict = walk_design(design, WalkSettings(steps=2)).verdict

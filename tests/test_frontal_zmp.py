@@ -4,6 +4,7 @@ of each leg's centre of mass (second differences of positions), and the issue's 
 from __future__ import annotations
 
 import functools
+import math
 
 import numpy as np
 import pinocchio as pin
@@ -80,3 +81,21 @@ def test_fast_walkers_zmp_leaves_a_centred_sole():
     wide = frontal_zmp(robot, walk.result, design.with_(sole_inner=2.6, sole_gap_from=0.6, sole_gap_to=2.2).footprint())
     assert wide.min_margin > 0.0  # a prong 3 cm past the midline holds it
     assert np.all(np.isfinite(zmp.margin))
+
+
+@pytest.mark.slow
+def test_the_floor_metrics_carry_the_frontal_margin_as_a_sideways_filter():
+    """design_metrics(floor=N) on flat ground carries the walk's least frontal ZMP margin (frontal_zmp's,
+    one definition): negative on the fast walker's centred 6 cm plates, which tip in 3-D; larger with a
+    prong past the midline, which walks upright; NaN on a slope (the ZMP is the flat ground's)."""
+    from pasibot_pin.studies import design_metrics as dm
+
+    design, robot, walk = _walk()
+    plates = dm.design_metrics(design, floor=4)
+    margin = plates["floor_frontal_zmp_margin_mm"]
+    assert margin == pytest.approx(1e3 * frontal_zmp(robot, walk.result, design.footprint()).min_margin, abs=1e-9)
+    assert margin < 0.0
+    assert plates.row()["floor_frontal_zmp_margin_mm"] == margin
+    comb = dm.design_metrics(design.with_(sole_inner=2.6, sole_gap_from=0.6, sole_gap_to=2.2), floor=4)
+    assert comb["floor_frontal_zmp_margin_mm"] > margin
+    assert math.isnan(dm.design_metrics(design, floor=2, slope=0.02)["floor_frontal_zmp_margin_mm"])

@@ -30,6 +30,7 @@ from pasibot_pin.studies.design_metrics import (
     ALL_METRICS,
     FLOOR3D_METRICS,
     FLOOR_METRICS,
+    FLOOR_PLANAR_METRICS,
     DesignMetrics,
     design_metrics,
     infeasible,
@@ -80,8 +81,8 @@ def floor_columns(floor: int | None, spatial: bool = False) -> dict[str, str]:
     """The table's extra columns with a floor simulation (name -> kind), none without."""
     if floor is None:
         return {}
-    return {**dict.fromkeys(FLOOR_METRICS, "float"), **dict.fromkeys(FLOOR3D_METRICS if spatial else (), "float"),
-            "floor_outcome": "str"}  # fmt: skip
+    extra = FLOOR3D_METRICS if spatial else FLOOR_PLANAR_METRICS
+    return {**dict.fromkeys(FLOOR_METRICS, "float"), **dict.fromkeys(extra, "float"), "floor_outcome": "str"}
 
 
 @dataclass

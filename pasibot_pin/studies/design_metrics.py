@@ -51,7 +51,7 @@ from typing import TYPE_CHECKING
 import numpy as np
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, crank_grid, inverse_dynamics
-from pasibot_pin.errors import InterferenceError, ParameterError
+from pasibot_pin.errors import DesignError, InterferenceError, ParameterError
 from pasibot_pin.model.assembly import leg_joint_angles, leg_points, sole_angle_from_points, transmission_angles, wrap
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.placements import placement_map
@@ -59,6 +59,7 @@ from pasibot_pin.model.variants import get_motor_layout, get_variant
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.contact import cop_metrics, sole_geometry
 from pasibot_pin.studies.energy import STEP_END, STEP_START, gauss_legendre, robot_step_energy
+from pasibot_pin.studies.frontal_zmp import frontal_zmp
 from pasibot_pin.studies.methods.spring_fit import fit_spring
 from pasibot_pin.studies.motor_load import MotorLoad, motor_load
 from pasibot_pin.studies.spring_study import toppling_stiffness
@@ -140,10 +141,25 @@ FLOOR3D_METRICS: Mapping[str, MetricSpec] = {
 """The 3-D floor's extra metrics (``design_metrics(design, floor=STEPS, spatial=True)``:
 :func:`~pasibot_pin.studies.walking.walk_design_3d`)."""
 
+FLOOR_PLANAR_METRICS: Mapping[str, MetricSpec] = {
+    m.name: m
+    for m in (
+        MetricSpec(
+            "floor_frontal_zmp_margin_mm",
+            "mm",
+            "least frontal ZMP margin inside the stance sole over the planar walk (negative: it tips sideways)",
+            "max",
+        ),
+    )
+}
+"""The planar floor's sideways filter (``design_metrics(design, floor=STEPS)`` on flat ground:
+:func:`~pasibot_pin.studies.frontal_zmp.frontal_zmp` of the walk on the design's soles), a cheap
+screen before a 3-D walk."""
+
 MAX_FLOOR_STEPS = 1000
 """Most steps a design may be asked to walk in a table [-]."""
 
-ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS, **FLOOR3D_METRICS}
+ALL_METRICS: Mapping[str, MetricSpec] = {**METRICS, **FLOOR_METRICS, **FLOOR3D_METRICS, **FLOOR_PLANAR_METRICS}
 """Every metric a table may hold, an objective, a constraint or a ranking may name."""
 
 FAILURES: tuple[str, ...] = ("", "invalid", "assembly", "singular", "branch", "lift-off", "non-finite")
@@ -179,6 +195,7 @@ class DesignMetrics:
         if self.floor_outcome is not None:
             out.update({k: float(self.values.get(k, math.nan)) for k in FLOOR_METRICS})
             out.update({k: float(self.values[k]) for k in FLOOR3D_METRICS if k in self.values})  # a 3-D walk's
+            out.update({k: float(self.values[k]) for k in FLOOR_PLANAR_METRICS if k in self.values})  # a planar one's
             out["floor_outcome"] = self.floor_outcome
         return {**out, "feasible": self.feasible, "failure": self.failure, "reason": self.reason}
 
@@ -368,9 +385,11 @@ def floor_metrics(
             "floor_min_sole_clearance_mm": 1e3 * walk3d.result.min_sole_clearance_m,
         }
     else:
+        robot = design_robot(design, 2, visuals=False) if robot is None else robot
         walk = walk_design(design, WalkSettings(steps=steps, slope=slope), robot)
         v = walk.verdict
         load = motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
+        extra = {"floor_frontal_zmp_margin_mm": math.nan if slope else _frontal_margin_mm(design, robot, walk.result)}
     values = {
         "floor_walks": float(v.walks),
         "floor_steps": float(v.steps),
@@ -386,6 +405,18 @@ def floor_metrics(
         "floor_exchange_impulse_Nms": math.nan if load is None else load.exchange_impulse_Nms,
     }
     return {**values, **extra}, v.outcome
+
+
+def _frontal_margin_mm(design: Design, robot: PasibotRobot, result) -> float:
+    """The planar walk's least frontal ZMP margin on the design's soles [mm].
+
+    NaN without a single support, or where the sole fields describe no footprint.
+    """
+    try:
+        footprint = design.footprint()
+    except DesignError:
+        return math.nan
+    return 1e3 * frontal_zmp(robot, result, footprint).min_margin
 
 
 def check_floor_steps(floor: int | None, name: str = "floor") -> int | None:
@@ -442,10 +473,16 @@ def design_metrics(
         and not (springless and k.startswith("K_e"))
         and k not in FLOOR_METRICS
         and k not in FLOOR3D_METRICS
+        and k not in FLOOR_PLANAR_METRICS
     ]
     if bad:
         return infeasible("non-finite", f"non-finite {', '.join(bad)}")
-    names = (*METRICS, *(FLOOR_METRICS if floor else ()), *(FLOOR3D_METRICS if floor and spatial else ()))
+    names = (
+        *METRICS,
+        *(FLOOR_METRICS if floor else ()),
+        *(FLOOR3D_METRICS if floor and spatial else ()),
+        *(FLOOR_PLANAR_METRICS if floor and not spatial else ()),
+    )
     return DesignMetrics({k: values[k] for k in names}, floor_outcome=outcome)
 
 
