@@ -17,7 +17,7 @@ import pytest
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D
-from pasibot_pin.dynamics.floor.ldp import TouchingRows, floating_qp, ldp_free_qp
+from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp
 from pasibot_pin.dynamics.floor.qp import proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor.settings import FloorSettings
 from pasibot_pin.model.design import design_robot, load_design
@@ -52,20 +52,6 @@ def test_ldp_is_the_qp_optimum(seed):
     assert np.abs(z * slack).max() <= 1e-9 * scale * (1.0 + z.max())
     x_ref, _ = proxsuite_free_qp(hessian, g, cone, lower)
     np.testing.assert_allclose(x, x_ref, atol=1e-6 * (1.0 + np.abs(x_ref).max()))
-
-
-def test_the_last_touching_rows_answer_as_nnls_does():
-    """A sequence of nearby QPs (a contact mode that persists, then changes): the warm answers are the cold ones."""
-    rng = np.random.default_rng(11)
-    hessian, g, cone, lower = _pyramid_qp(rng)
-    warm = TouchingRows()
-    for k in range(40):
-        g_k = g + 0.02 * k * rng.normal(size=g.size)  # drifts: the touching rows change on the way
-        x_cold, z_cold = ldp_free_qp(hessian, g_k, cone, lower)
-        x_warm, z_warm = ldp_free_qp(hessian, g_k, cone, lower, warm)
-        np.testing.assert_allclose(x_warm, x_cold, atol=1e-10 * (1.0 + np.abs(x_cold).max()))
-        np.testing.assert_allclose(z_warm, z_cold, atol=1e-8 * (1.0 + z_cold.max()))
-    assert 0 < warm.hits < 40  # the warm rows answered some, and a change of mode went to NNLS
 
 
 def test_ldp_without_binding_rows_is_the_free_minimum():

@@ -38,7 +38,7 @@ from pasibot_pin.constraints import symmetric_mass_matrix
 from pasibot_pin.constraints.solves import kkt_solve
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.ground import Ground
-from pasibot_pin.dynamics.floor.ldp import TouchingRows, floating_qp, ldp_free_qp, solve_spd
+from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
 from pasibot_pin.dynamics.floor.run import point_sample
@@ -145,7 +145,6 @@ class Floor3D:
         self._motor_index = [i + self._shift for i in planar.motor_index]
         self._motor_targets = [row - planar.bilateral.n_constraint_rows for row in planar.crank_rows]
         self.tracked = True
-        self._touching = TouchingRows()  # the tracked step's last contact mode, tried first
         self.fallback = 0
 
     # ---- coordinates
@@ -352,7 +351,7 @@ class Floor3D:
         cone, lower, blocks = self._cone(q, h)
         free, block = track.rows, track.block
         base = hessian @ shape.velocity + g
-        found = ldp_free_qp(hessian[block], base[free], cone[:, free], lower - cone @ shape.velocity, self._touching)
+        found = ldp_free_qp(hessian[block], base[free], cone[:, free], lower - cone @ shape.velocity)
         if found is None:
             return None
         u_free, z = found

@@ -36,34 +36,12 @@ from pasibot_pin.dynamics.floor.qp import SIGN_TOL, TOUCH_TOL, reduced_qp
 
 GRAM_TOL = 1e-12
 """Largest relative residual of the least-norm split through the rows' Gram matrix before the SVD is asked [-]."""
-RANK_TOL = 1e-10
-"""A singular value of the touching rows below this share of the largest is a redundancy [-]."""
 FEASIBLE_TOL = 1e-9
 """Largest violation of a cone row by the NNLS answer, relative to the row's scale, before proxsuite is asked [-]."""
 
 
-class TouchingRows:
-    """The rows that touched at the last solve, tried first at the next (:func:`ldp_free_qp`'s ``warm``).
-
-    Between two time steps the contact mode rarely changes. On the rows T that touched last, the
-    least-distance point is w = G_T^+ d_T and the least-norm impulses z_T = (G_T^T)^+ w =
-    U S^-2 U^T d_T (one SVD of G_T): where these meet every condition of the optimum (G_T w = d_T,
-    z_T >= 0, every row met, exactly the rows T touching) they are the answer the NNLS path would
-    give, without it.
-
-    Attributes:
-        rows: the touching rows of the last solve (``None`` before the first).
-        hits: solves answered on the last rows.
-
-    """
-
-    def __init__(self) -> None:
-        self.rows: np.ndarray | None = None
-        self.hits = 0
-
-
 def ldp_free_qp(
-    hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray, warm: TouchingRows | None = None
+    hessian: np.ndarray, g: np.ndarray, c_in: np.ndarray, lower: np.ndarray
 ) -> tuple[np.ndarray, np.ndarray] | None:
     """The QP min 1/2 x^T H x + g^T x s.t. C x >= l, exactly, by a least-distance NNLS (module docstring).
 
@@ -72,7 +50,6 @@ def ldp_free_qp(
         g: linear term (n,).
         c_in: the cone rows C (k, n).
         lower: l (k,).
-        warm: the last solve's touching rows, tried first (:class:`TouchingRows`; updated).
 
     Returns:
         (x, z) with H x + g = C^T z, z >= 0, C x >= l; ``None`` when H is not positive definite
@@ -87,11 +64,6 @@ def ldp_free_qp(
     rows = c_in.dot(to_u.T)  # G = C L^-T (k, n)
     need = lower - rows.dot(u_0)  # d
     scale = 1.0 + np.abs(need).max()
-    if warm is not None and warm.rows is not None and len(warm.rows):
-        found = _on_rows(rows, need, warm.rows, scale)
-        if found is not None:
-            warm.hits += 1
-            return to_u.T.dot(u_0 + found[0]), found[1]
     if need.max() <= 0.0:  # u_0 meets every row: no impulse
         w, z = np.zeros(n), np.zeros(len(lower))
     else:
@@ -116,37 +88,8 @@ def ldp_free_qp(
         if float(least.min()) >= -SIGN_TOL * (1.0 + float(np.abs(least).max())):
             z = np.zeros(len(lower))
             z[touching] = np.maximum(least, 0.0)
-    if warm is not None:
-        warm.rows = touching if z.any() else None
     x = to_u.T.dot(u_0 + w)
     return x, z
-
-
-def _on_rows(
-    rows: np.ndarray, need: np.ndarray, active: np.ndarray, scale: float
-) -> tuple[np.ndarray, np.ndarray] | None:
-    """(w, z) of the least-distance program with exactly the rows ``active`` touching, or ``None``.
-
-    See :class:`TouchingRows`.
-    """
-    held = rows[active]
-    left, values, right, info = lapack.dgesdd(held, full_matrices=0)
-    if info != 0 or not len(values) or not values[0] > 0.0:
-        return None
-    keep = values > RANK_TOL * values[0]
-    scaled = left[:, keep].T.dot(need[active]) / values[keep]  # S^-1 U^T d
-    w = right[keep].T.dot(scaled)
-    z_active = left[:, keep].dot(scaled / values[keep])
-    if np.abs(held.dot(w) - need[active]).max() > FEASIBLE_TOL * scale:  # the rows cannot all hold
-        return None
-    if float(z_active.min()) < -SIGN_TOL * (1.0 + float(np.abs(z_active).max())):
-        return None
-    slack = rows.dot(w) - need
-    if slack.min() < -FEASIBLE_TOL * scale or not np.array_equal(np.flatnonzero(slack <= TOUCH_TOL), active):
-        return None
-    z = np.zeros(len(need))
-    z[active] = np.maximum(z_active, 0.0)
-    return w, z
 
 
 def _least_norm(rows: np.ndarray, w: np.ndarray) -> np.ndarray:
