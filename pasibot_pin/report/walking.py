@@ -136,17 +136,27 @@ def verdict_json(walk, multipliers=None) -> dict:
         "omega_rad_s": walk.omega,
         "dt_s": walk.dt,
         "simulated_s": v.simulated_s,
-        "margins": [
-            {**asdict(m), "value": _finite(m.value), "margin": _finite(m.margin), "near": m.near} for m in v.margins
-        ],  # fmt: skip
+        "margins": [_margin_json(m) for m in v.margins],
     }
     if multipliers is not None:
         out["multipliers"] = [[float(z.real), float(z.imag)] for z in multipliers.multipliers]
         out["stable"] = bool(multipliers.stable)
         out["stability_method"] = "Newton shooting of the step map, forward differences"
+        point = multipliers.fixed_point
+        if getattr(multipliers, "fitted", False):
+            out["stability_method"] = f"least-squares fit of the step map to {point.evaluations} simulated steps"
+            out["stability_newton_note"] = multipliers.newton_note
+            out["dominant_multiplier_spread"] = [float(point.spread[0]), float(point.spread[1])]
+            out["step_jitter_rms"] = dict(zip(multipliers.labels, map(float, point.jitter)))
         out["stability_cpu_s"] = float(multipliers.cpu_s)
         out["stability_steps_simulated"] = int(multipliers.evaluations)
     return out
+
+
+def _margin_json(m) -> dict:
+    """One rule's margin as JSON: NaN (no figure) as null, strict JSON."""
+    figures = {name: _finite(getattr(m, name)) for name in ("value", "margin", "scale")}
+    return {**asdict(m), **figures, "near": m.near}
 
 
 def _finite(x: float) -> float | None:
