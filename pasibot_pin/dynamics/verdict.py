@@ -24,7 +24,9 @@ Outcomes (:data:`OUTCOMES`):
     (it was lifted and put down, not stepped), or both feet left the floor;
   - ``tipped``: (3-D floor only) the hip rolled past :data:`TIP_LIMIT` sideways;
   - ``collided``: (3-D floor only) a sole passed through the other foot's sole;
-  - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`).
+  - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`);
+  - ``infeasible_start``: the start pose (settled on the floor before the cranks turn) already breaks
+    the hip-pitch or a foot's roll limit; decided at the start, naming the rule, its value and its limit.
 
 * ``undecided``: the run ended (its given duration) before any of the above was decided, less
   than two step periods in (so even ``stalled`` cannot be told), or it was asked for fewer than
@@ -59,12 +61,13 @@ OUTCOMES: tuple[str, ...] = (
     "tipped",
     "collided",
     "diverged",
+    "infeasible_start",
     "undecided",
 )
 """Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
 the walk needs, see :data:`FAILURES`)."""
 
-FAILURES: tuple[str, ...] = ("fell", "rolled", "slipped", "stalled", "hopped", "tipped", "collided", "diverged")
+FAILURES: tuple[str, ...] = OUTCOMES[1:-1]  # fell .. infeasible_start
 """The outcomes that are failures."""
 
 
@@ -358,6 +361,19 @@ class GaitJudge:
         self._t = self.start.t
         self._hip_x = self.start.hip_x
         self._last_progress = self.start.t
+        self._judge_start()
+
+    def _judge_start(self) -> None:
+        """``infeasible_start``: the start pose already breaks the hip-pitch limit or a foot's roll limit."""
+        c, start = self.criteria, self.start
+        rules = [("hip_pitch", "_max_pitch", "its hip pitch", start.hip_pitch, c.max_hip_pitch)]
+        rules += [("foot_roll", "_max_foot_roll", f"the {side} foot, on a heel or toe alone, pitched", foot.pitch,
+                   c.roll_limit) for side, foot in zip(SIDES, start.feet) if foot.loaded and foot.on_point]  # fmt: skip
+        for rule, worst, what, value, limit in rules:
+            if abs(value) > limit and not self.outcome:
+                setattr(self, worst, abs(value))
+                detail = f"the start pose breaks a limit: {what} {math.degrees(value):+.1f} deg, past"
+                self._decide("infeasible_start", start.t, f"{detail} {math.degrees(limit):.0f} deg", rule)
 
     @property
     def decided(self) -> bool:
