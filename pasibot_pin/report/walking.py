@@ -126,6 +126,7 @@ def verdict_json(walk, multipliers=None) -> dict:
         "max_slip_m": v.max_slip_m,
         "motor_torque_peak_Nm": _finite(load.torque_peak_Nm),
         "motor_torque_rms_Nm": _finite(load.torque_rms_Nm),
+        "motor_torque_max_Nm": _finite(load.torque_max_Nm),
         "motor_power_peak_W": _finite(load.power_peak_W),
         "exchange_impulse_Nms": _finite(load.exchange_impulse_Nms),
         "crank_speed_dip_rad_s": _finite(load.speed_dip_rad_s),
