@@ -101,7 +101,7 @@ def write_walk_animation(
     if html is not None:
         viewer = WalkViewer(robot, offline=True)
         try:
-            build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes)
+            build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes, follow=True)
             text = viewer.static_html()
         finally:
             viewer.close()
