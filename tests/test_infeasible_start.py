@@ -42,8 +42,9 @@ def test_a_start_past_the_hip_pitch_limit_is_decided_at_once_with_its_value():
 
 def test_a_foot_standing_on_a_point_past_the_roll_limit_is_decided_at_once():
     limit = GaitCriteria().roll_limit
-    verdict, margin = _decided(_judge(_start(0.0, foot_pitch=limit + 0.05, on_point=True)))
+    verdict, margin = _decided(_judge(_start(0.05, foot_pitch=limit + 0.05, on_point=True)))
     assert verdict.outcome == "infeasible_start" and margin.rule == "foot_roll"
+    assert verdict.max_hip_pitch == pytest.approx(0.05)  # the start's pitch counts, though within its limit
     assert margin.value == pytest.approx(math.degrees(limit + 0.05)) and "right foot" in verdict.detail
 
 

@@ -64,8 +64,7 @@ OUTCOMES: tuple[str, ...] = (
     "infeasible_start",
     "undecided",
 )
-"""Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
-the walk needs, see :data:`FAILURES`)."""
+"""Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than the walk needs)."""
 
 FAILURES: tuple[str, ...] = OUTCOMES[1:-1]  # fell .. infeasible_start
 """The outcomes that are failures."""
@@ -371,6 +370,7 @@ class GaitJudge:
                    c.roll_limit) for side, foot in zip(SIDES, start.feet) if foot.loaded and foot.on_point]  # fmt: skip
         for rule, worst, what, value, limit in rules:
             if abs(value) > limit and not self.outcome:
+                self._max_pitch = abs(start.hip_pitch)  # the start's pitch counts, whichever rule decides
                 setattr(self, worst, abs(value))
                 detail = f"the start pose breaks a limit: {what} {math.degrees(value):+.1f} deg, past"
                 self._decide("infeasible_start", start.t, f"{detail} {math.degrees(limit):.0f} deg", rule)
