@@ -1,6 +1,7 @@
 """PASIBOT's gait as a fixed point of its step-to-step map (the shooting is checked on Garcia's
 simplest walker in test_poincare.py); here the map itself and what its multipliers predict."""
 
+import json
 import math
 
 import numpy as np
@@ -75,3 +76,60 @@ def test_walk_stability_with_the_default_steps_shoots_the_same_gait(shot):
     assert stability.fixed_point.residual <= StabilitySettings().tol
     assert np.allclose(stability.fixed_point.x, short.fixed_point.x, atol=1e-5)
     assert stability.stable
+
+
+FASTEST = "designs/fastest_parallel_toe4.4L_heel6.3L_omega7.61.toml"
+
+
+def _own_crossings(gait_map: GaitMap, walk) -> np.ndarray:
+    """The walk's own section states at every step (right then left leg at mid-stance, mirrored),
+    interpolated between the two samples around each crossing: data that the shooting never saw."""
+    from pasibot_pin.studies.gait_stability import SECTION_THETA
+
+    r, s = walk.result, walk.settings
+    half_turns = (s.theta0 + walk.omega * (r.t - 0.5 * s.crank_ramp) - SECTION_THETA) / math.pi
+    crossed = np.flatnonzero((r.t[1:] > s.crank_ramp) & (np.floor(half_turns[1:]) > np.floor(half_turns[:-1]))) + 1
+    states = []
+    for i, k in enumerate(crossed):
+        f = (np.ceil(half_turns[k - 1]) - half_turns[k - 1]) / (half_turns[k] - half_turns[k - 1])
+        x = gait_map.state((1 - f) * r.q[k - 1] + f * r.q[k], (1 - f) * r.v[k - 1] + f * r.v[k])
+        states.append(gait_map.mirrored(x) if i % 2 else x)
+    return np.array(states)
+
+
+@pytest.mark.slow
+def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys):
+    """Issue 34: `walk --stability` on the fastest walker, defaults, under 30 s of CPU. Its step map jumps
+    (a rocking foot's landings split between time steps), so Newton stalls and the map is fitted to
+    simulated steps. The dominant multiplier agrees with two estimates the fit never saw: the same
+    least-squares fit on the 20 steps of the walk itself, and the decay of a large kick in direct simulation."""
+    import time
+
+    from pasibot_pin.__main__ import main
+    from pasibot_pin.model.design import load_design
+    from pasibot_pin.studies.methods.map_fit import fit_affine_map
+    from pasibot_pin.studies.methods.poincare import decay_rate
+
+    start = time.process_time()
+    assert main(["walk", "--design", FASTEST, "--stability", "--json"]) == 0
+    cpu = time.process_time() - start
+    out = json.loads(capsys.readouterr().out)
+    assert out["outcome"] == "walks" and out["stable"] is True and cpu < 30.0
+    assert out["stability_method"].startswith("least-squares fit") and "Newton" in out["stability_newton_note"]
+    radius = max(math.hypot(*z) for z in out["multipliers"])
+    low, high = out["dominant_multiplier_spread"]
+    assert 0.5 < radius < 1.0 and low <= radius + 1e-9 and high < 1.0
+
+    design = load_design(FASTEST)
+    robot = design_robot(design, 2, visuals=False)
+    walk = walk_design(design, WalkSettings(), robot)
+    gait_map = GaitMap(robot, walk.settings)
+    _, gait_map.guess = section_state(gait_map, walk)
+    own = _own_crossings(gait_map, walk)
+    assert len(own) >= WalkSettings().steps - 2
+    walked = max(abs(np.linalg.eigvals(fit_affine_map(own[:-1], own[1:])[1])))
+    assert walked == pytest.approx(radius, abs=0.1)
+    x_star = own.mean(axis=0)
+    kick = np.zeros(gait_map.size)
+    kick[4] = 0.2  # hip pitch rate [rad/s], some 100 times the steps' jitter
+    assert decay_rate(gait_map, x_star, kick, steps=12) == pytest.approx(radius, abs=0.1)

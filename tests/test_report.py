@@ -86,6 +86,30 @@ def test_the_answers_box_opens_the_report():
     assert box.count("> - **") == 4  # walking, what to build, motor, spring: one bullet each
 
 
+def test_the_walking_section_comes_right_after_the_answers_box():
+    from pasibot_pin.report.answers import answer_lines
+
+    lines = answer_lines(["- a walks."], "- **What to build**: d.", "- **The motor**: m.", "- **The spring**: s.")
+    text = markdown.report_text(["## Model\n"], {"answers": {"lines": lines}}, ["## Does it walk?\n"])
+    assert text.index("## Answers") < text.index("## Does it walk?") < text.index("## Summary") < text.index("## Model")
+
+
+@pytest.mark.slow
+def test_the_walking_section_draws_the_map_and_a_walker_that_walks(tmp_path):
+    """The section's files are in the report's folder (no link into docs/), and its animation is of a walk."""
+    from PIL import Image
+
+    from pasibot_pin.report.walking_section import MAP_PNG, WALK_GIF, section
+
+    text = section(tmp_path)
+    assert text.startswith("## Does it walk?") and "docs/" not in text.replace("designs/", "")
+    assert f"]({MAP_PNG})" in text and f"]({WALK_GIF})" in text and ": walks." in text
+    with Image.open(tmp_path / WALK_GIF) as gif:
+        assert gif.size[0] >= 640 and gif.n_frames > 10
+    with Image.open(tmp_path / MAP_PNG) as png:
+        assert png.size[0] > 600
+
+
 def test_the_summary_says_how_runs_fell():
     assert markdown._runs_pitch(math.radians(41.3), [math.inf, math.inf]) == (
         "the largest hip pitch is 41.3° in run 1; runs 2 and 3 fell"

@@ -247,3 +247,38 @@ def test_a_walking_sweep_runs_its_slow_walks_first():
     assert slow == pytest.approx(23 * math.pi / 0.5 + RAMP_MAX) and fast == pytest.approx(23 * math.pi / 5.0 + RAMP_MAX)
     fixed = SweepPlan(ranges=(Range("K", 1.7, 2.5),), n=2, floor=3)
     assert task_cost(fixed, [[2.0]]) == pytest.approx(6 * math.pi / fixed.base.omega + RAMP_MAX)
+
+
+def test_a_walking_sweeps_pareto_figure_uses_the_floor_columns_and_walkers_only(tmp_path):
+    """Issue 34: with floor columns, pareto.png plots the motor's peak on the floor against its energy per metre,
+    and only walkers can be on the front: a non-walker better in both is greyed, not on it."""
+    from pasibot_pin.explore.sweep import FLOOR_OBJECTIVES, PLAIN_OBJECTIVES, pareto_axes, write_figures
+    from pasibot_pin.viz.plots_sweep import pareto_masks
+
+    torque = [30.0, 20.0, 40.0, 10.0, 35.0]  # row 4 is behind row 0 in both
+    energy = [50.0, 60.0, 40.0, 10.0, 55.0]  # row 3 is best in both, but does not walk
+    table = pa.table(
+        {
+            "feasible": [True] * 5,
+            "floor_walks": [1.0, 1.0, 1.0, 0.0, 1.0],
+            "floor_motor_torque_peak_Nm": torque,
+            "floor_energy_per_m_J": energy,
+            "peak_crank_torque_Nm": [1.0, 2.0, 3.0, 4.0, 5.0],
+            "stride_m": [1.0, 2.0, 3.0, 4.0, 5.0],
+            "cop_margin_m": [0.0] * 5,
+            "K": [1.8, 1.9, 2.0, 2.1, 2.2],
+        }
+    )
+    axes, constraints = pareto_axes(table, None)
+    assert axes == FLOOR_OBJECTIVES and len(constraints) == 1
+    _, walkers, front = pareto_masks(table, *axes, constraints)
+    assert walkers.tolist() == [True, True, True, False, True]
+    # by hand: among the walkers, a row is on the front when no other walker is at least as low in both
+    by_hand = [
+        w and not any(o != i and walkers[o] and torque[o] <= torque[i] and energy[o] <= energy[i] for o in range(5))
+        for i, w in enumerate(walkers)
+    ]
+    assert front.tolist() == by_hand == [True, True, True, False, False]
+    assert pareto_axes(table.drop(["floor_walks"]), None) == (PLAIN_OBJECTIVES, ())
+    assert pareto_axes(table, ("K", "stride_m")) == (("K", "stride_m"), ())
+    assert [p.name for p in write_figures(table, tmp_path, ["K"])] == ["pareto.png", "sensitivity.png"]

@@ -560,3 +560,27 @@ def test_gif_frames_draw_the_contacts_and_the_ground_reaction(robot):
     assert sum(foot_contacts(robot, walk.q[:1]).touching["right"][0]) == 2
     assert colour_pixels(plain[0], stick.CONTACT_COLOUR) > 20  # the two sole points
     assert colour_pixels(marked[0], viewer.FORCE_COLOUR) > colour_pixels(plain[0], viewer.FORCE_COLOUR) + 5  # the arrow
+
+
+def test_the_walk_pages_camera_follows_the_hip():
+    """Issue 34: with ``follow`` the scene is shifted by minus the hip's x in every animation frame (the hip stays
+    mid-view) and the camera stands at a robot's height, not at the width of the whole walk."""
+    from pasibot_pin.model.coordinates import HIP_X
+    from pasibot_pin.model.design import Design, design_robot
+
+    robot = design_robot(Design(variant="parallel"), 2, visuals=True)
+    qs = np.repeat(robot.q0[None], 6, axis=0)
+    qs[:, HIP_X] = 2.0 * np.arange(6)  # a 10 m walk
+    v = viewer.WalkViewer(robot, offline=True)
+    try:
+        v.set_side_camera(qs)
+        assert v.follow is None
+        assert not any(p.lower().rstrip("/").endswith(f"/{viewer.ROOT}") for p in v.walk_animation(qs).clips)
+        v.set_side_camera(qs, follow=True)
+        anim = v.walk_animation(qs, fps=10.0)
+        clip = next(c for p, c in anim.clips.items() if p.lower().rstrip("/").endswith(f"/{viewer.ROOT}"))
+        shifts = [value[:3] if len(value) == 3 else value for value in clip.tracks["position"].values]
+        assert [s[0] for s in shifts] == pytest.approx(list(-qs[:, HIP_X]))
+        assert len({tuple(np.round(s[1:], 12)) for s in shifts}) == 1  # y and z held: only x follows
+    finally:
+        v.close()

@@ -21,6 +21,7 @@ from pasibot_pin.report.files import write_text_atomic
 
 STEPS: list[tuple[str, str]] = [
     ("answers", "answers"),
+    ("walking", "walking_section"),
     ("model", "model"),
     ("kinematics", "kinematics"),
     ("animation", "animation"),
@@ -32,8 +33,12 @@ STEPS: list[tuple[str, str]] = [
 ]
 """(step name, report module) in report order."""
 
+LEAD: tuple[str, ...] = ("walking",)
+"""Steps whose sections come right after the Answers box, before the summary of verdicts."""
+
 ESTIMATES: dict[str, float] = {
     "answers": 30.0,
+    "walking": 5.7,
     "kinematics": 6.7,
     "contact_energy": 6.7,
     "dynamics": 2.9,
@@ -125,6 +130,8 @@ def _run(out_dir: Path) -> None:
     run_jobs(jobs, on_done, WORKERS, preload=PRELOAD)
     built.update({name: plan.section() for name, plan in plans.items()})
     print(f"[{'], ['.join(plans)}] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
-    text = report_text([built[name].markdown for name, _ in STEPS], {name: b.facts for name, b in built.items()})
+    facts = {name: b.facts for name, b in built.items()}
+    lead = [built[name].markdown for name in LEAD]
+    text = report_text([built[name].markdown for name, _ in STEPS if name not in LEAD], facts, lead)
     report = write_text_atomic(out_dir / "report.md", text)
     print(f"wrote {report}")

@@ -26,7 +26,9 @@ Outcomes (:data:`OUTCOMES`):
   - ``collided``: (3-D floor only) a sole passed through the other foot's sole;
   - ``tripped``: (a ground with a step edge) a heel or toe hit the step's riser
     (:meth:`~pasibot_pin.dynamics.floor.ground.Ground.riser_hit`);
-  - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`).
+  - ``diverged``: the numerics broke (a :class:`~pasibot_pin.errors.SimulationError`);
+  - ``infeasible_start``: the start pose (settled on the floor before the cranks turn) already breaks
+    the hip-pitch or a foot's roll limit; decided at the start, naming the rule, its value and its limit.
 
 * ``undecided``: the run ended (its given duration) before any of the above was decided, less
   than two step periods in (so even ``stalled`` cannot be told), or it was asked for fewer than
@@ -62,10 +64,10 @@ OUTCOMES: tuple[str, ...] = (
     "collided",
     "tripped",
     "diverged",
+    "infeasible_start",
     "undecided",
 )
-"""Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than
-the walk needs, see :data:`FAILURES`)."""
+"""Every outcome a walk can have: ``walks``, a failure, or ``undecided`` (a run cut shorter than the walk needs)."""
 
 FAILURES: tuple[str, ...] = tuple(o for o in OUTCOMES if o not in ("walks", "undecided"))
 """The outcomes that are failures."""
@@ -361,6 +363,20 @@ class GaitJudge:
         self._t = self.start.t
         self._hip_x = self.start.hip_x
         self._last_progress = self.start.t
+        self._judge_start()
+
+    def _judge_start(self) -> None:
+        """``infeasible_start``: the start pose already breaks the hip-pitch limit or a foot's roll limit."""
+        c, start = self.criteria, self.start
+        rules = [("hip_pitch", "_max_pitch", "its hip pitch", start.hip_pitch, c.max_hip_pitch)]
+        rules += [("foot_roll", "_max_foot_roll", f"the {side} foot, on a heel or toe alone, pitched", foot.pitch,
+                   c.roll_limit) for side, foot in zip(SIDES, start.feet) if foot.loaded and foot.on_point]  # fmt: skip
+        for rule, worst, what, value, limit in rules:
+            if abs(value) > limit and not self.outcome:
+                self._max_pitch = abs(start.hip_pitch)  # the start's pitch counts, whichever rule decides
+                setattr(self, worst, abs(value))
+                detail = f"the start pose breaks a limit: {what} {math.degrees(value):+.1f} deg, past"
+                self._decide("infeasible_start", start.t, f"{detail} {math.degrees(limit):.0f} deg", rule)
 
     @property
     def decided(self) -> bool:

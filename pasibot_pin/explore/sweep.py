@@ -202,12 +202,49 @@ def run_sweep(
 
 
 # --------------------------------------------------------------------------- after the run
+PLAIN_OBJECTIVES = ("peak_crank_torque_Nm", "stride_m")
+"""``pareto.png``'s axes for a sweep without a floor walk: the welded walk's peak crank torque and stride."""
+
+FLOOR_OBJECTIVES = ("floor_motor_torque_peak_Nm", "floor_energy_per_m_J")
+"""``pareto.png``'s axes for a walking sweep (``--floor``): the motor's peak on the floor and its energy per metre,
+both to be low; only the designs that walk can be on the front."""
+
+
+@dataclass(frozen=True)
+class WalksOnTheFloor:
+    """The constraint of a walking sweep's front: ``floor_walks`` = 1 (the walking verdict is ``walks``)."""
+
+    metric: str = "floor_walks"
+
+    def violation(self, value: float) -> float:
+        """0 for a walker, 1 otherwise (NaN: not walked) [-]."""
+        return 0.0 if value >= 1.0 else 1.0
+
+    def text(self) -> str:
+        """In the figure's legend."""
+        return "walks on the floor"
+
+
+def pareto_axes(table, objectives: tuple[str, str] | None, constraints: Sequence = ()) -> tuple[tuple[str, str], tuple]:
+    """``pareto.png``'s (x and y metrics, constraints).
+
+    ``objectives`` when given; else the floor's (:data:`FLOOR_OBJECTIVES`, walkers only) when the table has a
+    walk on the floor, else :data:`PLAIN_OBJECTIVES`.
+    """
+    if objectives is not None:
+        return (objectives[0], objectives[1]), tuple(constraints)
+    if "floor_walks" in table.column_names and all(m in table.column_names for m in FLOOR_OBJECTIVES):
+        return FLOOR_OBJECTIVES, (*constraints, WalksOnTheFloor())
+    return PLAIN_OBJECTIVES, tuple(constraints)
+
+
 def write_figures(
     table, folder: Path, varied: Sequence[str], objectives: tuple[str, str] | None = None, constraints: Sequence = ()
 ) -> list[Path]:
     """``pareto.png`` and ``sensitivity.png`` of a results table into ``folder``.
 
     ``constraints``: an optimisation's ``--constraint``s; designs that violate one are greyed, off the front.
+    Without ``objectives`` the front's axes are :func:`pareto_axes`' (a walking sweep's are the floor's).
     The sensitivity map ranks the numeric parameters of ``varied`` only (a varied variant is a column of strings).
     """
     import matplotlib  # deferred: heavy (matplotlib), keeps the CLI's start fast
@@ -217,13 +254,9 @@ def write_figures(
     matplotlib.use("Agg")
 
     written = []
+    axes, shown = pareto_axes(table, objectives, constraints)
     figures = (
-        (
-            "pareto.png",
-            lambda: plot_pareto(
-                table, *(objectives or ("peak_crank_torque_Nm", "stride_m")), constraints=tuple(constraints)
-            ),
-        ),
+        ("pareto.png", lambda: plot_pareto(table, *axes, constraints=shown)),
         ("sensitivity.png", lambda: plot_sensitivity(table, varied)),
     )
     for name, draw in figures:

@@ -253,13 +253,15 @@ def answers_box(lines: list[str]) -> str:
     )
 
 
-def report_text(sections: Iterable[str], facts: Mapping[str, Mapping]) -> str:
-    """``report.md``: the title, the answers box, the :func:`summary` of verdicts, then the sections in order.
+def report_text(sections: Iterable[str], facts: Mapping[str, Mapping], lead: Iterable[str] = ()) -> str:
+    """``report.md``: the title, the answers box, ``lead``, the :func:`summary` of verdicts, then ``sections``.
 
     The answers box (:func:`answers_box`) holds ``facts["answers"]["lines"]`` (from
-    :mod:`pasibot_pin.report.answers`); without them the report opens with the summary.
+    :mod:`pasibot_pin.report.answers`); without them the report opens with the lead sections (the walking one:
+    :mod:`pasibot_pin.report.walking_section`), then the summary.
     """
     lines = facts.get("answers", {}).get("lines")
     head = [answers_box(lines)] if lines else []
+    first = [f"{text}\n" for text in lead if text]
     body = [f"{text}\n" for text in sections if text]
-    return "\n".join(["# PASIBOT analysis", "", *head, summary(facts), *body])
+    return "\n".join(["# PASIBOT analysis", "", *head, *first, summary(facts), *body])

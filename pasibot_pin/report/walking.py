@@ -100,7 +100,7 @@ def write_walk_animation(
     if html is not None:
         viewer = WalkViewer(robot, offline=True)
         try:
-            build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes)
+            build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes, follow=True)
             text = viewer.static_html()
         finally:
             viewer.close()
@@ -125,6 +125,7 @@ def verdict_json(walk, multipliers=None) -> dict:
         "max_slip_m": v.max_slip_m,
         "motor_torque_peak_Nm": _finite(load.torque_peak_Nm),
         "motor_torque_rms_Nm": _finite(load.torque_rms_Nm),
+        "motor_torque_max_Nm": _finite(load.torque_max_Nm),
         "motor_power_peak_W": _finite(load.power_peak_W),
         "exchange_impulse_Nms": _finite(load.exchange_impulse_Nms),
         "crank_speed_dip_rad_s": _finite(load.speed_dip_rad_s),
@@ -135,17 +136,27 @@ def verdict_json(walk, multipliers=None) -> dict:
         "omega_rad_s": walk.omega,
         "dt_s": walk.dt,
         "simulated_s": v.simulated_s,
-        "margins": [
-            {**asdict(m), "value": _finite(m.value), "margin": _finite(m.margin), "near": m.near} for m in v.margins
-        ],  # fmt: skip
+        "margins": [_margin_json(m) for m in v.margins],
     }
     if multipliers is not None:
         out["multipliers"] = [[float(z.real), float(z.imag)] for z in multipliers.multipliers]
         out["stable"] = bool(multipliers.stable)
         out["stability_method"] = "Newton shooting of the step map, forward differences"
+        point = multipliers.fixed_point
+        if getattr(multipliers, "fitted", False):
+            out["stability_method"] = f"least-squares fit of the step map to {point.evaluations} simulated steps"
+            out["stability_newton_note"] = multipliers.newton_note
+            out["dominant_multiplier_spread"] = [float(point.spread[0]), float(point.spread[1])]
+            out["step_jitter_rms"] = dict(zip(multipliers.labels, map(float, point.jitter)))
         out["stability_cpu_s"] = float(multipliers.cpu_s)
         out["stability_steps_simulated"] = int(multipliers.evaluations)
     return out
+
+
+def _margin_json(m) -> dict:
+    """One rule's margin as JSON: NaN (no figure) as null, strict JSON."""
+    figures = {name: _finite(getattr(m, name)) for name in ("value", "margin", "scale")}
+    return {**asdict(m), **figures, "near": m.near}
 
 
 def _finite(x: float) -> float | None:

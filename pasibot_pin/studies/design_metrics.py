@@ -122,9 +122,9 @@ FLOOR_METRICS: Mapping[str, MetricSpec] = {
         MetricSpec("floor_max_slip_mm", "mm", "largest slide of a weight-bearing foot in one stance", "min"),
         MetricSpec("floor_cost_of_transport", "-", "motor positive work over weight x advance (whole strides)", "min"),
         MetricSpec("floor_energy_per_m_J", "J/m", "motor positive work per metre (whole strides)", "min"),
-        MetricSpec("floor_motor_torque_peak_Nm", "N.m", "largest |crank torque| between foot exchanges", "min"),
+        MetricSpec("floor_motor_torque_peak_Nm", "N.m", "99th percentile of |crank torque| between exchanges", "min"),
         MetricSpec("floor_motor_torque_rms_Nm", "N.m", "RMS crank torque between foot exchanges", "min"),
-        MetricSpec("floor_motor_power_peak_W", "W", "largest power of one crank between foot exchanges", "min"),
+        MetricSpec("floor_motor_power_peak_W", "W", "99th percentile of a crank's power between exchanges", "min"),
         MetricSpec("floor_exchange_impulse_Nms", "N.m.s", "largest crank impulse at a foot exchange", "min"),
     )
 }

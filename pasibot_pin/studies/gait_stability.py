@@ -34,6 +34,7 @@ from pasibot_pin.dynamics.spring_energy import ankle_indices
 from pasibot_pin.errors import DivergedError, NoFixedPointError, ParameterError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z
 from pasibot_pin.model.design import design_robot
+from pasibot_pin.studies.methods.map_fit import FittedFixedPoint, fit_fixed_point
 from pasibot_pin.studies.methods.poincare import BasinEstimate, FixedPoint, basin_estimate, find_fixed_point
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 
@@ -54,6 +55,9 @@ class StabilitySettings:
         basin_kicks: hip-pitch rate kicks tried for the basin [rad/s], increasing.
         basin_steps: steps a kicked walk has to return in [-].
         basin_tol: "returned" when the state is this close to the fixed point [state units].
+        fit_steps: where Newton finds no fixed point (a step map that is not smooth: see
+            :mod:`~pasibot_pin.studies.methods.map_fit`), the steps simulated for the fitted map; 0: no fit [-].
+        fit_kick: the hip-pitch rate kick the fitted steps start with, to excite the gait's slow modes [rad/s].
 
     """
 
@@ -65,6 +69,8 @@ class StabilitySettings:
     basin_kicks: tuple[float, ...] = (0.1, 0.5, 2.0, 5.0)
     basin_steps: int = 4
     basin_tol: float = 1e-3
+    fit_steps: int = 30
+    fit_kick: float = 0.05
 
     def __post_init__(self) -> None:
         for name in ("warmup_steps", "max_iter", "basin_steps"):
@@ -74,6 +80,11 @@ class StabilitySettings:
         relax = self.relax_steps
         if isinstance(relax, bool) or not isinstance(relax, int) or not 0 <= relax <= 100:
             raise ParameterError(f"parameter 'relax_steps' must be an integer in [0, 100], got {relax!r}")
+        fit = self.fit_steps
+        if isinstance(fit, bool) or not isinstance(fit, int) or not (fit == 0 or 24 <= fit <= 1000):
+            raise ParameterError(f"parameter 'fit_steps' must be 0 or an integer in [24, 1000], got {fit!r}")
+        if not (isinstance(self.fit_kick, (int, float)) and math.isfinite(self.fit_kick) and 0 <= self.fit_kick <= 1):
+            raise ParameterError(f"parameter 'fit_kick' must be a number in [0, 1] rad/s, got {self.fit_kick!r}")
         for name in ("tol", "fd_step", "basin_tol"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and 0 < value < 1):
@@ -166,6 +177,8 @@ class GaitStability:
         labels: the names of the state's components.
         evaluations: map evaluations (each a floor run of pi / omega) [-].
         cpu_s: CPU time of the shooting, the basin and any warm-up walk [s].
+        newton_note: why Newton found no fixed point, when the fixed point is a fitted one
+            (:class:`~pasibot_pin.studies.methods.map_fit.FittedFixedPoint`); "" otherwise.
 
     """
 
@@ -174,6 +187,12 @@ class GaitStability:
     labels: list[str]
     evaluations: int
     cpu_s: float = math.nan
+    newton_note: str = ""
+
+    @property
+    def fitted(self) -> bool:
+        """True when the multipliers are those of a map fitted to simulated steps, not Newton's."""
+        return isinstance(self.fixed_point, FittedFixedPoint)
 
     @property
     def multipliers(self) -> np.ndarray:
@@ -188,9 +207,19 @@ class GaitStability:
     def summary(self) -> str:
         """Two lines: the multipliers and the verdict, then the basin."""
         mods = ", ".join(f"{abs(z):.3f}" for z in self.multipliers[:4])
+        verdict = f"gait {'stable' if self.stable else 'unstable'}: |multipliers| {mods}"
+        point = self.fixed_point
+        if isinstance(point, FittedFixedPoint):
+            low, high = point.spread
+            return (
+                f"{verdict} (dominant {point.dominant:.4g}, {low:.3f} to {high:.3f} over either half of the steps;"
+                f" fitted to {point.evaluations} simulated steps, the step map not being smooth enough for Newton:"
+                f" each step lands {_jitter(point, self.labels)} off the averaged map, the floor's time step"
+                f" splitting the foot's landings; {self.evaluations} steps simulated in {self.cpu_s:.1f} s of CPU)"
+                "\nbasin: not estimated (a kicked walk returns only to within the steps' jitter)"
+            )
         text = (
-            f"gait {'stable' if self.stable else 'unstable'}: |multipliers| {mods}"
-            f" (dominant {self.fixed_point.dominant:.4g}; Newton shooting with forward differences of the"
+            f"{verdict} (dominant {point.dominant:.4g}; Newton shooting with forward differences of the"
             f" step map, {self.evaluations} steps simulated in {self.cpu_s:.1f} s of CPU)"
         )
         if self.basin is not None and math.isinf(self.basin.failing):
@@ -205,6 +234,13 @@ class GaitStability:
 
     def __repr__(self) -> str:
         return f"GaitStability({self.summary()!r})"
+
+
+def _jitter(point: FittedFixedPoint, labels: list[str]) -> str:
+    """The fit's RMS residual in the hip's forward speed [m/s] and pitch rate [rad/s], in words."""
+    assert point.jitter is not None
+    speed, rate = (point.jitter[labels.index(name)] for name in ("hip_vx_m_s", "hip_pitch_rate_rad_s"))
+    return f"{speed:.2g} m/s (hip forward speed) and {rate:.2g} rad/s (pitch rate) RMS"
 
 
 def section_state(gait_map: GaitMap, walk) -> tuple[np.ndarray, np.ndarray]:
@@ -245,19 +281,9 @@ def gait_stability(design, walk=None, settings: StabilitySettings | None = None,
         walk = walk_design(design, WalkSettings(steps=settings.warmup_steps), robot)
     gait_map = GaitMap(robot, walk.settings)
     x0, gait_map.guess = section_state(gait_map, walk)
-    scale = np.maximum(np.abs(x0), [0.01] * len(gait_map.q_index) + [0.1] * len(gait_map.v_index))
-    point = find_fixed_point(
-        gait_map,
-        x0,
-        tol=settings.tol,
-        max_iter=settings.max_iter,
-        fd_step=settings.fd_step,
-        scale=scale,
-        scheme="forward",
-        relax_steps=settings.relax_steps,
-    )
+    point, newton_note = _shoot(gait_map, x0, settings)
     basin = None
-    if settings.basin_kicks:
+    if settings.basin_kicks and not newton_note:
         pitch_rate = len(gait_map.q_index) + 2
         basin = basin_estimate(
             gait_map,
@@ -271,4 +297,36 @@ def gait_stability(design, walk=None, settings: StabilitySettings | None = None,
     labels = ["hip_z_m", "hip_pitch_rad", *[f"{s}_ankle_rad" for s in ("right", "left")][: len(gait_map.ankles)]]
     labels += ["hip_vx_m_s", "hip_vz_m_s", "hip_pitch_rate_rad_s"]
     labels += [f"{s}_ankle_rate_rad_s" for s in ("right", "left")][: len(gait_map.ankles)]
-    return GaitStability(point, basin, labels, gait_map.evaluations, time.process_time() - start)
+    return GaitStability(point, basin, labels, gait_map.evaluations, time.process_time() - start, newton_note)
+
+
+def _shoot(gait_map: GaitMap, x0: np.ndarray, settings: StabilitySettings) -> tuple[FixedPoint, str]:
+    """(the gait's fixed point, "" or why Newton found none): Newton, else the map fitted to simulated steps.
+
+    Raises:
+        NoFixedPointError: neither finds one (the walk falls, or no fit is asked for).
+
+    """
+    scale = np.maximum(np.abs(x0), [0.01] * len(gait_map.q_index) + [0.1] * len(gait_map.v_index))
+    try:
+        point = find_fixed_point(
+            gait_map,
+            x0,
+            tol=settings.tol,
+            max_iter=settings.max_iter,
+            fd_step=settings.fd_step,
+            scale=scale,
+            scheme="forward",
+            relax_steps=settings.relax_steps,
+        )
+        return point, ""
+    except NoFixedPointError as err:
+        if not settings.fit_steps:
+            raise
+        newton = str(err)
+    kick = np.zeros(gait_map.size)
+    kick[len(gait_map.q_index) + 2] = settings.fit_kick  # the hip's pitch rate
+    try:
+        return fit_fixed_point(gait_map, x0, settings.fit_steps, kick), newton
+    except NoFixedPointError as err:
+        raise NoFixedPointError(f"{newton}; nor a map fitted to {settings.fit_steps} simulated steps: {err}") from err

@@ -22,6 +22,7 @@ OUTCOME_COLOURS: dict[str, str] = {
     "stalled": "#9467bd",
     "hopped": "#e377c2",
     "diverged": "#7f7f7f",
+    "infeasible_start": "#8c564b",
     "undecided": "#bcbd22",
     "infeasible": "#000000",
 }

@@ -35,6 +35,7 @@ import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import write_text_atomic
+from pasibot_pin.model.coordinates import HIP_X
 from pasibot_pin.model.robot import load
 from pasibot_pin.studies.walk_forces import walk_trajectory
 from pasibot_pin.viz.contacts import foot_contacts
@@ -161,6 +162,7 @@ class WalkViewer:
         self.forces: dict[str, ForceTrack] = {}
         self.marks: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self.hud: Hud | None = None
+        self.follow: np.ndarray | None = None  # the scene's shift per animation frame (N, 4, 4): the hip mid-view
         self.display(self.robot.q0)
         if self.open:
             self.meshcat.open()
@@ -290,23 +292,35 @@ class WalkViewer:
         T[:3, 0] *= max(length, 1e-6)
         node.set_transform(T)
 
-    def set_side_camera(self, qs: np.ndarray, distance: float | None = None) -> None:
+    def set_side_camera(self, qs: np.ndarray, distance: float | None = None, follow: bool = False) -> None:
         """Look at the walk from the robot's right side (from -y), centred on its bounding box.
 
         Args:
             qs: the trajectory to frame (N, nq).
             distance: camera distance from the walk's centre [m]; default fits the walk.
+            follow: keep the hip in the middle of the view in every animation frame (a robot on the floor
+                only): the distance then fits the robot, not the whole walk (:attr:`follow`).
 
         """
         qs = check_trajectory(self.robot, qs)
-        corners = []
+        corners, widths = [], []
         for q in qs[:: max(1, len(qs) // 20)]:
-            corners += [T[:3, 3] for T in self.visual_poses(q).values()]
+            frame = np.array([T[:3, 3] for T in self.visual_poses(q).values()])
+            corners += list(frame)
+            widths.append(float(np.ptp(frame[:, 0])))
         pts = np.array(corners)
         lo, hi = pts.min(axis=0), pts.max(axis=0)
         lo[2] = min(lo[2], 0.0)
         centre = (lo + hi) / 2
         extent = float(max(hi[0] - lo[0], hi[2] - lo[2]))
+        self.follow = None
+        if follow and self.robot.floating:
+            extent = float(max(max(widths), hi[2] - lo[2]))
+            shifts = np.repeat(np.eye(4)[None], len(qs), axis=0)
+            shifts[:, 0, 3] = -qs[:, HIP_X]
+            shifts[:, 1:3, 3] = -centre[1:3]
+            self.follow = shifts
+            centre[0] = float(qs[0, HIP_X])
         distance = 0.8 * extent + 0.25 if distance is None else float(distance)
         if not distance > 0:
             raise ParameterError(f"parameter 'distance' must be > 0 m, got {distance!r}")
@@ -356,6 +370,8 @@ class WalkViewer:
                     T, length = arrow_transform(track.points[k], track.forces[k], track.scale)
                     frame[f"{ROOT}/forces/{name}"].set_transform(T)
                     frame[f"{ROOT}/forces/{name}"].set_property("scale", "vector3", [max(length, 1e-6), 1.0, 1.0])
+                if self.follow is not None and len(self.follow) == len(qs):
+                    frame[ROOT].set_transform(self.follow[k])
                 for node, (positions, shown) in self.marks.items():
                     if len(positions) == len(qs):  # an animation frame carries position and scale apart
                         frame[f"{ROOT}/{node}"].set_transform(mark_transform(positions[k], True))
@@ -427,6 +443,7 @@ def build_walk_scene(
     title: str | None = None,
     times: np.ndarray | None = None,
     modes: Mapping[str, Sequence[str]] | None = None,
+    follow: bool = False,
 ) -> dict[str, np.ndarray]:
     """Ground, foot paths, joint and contact markers, forces, side camera, title bar and the walk animation.
 
@@ -440,6 +457,7 @@ def build_walk_scene(
         title: the title bar's text (default: the variant); the bar also shows time, crank angle, modes.
         times: each frame's time for the title bar [s] (default: the animation's, k / fps).
         modes: each foot's contact mode per frame (default: from the geometry).
+        follow: the camera follows the hip (:meth:`WalkViewer.set_side_camera`).
 
     Returns:
         The drawn traces ``{name: (N, 3)}`` [m].
@@ -452,7 +470,7 @@ def build_walk_scene(
     for name, track in (forces or {}).items():
         viewer.add_force(name, track)
     viewer.add_markers(qs, modes)
-    viewer.set_side_camera(qs)
+    viewer.set_side_camera(qs, follow=follow)
     viewer.display(qs[0])
     viewer.set_walk_animation(qs, fps=fps, repetitions=repetitions, play=play)
     if viewer.robot.floating:

@@ -79,9 +79,11 @@ def walk3d_html(robot, model: pin.Model, q: np.ndarray, footprint: Footprint, fp
             for node, gid, cylinder in nodes:
                 pose = gdata.oMg[gid].homogeneous
                 frame[node].set_transform(pose @ turn if cylinder else pose)
+            hip = [float(configuration[0]), float(configuration[1]), 0.0]
+            frame["/Cameras/default"].set_transform(_translation(hip))  # the camera follows the hip
     viewer["/Grid"].set_property("visible", False)
     viewer["/Axes"].set_property("visible", False)
-    # in perspective from ahead and to the left of the start (meshcat's camera frame: y up)
+    # in perspective from ahead and to the left of the hip, following it (meshcat's camera frame: y up)
     start = q[0, :3]
     viewer["/Cameras/default"].set_transform(_translation([float(start[0]), float(start[1]), 0.0]))
     viewer["/Cameras/default/rotated/<object>"].set_property("position", [2.2, 1.2, 1.6])

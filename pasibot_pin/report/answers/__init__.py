@@ -36,7 +36,7 @@ from pathlib import Path
 from pasibot_pin.model.design import Design
 from pasibot_pin.report.answers.walking import walking_answer
 from pasibot_pin.report.markdown import Section
-from pasibot_pin.studies.motor_load import MotorLoad, motor_load
+from pasibot_pin.studies.motor_load import PEAK_PERCENTILE, MotorLoad, motor_load
 from pasibot_pin.studies.spring_choice import recommended_spring
 from pasibot_pin.studies.walking import WalkSettings, walk_design
 from pasibot_pin.studies.walking_map import load_map
@@ -128,7 +128,8 @@ def motor_answer_line(load: MotorLoad) -> str:
     """Its motor: the drive between the foot exchanges, the exchanges' impulses, and a gearbox's operating point."""
     peak, rms, speed = load.operating_point(GEAR_RATIO, GEAR_EFFICIENCY)
     return (
-        f"- **The motor** (each crank of that walker, from its walk, between the foot exchanges): peak "
+        f"- **The motor** (each crank of that walker, from its walk, between the foot exchanges; peaks: the "
+        f"{PEAK_PERCENTILE:g}th percentile of the time): peak "
         f"{load.torque_peak_Nm:.1f} N.m, RMS {load.torque_rms_Nm:.1f} N.m, peak power {load.power_peak_W:.0f} W at "
         f"{load.omega:g} rad/s; both cranks' mean positive power {load.power_mean_W:.1f} W. Each foot exchange "
         f"passes up to {load.exchange_impulse_Nms:.2f} N.m.s through a crank. Behind a {GEAR_RATIO:g}:1 gearbox "
