@@ -29,8 +29,6 @@ Units: as the caller's.
 from __future__ import annotations
 
 import numpy as np
-from scipy.linalg import lapack
-from scipy.optimize import nnls
 
 from pasibot_pin.dynamics.floor.qp import SIGN_TOL, TOUCH_TOL, reduced_qp
 
@@ -71,6 +69,8 @@ def ldp_free_qp(
         e[:n], e[n] = rows.T, need
         f = np.zeros(n + 1)
         f[n] = 1.0
+        from scipy.optimize import nnls  # deferred: heavy (scipy), keeps the CLI's start fast
+
         try:
             v, _ = nnls(e, f)
         except RuntimeError:  # NNLS's iteration limit
@@ -108,6 +108,8 @@ def cholesky_inverse(matrix: np.ndarray) -> np.ndarray | None:
     On the 6 x 6 systems of a step, ``numpy.linalg``'s per-call cost (its error-state context and
     generalised ufunc) is several times LAPACK's own work.
     """
+    from scipy.linalg import lapack  # deferred: heavy (scipy), keeps the CLI's start fast
+
     factor, info = lapack.dpotrf(matrix, lower=1, clean=1)
     if info != 0:
         return None
@@ -117,6 +119,8 @@ def cholesky_inverse(matrix: np.ndarray) -> np.ndarray | None:
 
 def solve_spd(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
     """Solve A x = b for a small SPD A (LAPACK's posv, Cholesky); ``None`` when A is not positive definite."""
+    from scipy.linalg import lapack  # deferred: heavy (scipy), keeps the CLI's start fast
+
     _, x, info = lapack.dposv(matrix, rhs, lower=1)
     return x if info == 0 else None
 
@@ -153,6 +157,8 @@ def floating_qp(
         (x, y, z) as :func:`~pasibot_pin.dynamics.floor.qp.reduced_qp`'s; ``None`` when it does not solve.
 
     """
+    from scipy.linalg import lapack  # deferred: heavy (scipy), keeps the CLI's start fast
+
     legs = a_eq[:, root:]
     if legs.shape[0] != legs.shape[1]:  # a free ankle: the general elimination
         return reduced_qp(hessian, g, a_eq, b_eq, c_in, lower, solver=ldp_free_qp)
