@@ -8,7 +8,8 @@ import math
 
 import pytest
 
-from pasibot_pin.dynamics.verdict import MIN_STRIDE_STEPS, FootSample, GaitCriteria, GaitJudge, GaitSample, Margin
+from pasibot_pin.dynamics.margins import Margin
+from pasibot_pin.dynamics.verdict import MIN_STRIDE_STEPS, FootSample, GaitCriteria, GaitJudge, GaitSample
 
 L = 0.05
 OMEGA = 2.0

@@ -50,6 +50,7 @@ from typing import NamedTuple
 
 import numpy as np
 
+from pasibot_pin.dynamics.margins import Margin
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.coordinates import SIDES
 
@@ -183,54 +184,6 @@ class GaitSample(NamedTuple):
     motor_power: tuple[float, ...] = (0.0, 0.0)
 
 
-NEAR: float = 0.1
-"""A rule whose value came within this share of its limit is near its boundary [-]."""
-
-
-@dataclass(frozen=True)
-class Margin:
-    """How close a walk came to one rule's limit.
-
-    Attributes:
-        rule: the rule's name (``hip_pitch``, ``slide``, ``advance_low``, ``advance_high``, ``flight``,
-            ``landing``, ``swing``, ``foot_roll``, ``hip_roll``, ``steps``).
-        value: the value the walk reached (its worst) [unit].
-        limit: the rule's limit [unit].
-        unit: the unit of both.
-        sense: ``max`` (the value must stay at most the limit) or ``min`` (at least it).
-        decided: this rule decided the outcome.
-        scale: what "near" is measured against (NaN: the limit itself; the advance band: its tolerance).
-
-    """
-
-    rule: str
-    value: float
-    limit: float
-    unit: str
-    sense: str
-    decided: bool = False
-    scale: float = math.nan
-
-    @property
-    def margin(self) -> float:
-        """How far inside the limit the value stayed (negative: past it) [unit]."""
-        return self.limit - self.value if self.sense == "max" else self.value - self.limit
-
-    @property
-    def near(self) -> bool:
-        """The value came within :data:`NEAR` of the limit, either side."""
-        if self.unit == "steps":  # a count: reaching the steps asked is the pass, not a close call
-            return False
-        scale = abs(self.limit) if math.isnan(self.scale) else self.scale
-        return math.isfinite(self.margin) and abs(self.margin) <= NEAR * max(scale, 1e-12)
-
-    def text(self) -> str:
-        """``rule value / limit unit`` with ``<=`` or ``>=``."""
-        mark = "<=" if self.sense == "max" else ">="
-        flag = " (decided)" if self.decided else " (near)" if self.near else ""
-        return f"{self.rule} {self.value:.3g} {mark} {self.limit:.3g} {self.unit}{flag}"
-
-
 @dataclass
 class Verdict:
     """The outcome of a walk on the floor and its figures.
@@ -253,7 +206,7 @@ class Verdict:
         power_per_metre: that work over the stride advance [J/m] (nan without a stride).
         mean_motor_power_w: that work over the strides' duration [W] (nan without a stride).
         simulated_s: simulated time [s].
-        margins: each rule's value, limit and margin (:class:`Margin`); the one that decided the
+        margins: each rule's value, limit and margin (:class:`~.margins.Margin`); the one that decided the
             outcome is marked.
 
     """
@@ -577,7 +530,7 @@ class GaitJudge:
         )
 
     def margins(self, window: tuple[int, int] | None = None) -> list[Margin]:
-        """Each rule's worst value so far against its limit (:class:`Margin`), the deciding one marked."""
+        """Each rule's worst value so far against its limit (:class:`~.margins.Margin`), the deciding one marked."""
         c, ratio, inf = self.criteria, self._advance_ratio(window), math.inf
         rows = [
             ("hip_pitch", math.degrees(self._max_pitch), math.degrees(c.max_hip_pitch), "deg", "max"),
