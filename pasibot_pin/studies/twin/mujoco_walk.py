@@ -320,7 +320,11 @@ class _Twin:
         return roll_pitch_yaw(np.array([0.0, 0.0, 0.0, x, y, z, w]))
 
     def start_sample(self) -> GaitSample:
-        """The judge's first sample: a point within 1 um of the floor counts as loaded (as ours)."""
+        """The judge's first sample: a point within 1 um of the floor counts as loaded (as ours).
+
+        MuJoCo's kinematics run first: before its first step the sites' positions are not yet computed.
+        """
+        self.mj.mj_kinematics(self.model, self.data)
         sample = self.sample(0.0)
         self._slot = 0  # the start's zero forces are no part of the first window
         feet = []
