@@ -3,8 +3,15 @@
 from __future__ import annotations
 
 import os
+import sys
 
 import pytest
+
+# Byte code is written (to the ignored __pycache__ folders) even where the environment says not to: without
+# it every xdist worker rewrites the test modules' asserts again, and every worker and every command a test
+# starts compiles the package from source again (about 5 s of CPU per worker).
+sys.dont_write_bytecode = False
+os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 
 # Headless plots, here and in the commands' subprocesses; set before matplotlib is first imported
 # (not imported here: a worker that runs no plotting test never pays for it).
@@ -22,6 +29,20 @@ def robots():
 
 
 @pytest.fixture(scope="session")
+def package_trees():
+    """Dict path (relative to the package, posix) -> parsed module, of every module of pasibot_pin: parsed once
+    per worker for the tests that scan the source (about 0.6 s a parse of the whole package)."""
+    import ast  # deferred: only the source-scanning tests need it
+    from pathlib import Path
+
+    package = Path(pp.__file__).parent
+    return {
+        path.relative_to(package).as_posix(): ast.parse(path.read_text(encoding="utf-8"))
+        for path in sorted(package.rglob("*.py"))
+    }
+
+
+@pytest.fixture(scope="session")
 def L():
     """The default crank length [m]."""
     return pp.Geometry().L
@@ -29,39 +50,40 @@ def L():
 
 # --------------------------------------------------------------------------- xdist scheduling
 # `pytest` runs on pytest-xdist workers (pyproject: addopts = "-n auto --dist loadgroup"). The unit of
-# work is one test, so that long tests spread over the workers, except in the modules below: their
-# module-scoped fixtures (the browser screenshots, the walks, the meshcat server, a reference sweep)
-# are costly, and one module is one ``xdist_group``, built once, on one worker.
-WHOLE_MODULES = frozenset(
-    {
-        "test_browser.py",
-        "test_viewer.py",
-        "test_animation.py",
-        "test_gait.py",
-        "test_kinematics.py",
-        "test_contact.py",
-        "test_design_metrics.py",
-        "test_floor_static.py",
-        "test_newton_euler.py",
-        "test_optimize.py",
-        "test_questions.py",
-        "test_single_motor.py",
-        "test_sweep.py",
-        "test_wheel_install.py",  # one venv per run; analyze runs in the background meanwhile
-        "test_walking.py",
-        "test_gait_stability.py",
-        "test_gait_stability3d.py",
-    }
-)
+# work is one test, so that long tests spread over the workers, except that the tests of one module that
+# share a module-scoped fixture (the browser screenshots, the walks, the meshcat server, a shooting, a
+# reference sweep) form one ``xdist_group``: the fixture is built once, on one worker, not once per worker.
 # The tiers (pyproject's markers): `slow`, `integration`, `browser`, `mujoco`, `network`; `make test-fast`
-# leaves them out. Slow tests go first, so that none starts last and keeps one worker busy alone.
-FIRST = ("slow", "browser", "integration", "mujoco")
+# leaves them out. The tests with the most tier marks go first (a slow walk in both engines is slow and
+# mujoco), the groups with their most marked test: none of the longest starts last and keeps one worker busy
+# alone (pyproject's --no-loadscope-reorder keeps this order; xdist would put the largest groups first).
+TIERS = ("slow", "browser", "integration", "mujoco", "network")
 
 
+def _shared_module_fixture(item) -> bool:
+    """Whether ``item`` uses (directly or through another fixture) a module-scoped fixture."""
+    info = getattr(item, "_fixtureinfo", None)
+    if info is None:
+        return False
+    return any(defs and defs[-1].scope == "module" for defs in info.name2fixturedefs.values())
+
+
+def _marks(item) -> int:
+    return sum(item.get_closest_marker(m) is not None for m in TIERS)
+
+
+@pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which turns the group marks into the node ids' "@group"
 def pytest_collection_modifyitems(config, items) -> None:
-    """Group the whole modules on one worker each; put the marked (long) tests first, stably."""
+    """Group the tests sharing a module fixture on one worker; the most marked (longest) tests and groups first."""
+    rank = {item.nodeid: _marks(item) for item in items}
     for item in items:
-        module = item.nodeid.split("::", 1)[0].rsplit("/", 1)[-1]
-        if module in WHOLE_MODULES:
-            item.add_marker(pytest.mark.xdist_group(name=module))
-    items.sort(key=lambda item: not any(item.get_closest_marker(m) for m in FIRST))
+        if _shared_module_fixture(item):
+            module = item.nodeid.split("::", 1)[0]
+            item.add_marker(pytest.mark.xdist_group(name=module.rsplit("/", 1)[-1]))
+            rank[module] = max(rank.get(module, 0), rank[item.nodeid])
+
+    def first(item) -> int:
+        group = item.get_closest_marker("xdist_group")
+        return -rank[item.nodeid.split("::", 1)[0] if group else item.nodeid]
+
+    items.sort(key=first)

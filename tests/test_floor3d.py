@@ -305,6 +305,7 @@ def _planar_outcomes() -> dict[str, str]:
 
 
 @pytest.mark.slow
+@pytest.mark.mujoco
 @pytest.mark.parametrize("name", sorted(_planar_outcomes()))
 def test_every_design_in_3d_and_its_twin(name):
     """Each design in designs/ on its default soles (0.6 L each side of its leg's plane): our 3-D outcome

@@ -8,18 +8,16 @@ from pathlib import Path
 
 import pytest
 
-import pasibot_pin
 from pasibot_pin.__main__ import build_parser
 
-PACKAGE = Path(pasibot_pin.__file__).parent
 
-
-def _internal_names() -> set[str]:
-    """Top-level functions, classes and constants of every module, and every module's name."""
+def _internal_names(trees: dict[str, ast.Module]) -> set[str]:
+    """Top-level functions, classes and constants of every module (``trees``: conftest's package_trees), and every
+    module's name."""
     names: set[str] = set()
-    for path in PACKAGE.rglob("*.py"):
-        names.add(path.stem)
-        for node in ast.parse(path.read_text()).body:
+    for rel, tree in trees.items():
+        names.add(Path(rel).stem)
+        for node in tree.body:
             if isinstance(node, (ast.FunctionDef, ast.ClassDef)):
                 names.add(node.name)
             elif isinstance(node, (ast.Assign, ast.AnnAssign)):
@@ -52,9 +50,9 @@ HELPS, PLACEHOLDERS = _helps()
 
 
 @pytest.fixture(scope="module")
-def internal_names() -> frozenset[str]:
-    """:func:`_internal_names`, parsed once for the module (every module of the package: ~0.6 s)."""
-    return frozenset(_internal_names())
+def internal_names(package_trees) -> frozenset[str]:
+    """:func:`_internal_names` of the package's modules, parsed once per worker (conftest's package_trees)."""
+    return frozenset(_internal_names(package_trees))
 
 
 @pytest.mark.parametrize("command", sorted(HELPS))

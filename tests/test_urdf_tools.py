@@ -15,7 +15,6 @@ from pathlib import Path
 import mujoco
 import numpy as np
 import pytest
-import yourdfpy
 
 from pasibot_pin.__main__ import main
 from pasibot_pin.model.description import build_tree
@@ -73,6 +72,8 @@ def test_committed_urdf_passes_check_urdf(path):
 
 @pytest.mark.parametrize("path", COMMITTED, ids=lambda p: p.stem)
 def test_committed_urdf_loads_in_yourdfpy(path):
+    import yourdfpy  # deferred: 1.4 s of imports (trimesh, networkx), paid by every worker that collects this module
+
     robot = yourdfpy.URDF.load(str(path), load_meshes=False, build_collision_scene_graph=False)
     assert robot.validate()
     root = ET.parse(path).getroot()

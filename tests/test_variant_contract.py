@@ -12,7 +12,6 @@ from __future__ import annotations
 
 import ast
 import math
-from pathlib import Path
 
 import numpy as np
 import pinocchio as pin
@@ -160,19 +159,17 @@ def _names_a_variant(node) -> bool:
     return "variant" in text.lower() or text in ("v", "name")
 
 
-def test_no_module_decides_by_a_variant_s_name():
+def test_no_module_decides_by_a_variant_s_name(package_trees):
     """No comparison of a variant (a name holding ``variant``) with a variant's name as a literal: the record decides.
 
     ``model/variants.py`` is the one place a name decides anything (its table); the xacro's ``xacro:if`` blocks are
     the description's own.
     """
-    package = Path(pp.__file__).parent
     found = []
-    for path in sorted(package.rglob("*.py")):
-        rel = str(path.relative_to(package))
+    for rel, tree in package_trees.items():
         if rel == "model/variants.py" or rel in LEFT_FOR_THEIR_OWNER:
             continue
-        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+        for node in ast.walk(tree):
             if not isinstance(node, ast.Compare):
                 continue
             sides = [node.left, *node.comparators]
