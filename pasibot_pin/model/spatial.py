@@ -19,6 +19,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+import coal
 import numpy as np
 import pinocchio as pin
 
@@ -343,3 +344,20 @@ def sole_boxes(model: pin.Model, q: np.ndarray, footprint: Footprint) -> list[So
             half = np.array([0.5 * length, max(0.5 * (inner + outer), 1e-4), SOLE_HALF_THICKNESS])
             boxes.append(SoleBox(side, k, joint, pin.SE3(axes, middle + across * 0.5 * (inner - outer)), half))
     return boxes
+
+
+def sole_geometry(model: pin.Model, q: np.ndarray, footprint: Footprint) -> tuple[pin.GeometryModel, pin.GeometryData]:
+    """The soles' boxes (:func:`sole_boxes`) as Pinocchio collision objects, each right-left pair a collision pair."""
+    geometry = pin.GeometryModel()
+    ids: dict[str, list[int]] = {side: [] for side in SIDES}
+    for box in sole_boxes(model, q, footprint):
+        shape = coal.Box(*(2.0 * box.half_size))
+        ids[box.side].append(
+            geometry.addGeometryObject(
+                pin.GeometryObject(f"{box.side}_sole{box.band}", box.joint, box.placement, shape)
+            )
+        )
+    for a in ids[SIDES[0]]:
+        for b in ids[SIDES[1]]:
+            geometry.addCollisionPair(pin.CollisionPair(a, b))
+    return geometry, pin.GeometryData(geometry)

@@ -30,7 +30,6 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
-import coal
 import numpy as np
 import pinocchio as pin
 
@@ -40,6 +39,7 @@ from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
+from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, SettledGait, period_grid
 from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
 from pasibot_pin.dynamics.floor.run import point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
@@ -54,7 +54,7 @@ from pasibot_pin.errors import (
     SimulationError,
     SingularPoseError,
 )
-from pasibot_pin.model.coordinates import SIDES
+from pasibot_pin.model.closure import angular_coordinates
 from pasibot_pin.model.spatial import (
     NQ_ROOT,
     NV_ROOT,
@@ -67,7 +67,7 @@ from pasibot_pin.model.spatial import (
     planar_to_spatial,
     planar_velocity_to_spatial,
     roll_pitch_yaw,
-    sole_boxes,
+    sole_geometry,
 )
 
 STEP_LIMIT = 0.5
@@ -99,6 +99,7 @@ class Floor3D:
         tracked: take the tracked step (:mod:`~pasibot_pin.dynamics.floor.track3d`: the legs' shape known
             ahead, the hip and a free ankle left to the QP) where the track has the shape; ``False``:
             the general step on every coordinate (the check of the tracked one).
+        repeats: repeat a settled gait's steps (:mod:`~pasibot_pin.dynamics.floor.repeat3d`); ``False``: simulate all.
 
     """
 
@@ -115,6 +116,7 @@ class Floor3D:
         self.planar, self.settings = planar, planar.settings
         self.footprint = footprint
         self.ground = Ground(0.0, planar.settings.mu) if ground is None else ground
+        self._along = self.ground.tangents[0]
         self.hold = hold_lateral
         robot = planar.robot
         self.lateral = lateral if lateral is not None and lateral.mass > 0.0 else None
@@ -137,7 +139,7 @@ class Floor3D:
             self._qp: ContactQP | None = ContactQP(self.model, feet)
         else:
             self._qp = None
-        self._geometry, self._geometry_data = _sole_geometry(
+        self._geometry, self._geometry_data = sole_geometry(
             self.model, self.extend(planar_to_spatial(robot.q0)), footprint
         )
         self._shift = NV_ROOT - PLANAR_NQ_ROOT
@@ -145,6 +147,7 @@ class Floor3D:
         self._motor_index = [i + self._shift for i in planar.motor_index]
         self._motor_targets = [row - planar.bilateral.n_constraint_rows for row in planar.crank_rows]
         self.tracked = True
+        self.repeats = True
         self.fallback = 0
 
     # ---- coordinates
@@ -390,15 +393,22 @@ class Floor3D:
         return None if track is None else SpatialTrack(track, self.model.nv, NV_ROOT, PLANAR_NQ_ROOT)
 
     def _points(self, q: np.ndarray, u: np.ndarray, normal: np.ndarray | None):
-        """The judge's view: each foot's heel and toe (heights, x along the ground, speeds) and their loads."""
-        points, jac, gap = self.contact(q)
-        along = points @ self.ground.tangents[0]
-        speed = jac[:, 1] @ u
+        """The judge's view at (q, u) (:meth:`_view`)."""
+        points, jac, _ = self.contact(q)
+        return self._view(points, jac @ u, normal)
+
+    def _view(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
+        """The judge's view of the corners' positions (k, 3) [m], ground-frame velocities (k, 3) [m/s], forces [N].
+
+        Each foot's heel and toe: (heights, x along the ground, speeds), and their loads (``None``: no forces).
+        """
+        along = points @ self._along
+        gap = self.ground.gap(points)
         k = self.per_point
         # heel and toe of each foot: the mean of their corners (one corner: the point itself)
         heights = gap.reshape(-1, k).min(axis=1).tolist()
-        xs = along.reshape(-1, k).mean(axis=1).tolist()
-        speeds = speed.reshape(-1, k).mean(axis=1).tolist()
+        xs = (along.reshape(-1, k).sum(axis=1) / k).tolist()
+        speeds = (velocity[:, 1].reshape(-1, k).sum(axis=1) / k).tolist()
         loads = None if normal is None else normal.reshape(-1, k).sum(axis=1).tolist()
         return (heights, xs, speeds), loads
 
@@ -436,77 +446,124 @@ class Floor3D:
 
         ``judge`` builds the walk's observer from the first sample (as :meth:`FloorSimulator.run`'s;
         default: a :class:`~pasibot_pin.dynamics.verdict.GaitJudge` by ``criteria``); it also hears the
-        hip's roll and the soles' collisions.
+        hip's roll and the soles' collisions. A gait that settles repeats itself from then on
+        (:mod:`~pasibot_pin.dynamics.floor.repeat3d`; :attr:`repeats` off: every step simulated).
         """
-        s = self.settings
-        n = step_count(duration, s.dt, MAX_STEPS)
-        if s.omega <= 0:
+        if self.settings.omega <= 0:
             raise ParameterError("the 3-D walk needs turning cranks (omega > 0)")
+        h, n = self.time_grid(duration)
         if (q0 is None) != (u0 is None):
             raise ParameterError("give both 'q0' and 'u0' or neither")
+        if judge is not None and criteria is not None:
+            raise ParameterError("give the run a 'judge' or 'criteria', not both (the judge has its own)")
         if q0 is None:
-            # both soles flat side by side (the geometric start, no settling yet): plates that meet are refused
-            flat, _ = self.spatial_state(*self.planar.initial_state())
-            geometry = self.planar.robot.geometry
-            legs = leg_clearance(self.footprint, geometry.hip_half_width, geometry.L)
-            if legs < 0.0:
-                raise InterferenceError(
-                    f"parameters 'hip_half_width', 'sole_inner': a leg meets the other leg by {-1000 * legs:.1f} mm "
-                    "(its sole reaches into the other leg's links, or the legs' planes are too close)"
-                )
-            if self.sole_clearance(flat) < -TOUCH:
-                raise InterferenceError(
-                    "parameter 'sole_inner': the two soles intersect at the start: "
-                    "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
-                )
+            self._check_interference()
             q, u, _ = self.start()
         else:
             q = self.extend(np.array(q0, dtype=float))
             u = self.extend_velocity(q, np.array(u0, dtype=float))
-        h = duration / n
-        if judge is not None and criteria is not None:
-            raise ParameterError("give the run a 'judge' or 'criteria', not both (the judge has its own)")
         points, _ = self._points(q, u, None)
         first, _ = point_sample(0.0, (float(q[0]), roll_pitch_yaw(q)[1]), points, None, (0.0, 0.0))
         observer = (judge or self.planar.judge_of(criteria))(first)
-        track = self.spatial_track(h)
-        times, qs, normals = [0.0], [q.copy()], [np.zeros(self.n_corners)]
-        t = 0.0
+        return self._walk(q, u, h, n, observer, stop_on_verdict)
+
+    def _check_interference(self) -> None:
+        """Refuse, before any work, soles or legs that meet with both soles flat side by side (the geometric start)."""
+        flat, _ = self.spatial_state(*self.planar.initial_state())
+        geometry = self.planar.robot.geometry
+        legs = leg_clearance(self.footprint, geometry.hip_half_width, geometry.L)
+        if legs < 0.0:
+            raise InterferenceError(
+                f"parameters 'hip_half_width', 'sole_inner': a leg meets the other leg by {-1000 * legs:.1f} mm "
+                "(its sole reaches into the other leg's links, or the legs' planes are too close)"
+            )
+        if self.sole_clearance(flat) < -TOUCH:
+            raise InterferenceError(
+                "parameter 'sole_inner': the two soles intersect at the start: "
+                "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
+            )
+
+    def _settled_gait(self, h: float) -> SettledGait | None:
+        """The watch for a gait that repeats (:mod:`~pasibot_pin.dynamics.floor.repeat3d`), where it can.
+
+        ``None`` held (the planar walk's own grid), on a slope or a step (not the same in every place),
+        or with :attr:`repeats` off.
+        """
+        if self.hold or not self.repeats or self.ground.angle != 0.0 or self.ground.has_step:
+            return None
+        period = round(2.0 * math.pi / self.settings.omega / h)
+        angular = np.zeros(self.model.nq, dtype=bool)
+        angular[NQ_ROOT : self.nq_robot] = angular_coordinates(self.planar.robot.model)[PLANAR_NQ_ROOT:]
+        return SettledGait(period, period + math.ceil(self.settings.crank_ramp / h) + 1, angular)
+
+    def _walk(self, q, u, h: float, n: int, observer, stop_on_verdict: bool) -> Floor3DResult:
+        """The run's steps from (q, u), each heard by ``observer``; a settled gait's steps repeated, not simulated."""
+        track, watch = self.spatial_track(h), self._settled_gait(h)
+        times, qs, normals, attitudes = [0.0], [q.copy()], [np.zeros(self.n_corners)], [roll_pitch_yaw(q)]
+        t, settled_at = 0.0, math.nan
         least = self.sole_clearance(q)
         for k in range(1, n + 1):
-            try:
-                q, u, normal, motor = self._step_any(t, q, u, h, track)
-            except SimulationError as err:
-                observer.diverged(t, str(err))
-                break
+            measure = k % CLEARANCE_EVERY == 0
+            if watch is not None and watch.motion is not None:
+                step = watch.replay()
+                if measure and math.isnan(step.clearance):
+                    step = step._replace(clearance=self.sole_clearance(step.q))
+                    watch.measured(step.clearance)
+            else:
+                try:
+                    q, u, normal, motor = self._step_any(t, q, u, h, track)
+                except SimulationError as err:
+                    observer.diverged(t, str(err))
+                    break
+                power = tuple(float(m / h) * float(u[i]) for m, i in zip(motor, self._motor_index))
+                corners, jac, _ = self.contact(q)
+                clearance = self.sole_clearance(q) if measure else math.nan
+                step = PeriodStep(q, u, normal / h, power, corners, jac @ u, roll_pitch_yaw(q), clearance)
+                if watch is not None and watch.push(step):
+                    settled_at = t + h
             t += h
-            roll, pitch, _ = roll_pitch_yaw(q)
-            points, loads = self._points(q, u, normal / h)
-            power = tuple(float(m / h) * float(u[i]) for m, i in zip(motor, self._motor_index))
-            sample, _ = point_sample(t, (float(q[0]), pitch), points, loads, power)
+            q, u = step.q, step.u
+            points, loads = self._view(step.points, step.velocity, step.normal)
+            sample, _ = point_sample(t, (float(q[0]), step.attitude[1]), points, loads, step.power)
             times.append(t)
             qs.append(q.copy())
-            normals.append(normal / h)
+            normals.append(step.normal)
+            attitudes.append(step.attitude)
             observer.update(sample)
-            observer.roll(t, roll)
-            if k % CLEARANCE_EVERY == 0:
-                clearance = self.sole_clearance(q)
-                least = min(least, clearance)
-                if clearance < -TOUCH:
-                    observer.collided(t, f"the soles intersect by {-1000 * clearance:.1f} mm")
+            observer.roll(t, step.attitude[0])
+            if measure:
+                least = min(least, step.clearance)
+                if step.clearance < -TOUCH:
+                    observer.collided(t, f"the soles intersect by {-1000 * step.clearance:.1f} mm")
             if stop_on_verdict and observer.final(t):
                 break
         qs_all = np.array(qs)
         result = self._result(
-            np.array(times), qs_all[:, : self.nq_robot], np.array(normals), observer.verdict(t), least
+            np.array(times),
+            qs_all[:, : self.nq_robot],
+            np.array(normals),
+            np.array(attitudes),
+            observer.verdict(t),
+            least,
         )
         lateral = qs_all[:, self.nq_robot] if self.lateral is not None else None
-        return replace(result, u_end=u[: self.nv_robot].copy(), lateral_y=lateral)
+        return replace(result, u_end=u[: self.nv_robot].copy(), lateral_y=lateral, settled_at_s=settled_at)
+
+    def time_grid(self, duration: float) -> tuple[float, int]:
+        """The run's time step h [s] and its number of steps for ``duration`` [s].
+
+        Held, the planar floor's (``duration`` in whole steps of at most ``dt``); free,
+        :func:`~pasibot_pin.dynamics.floor.repeat3d.period_grid` (a settled gait repeats step for step).
+        """
+        s = self.settings
+        if self.hold:
+            n = step_count(duration, s.dt, MAX_STEPS)
+            return duration / n, n
+        return period_grid(duration, s.dt, s.omega, MAX_STEPS)
 
     def _result(
-        self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, verdict: Verdict, clearance: float
+        self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, attitude: np.ndarray, verdict: Verdict, clearance: float
     ) -> Floor3DResult:
-        attitude = np.array([roll_pitch_yaw(x) for x in q])
         roll, pitch, yaw = attitude.T
         max_roll = float(np.degrees(np.max(np.abs(roll))))
         steps = max(1, verdict.steps)
@@ -529,20 +586,3 @@ class Floor3D:
                 self.footprint, self.planar.robot.geometry.hip_half_width, self.planar.robot.geometry.L
             ),  # fmt: skip
         )
-
-
-def _sole_geometry(model: pin.Model, q: np.ndarray, footprint: Footprint) -> tuple[pin.GeometryModel, pin.GeometryData]:
-    """The soles' boxes as Pinocchio collision objects, with every right-left pair as a collision pair."""
-    geometry = pin.GeometryModel()
-    ids: dict[str, list[int]] = {side: [] for side in SIDES}
-    for box in sole_boxes(model, q, footprint):
-        shape = coal.Box(*(2.0 * box.half_size))
-        ids[box.side].append(
-            geometry.addGeometryObject(
-                pin.GeometryObject(f"{box.side}_sole{box.band}", box.joint, box.placement, shape)
-            )
-        )
-    for a in ids[SIDES[0]]:
-        for b in ids[SIDES[1]]:
-            geometry.addCollisionPair(pin.CollisionPair(a, b))
-    return geometry, pin.GeometryData(geometry)

@@ -39,6 +39,8 @@ class Floor3DResult:
         u_end: the velocity at the last sample, in world-aligned root coordinates.
         lateral_y: the lateral mass's place on its slider [m] (n,), ``None`` without one; ``q`` and
             ``u_end`` are the robot's own coordinates, without it.
+        settled_at_s: when the gait settled and its steps began to be repeated rather than simulated
+            (:mod:`~pasibot_pin.dynamics.floor.repeat3d`) [s]; NaN: every step simulated.
 
     """
 
@@ -59,6 +61,7 @@ class Floor3DResult:
     leg_clearance_m: float = math.nan
     u_end: np.ndarray | None = None
     lateral_y: np.ndarray | None = None
+    settled_at_s: float = math.nan
 
     def summary(self) -> str:
         """One line: the verdict, then the sideways figures."""
