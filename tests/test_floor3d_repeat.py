@@ -68,7 +68,8 @@ def test_a_floor_motion_moves_the_robot_as_pinocchio_does(comb):
     q[3:7] = pin.Quaternion(pin.rpy.rpyToMatrix(0.03, -0.05, 0.4)).coeffs()  # some attitude
     u = u + rng.normal(scale=0.1, size=len(u))
     points, jac, _ = comb.contact(q)
-    step = PeriodStep(q.copy(), u.copy(), np.zeros(len(points)), (0.0, 0.0), points.copy(), jac @ u, roll_pitch_yaw(q))
+    attitude = np.array(roll_pitch_yaw(q))
+    step = PeriodStep(q.copy(), u.copy(), np.zeros(len(points)), np.zeros(2), points.copy(), jac @ u, attitude)
     psi, shift = 0.7, np.array([0.31, -0.12])
     target = q.copy()
     target[:2] = _turned(psi)[:2, :2] @ q[:2] + shift
@@ -83,8 +84,11 @@ def test_a_floor_motion_moves_the_robot_as_pinocchio_does(comb):
     points_moved, jac_moved, _ = comb.contact(moved.q)  # forward kinematics of the moved configuration
     np.testing.assert_allclose(moved.points, points_moved, atol=1e-12)
     np.testing.assert_allclose(moved.velocity, jac_moved @ moved.u, atol=1e-12)
-    roll, pitch, yaw = roll_pitch_yaw(moved.q)
-    assert moved.attitude == pytest.approx((roll, pitch, yaw), abs=1e-12)
+    np.testing.assert_allclose(moved.attitude, roll_pitch_yaw(moved.q), atol=1e-12)
+    # a period's steps stacked move as each one alone
+    stacked = PeriodStep(*(np.array([a, a]) for a in step))
+    np.testing.assert_array_equal(motion.apply(stacked).points[1], moved.points)
+    np.testing.assert_array_equal(motion.apply(stacked).q[0], moved.q)
 
 
 @pytest.mark.slow

@@ -39,7 +39,7 @@ from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
-from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, SettledGait, period_grid
+from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, Replayed, SettledGait, period_grid
 from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
 from pasibot_pin.dynamics.floor.run import point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
@@ -402,15 +402,23 @@ class Floor3D:
 
         Each foot's heel and toe: (heights, x along the ground, speeds), and their loads (``None``: no forces).
         """
-        along = points @ self._along
-        gap = self.ground.gap(points)
-        k = self.per_point
+        heights, xs, speeds, loads = self._views_of(points, velocity, normal)
+        return (heights.tolist(), xs.tolist(), speeds.tolist()), None if loads is None else loads.tolist()
+
+    def views(self, steps: PeriodStep) -> list:
+        """:meth:`_view` of each of a period's stacked steps (:mod:`~pasibot_pin.dynamics.floor.repeat3d`)."""
+        heights, xs, speeds, loads = (a.tolist() for a in self._views_of(steps.points, steps.velocity, steps.normal))
+        return [((a, b, c), d) for a, b, c, d in zip(heights, xs, speeds, loads)]
+
+    def _views_of(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
+        """(heights, x along the ground, speeds, loads) of each heel and toe, on any leading axes (loads: ``None``)."""
+        lead, k = points.shape[:-2], self.per_point
         # heel and toe of each foot: the mean of their corners (one corner: the point itself)
-        heights = gap.reshape(-1, k).min(axis=1).tolist()
-        xs = (along.reshape(-1, k).sum(axis=1) / k).tolist()
-        speeds = (velocity[:, 1].reshape(-1, k).sum(axis=1) / k).tolist()
-        loads = None if normal is None else normal.reshape(-1, k).sum(axis=1).tolist()
-        return (heights, xs, speeds), loads
+        along = (points @ self._along).reshape(*lead, -1, k)
+        gap = self.ground.gap(points.reshape(-1, 3)).reshape(*lead, -1, k)
+        speeds = velocity[..., 1].reshape(*lead, -1, k).sum(axis=-1) / k
+        loads = None if normal is None else normal.reshape(*lead, -1, k).sum(axis=-1)
+        return gap.min(axis=-1), along.sum(axis=-1) / k, speeds, loads
 
     def sole_clearance(self, q: np.ndarray) -> float:
         """The least distance between the two feet's sole plates at ``q`` [m] (negative: they intersect).
@@ -494,7 +502,7 @@ class Floor3D:
         period = round(2.0 * math.pi / self.settings.omega / h)
         angular = np.zeros(self.model.nq, dtype=bool)
         angular[NQ_ROOT : self.nq_robot] = angular_coordinates(self.planar.robot.model)[PLANAR_NQ_ROOT:]
-        return SettledGait(period, period + math.ceil(self.settings.crank_ramp / h) + 1, angular)
+        return SettledGait(period, period + math.ceil(self.settings.crank_ramp / h) + 1, angular, self.views)
 
     def _walk(self, q, u, h: float, n: int, observer, stop_on_verdict: bool) -> Floor3DResult:
         """The run's steps from (q, u), each heard by ``observer``; a settled gait's steps repeated, not simulated."""
@@ -505,10 +513,10 @@ class Floor3D:
         for k in range(1, n + 1):
             measure = k % CLEARANCE_EVERY == 0
             if watch is not None and watch.motion is not None:
-                step = watch.replay()
-                if measure and math.isnan(step.clearance):
-                    step = step._replace(clearance=self.sole_clearance(step.q))
-                    watch.measured(step.clearance)
+                row = watch.replay()
+                if measure and math.isnan(row.clearance):
+                    row = row._replace(clearance=self.sole_clearance(row.q))
+                    watch.measured(row.clearance)
             else:
                 try:
                     q, u, normal, motor = self._step_any(t, q, u, h, track)
@@ -517,24 +525,25 @@ class Floor3D:
                     break
                 power = tuple(float(m / h) * float(u[i]) for m, i in zip(motor, self._motor_index))
                 corners, jac, _ = self.contact(q)
+                velocity, attitude = jac @ u, roll_pitch_yaw(q)
                 clearance = self.sole_clearance(q) if measure else math.nan
-                step = PeriodStep(q, u, normal / h, power, corners, jac @ u, roll_pitch_yaw(q), clearance)
+                row = Replayed(q, u, normal / h, power, self._view(corners, velocity, normal / h), attitude, clearance)
+                step = PeriodStep(q, u, row.normal, np.array(power), corners, velocity, np.array(attitude), clearance)
                 if watch is not None and watch.push(step):
                     settled_at = t + h
             t += h
-            q, u = step.q, step.u
-            points, loads = self._view(step.points, step.velocity, step.normal)
-            sample, _ = point_sample(t, (float(q[0]), step.attitude[1]), points, loads, step.power)
+            q, u = row.q, row.u
+            sample, _ = point_sample(t, (float(q[0]), row.attitude[1]), row.view[0], row.view[1], row.power)
             times.append(t)
             qs.append(q.copy())
-            normals.append(step.normal)
-            attitudes.append(step.attitude)
+            normals.append(row.normal)
+            attitudes.append(row.attitude)
             observer.update(sample)
-            observer.roll(t, step.attitude[0])
+            observer.roll(t, row.attitude[0])
             if measure:
-                least = min(least, step.clearance)
-                if step.clearance < -TOUCH:
-                    observer.collided(t, f"the soles intersect by {-1000 * step.clearance:.1f} mm")
+                least = min(least, row.clearance)
+                if row.clearance < -TOUCH:
+                    observer.collided(t, f"the soles intersect by {-1000 * row.clearance:.1f} mm")
             if stop_on_verdict and observer.final(t):
                 break
         qs_all = np.array(qs)

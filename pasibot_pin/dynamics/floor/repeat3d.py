@@ -24,6 +24,7 @@ Units: SI, angles [rad].
 from __future__ import annotations
 
 import math
+from collections.abc import Callable
 from typing import NamedTuple
 
 import numpy as np
@@ -58,16 +59,16 @@ def period_grid(duration: float, dt: float, omega: float, most: int) -> tuple[fl
 
 
 class PeriodStep(NamedTuple):
-    """What one step leaves: the state and what the judge reads of it.
+    """What one step leaves: the state and what the judge reads of it (or a period's steps, stacked on a first axis).
 
     Attributes:
         q: configuration (nq,) (the free-flyer root first).
         u: velocity (nv,), the root's world-aligned.
         normal: each corner's normal force [N] (k,).
-        power: each motor's power [W].
+        power: each motor's power [W] (motors,).
         points: each corner's world position [m] (k, 3).
         velocity: each corner's velocity in the ground's frame (normal, along, across) [m/s] (k, 3).
-        attitude: the hip's roll, pitch and yaw (:func:`~pasibot_pin.model.spatial.roll_pitch_yaw`) [rad]:
+        attitude: the hip's roll, pitch and yaw (:func:`~pasibot_pin.model.spatial.roll_pitch_yaw`) [rad] (3,):
             a turn about the vertical adds to the yaw alone.
         clearance: the soles' least distance [m] where it was measured, else NaN (a rigid motion keeps it).
 
@@ -76,11 +77,34 @@ class PeriodStep(NamedTuple):
     q: np.ndarray
     u: np.ndarray
     normal: np.ndarray
-    power: tuple[float, ...]
+    power: np.ndarray
     points: np.ndarray
     velocity: np.ndarray
+    attitude: np.ndarray
+    clearance: float | np.ndarray = math.nan
+
+
+class Replayed(NamedTuple):
+    """One repeated step as the run needs it: the state, the judge's view, and the clearance if known.
+
+    Attributes:
+        q, u: configuration and velocity.
+        normal: each corner's normal force [N].
+        power: each motor's power [W].
+        view: each heel's and toe's (heights [m], x along the ground [m], speeds [m/s]) and their loads [N]
+            (:meth:`~pasibot_pin.dynamics.floor.engine3d.Floor3D.views`).
+        attitude: roll, pitch, yaw [rad].
+        clearance: the soles' least distance [m], NaN where not yet measured.
+
+    """
+
+    q: np.ndarray
+    u: np.ndarray
+    normal: np.ndarray
+    power: tuple[float, ...]
+    view: tuple
     attitude: tuple[float, float, float]
-    clearance: float = math.nan
+    clearance: float
 
 
 class FloorMotion(NamedTuple):
@@ -103,25 +127,27 @@ class FloorMotion(NamedTuple):
     turns: np.ndarray
 
     def apply(self, step: PeriodStep) -> PeriodStep:
-        """``step`` moved by the motion (its normal forces, powers, roll, pitch and clearance kept)."""
+        """``step`` (or a period's steps, stacked) moved: its forces, powers, roll, pitch and clearance kept."""
         c, s = self.cos, self.sin
         q = step.q + self.turns
-        x, y = float(step.q[0]), float(step.q[1])
-        q[0], q[1] = c * x - s * y + self.shift[0], s * x + c * y + self.shift[1]
-        qx, qy, qz, qw = (float(v) for v in step.q[3:7])
+        x, y = step.q[..., 0], step.q[..., 1]
+        q[..., 0], q[..., 1] = c * x - s * y + self.shift[0], s * x + c * y + self.shift[1]
+        qx, qy, qz, qw = (step.q[..., i] for i in range(3, 7))
         hc, hs = self.half  # the turn's quaternion (0, 0, hs, hc) times the hip's
-        q[3:7] = (hc * qx - hs * qy, hc * qy + hs * qx, hc * qz + hs * qw, hc * qw - hs * qz)
+        q[..., 3], q[..., 4] = hc * qx - hs * qy, hc * qy + hs * qx
+        q[..., 5], q[..., 6] = hc * qz + hs * qw, hc * qw - hs * qz
         u = step.u.copy()
         for i in (0, 3):  # the hip's linear and angular velocity, turned
-            a, b = float(step.u[i]), float(step.u[i + 1])
-            u[i], u[i + 1] = c * a - s * b, s * a + c * b
+            a, b = step.u[..., i], step.u[..., i + 1]
+            u[..., i], u[..., i + 1] = c * a - s * b, s * a + c * b
         turn = np.array([[c, s], [-s, c]])  # (x, y) rows times this: turned
         points = step.points.copy()
-        points[:, :2] = step.points[:, :2] @ turn + self.shift
+        points[..., :2] = step.points[..., :2] @ turn + self.shift
         velocity = step.velocity.copy()  # (normal, along, across): the flat floor's (z, x, y)
-        velocity[:, 1:] = step.velocity[:, 1:] @ turn
-        roll, pitch, yaw = step.attitude
-        attitude = (roll, pitch, math.remainder(yaw + self.psi, 2.0 * math.pi))
+        velocity[..., 1:] = step.velocity[..., 1:] @ turn
+        attitude = step.attitude.copy()
+        yaw = step.attitude[..., 2] + self.psi
+        attitude[..., 2] = yaw - (2.0 * math.pi) * np.round(yaw / (2.0 * math.pi))
         return step._replace(q=q, u=u, points=points, velocity=velocity, attitude=attitude)
 
 
@@ -159,17 +185,20 @@ class SettledGait:
         first: the first step whose state may be compared (the cranks' ramp over, with a period
             before it also past the ramp) [-].
         angular: mask (nq,) of the legs' angular coordinates (whole turns are the same shape).
+        views: the judge's view of a period's stacked steps, one entry per step (the run's).
 
     Attributes:
         motion: the floor's motion per period once the gait has settled, else ``None``.
 
     """
 
-    def __init__(self, period: int, first: int, angular: np.ndarray) -> None:
-        self.period, self.first, self.angular = period, max(first, period), angular
+    def __init__(self, period: int, first: int, angular: np.ndarray, views: Callable[[PeriodStep], list]) -> None:
+        self.period, self.first, self.angular, self.views = period, max(first, period), angular, views
         self._steps: list[PeriodStep | None] = [None] * period
         self._k = 0
         self.motion: FloorMotion | None = None
+        self._stack: PeriodStep | None = None  # the period being repeated, and its views
+        self._rows: list[Replayed] = []
 
     def push(self, step: PeriodStep) -> bool:
         """Keep the next simulated step; ``True`` when it shows the gait settled (:attr:`motion` is set)."""
@@ -181,23 +210,38 @@ class SettledGait:
         motion = motion_between(before.q, step.q, self.angular)
         if _difference(motion.apply(before), step) <= REPEAT_TOL:
             self.motion = motion
+            first = self._k + 1  # the last period, oldest first
+            steps = [self._steps[(first + j) % self.period] for j in range(self.period)]
+            self._stack = PeriodStep(*(np.array(field, dtype=float) for field in zip(*steps)))
+            self._j = self.period
             return True
         return False
 
     def measured(self, clearance: float) -> None:
         """Keep the soles' clearance [m] measured at the step :meth:`replay` gave last (the periods after reuse it)."""
-        slot = self._k % self.period
-        step = self._steps[slot]
-        assert step is not None
-        self._steps[slot] = step._replace(clearance=clearance)
+        assert self._stack is not None
+        self._stack.clearance[self._j - 1] = clearance  # type: ignore[index]
 
-    def replay(self) -> PeriodStep:
-        """The next step: the step a period back moved by :attr:`motion` (kept for the period after)."""
-        assert self.motion is not None, "replay() before the gait settled"
-        self._k += 1
-        slot = self._k % self.period
-        before = self._steps[slot]
-        assert before is not None
-        step = self.motion.apply(before)
-        self._steps[slot] = step
-        return step
+    def replay(self) -> Replayed:
+        """The next step: the step a period back moved by :attr:`motion` (a whole period at a time)."""
+        assert self.motion is not None and self._stack is not None, "replay() before the gait settled"
+        if self._j == self.period:
+            self._stack = self.motion.apply(self._stack)
+            self._rows = self._replayed(self._stack)
+            self._j = 0
+        row = self._rows[self._j]
+        self._j += 1
+        clearance = float(self._stack.clearance[self._j - 1])  # type: ignore[index]
+        return row if clearance == row.clearance or math.isnan(clearance) else row._replace(clearance=clearance)
+
+    def _replayed(self, stack: PeriodStep) -> list[Replayed]:
+        views = self.views(stack)
+        power = stack.power.tolist()
+        attitude = stack.attitude.tolist()
+        clearance = stack.clearance.tolist()  # type: ignore[union-attr]
+        return [
+            Replayed(
+                stack.q[j], stack.u[j], stack.normal[j], tuple(power[j]), views[j], tuple(attitude[j]), clearance[j]
+            )
+            for j in range(self.period)
+        ]
