@@ -4,6 +4,7 @@
 * A floor motion (a turn about the vertical and a shift) moves a state as Pinocchio moves the robot:
   the corners of the moved configuration are the moved corners (forward kinematics, independent of
   :meth:`FloorMotion.apply`), the hip's rotation is Rz(psi) R, and a motion is found back from two states.
+* A repeated period's feet, batched, are :func:`point_sample`'s bit for bit.
 * The comb walker repeated from the step its gait settled is the comb walker simulated step by step:
   the same verdict, and every sample (hip, attitude, legs, the heel and toe loads, the clearance) equal
   to round-off; a walker that tips never settles.
@@ -20,6 +21,7 @@ import pytest
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D
 from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, motion_between
+from pasibot_pin.dynamics.floor.run import LOAD_TOL, foot_samples, point_sample
 from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.model.spatial import roll_pitch_yaw
 from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_duration
@@ -129,3 +131,19 @@ def test_a_walker_that_tips_never_settles():
     settings = WalkSettings(steps=4)
     result = _engine(design).run(walk_duration(design.omega, 4), criteria=settings.judged_by())
     assert result.verdict.outcome == "tipped" and math.isnan(result.settled_at_s)
+
+
+@pytest.mark.parametrize("names", [("heel", "toe"), ("heel", "mid", "toe")])
+def test_the_batched_feet_are_point_sample_s(names):
+    """foot_samples (a repeated period's feet at once) is point_sample's, bit for bit, loads at the limit too."""
+    rng = np.random.default_rng(len(names))
+    n, points = 2000, 2 * len(names)
+    heights = np.where(rng.random((n, points)) < 0.3, 0.0, rng.normal(scale=0.01, size=(n, points)))
+    xs, slip = rng.normal(size=(n, points)), rng.normal(size=(n, points))
+    normal = np.where(rng.random((n, points)) < 0.4, 0.0, np.abs(rng.normal(scale=100.0, size=(n, points))))
+    normal[rng.random((n, points)) < 0.05] = LOAD_TOL  # exactly at the load threshold: not loaded
+    batched = foot_samples(heights, xs, slip, normal, names)
+    for j in range(n):
+        view = (heights[j].tolist(), xs[j].tolist(), slip[j].tolist())
+        sample, _ = point_sample(0.0, (0.0, 0.0), view, normal[j].tolist(), (0.0, 0.0), names)
+        assert sample.feet == batched[j]

@@ -41,11 +41,11 @@ from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, Replayed, SettledGait, period_grid
 from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
-from pasibot_pin.dynamics.floor.run import point_sample
+from pasibot_pin.dynamics.floor.run import foot_samples, point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
 from pasibot_pin.dynamics.floor.track import check_speed
 from pasibot_pin.dynamics.floor.track3d import SpatialShape, SpatialTrack
-from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, JudgeFactory, Verdict
+from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitSample, JudgeFactory, Verdict
 from pasibot_pin.errors import (
     ClosureError,
     ContactSolveError,
@@ -398,20 +398,22 @@ class Floor3D:
         return self._view(points, jac @ u, normal)
 
     def _view(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
-        """The judge's view of the corners' positions (k, 3) [m], ground-frame velocities (k, 3) [m/s], forces [N].
-
-        Each foot's heel and toe: (heights, x along the ground, speeds), and their loads (``None``: no forces).
-        """
+        """Each heel's and toe's (heights, x along the ground, speeds) and loads, from :meth:`_views_of`'s inputs."""
         heights, xs, speeds, loads = self._views_of(points, velocity, normal)
         return (heights.tolist(), xs.tolist(), speeds.tolist()), None if loads is None else loads.tolist()
 
     def views(self, steps: PeriodStep) -> list:
-        """:meth:`_view` of each of a period's stacked steps (:mod:`~pasibot_pin.dynamics.floor.repeat3d`)."""
-        heights, xs, speeds, loads = (a.tolist() for a in self._views_of(steps.points, steps.velocity, steps.normal))
-        return [((a, b, c), d) for a, b, c, d in zip(heights, xs, speeds, loads)]
+        """The judge's two feet (:func:`~pasibot_pin.dynamics.floor.run.foot_samples`) of a period's stacked steps."""
+        heights, xs, speeds, loads = self._views_of(steps.points, steps.velocity, steps.normal)
+        assert loads is not None
+        return foot_samples(heights, xs, speeds, loads)
 
     def _views_of(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
-        """(heights, x along the ground, speeds, loads) of each heel and toe, on any leading axes (loads: ``None``)."""
+        """(heights, x along the ground, speeds, loads) of each heel and toe, on any leading axes.
+
+        From the corners' world positions (..., k, 3) [m], ground-frame velocities (..., k, 3) [m/s]
+        and normal forces (..., k) [N] (``None``: loads ``None``).
+        """
         lead, k = points.shape[:-2], self.per_point
         # heel and toe of each foot: the mean of their corners (one corner: the point itself)
         along = (points @ self._along).reshape(*lead, -1, k)
@@ -492,11 +494,7 @@ class Floor3D:
             )
 
     def _settled_gait(self, h: float) -> SettledGait | None:
-        """The watch for a gait that repeats (:mod:`~pasibot_pin.dynamics.floor.repeat3d`), where it can.
-
-        ``None`` held (the planar walk's own grid), on a slope or a step (not the same in every place),
-        or with :attr:`repeats` off.
-        """
+        """The watch for a repeating gait (:mod:`.repeat3d`); ``None`` held, off flat ground, or :attr:`repeats` off."""
         if self.hold or not self.repeats or self.ground.angle != 0.0 or self.ground.has_step:
             return None
         period = round(2.0 * math.pi / self.settings.omega / h)
@@ -517,23 +515,26 @@ class Floor3D:
                 if measure and math.isnan(row.clearance):
                     row = row._replace(clearance=self.sole_clearance(row.q))
                     watch.measured(row.clearance)
+                t += h
+                sample = GaitSample(t, float(row.q[0]), row.attitude[1], row.feet, row.power)
             else:
                 try:
                     q, u, normal, motor = self._step_any(t, q, u, h, track)
                 except SimulationError as err:
                     observer.diverged(t, str(err))
                     break
+                t += h
                 power = tuple(float(m / h) * float(u[i]) for m, i in zip(motor, self._motor_index))
                 corners, jac, _ = self.contact(q)
                 velocity, attitude = jac @ u, roll_pitch_yaw(q)
                 clearance = self.sole_clearance(q) if measure else math.nan
-                row = Replayed(q, u, normal / h, power, self._view(corners, velocity, normal / h), attitude, clearance)
+                points, loads = self._view(corners, velocity, normal / h)
+                sample, _ = point_sample(t, (float(q[0]), attitude[1]), points, loads, power)
+                row = Replayed(q, u, normal / h, power, sample.feet, attitude, clearance)
                 step = PeriodStep(q, u, row.normal, np.array(power), corners, velocity, np.array(attitude), clearance)
                 if watch is not None and watch.push(step):
-                    settled_at = t + h
-            t += h
+                    settled_at = t
             q, u = row.q, row.u
-            sample, _ = point_sample(t, (float(q[0]), row.attitude[1]), row.view[0], row.view[1], row.power)
             times.append(t)
             qs.append(q.copy())
             normals.append(row.normal)

@@ -91,7 +91,7 @@ class Replayed(NamedTuple):
         q, u: configuration and velocity.
         normal: each corner's normal force [N].
         power: each motor's power [W].
-        view: each heel's and toe's (heights [m], x along the ground [m], speeds [m/s]) and their loads [N]
+        feet: the judge's right and left :class:`~pasibot_pin.dynamics.verdict.FootSample`
             (:meth:`~pasibot_pin.dynamics.floor.engine3d.Floor3D.views`).
         attitude: roll, pitch, yaw [rad].
         clearance: the soles' least distance [m], NaN where not yet measured.
@@ -102,7 +102,7 @@ class Replayed(NamedTuple):
     u: np.ndarray
     normal: np.ndarray
     power: tuple[float, ...]
-    view: tuple
+    feet: tuple
     attitude: tuple[float, float, float]
     clearance: float
 
@@ -185,7 +185,7 @@ class SettledGait:
         first: the first step whose state may be compared (the cranks' ramp over, with a period
             before it also past the ramp) [-].
         angular: mask (nq,) of the legs' angular coordinates (whole turns are the same shape).
-        views: the judge's view of a period's stacked steps, one entry per step (the run's).
+        views: the judge's feet in a period's stacked steps, one pair per step (the run's).
 
     Attributes:
         motion: the floor's motion per period once the gait has settled, else ``None``.

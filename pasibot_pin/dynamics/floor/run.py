@@ -113,6 +113,40 @@ def point_sample(
     return GaitSample(t, hip[0], hip[1], (feet[0], feet[1]), power), loaded
 
 
+def foot_samples(
+    heights: np.ndarray, xs: np.ndarray, slip: np.ndarray, normal: np.ndarray, names: tuple[str, ...] = SOLE_POINTS
+) -> list[tuple[FootSample, FootSample]]:
+    """:func:`point_sample`'s two feet for many samples at once (the same numbers, row by row).
+
+    Args:
+        heights: each point's height above the floor (N samples, points) [m]: the right foot's
+            points, heel to toe, then the left foot's.
+        xs: each point's x (N, points) [m].
+        slip: each point's tangential speed (N, points) [m/s].
+        normal: each point's normal force (N, points) [N].
+        names: a foot's points, heel first and toe last.
+
+    """
+    loaded = normal > LOAD_TOL
+    n = len(names)
+    columns = []
+    for i in range(len(SIDES)):
+        heel, toe = n * i, n * i + n - 1
+        own = slice(heel, toe + 1)
+        count = loaded[:, own].sum(axis=1)
+        columns.append(
+            zip(
+                (count > 0).tolist(),
+                (0.5 * (xs[:, heel] + xs[:, toe])).tolist(),
+                np.arctan2(heights[:, toe] - heights[:, heel], xs[:, toe] - xs[:, heel]).tolist(),
+                normal[:, own].sum(axis=1).tolist(),
+                np.where(loaded[:, own], np.abs(slip[:, own]), 0.0).max(axis=1).tolist(),
+                (count == 1).tolist(),
+            )
+        )
+    return [(FootSample(*right), FootSample(*left)) for right, left in zip(*columns)]
+
+
 def foot_mode(loaded: list[bool], slip: list[float], foot: int, names: tuple[str, ...] = SOLE_POINTS) -> str:
     """The contact mode of foot ``foot`` (0 right, 1 left) from every point's load flag and tangential speed [m/s].
 
