@@ -213,6 +213,9 @@ def test_walk_3d_command(capsys):
     assert out["roll_margin_deg"] == pytest.approx(math.degrees(TIP_LIMIT) - out["max_hip_roll_deg"])
     for key in ("yaw_per_step_deg", "lateral_drift_m"):
         assert math.isfinite(out[key])
+    assert out["settled_at_s"] is None  # a walk that tips never repeats itself (strict JSON: no NaN)
+    steps_per_turn = 2.0 * math.pi / out["omega_rad_s"] / out["dt_s"]  # the run's own step divides the crank turn
+    assert steps_per_turn == pytest.approx(round(steps_per_turn), abs=1e-9)
     with pytest.raises(ParameterError, match="sole_inner"):
         from pasibot_pin.model.design import load_design
         from pasibot_pin.studies.walking import walk_design_3d

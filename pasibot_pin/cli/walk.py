@@ -190,7 +190,7 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
     stability, note = _stability_3d(design, walk, robot) if args.stability else (None, "")
     if args.json:
         verdict = walk.verdict
-        out = {
+        out: dict[str, object] = {
             "outcome": verdict.outcome,
             "walks": verdict.walks,
             "steps": verdict.steps,
@@ -201,6 +201,7 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
             "dt_s": walk.dt,
             "model": "3d",
             **figures,
+            "settled_at_s": None if math.isnan(figures["settled_at_s"]) else figures["settled_at_s"],
         }
         if args.stability:
             out["multipliers"] = None if stability is None else [[z.real, z.imag] for z in stability.multipliers]
@@ -219,6 +220,8 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
         f"a leg at least {1000 * figures['leg_clearance_m']:.1f} mm from the other",
         flush=True,
     )
+    if not math.isnan(figures["settled_at_s"]):
+        print(f"the gait settled at {figures['settled_at_s']:.2f} s: each later crank turn repeats the one before")
     if args.stability:
         print(stability.summary() if stability is not None else note, flush=True)
     return 0

@@ -218,7 +218,10 @@ class DesignWalk3D:
     dt: float
 
     def figures(self) -> dict[str, float]:
-        """Largest |roll| [deg], its margin to the tip limit [deg], yaw per step [deg], lateral drift [m]."""
+        """Largest |roll| [deg], its tip margin [deg], yaw per step [deg], lateral drift [m], clearances [m].
+
+        ``settled_at_s``: when the gait began to repeat itself (:mod:`.repeat3d`) [s]; NaN: never.
+        """
         r = self.result
         return {
             "max_hip_roll_deg": r.max_hip_roll_deg,
@@ -227,6 +230,7 @@ class DesignWalk3D:
             "lateral_drift_m": r.lateral_drift_m,
             "min_sole_clearance_m": r.min_sole_clearance_m,
             "leg_clearance_m": r.leg_clearance_m,
+            "settled_at_s": r.settled_at_s,
         }
 
 
@@ -246,5 +250,6 @@ def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> 
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     floor = floor_settings(design, settings, robot)
     engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), Ground(0.0, floor.mu), lateral=design.lateral())
-    result = engine.run(walk_duration(design.omega, settings.steps), criteria=settings.judged_by())
-    return DesignWalk3D(result.verdict, result, design.omega, floor.dt)
+    duration = walk_duration(design.omega, settings.steps)
+    result = engine.run(duration, criteria=settings.judged_by())
+    return DesignWalk3D(result.verdict, result, design.omega, engine.time_grid(duration)[0])
