@@ -101,7 +101,8 @@ def _own_crossings(gait_map: GaitMap, walk) -> np.ndarray:
 def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys):
     """Issue 34: `walk --stability` on the fastest walker, defaults, under 30 s of CPU. Its step map jumps
     (a rocking foot's landings split between time steps), so Newton stalls and the map is fitted to
-    simulated steps (Newton gives up as soon as an iteration stalls). The dominant multiplier agrees with two estimates the fit never saw: the same
+    simulated steps (Newton gives up as soon as an iteration stalls).
+    The dominant multiplier agrees with two estimates the fit never saw: the same
     least-squares fit on the 20 steps of the walk itself, and the decay of a large kick in direct simulation."""
     import time
 
