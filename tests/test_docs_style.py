@@ -67,3 +67,16 @@ def test_the_reports_summary_counts_spring_walkers_in_words():
     assert _walk_count(0, 120) == "none of the 120 spring designs walk"
     assert _walk_count(1, 120) == "1 of the 120 spring designs walks"
     assert _walk_count(7, 120) == "7 of the 120 spring designs walk"
+
+
+UNITS = ("(m)", "(deg)", "(L)", "(N.m", "(rad/s)", "lengths in m", "(s)")
+
+
+@pytest.mark.parametrize("page", [*PAGES, ROOT / "designs" / "README.md"], ids=lambda p: p.name)
+def test_every_pictures_alt_text_names_its_units(page):
+    """Issue 34: image alt texts without their units. Every still picture's alt text names a unit (an animation's
+    frames carry their own axes)."""
+    import re
+
+    alts = re.findall(r"!\[([^\]]*)\]\(([^)]*\.png)\)", page.read_text(encoding="utf-8"))
+    assert not [alt for alt, _ in alts if not any(u in alt for u in UNITS)]
