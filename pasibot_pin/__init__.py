@@ -15,6 +15,23 @@ if _sys.argv and (_sys.argv[0] == "-m" or _os.path.basename(_sys.argv[0]) == "pa
     # is imported before ``pasibot_pin.__main__`` runs, and the pool's forked workers keep it.
     _os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
+
+def _interrupted_at_start(signum, frame):  # noqa: ARG001 (a signal handler's signature)
+    """Ctrl-C while ``pasibot`` still imports: no work started, no file or child yet; exit 130 quietly."""
+    _os.write(2, b"pasibot: interrupted\n")
+    _os._exit(130)
+
+
+_orig = getattr(_sys, "orig_argv", [])
+if _os.path.basename(_sys.argv[0] if _sys.argv else "") == "pasibot" or (
+    "-m" in _orig and _orig[_orig.index("-m") + 1 :][:1] == ["pasibot_pin"]
+):
+    # The command line, until pasibot_pin.__main__.main installs its own handlers: a Ctrl-C during the imports
+    # (a second or so) would otherwise print a KeyboardInterrupt traceback.
+    import signal as _signal
+
+    _signal.signal(_signal.SIGINT, _interrupted_at_start)
+
 from pasibot_pin.model.description import Loop, loop_table, render_urdf  # noqa: E402
 from pasibot_pin.model.params import (  # noqa: E402
     VARIANTS,

@@ -31,7 +31,7 @@ os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 
 import pinocchio as pin  # noqa: E402
 
-from pasibot_pin import __version__  # noqa: E402
+from pasibot_pin import __version__, _interrupted_at_start  # noqa: E402
 from pasibot_pin.cli import COMMANDS  # noqa: E402
 from pasibot_pin.cli.bounds import BOUNDS, check_flags  # noqa: E402
 from pasibot_pin.files import remove_temporaries  # noqa: E402
@@ -192,6 +192,8 @@ def main(argv: list[str] | None = None) -> int:
     is_entry_point = argv is None
     if is_entry_point:
         _install_signal_handlers()
+    elif signal.getsignal(signal.SIGINT) is _interrupted_at_start:  # called as a function: Ctrl-C raises again
+        signal.signal(signal.SIGINT, signal.default_int_handler)
     try:
         check_flags(args.command, args)  # every numeric flag within its range, before any work
         return int(args.func(args) or 0)

@@ -152,3 +152,18 @@ def test_sweep_stops_its_workers_and_keeps_its_rows(tmp_path, sig, group, capsys
     capsys.readouterr()
     again = main([*args[:2], "12", *args[3:]])  # in this process: refused before any work, no pool started
     assert again == 2 and "different run" in capsys.readouterr().err  # another --n is another run
+
+
+def test_ctrl_c_while_the_command_still_imports_is_one_line_and_130():
+    """Found by a fuzz at random moments: a Ctrl-C during ``pasibot``'s imports (its first second, before
+    ``main`` installs its handlers) printed a KeyboardInterrupt traceback. The package, imported by our
+    command line, exits 130 with one line; imported as a library it leaves Ctrl-C as Python's."""
+    as_command = (
+        "import os, signal, sys, time; sys.argv = ['pasibot']; import pasibot_pin; "
+        "os.kill(os.getpid(), signal.SIGINT); time.sleep(5); print('not stopped')"
+    )
+    done = subprocess.run([sys.executable, "-c", as_command], capture_output=True, text=True, timeout=60)
+    assert done.returncode == 130 and done.stderr == "pasibot: interrupted\n" and "not stopped" not in done.stdout
+    as_library = "import signal, pasibot_pin; print(signal.getsignal(signal.SIGINT) is signal.default_int_handler)"
+    done = subprocess.run([sys.executable, "-c", as_library], capture_output=True, text=True, timeout=60)
+    assert done.stdout.strip() == "True", done.stderr

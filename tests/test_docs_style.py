@@ -37,3 +37,46 @@ def test_the_walking_answer_leads_with_at_most_40_words():
 
     lead = walking_paragraph(walking_answer(load_map())).split("\n\n")[0]
     assert len(lead.split()) <= 40 and "\n" not in lead
+
+
+@pytest.mark.parametrize(
+    ("walkers", "words"),
+    [
+        ({"parallel": 9, "rigid": 0, "spring": 0}, "9 of them walk, all parallel; no rigid or spring design walks"),
+        ({"parallel": 2, "rigid": 1, "spring": 0}, "3 of them walk (2 parallel, 1 rigid); no spring design walks"),
+        ({"parallel": 0, "rigid": 0}, "none of them walks"),
+    ],
+)
+def test_the_answers_count_walkers_in_words(walkers, words):
+    """Issue 34's phrase "walkers by variant parallel (9)": the box says how many walk, and of which variant."""
+    from pasibot_pin.report.answers import _walkers
+
+    assert _walkers(walkers) == words
+
+
+def test_no_page_carries_the_phrases_issue_34_lists():
+    bad = ("1 steps", "walkers by variant parallel", "design(s)", "walked 108 of the cells", "> <!--")
+    for page in [*PAGES, ROOT / "designs" / "README.md"]:
+        text = page.read_text(encoding="utf-8")
+        assert not [p for p in bad if p in text], page.name
+
+
+def test_the_reports_summary_counts_spring_walkers_in_words():
+    from pasibot_pin.report.markdown import _walk_count
+
+    assert _walk_count(0, 120) == "none of the 120 spring designs walk"
+    assert _walk_count(1, 120) == "1 of the 120 spring designs walks"
+    assert _walk_count(7, 120) == "7 of the 120 spring designs walk"
+
+
+UNITS = ("(m)", "(deg)", "(L)", "(N.m", "(rad/s)", "lengths in m", "(s)")
+
+
+@pytest.mark.parametrize("page", [*PAGES, ROOT / "designs" / "README.md"], ids=lambda p: p.name)
+def test_every_pictures_alt_text_names_its_units(page):
+    """Issue 34: image alt texts without their units. Every still picture's alt text names a unit (an animation's
+    frames carry their own axes)."""
+    import re
+
+    alts = re.findall(r"!\[([^\]]*)\]\(([^)]*\.png)\)", page.read_text(encoding="utf-8"))
+    assert not [alt for alt, _ in alts if not any(u in alt for u in UNITS)]

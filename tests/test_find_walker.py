@@ -16,7 +16,7 @@ pytest.importorskip("optuna")
 
 @pytest.mark.slow
 def test_a_search_writes_a_walker_that_walk_confirms(tmp_path, capsys):
-    out = tmp_path / "w.toml"
+    out = tmp_path / "new" / "w.toml"  # a folder not there yet: made when the walker is written
     argv = ["find-walker", "--omega", "2", "--budget", "4", "--steps", "3", "--out", str(out), "--no-progress",
             "--vary", "parallel_toe=4:8", "--vary", "parallel_heel=4:8"]  # fmt: skip
     assert main(argv) == 0
@@ -43,7 +43,7 @@ def test_scores_rank_walkers_first_and_by_the_objective():
 
 @pytest.mark.slow
 def test_nothing_walks_nothing_written(tmp_path, capsys):
-    out = tmp_path / "w.toml"
+    out = tmp_path / "new" / "w.toml"  # nor its folder
     argv = ["find-walker", "--omega", "3", "--budget", "2", "--steps", "3", "--out", str(out), "--no-progress",
             "--vary", "parallel_toe=0.5:0.8", "--vary", "parallel_heel=0.5:0.8"]  # fmt: skip
     assert main(argv) == 1

@@ -31,11 +31,11 @@ from pasibot_pin.errors import (
     PasibotError,
     SimulationError,
 )
+from pasibot_pin.studies.methods.decay import decay_rate
 from pasibot_pin.studies.methods.poincare import (
     BasinEstimate,
     FixedPoint,
     basin_estimate,
-    decay_rate,
     fd_jacobian,
     find_fixed_point,
     multipliers,
@@ -209,6 +209,31 @@ def test_relax_steps_take_a_deadbeat_map_to_its_fixed_point_before_newton():
     assert relaxed.x == pytest.approx(plain.x, abs=1e-12) and relaxed.evaluations == plain.evaluations + 1
     with pytest.raises(ParameterError, match="relax_steps"):
         find_fixed_point(unstable, x_star, relax_steps=-1)
+
+
+def jumpy(x):
+    """A contraction to 0 (factor 0.5) plus a jitter of 1e-3 far finer than the differences: not smooth."""
+    x = np.asarray(x, dtype=float)
+    return 0.5 * x + 1e-3 * np.sin(1e7 * x)
+
+
+def test_stall_ratio_gives_up_on_a_stalling_newton_and_leaves_a_smooth_one_alone():
+    """A staircase map makes Newton stall at the size of its jumps: with ``stall_ratio`` it gives up
+    at its second iteration, in fewer map calls than the full budget; a smooth map's solve (which
+    converges superlinearly) is the same with it and without it."""
+    plain, early = counting(jumpy), counting(jumpy)
+    for f, ratio in ((plain, None), (early, 0.5)):
+        with pytest.raises(NoFixedPointError) as err:
+            find_fixed_point(f, [0.3, -0.2], max_iter=6, fd_step=1e-3, scheme="forward", stall_ratio=ratio)
+    assert "stalls at iteration 2" in str(err.value)
+    assert early.calls < plain.calls
+    a = np.array([[0.6, 0.2], [-0.1, 0.4]])
+    smooth = [find_fixed_point(cubic, [0.3, 0.2], tol=1e-12, stall_ratio=r) for r in (None, 0.5)]
+    assert smooth[0].x == pytest.approx(smooth[1].x, abs=0) and smooth[0].evaluations == smooth[1].evaluations
+    linear = find_fixed_point(affine_map(a, np.ones(2)), [0.5, 2.0], tol=1e-12, stall_ratio=0.5)
+    assert linear.x == pytest.approx(np.ones(2), abs=1e-10)
+    with pytest.raises(ParameterError, match="stall_ratio"):
+        find_fixed_point(cubic, [0.3, 0.2], stall_ratio=1.5)
 
 
 def cubic(x):

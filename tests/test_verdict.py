@@ -18,7 +18,9 @@ def foot(loaded, x, normal=0.0, slip=0.0, pitch=0.0, on_point=False):
     return FootSample(loaded=loaded, x=x, pitch=pitch, normal=normal if loaded else 0.0, slip=slip, on_point=on_point)
 
 
-def ideal_walk(duration, advance=8.0, air=0.4, pitch=lambda t: 0.0, slip=0.0, power=(10.0, 0.0), land_short=None):
+def ideal_walk(
+    duration, advance=8.0, air=0.4, pitch=lambda t: 0.0, slip=0.0, power=(10.0, 0.0), land_short=None, short_by=0.5
+):
     """Feet that alternate: each swings for ``air`` of a period and lands ``2 advance`` L ahead of where it stood.
 
     The hip moves at advance L per period. The right foot stands first; the left swings in the first period.
@@ -36,7 +38,7 @@ def ideal_walk(duration, advance=8.0, air=0.4, pitch=lambda t: 0.0, slip=0.0, po
             if i == swing and phase >= air:
                 landed = stands[i] + 2 * advance * L
                 if land_short is not None and step >= land_short:
-                    landed = stands[i] + 0.5 * L
+                    landed = stands[i] + short_by * L
                 x = landed
             else:
                 x = stands[i]
@@ -78,6 +80,14 @@ def test_a_foot_put_down_where_it_stood_hopped():
     verdict = judge_of(ideal_walk(10 * PERIOD, land_short=3), steps=20)
     assert verdict.outcome == "hopped" and "landed" in verdict.detail
     assert verdict.decided_at == pytest.approx(3 * PERIOD + 0.4 * PERIOD + 0.01, abs=2 * DT)
+
+
+def test_a_foot_put_down_behind_where_it_stood_stepped_back():
+    """Issue 34: "hopped" was also given for a foot landing behind where it stood; that is its own outcome."""
+    verdict = judge_of(ideal_walk(10 * PERIOD, land_short=3, short_by=-1.5), steps=20)
+    assert verdict.outcome == "stepped_back" and "landed -1.50 L from where it stood" in verdict.detail
+    assert verdict.decided_at == pytest.approx(3 * PERIOD + 0.4 * PERIOD + 0.01, abs=2 * DT)
+    assert [m.rule for m in verdict.margins if m.decided] == ["landing"]
 
 
 def test_no_landing_for_two_periods_stalled():

@@ -52,6 +52,16 @@ def test_a_margin_near_its_limit_is_flagged():
     assert Margin("slide", 4.6, 5.0, "mm", "max").margin == pytest.approx(0.4)
 
 
+def test_a_margins_text_states_a_true_relation_and_no_nan():
+    """Past its limit a rule reads ``>`` (or ``<``), not ``<=``; a rule the walk never reached says so, not "nan"."""
+    assert Margin("flight", 0.068, 0.02, "s", "max", decided=True).text() == "flight 0.068 > 0.02 s (decided)"
+    assert Margin("slide", 1.5, 5.0, "mm", "max").text() == "slide 1.5 <= 5 mm"
+    assert Margin("landing", 1.2, 2.0, "L", "min").text().startswith("landing 1.2 < 2 L")
+    assert Margin("advance_low", math.nan, 0.9, "of 8 L per step", "min").text() == (
+        "advance_low not reached (limit 0.9 of 8 L per step)"
+    )
+
+
 @pytest.mark.slow
 def test_too_few_steps_cannot_say_walks():
     """Asked for fewer steps than a stride, the judge says ``undecided`` (it may fall at its next step)."""

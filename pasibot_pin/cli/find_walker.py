@@ -87,6 +87,7 @@ def run(args: argparse.Namespace) -> int:
     values = ", ".join(f"{k} = {v:.3g}" for k, v in walkers[0].values.items())
     print(f"best by {args.objective}: {values} (score {walkers[0].score:.4g})", flush=True)
     assert out is not None
+    out.parent.mkdir(parents=True, exist_ok=True)  # checked creatable up front; made only when a walker is written
     best.save(out, force=args.force)
     print(f"wrote {out}; check it with: pasibot walk --design {out}" + (" --3d" if args.spatial else ""))
     return 0

@@ -3,10 +3,10 @@
 The design (``--design FILE``, else the seed's; ``--variant`` and ``--omega`` override it)
 starts from a consistent state on the floor, its cranks turn at its speed after a smooth ramp,
 and the run stops as soon as the verdict is decided: ``walks`` after ``--steps`` steps, or a
-named failure (fell, rolled, slipped, stalled, hopped, tripped on a step edge, diverged; infeasible_start: the
-pose it settles into before the cranks turn already breaks a limit, named with its value). It prints the outcome, the
-steps, the advance, the largest hip pitch, the slip, the motor torque and power and the cost of
-transport; ``--json`` prints one JSON object instead. ``--stability`` adds the Floquet
+named failure (fell, rolled, slipped, stalled, hopped, stepped_back, tripped on a step edge, diverged;
+infeasible_start: the pose it settles into before the cranks turn already breaks a limit, named with its
+value). It prints the outcome, the steps, the advance, the largest hip pitch, the slip, the motor torque
+and power and the cost of transport; ``--json`` prints one JSON object instead. ``--stability`` adds the Floquet
 multipliers of the gait (a fixed point of the step-to-step map, found by shooting).
 ``--html``/``--gif`` write the walk on the floor with its contact forces. The frontal ZMP line
 says whether the soles could hold the planar walk upright sideways; ``--3d`` walks it with the hip

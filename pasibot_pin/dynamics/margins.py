@@ -50,7 +50,13 @@ class Margin:
         return math.isfinite(self.margin) and abs(self.margin) <= NEAR * max(scale, 1e-12)
 
     def text(self) -> str:
-        """``rule value / limit unit`` with ``<=`` or ``>=``."""
-        mark = "<=" if self.sense == "max" else ">="
+        """``rule value <= limit unit`` (``>=`` for a least value; ``>`` or ``<`` once past the limit).
+
+        ``rule not reached (limit ...)`` when the walk ended before the rule could be measured.
+        """
         flag = " (decided)" if self.decided else " (near)" if self.near else ""
+        if math.isnan(self.value):
+            return f"{self.rule} not reached (limit {self.limit:.3g} {self.unit}){flag}"
+        within = self.margin >= 0
+        mark = ("<=" if within else ">") if self.sense == "max" else (">=" if within else "<")
         return f"{self.rule} {self.value:.3g} {mark} {self.limit:.3g} {self.unit}{flag}"

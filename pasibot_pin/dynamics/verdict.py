@@ -22,6 +22,8 @@ Outcomes (:data:`OUTCOMES`):
   - ``stalled``: no step for two step periods, or the hip's advance per step short of the band;
   - ``hopped``: a foot landed less than :attr:`GaitCriteria.step_advance` L ahead of where it stood
     (it was lifted and put down, not stepped), or both feet left the floor;
+  - ``stepped_back``: a foot landed behind where it stood (the linkage carried it forward, the
+    body's pitch put it down behind);
   - ``tipped``: (3-D floor only) the hip rolled past :data:`TIP_LIMIT` sideways;
   - ``collided``: (3-D floor only) a sole passed through the other foot's sole;
   - ``tripped``: (a ground with a step edge) a heel or toe hit the step's riser
@@ -61,6 +63,7 @@ OUTCOMES: tuple[str, ...] = (
     "slipped",
     "stalled",
     "hopped",
+    "stepped_back",
     "tipped",
     "collided",
     "tripped",
@@ -436,7 +439,8 @@ class GaitJudge:
             self._energy.append(self._work)
             self._last_progress = sample.t
         elif judged:
-            self._decide("hopped", sample.t, f"the {side} foot landed {ahead:.2f} L from where it stood", "landing")
+            outcome = "stepped_back" if ahead < 0 else "hopped"
+            self._decide(outcome, sample.t, f"the {side} foot landed {ahead:.2f} L from where it stood", "landing")
         state.stand = foot.x
 
     def _flight(self, sample: GaitSample, judged: bool) -> None:

@@ -158,7 +158,7 @@ def floor_spring_markdown(study: FloorSpringStudy, figure: str = SPRINGS_NAME + 
     lines += ["| " + " | ".join(row.values()) + " |" for row in rows]
     lines += [
         "",
-        f"![Largest hip pitch of every run and spring case, weld beside floor]({figure})",
+        f"![Largest hip pitch (deg) of every run and spring case, weld beside floor]({figure})",
         "",
         f"*Largest |hip pitch| [deg] over {study.settings.duration:g} s of each spring case, welded stance foot (blue) "
         "beside the floor (orange), each bar labelled with its value (a dot on the axis marks zero); hatched: the run "

@@ -145,7 +145,7 @@ def sweep_markdown(sweeps: Sequence[FloorStaticSweep], figure: str = STATIC_NAME
         total = sum(len(row) for row in sweep.cells)
         lines += [f"**{sweep.scenario}** (the floor holds {holds} of {total} cells)", "", *map_table(sweep), ""]
     lines += [
-        f"![K_e x beta0 maps of runs 1-4, weld beside floor]({figure})",
+        f"![K_e (N.m/rad) x beta0 (deg) maps of runs 1-4, weld beside floor]({figure})",
         "",
         "*Largest |hip pitch| along the stance [deg], weld (left) beside floor (right); grey: no answer "
         "(the floor's first failure, its crank angle and the crank angles held flat written in the cell); "

@@ -191,13 +191,17 @@ def _design_rows(design: Mapping) -> list[tuple[str, str, str, str]]:
             "future work: other geometries (§8)",
             f"peak {design['seed_peak']:.2f} -> {design['free_peak']:.2f} N.m, but a "
             f"{design['straightness_ratio']:.0f} times less straight path; {design['straight_peak']:.2f} N.m "
-            f"keeping it straight; on the floor {design.get('floor_walkers', 0) or 'no'} spring design(s) of "
-            f"{design['floor_trials']} walk "
+            f"keeping it straight; on the floor {_walk_count(design.get('floor_walkers', 0), design['floor_trials'])} "
             f"(best {design['floor_best_time']:.2f} s, {design['floor_most_steps']} steps)",
             "new",
         )
     )
     return rows
+
+
+def _walk_count(k: int, n: int) -> str:
+    """How many of ``n`` spring designs walk, in words: "none of the 120 spring designs walk", "1 of ... walks"."""
+    return f"{k or 'none'} of the {n} spring designs walk{'s' if k == 1 else ''}"
 
 
 def summary(facts: Mapping[str, Mapping]) -> str:

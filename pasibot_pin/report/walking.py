@@ -127,6 +127,7 @@ def verdict_json(walk, multipliers=None) -> dict:
         "motor_torque_rms_Nm": _finite(load.torque_rms_Nm),
         "motor_torque_max_Nm": _finite(load.torque_max_Nm),
         "motor_power_peak_W": _finite(load.power_peak_W),
+        "motor_power_mean_W": _finite(load.power_mean_W),
         "exchange_impulse_Nms": _finite(load.exchange_impulse_Nms),
         "crank_speed_dip_rad_s": _finite(load.speed_dip_rad_s),
         "reflected_inertia_kg_m2": load.reflected_inertia,

@@ -63,7 +63,11 @@ def section(out_dir: Path) -> str:
             "",
             walking_paragraph(walking_answer(wmap)),
             "",
-            figure(MAP_PNG, "The walking map: the walking verdict over sole length x crank speed, per variant."),
+            figure(
+                MAP_PNG,
+                "The walking map: the walking verdict over the sole each side of the ankle [L] x crank speed "
+                "[rad/s], per variant.",
+            ),
             "",
             animation,
         ]

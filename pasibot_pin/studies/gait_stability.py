@@ -58,6 +58,9 @@ class StabilitySettings:
         fit_steps: where Newton finds no fixed point (a step map that is not smooth: see
             :mod:`~pasibot_pin.studies.methods.map_fit`), the steps simulated for the fitted map; 0: no fit [-].
         fit_kick: the hip-pitch rate kick the fitted steps start with, to excite the gait's slow modes [rad/s].
+        stall_ratio: Newton gives up (and the fit takes over) when an iteration after its first leaves
+            the residual above this fraction of its value before: a step map that is not smooth stalls
+            at the size of its jumps, and each more iteration costs a Jacobian and a line search [-].
 
     """
 
@@ -71,6 +74,7 @@ class StabilitySettings:
     basin_tol: float = 1e-3
     fit_steps: int = 30
     fit_kick: float = 0.05
+    stall_ratio: float = 0.5
 
     def __post_init__(self) -> None:
         for name in ("warmup_steps", "max_iter", "basin_steps"):
@@ -85,6 +89,8 @@ class StabilitySettings:
             raise ParameterError(f"parameter 'fit_steps' must be 0 or an integer in [24, 1000], got {fit!r}")
         if not (isinstance(self.fit_kick, (int, float)) and math.isfinite(self.fit_kick) and 0 <= self.fit_kick <= 1):
             raise ParameterError(f"parameter 'fit_kick' must be a number in [0, 1] rad/s, got {self.fit_kick!r}")
+        if not (isinstance(self.stall_ratio, float) and 0 < self.stall_ratio < 1):
+            raise ParameterError(f"parameter 'stall_ratio' must be a number in (0, 1), got {self.stall_ratio!r}")
         for name in ("tol", "fd_step", "basin_tol"):
             value = getattr(self, name)
             if not (isinstance(value, (int, float)) and math.isfinite(value) and 0 < value < 1):
@@ -318,6 +324,7 @@ def _shoot(gait_map: GaitMap, x0: np.ndarray, settings: StabilitySettings) -> tu
             scale=scale,
             scheme="forward",
             relax_steps=settings.relax_steps,
+            stall_ratio=settings.stall_ratio,
         )
         return point, ""
     except NoFixedPointError as err:

@@ -8,7 +8,8 @@ for what it is:
 
 - **Between the exchanges**: every sample farther than :data:`EXCHANGE_WINDOW` from a contact
   event (a foot's mode changing, a point touching down) and past the crank ramp gives the drive
-  torque's peak and RMS, and the mechanical power's peak and mean. The peaks are each crank's
+  torque's peak and RMS, and the mechanical power's peak and mean (both cranks' positive power: a
+  spike's positive half over one step is the part of an exchange that depends on the step). The peaks are each crank's
   :data:`PEAK_PERCENTILE` th percentile over that time (the larger crank's): the level the drive
   passes 1 % of the time. The plain largest sample is kept too (``torque_max_Nm``), but it is not
   a figure to size by: it sits where an exchange window cuts the torque, and the drive's settling
@@ -57,7 +58,8 @@ class MotorLoad:
         torque_rms_Nm: its root mean square between the exchanges [N.m].
         power_peak_W: the :data:`PEAK_PERCENTILE` th percentile of one motor's mechanical power between the
             exchanges, the larger crank's [W].
-        power_mean_W: mean positive power of the motors, the verdict's (over whole strides) [W].
+        power_mean_W: both motors' mean positive power between the exchanges [W] (the verdict's energy per
+            metre and cost of transport count the exchanges too, over whole strides).
         exchange_impulse_Nms: largest |impulse| of one motor in one exchange [N.m.s].
         reflected_inertia: the inertia the speed dip is stated for [kg.m^2].
         exchange_share: the share of the samples past the ramp inside an exchange window [-].
@@ -97,7 +99,7 @@ class MotorLoad:
     def summary(self) -> str:
         """Two lines: the drive between the exchanges, then the exchanges."""
         power = self.power_mean_W
-        mean = f"mean positive power {power:.1f} W over whole strides " if math.isfinite(power) else ""
+        mean = f"mean positive power {power:.1f} W (both cranks) " if math.isfinite(power) else ""
         return (
             f"motor: peak torque {self.torque_peak_Nm:.1f} N.m, RMS {self.torque_rms_Nm:.1f} N.m, peak power "
             f"{self.power_peak_W:.0f} W, {mean}at {self.omega:g} rad/s (between the foot exchanges; peaks: "
@@ -152,10 +154,10 @@ def motor_load(
     exchange = exchange_mask(result)
     calm = past & ~exchange
     power = tau * omega
-    mean_power = nan if result.verdict is None else float(result.verdict.mean_motor_power_w)
     if not calm.any():
-        peak = rms = peak_power = largest = nan
+        peak = rms = peak_power = largest = mean_power = nan
     else:
+        mean_power = float(np.mean(np.clip(power[calm], 0.0, None).sum(axis=1)))
         peak = float(np.max(np.percentile(np.abs(tau[calm]), PEAK_PERCENTILE, axis=0)))
         rms = float(np.sqrt(np.mean(tau[calm] ** 2)))
         peak_power = float(np.max(np.percentile(power[calm], PEAK_PERCENTILE, axis=0)))

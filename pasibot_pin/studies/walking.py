@@ -159,7 +159,7 @@ def check_walk_budget(cost: float, what: str, limit: int = WALK_BUDGET) -> None:
         minutes = cost * STEP_CPU / 60.0
         raise ParameterError(
             f"{what}: {cost:.2g} time steps (about {minutes:.0f} min of CPU), past the limit of {limit:.0e}; "
-            "ask fewer steps, a faster crank or fewer designs"
+            f"ask fewer steps, a faster crank{' or fewer designs' if limit == SEARCH_BUDGET else ''}"
         )
 
 

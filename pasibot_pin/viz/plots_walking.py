@@ -21,6 +21,7 @@ OUTCOME_COLOURS: dict[str, str] = {
     "slipped": "#1f77b4",
     "stalled": "#9467bd",
     "hopped": "#e377c2",
+    "stepped_back": "#17becf",
     "diverged": "#7f7f7f",
     "infeasible_start": "#8c564b",
     "undecided": "#bcbd22",

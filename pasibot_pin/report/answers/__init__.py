@@ -62,12 +62,10 @@ def walking_answer_lines() -> list[str]:
     :mod:`pasibot_pin.studies.walking_map3d`, ``make walking-map-3d``).
     """
     a = walking_answer(load_map())
-    walking = [f"{v} ({n})" for v, n in a.walkers.items() if n]
     smallest = ", ".join(f"{sole:g} L at {omega:g} rad/s" for omega, (sole, _) in sorted(a.smallest_sole.items()))
     head = (
-        f"- Across the walking map ({a.cells} designs, {a.steps} steps each, the hip held upright sideways): walkers "
-        f"by variant {', '.join(walking) or 'none'}; no {' or '.join(v for v, n in a.walkers.items() if not n)} "
-        f"design walks. Smallest walking sole: {smallest}."
+        f"- Across the walking map ({a.cells} designs, {a.steps} steps each, the hip held upright sideways): "
+        f"{_walkers(a.walkers)}. Smallest walking sole: {smallest}."
     )
     if a.fastest_found is not None:
         omega = a.fastest_found.design.omega
@@ -76,6 +74,19 @@ def walking_answer_lines() -> list[str]:
     walk = walk_design(seed, WalkSettings(steps=4))
     sole = f"toe {seed.parallel_toe:g} L, heel {seed.parallel_heel:g} L"
     return [head, upright_answer_line(), f"- The seed's sole ({sole}) at 2 rad/s: {walk.verdict.summary()}."]
+
+
+def _walkers(walkers: dict[str, int]) -> str:
+    """How many of the map's designs walk, by variant, in words ("9 of them walk, all parallel; no rigid ...")."""
+    some = [(v, n) for v, n in walkers.items() if n]
+    total = sum(n for _, n in some)
+    if not some:
+        return "none of them walks"
+    head = f"{total} of them walk" + (
+        f", all {some[0][0]}" if len(some) == 1 else f" ({', '.join(f'{n} {v}' for v, n in some)})"
+    )
+    none = [v for v, n in walkers.items() if not n]
+    return head + (f"; no {' or '.join(none)} design walks" if none else "")
 
 
 def upright_answer_line() -> str:
@@ -128,12 +139,13 @@ def motor_answer_line(load: MotorLoad) -> str:
     """Its motor: the drive between the foot exchanges, the exchanges' impulses, and a gearbox's operating point."""
     peak, rms, speed = load.operating_point(GEAR_RATIO, GEAR_EFFICIENCY)
     return (
-        f"- **The motor** (each crank of that walker, from its walk, between the foot exchanges; peaks: the "
-        f"{PEAK_PERCENTILE:g}th percentile of the time): peak "
-        f"{load.torque_peak_Nm:.1f} N.m, RMS {load.torque_rms_Nm:.1f} N.m, peak power {load.power_peak_W:.0f} W at "
-        f"{load.omega:g} rad/s; both cranks' mean positive power {load.power_mean_W:.1f} W. Each foot exchange "
-        f"passes up to {load.exchange_impulse_Nms:.2f} N.m.s through a crank. Behind a {GEAR_RATIO:g}:1 gearbox "
-        f"({100 * GEAR_EFFICIENCY:g} %): {peak:.2f} N.m peak, {rms:.2f} N.m RMS at {_rpm(speed):.0f} rpm."
+        f"- **The motor** (each crank of that walker, from its walk, between the foot exchanges; peaks: "
+        f"{PEAK_PERCENTILE:g}th percentiles): peak {load.torque_peak_Nm:.1f} N.m, RMS {load.torque_rms_Nm:.1f} N.m, "
+        f"peak power {load.power_peak_W:.0f} W at {load.omega:g} rad/s; both cranks' mean positive power "
+        f"{load.power_mean_W:.1f} W. A foot exchange passes up to {load.exchange_impulse_Nms:.2f} N.m.s through a "
+        f"crank (a {load.speed_dip_rad_s:.1f} rad/s dip with {load.reflected_inertia:g} kg.m^2 reflected on its "
+        f"shaft). Behind a {GEAR_RATIO:g}:1 gearbox ({100 * GEAR_EFFICIENCY:g} %): {peak:.2f} N.m peak, "
+        f"{rms:.2f} N.m RMS at {_rpm(speed):.0f} rpm."
     )
 
 

@@ -163,6 +163,7 @@ WHY: dict[str, str] = {
     "fell": "the body tips over the stance ankle and nothing brings it back",
     "rolled": "the ankle torque tips the foot onto its heel or toe: the centre of pressure leaves the sole",
     "hopped": "the stiff, preloaded spring kicks the robot off the floor",
+    "stepped_back": "the body's pitch puts a foot down behind where it stood",
     "slipped": "the stance foot slides more than the limit as the body pitches on the spring",
     "stalled": "the feet scuff in place: the hip does not advance",
 }

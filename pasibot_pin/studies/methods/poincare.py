@@ -15,8 +15,8 @@ error, never a numpy traceback.
 * :func:`multipliers`: the multipliers at a given point alone.
 * :func:`basin_estimate`: the largest perturbation along one direction from which the iterated
   map still returns to ``x*``, bracketed by bisection.
-* :func:`decay_rate`: the per-step decay factor of a perturbation in direct iteration, to be
-  compared with ``|λ_dominant|``.
+* :func:`~pasibot_pin.studies.methods.decay.decay_rate`: the per-step decay factor of a perturbation in
+  direct iteration, to be compared with ``|λ_dominant|``.
 
 Units: the state's own units throughout (for a walker: rad and rad/s or their scaled forms);
 ``tol``, perturbations and ``fd_step * scale`` are in those units per component.
@@ -38,7 +38,6 @@ __all__ = [
     "FixedPoint",
     "StepMap",
     "basin_estimate",
-    "decay_rate",
     "fd_jacobian",
     "find_fixed_point",
     "multipliers",
@@ -292,6 +291,7 @@ def find_fixed_point(
     max_evaluations: int | None = None,
     scheme: Scheme = "central",
     relax_steps: int = 0,
+    stall_ratio: float | None = None,
 ) -> FixedPoint:
     """Newton-shoot a fixed point of ``F`` from ``x0``, then linearise there.
 
@@ -314,6 +314,10 @@ def find_fixed_point(
         relax_steps: at most this many plain iterations ``x <- F(x)`` before Newton, each kept only
             if it lowers ``|F(x) - x|`` (a stable gait's next section is a better guess than its
             last: a deadbeat one is the fixed point itself, and Newton then differentiates once).
+        stall_ratio: give up (:class:`~pasibot_pin.errors.NoFixedPointError`) as soon as a Newton
+            iteration after the first leaves ``|F(x) - x|`` above this fraction of its value before
+            [-] (``None``: never): a smooth map converges superlinearly, so a stalling residual
+            says the map is not smooth at the differences' scale and more iterations only cost.
 
     Returns:
         The :class:`FixedPoint`, with ``DF(x*)`` and its multipliers. When the last Newton step
@@ -339,10 +343,12 @@ def find_fixed_point(
         budget = _count(max_evaluations, "max_evaluations")
     if scheme not in ("central", "forward"):
         raise ParameterError(f"scheme must be 'central' or 'forward', got {scheme!r}")
+    if stall_ratio is not None and not (isinstance(stall_ratio, float) and 0.0 < stall_ratio < 1.0):
+        raise ParameterError(f"stall_ratio must be None or a number in (0, 1), got {stall_ratio!r}")
     f = _Counted(step_map, n, budget)
     h = _steps(x, fd_step, scale)
     try:
-        x, g, iterations, jac = _newton(f, x, h, tol, max_iter, scheme, relax_steps)
+        x, g, iterations, jac = _newton(f, x, h, tol, max_iter, scheme, relax_steps, stall_ratio)
         if jac is None:
             jac = _jacobian(f, x, h, scheme, fx=g + x)
     except NoFixedPointError:
@@ -360,6 +366,7 @@ def _newton(
     max_iter: int,
     scheme: Scheme = "central",
     relax_steps: int = 0,
+    stall_ratio: float | None = None,
 ) -> tuple[np.ndarray, np.ndarray, int, np.ndarray | None]:
     """The damped Newton loop: ``(x*, G(x*), iterations, DF)`` or :class:`NoFixedPointError`.
 
@@ -396,6 +403,12 @@ def _newton(
         if not np.all(np.abs(x_new - x) < h):
             jac = None
         x = x_new
+        stalled = stall_ratio is not None and iteration >= 1 and np.linalg.norm(g) > stall_ratio * norm
+        if stalled and np.max(np.abs(g)) > tol:
+            raise NoFixedPointError(
+                f"Newton stalls at iteration {iteration + 1}: |F(x) - x| = {np.max(np.abs(g)):.3g} > tol {tol:g}"
+                f" (|G| {norm:.3g} -> {np.linalg.norm(g):.3g}) at x = {x}: the map is not smooth there"
+            )
     raise NoFixedPointError(
         f"Newton did not converge in {max_iter} iterations: "
         f"|F(x) - x| = {np.max(np.abs(g)):.3g} > tol {tol:g} at x = {x}"
@@ -547,54 +560,3 @@ def basin_estimate(
         else:
             bad = mid
     return BasinEstimate(d, good, bad, tuple(tried), tuple(returned))
-
-
-# --------------------------------------------------------------------------- decay
-def decay_rate(
-    step_map: StepMap,
-    x_star: Sequence[float] | np.ndarray,
-    dx: Sequence[float] | np.ndarray,
-    steps: int = 20,
-    *,
-    skip: int = 0,
-) -> float:
-    """Per-step decay factor of a perturbation in direct iteration (compare with ``|λ_dominant|``).
-
-    Iterates ``x_k = F^k(x* + dx)`` and fits ``log |x_k - x*| = a + k log r`` by least squares over
-    ``k = skip .. steps``; returns ``r``. For a complex dominant pair the norm oscillates about the
-    envelope ``|λ|^k`` and the fit averages it out over several turns (the error falls like
-    ``1/steps``: for a far-from-normal map expect a few per cent at 20-30 steps). Pick ``|dx|`` small enough to
-    stay linear and large enough that ``|dx| r^steps`` stays above the map's numerical noise.
-
-    Args:
-        step_map: the map ``F``.
-        x_star: the fixed point (state units).
-        dx: the initial perturbation (state units), non-zero.
-        steps: steps iterated (>= 2).
-        skip: leading steps left out of the fit (transients of the faster modes).
-
-    Returns:
-        The fitted factor ``r`` [-] (< 1: the perturbation decays).
-
-    Raises:
-        SimulationError: the map failed during the iteration (the perturbation was too large).
-        ParameterError: bad arguments.
-
-    """
-    x_star = _state(x_star, "x_star")
-    dx = _state(dx, "dx")
-    if dx.shape != x_star.shape or not np.any(dx):
-        raise ParameterError(f"dx must be a non-zero vector of {x_star.size} components, got {dx}")
-    steps = _count(steps, "steps")
-    if steps < 2 or isinstance(skip, bool) or not isinstance(skip, (int, np.integer)) or not 0 <= skip <= steps - 2:
-        raise ParameterError(f"need steps >= 2 and 0 <= skip <= steps - 2, got steps={steps}, skip={skip!r}")
-    f = _Counted(step_map, x_star.size)
-    x = x_star + dx
-    norms = [float(np.linalg.norm(dx))]
-    for _ in range(steps):
-        x = f(x)
-        norms.append(float(np.linalg.norm(x - x_star)))
-    k = np.arange(steps + 1)[skip:]
-    logs = np.log(np.maximum(np.array(norms[skip:]), np.finfo(float).tiny))
-    slope = np.polyfit(k, logs, 1)[0]
-    return float(math.exp(slope))
