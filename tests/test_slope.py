@@ -49,7 +49,7 @@ def test_a_slope_past_the_limit_is_refused_by_name(capsys):
         FloorSettings(slope=math.radians(30.0))
     assert main(["walk", "--slope", "25"]) == 2
     assert "--slope" in capsys.readouterr().err
-    assert main(["walk", "--slope", "3", "--3d"]) == 2
+    assert main(["walk", "--slope", "3", "--3d", "--step-height", "0.01", "--step-at", "1"]) == 2
 
 
 def test_walk_uphill_and_downhill():

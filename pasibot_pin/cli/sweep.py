@@ -36,7 +36,7 @@ def register(sub: argparse._SubParsersAction) -> None:
         help="with --floor: walk on the 3-D floor (free hip, the designs' soles; adds floor_max_hip_roll_deg)",
     )
     p.add_argument("--slope", type=float, default=0.0, metavar="DEG",
-                   help="with --floor: walk up a slope, uphill positive [deg] (default 0: flat; planar)")  # fmt: skip
+                   help="with --floor: walk up a slope, uphill positive [deg] (default 0: flat)")  # fmt: skip
     p.set_defaults(func=run)
 
 

@@ -61,7 +61,7 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--steps", default="20", metavar="N", help=f"steps to walk, 1 to {MAX_STEPS} (default 20)")
     add_mu_option(p)
     p.add_argument("--slope", type=float, default=0.0, metavar="DEG",
-                   help="the ground's slope, uphill positive [deg] (default 0: flat; planar walks only)")  # fmt: skip
+                   help="the ground's slope, uphill positive [deg] (default 0: flat)")  # fmt: skip
     p.add_argument("--step-height", type=float, default=0.0, metavar="M",
                    help="a step edge on the ground, up positive [m] (default 0: none; planar walks only; "
                         "a heel or toe that hits its riser has tripped)")  # fmt: skip
@@ -109,9 +109,8 @@ def run(args: argparse.Namespace) -> int:
     )
     if args.spatial and args.gif:
         raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
-    if args.spatial and (args.slope or args.step_height):
-        flag = "--slope" if args.slope else "--step-height"
-        raise ParameterError(f"{flag} is the planar floor's so far: walk without --3d")
+    if args.spatial and args.step_height:
+        raise ParameterError("--step-height is the planar floor's so far: walk without --3d")
     if html is None and gif is None:
         return _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, None, None)
     folder = OutputFolder(args.out).claim()  # one writer per folder, refused at once (--force: per file, above)
@@ -181,7 +180,7 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
     from pasibot_pin.studies.walking import WalkSettings, walk_design_3d  # deferred: keeps the CLI's start fast
 
     robot = design_robot(design, 2, visuals=html is not None)
-    walk = walk_design_3d(design, WalkSettings(steps=steps, mu=args.mu), robot)
+    walk = walk_design_3d(design, WalkSettings(steps=steps, mu=args.mu, slope=math.radians(args.slope)), robot)
     if html is not None:
         from pasibot_pin.report.walking import write_walk3d_page  # deferred: keeps the CLI's start fast
 

@@ -163,8 +163,8 @@ class SweepPlan:
             raise ParameterError("--3d walks the designs on the 3-D floor: give --floor STEPS too")
         if self.slope:
             check_slope(self.slope)
-            if self.floor is None or self.spatial:
-                raise ParameterError("--slope walks the designs up a slope on the planar floor: give --floor, not --3d")
+            if self.floor is None:
+                raise ParameterError("--slope walks the designs up a slope on the floor: give --floor STEPS too")
         if isinstance(self.n, bool) or not isinstance(self.n, (int, np.integer)) or not 1 <= self.n <= 10_000_000:
             raise ParameterError(f"parameter 'n' must be an integer in [1, 1e7], got {self.n!r}")
         if self.method not in METHODS:

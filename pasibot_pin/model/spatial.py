@@ -23,7 +23,7 @@ import coal
 import numpy as np
 import pinocchio as pin
 
-from pasibot_pin.errors import ParameterError
+from pasibot_pin.errors import InterferenceError, ParameterError
 from pasibot_pin.model.coordinates import SIDES
 
 FREE_FLYER_NAME = "hip_free_flyer"
@@ -271,6 +271,31 @@ BAR_RADIUS = 0.08
 
 LEG_HALF_DEPTH = 2.0 * BAR_RADIUS
 """A leg's half depth across its plane over L: its widest part, the slider block, is 4 bar radii deep [-]."""
+
+
+def check_interference(footprint: Footprint, geometry, sole_clearance: float) -> None:
+    """Refuse feet or legs that meet: a one-line error naming the fields, before any work.
+
+    Args:
+        footprint: the soles' lateral shape.
+        geometry: the robot's geometry (its ``hip_half_width`` and ``L`` [m]).
+        sole_clearance: the least distance between the two soles at the start [m] (negative: they intersect).
+
+    Raises:
+        InterferenceError: a leg reaches into the other leg's links, or the soles intersect.
+
+    """
+    legs = leg_clearance(footprint, geometry.hip_half_width, geometry.L)
+    if legs < 0.0:
+        raise InterferenceError(
+            f"parameters 'hip_half_width', 'sole_inner': a leg meets the other leg by {-1000 * legs:.1f} mm "
+            "(its sole reaches into the other leg's links, or the legs' planes are too close)"
+        )
+    if sole_clearance < 0.0:
+        raise InterferenceError(
+            "parameter 'sole_inner': the two soles intersect at the start: "
+            "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
+        )
 
 
 def leg_clearance(footprint: Footprint, hip_half_width: float, L: float) -> float:

@@ -370,10 +370,8 @@ def floor_metrics(
     extra: dict[str, float] = {}
     load: MotorLoad | None = None  # the 3-D run records no motor torque
     if spatial:
-        if slope:
-            raise ParameterError("a slope is the planar floor's so far: walk the designs without the 3-D floor")
         try:
-            walk3d = walk_design_3d(design, WalkSettings(steps=steps), robot)
+            walk3d = walk_design_3d(design, WalkSettings(steps=steps, slope=slope), robot)
         except InterferenceError:  # the feet or legs meet before the walk: nothing walked
             values = dict.fromkeys(FLOOR_METRICS, math.nan)
             values.update(floor_walks=0.0, floor_steps=0.0, floor_time_s=0.0)

@@ -21,7 +21,7 @@ from dataclasses import dataclass, replace
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D
-from pasibot_pin.dynamics.floor.ground import Ground, check_mu, check_step
+from pasibot_pin.dynamics.floor.ground import check_mu, check_step
 from pasibot_pin.dynamics.floor.result3d import Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
@@ -249,7 +249,7 @@ def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> 
     settings = WalkSettings() if settings is None else settings
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     floor = floor_settings(design, settings, robot)
-    engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), Ground(0.0, floor.mu), lateral=design.lateral())
+    engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), floor.ground, lateral=design.lateral())
     duration = walk_duration(design.omega, settings.steps)
     result = engine.run(duration, criteria=settings.judged_by())
     return DesignWalk3D(result.verdict, result, design.omega, engine.time_grid(duration)[0])

@@ -16,11 +16,9 @@ then the positions advance by h u and are projected back onto the loops (mass me
 velocity u is the hip's linear and angular velocity *in world axes* (then the legs' rates): with
 the hip's y, roll and yaw held, u is the planar velocity and the step the planar step, term for
 term, so :class:`Floor3D` with ``hold_lateral=True`` and a footprint of no width reproduces the
-planar walk (tests/test_floor3d.py). Free, the QP is solved by proxsuite (its rows are
-redundant as soon as a foot is flat: 16 rows on a foot's six freedoms).
-
-The walk is judged by the planar judge on each foot's heel and toe (the corners summed), plus the
-sideways outcome ``tipped`` (|roll| past :data:`~pasibot_pin.dynamics.verdict.TIP_LIMIT`).
+planar walk (tests/test_floor3d.py). Free, the QP is solved exactly on the hip's freedoms
+(:mod:`.ldp`), the legs' shape known ahead (:mod:`.track3d`), and a settled gait repeats (:mod:`.repeat3d`).
+The planar judge hears each foot's heel and toe (the corners summed), plus ``tipped`` and ``collided``.
 
 Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
 """
@@ -49,7 +47,6 @@ from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitSample, Ju
 from pasibot_pin.errors import (
     ClosureError,
     ContactSolveError,
-    InterferenceError,
     ParameterError,
     SimulationError,
     SingularPoseError,
@@ -61,6 +58,7 @@ from pasibot_pin.model.spatial import (
     PLANAR_NQ_ROOT,
     Footprint,
     LateralMass,
+    check_interference,
     corner_frames,
     free_flyer_model,
     leg_clearance,
@@ -115,7 +113,11 @@ class Floor3D:
             raise ParameterError("the 3-D floor needs settings.hip = 'free' (a level hip is a planar constraint)")
         self.planar, self.settings = planar, planar.settings
         self.footprint = footprint
-        self.ground = Ground(0.0, planar.settings.mu) if ground is None else ground
+        self.ground = planar.settings.ground if ground is None else ground
+        if self.ground.has_step:
+            raise ParameterError(
+                "parameter 'step_height': a step edge is the planar floor's so far (walk without --3d)"
+            )
         self._along = self.ground.tangents[0]
         self.hold = hold_lateral
         robot = planar.robot
@@ -397,6 +399,10 @@ class Floor3D:
         points, jac, _ = self.contact(q)
         return self._view(points, jac @ u, normal)
 
+    def _hip_view(self, q: np.ndarray, pitch: float) -> tuple[float, float]:
+        """The judge's hip: along the ground [m], its pitch from the ground's normal [rad] (the planar floor's)."""
+        return float(q[:3] @ self._along), pitch - self.ground.angle
+
     def _view(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
         """Each heel's and toe's (heights, x along the ground, speeds) and loads, from :meth:`_views_of`'s inputs."""
         heights, xs, speeds, loads = self._views_of(points, velocity, normal)
@@ -466,32 +472,17 @@ class Floor3D:
             raise ParameterError("give both 'q0' and 'u0' or neither")
         if judge is not None and criteria is not None:
             raise ParameterError("give the run a 'judge' or 'criteria', not both (the judge has its own)")
-        if q0 is None:
-            self._check_interference()
+        if q0 is None:  # the feet and legs at the geometric start (both soles flat): refused before any work
+            flat, _ = self.spatial_state(*self.planar.initial_state())
+            check_interference(self.footprint, self.planar.robot.geometry, self.sole_clearance(flat) + TOUCH)
             q, u, _ = self.start()
         else:
             q = self.extend(np.array(q0, dtype=float))
             u = self.extend_velocity(q, np.array(u0, dtype=float))
         points, _ = self._points(q, u, None)
-        first, _ = point_sample(0.0, (float(q[0]), roll_pitch_yaw(q)[1]), points, None, (0.0, 0.0))
+        first, _ = point_sample(0.0, self._hip_view(q, roll_pitch_yaw(q)[1]), points, None, (0.0, 0.0))
         observer = (judge or self.planar.judge_of(criteria))(first)
         return self._walk(q, u, h, n, observer, stop_on_verdict)
-
-    def _check_interference(self) -> None:
-        """Refuse, before any work, soles or legs that meet with both soles flat side by side (the geometric start)."""
-        flat, _ = self.spatial_state(*self.planar.initial_state())
-        geometry = self.planar.robot.geometry
-        legs = leg_clearance(self.footprint, geometry.hip_half_width, geometry.L)
-        if legs < 0.0:
-            raise InterferenceError(
-                f"parameters 'hip_half_width', 'sole_inner': a leg meets the other leg by {-1000 * legs:.1f} mm "
-                "(its sole reaches into the other leg's links, or the legs' planes are too close)"
-            )
-        if self.sole_clearance(flat) < -TOUCH:
-            raise InterferenceError(
-                "parameter 'sole_inner': the two soles intersect at the start: "
-                "a plate past the midline meets the other foot's (cut a gap: sole_gap_from, sole_gap_to)"
-            )
 
     def _settled_gait(self, h: float) -> SettledGait | None:
         """The watch for a repeating gait (:mod:`.repeat3d`); ``None`` held, off flat ground, or :attr:`repeats` off."""
@@ -529,7 +520,7 @@ class Floor3D:
                 velocity, attitude = jac @ u, roll_pitch_yaw(q)
                 clearance = self.sole_clearance(q) if measure else math.nan
                 points, loads = self._view(corners, velocity, normal / h)
-                sample, _ = point_sample(t, (float(q[0]), attitude[1]), points, loads, power)
+                sample, _ = point_sample(t, self._hip_view(q, attitude[1]), points, loads, power)
                 row = Replayed(q, u, normal / h, power, sample.feet, attitude, clearance)
                 step = PeriodStep(q, u, row.normal, np.array(power), corners, velocity, np.array(attitude), clearance)
                 if watch is not None and watch.push(step):
