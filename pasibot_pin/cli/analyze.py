@@ -55,7 +55,16 @@ PRELOAD: tuple[str, ...] = (
     "PIL.GifImagePlugin",
     "PIL.ImageDraw",
     "PIL.ImageFont",
+    "PIL.JpegImagePlugin",
+    "PIL.BmpImagePlugin",
+    "PIL.PpmImagePlugin",
+    "matplotlib.backends.backend_agg",
     "xacro",
+    "xacro.substitution_args",
+    "xml.dom.expatbuilder",
+    "zipfile",
+    "numpy.polynomial",
+    "pasibot_pin.viz.plots_layout",
     "umsgpack",
     "meshcat",
     "meshcat.servers.zmqserver",
@@ -64,7 +73,10 @@ PRELOAD: tuple[str, ...] = (
 )
 """Modules imported once before the pool's workers fork (:func:`pasibot_pin.jobs.run_jobs`' ``preload``):
 what more than one worker imports (every section draws; both animation jobs write a meshcat page and a
-GIF), about 1.6 s of CPU that each worker would otherwise spend importing them again."""
+GIF), about 1.6 s of CPU that each worker would otherwise spend importing them again. Pillow's plugins,
+``backend_agg``, xacro's substitutions (yaml) and XML parser, the figures' layout, ``zipfile`` and
+``numpy.polynomial`` were imported on first use by both workers (``PYTHONPROFILEIMPORTTIME=1``: about
+0.1 s of CPU each)."""
 
 PLANS: dict[str, str] = {"simulation": "SimulationPlan", "floor": "FloorPlan"}
 """Steps run as pool jobs: name -> class in its report module (``jobs()``, ``done(key, result)``, ``section()``)."""
