@@ -9,7 +9,7 @@ from pathlib import Path
 
 import pytest
 
-from pasibot_pin.model.design import load_design
+from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.studies.walking import WalkSettings, walk_design_3d
 
 FOLDER = Path(__file__).resolve().parents[1] / "designs" / "3d"
@@ -46,8 +46,9 @@ def test_each_3d_walker_in_both_engines(name):
     from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco
 
     design = load_design(FOLDER / f"{name}.toml")
-    ours = walk_design_3d(design, WalkSettings(steps=STEPS))
-    twin = walk_in_mujoco(design, WalkSettings(steps=STEPS), spatial=True)
+    robot = design_robot(design, 2, visuals=False)  # built once for both engines (each would build its own)
+    ours = walk_design_3d(design, WalkSettings(steps=STEPS), robot)
+    twin = walk_in_mujoco(design, WalkSettings(steps=STEPS), robot, spatial=True)
     assert ours.verdict.outcome == twin.verdict.outcome == "walks", (ours.verdict.summary(), twin.verdict.summary())
     assert abs(ours.verdict.steps - twin.verdict.steps) <= 1
     assert twin.verdict.advance_m == pytest.approx(ours.verdict.advance_m, rel=0.05)
