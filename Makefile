@@ -13,9 +13,12 @@ $(VENV)/.installed-base: pyproject.toml
 	$(PY) -m pip install --quiet -e .
 	touch $@
 
-$(VENV)/.installed: $(VENV)/.installed-base
-	$(PY) -m pip install --quiet -e ".[dev,mujoco,sweep]"
-	touch $@
+# On a fresh clone one pip call installs the package with its extras (one resolve, one build of the package),
+# and byte code is compiled as the tests import it (conftest), not for every module of every dependency.
+$(VENV)/.installed: pyproject.toml
+	[ -x $(PY) ] || { $(PYTHON) -m venv $(VENV) && $(PY) -m pip install --quiet --upgrade pip; }
+	$(PY) -m pip install --quiet --no-compile -e ".[dev,mujoco,sweep]"
+	touch $(VENV)/.installed-base $@
 
 install: $(VENV)/.installed
 

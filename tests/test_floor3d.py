@@ -319,8 +319,9 @@ def test_every_design_in_3d_and_its_twin(name):
     from pasibot_pin.studies.walking import walk_design_3d
 
     design = load_design(DESIGNS / f"{name}.toml")
-    ours = walk_design_3d(design, WalkSettings(steps=20))
-    twin = walk_in_mujoco(design, WalkSettings(steps=20), spatial=True)
+    robot = design_robot(design, 2, visuals=False)  # built once for both engines (each would build its own)
+    ours = walk_design_3d(design, WalkSettings(steps=20), robot)
+    twin = walk_in_mujoco(design, WalkSettings(steps=20), robot, spatial=True)
     assert ours.verdict.outcome == twin.verdict.outcome, (ours.verdict.summary(), twin.verdict.summary())
     assert abs(ours.verdict.decided_at - twin.verdict.decided_at) < 0.25
     if _planar_outcomes()[name] == "walks":

@@ -3,7 +3,6 @@ of each leg's centre of mass (second differences of positions), and the issue's 
 
 from __future__ import annotations
 
-import functools
 import math
 
 import numpy as np
@@ -18,8 +17,9 @@ from pasibot_pin.studies.walking import WalkSettings, walk_design
 FAST = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 
 
-@functools.cache
-def _walk():
+@pytest.fixture(scope="module")
+def fast_walk():
+    """The fast walker's 4-step planar walk, walked once for the module (its tests share one xdist worker)."""
     design = load_design(FAST)
     robot = design_robot(design, 2, visuals=False)
     return design, robot, walk_design(design, WalkSettings(steps=4), robot)
@@ -39,11 +39,11 @@ def _leg_weights(model, data, q, side):
 
 
 @pytest.mark.slow
-def test_ground_wrench_against_each_legs_weight_balance():
+def test_ground_wrench_against_each_legs_weight_balance(fast_walk):
     """Planar motion: every body stays in its leg's plane (y = -/+ w, the hip's at 0), so the ZMP's y is
     w (F_left - F_right) / F with F = m (z'' + g) per leg and the hip; the heights' second differences
     give z'' (positions only), RNEA the wrench from q, v and the step's acceleration."""
-    _, robot, walk = _walk()
+    _, robot, walk = fast_walk
     result, model = walk.result, robot.model
     data = model.createData()
     spatial = free_flyer_model(model)
@@ -68,10 +68,10 @@ def test_ground_wrench_against_each_legs_weight_balance():
 
 
 @pytest.mark.slow
-def test_fast_walkers_zmp_leaves_a_centred_sole():
+def test_fast_walkers_zmp_leaves_a_centred_sole(fast_walk):
     """The issue's independent figures for the fast walker: in right stance the lateral ZMP runs from about
     -17 to +7 mm of the midline, 53-77 mm outside a 0.06 m sole centred on the leg's plane."""
-    design, robot, walk = _walk()
+    design, robot, walk = fast_walk
     zmp = frontal_zmp(robot, walk.result, design.footprint(), max_samples=100_000)
     right = zmp.y[[s == "right" for s in zmp.stance]]
     assert -0.025 < right.min() < -0.012 and 0.004 < right.max() < 0.011
@@ -84,13 +84,13 @@ def test_fast_walkers_zmp_leaves_a_centred_sole():
 
 
 @pytest.mark.slow
-def test_the_floor_metrics_carry_the_frontal_margin_as_a_sideways_filter():
+def test_the_floor_metrics_carry_the_frontal_margin_as_a_sideways_filter(fast_walk):
     """design_metrics(floor=N) on flat ground carries the walk's least frontal ZMP margin (frontal_zmp's,
     one definition): negative on the fast walker's centred 6 cm plates, which tip in 3-D; larger with a
     prong past the midline, which walks upright; NaN on a slope (the ZMP is the flat ground's)."""
     from pasibot_pin.studies import design_metrics as dm
 
-    design, robot, walk = _walk()
+    design, robot, walk = fast_walk
     plates = dm.design_metrics(design, floor=4)
     margin = plates["floor_frontal_zmp_margin_mm"]
     assert margin == pytest.approx(1e3 * frontal_zmp(robot, walk.result, design.footprint()).min_margin, abs=1e-9)
