@@ -175,6 +175,14 @@ def _plates(design: Design) -> str:
     return f"soles {design.sole_outer:g} L outside and {design.sole_inner:g} L inside each leg's plane"
 
 
+def _bridge(design: Design, walk, robot):
+    """How high a comb sole's bridge must arch over the other foot in this walk (``None``: a plain plate)."""
+    from pasibot_pin.model.spatial import free_flyer_model  # deferred: keeps the CLI's start fast
+    from pasibot_pin.studies.bridge3d import bridge_need  # deferred: keeps the CLI's start fast
+
+    return bridge_need(free_flyer_model(robot.model), walk.result.q, design.footprint())
+
+
 def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | None) -> int:
     """``walk --3d``: the verdict on the 3-D floor and the sideways figures (``html``: the page of the walk)."""
     from pasibot_pin.studies.walking import WalkSettings, walk_design_3d  # deferred: keeps the CLI's start fast
@@ -186,6 +194,7 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
 
         write_walk3d_page(walk, robot, design.footprint(), html)
     figures = walk.figures()
+    bridge = _bridge(design, walk, robot)
     stability, note = _stability_3d(design, walk, robot) if args.stability else (None, "")
     if args.json:
         verdict = walk.verdict
@@ -201,6 +210,8 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
             "model": "3d",
             **figures,
             "settled_at_s": None if math.isnan(figures["settled_at_s"]) else figures["settled_at_s"],
+            "bridge_heel_m": None if bridge is None else bridge.heel_m,
+            "bridge_toe_m": None if bridge is None else bridge.toe_m,
         }
         if args.stability:
             out["multipliers"] = None if stability is None else [[z.real, z.imag] for z in stability.multipliers]
@@ -219,6 +230,8 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
         f"a leg at least {1000 * figures['leg_clearance_m']:.1f} mm from the other",
         flush=True,
     )
+    if bridge is not None:
+        print(f"comb soles: {bridge.summary()}", flush=True)
     if not math.isnan(figures["settled_at_s"]):
         print(f"the gait settled at {figures['settled_at_s']:.2f} s: each later crank turn repeats the one before")
     if args.stability:
