@@ -25,6 +25,7 @@ from pasibot_pin.studies.walking import WalkSettings, floor_settings
 FAST = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 
 
+@pytest.mark.slow
 @pytest.mark.parametrize("degrees", [3.0, -3.0])
 def test_held_3d_walk_on_a_slope_is_the_planar_walk(degrees):
     design = load_design(FAST)
