@@ -11,7 +11,6 @@ from __future__ import annotations
 import json
 import math
 
-import numpy as np
 import pytest
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
@@ -21,6 +20,7 @@ from pasibot_pin.explore.plan import SweepPlan
 from pasibot_pin.model.design import design_robot, load_design
 from pasibot_pin.model.spatial import Footprint
 from pasibot_pin.studies.walking import WalkSettings, floor_settings
+from tests.test_floor3d import held_and_planar
 
 FAST = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 
@@ -31,19 +31,9 @@ def test_held_3d_walk_on_a_slope_is_the_planar_walk(degrees):
     design = load_design(FAST)
     robot = design_robot(design, 2, visuals=False)
     settings = floor_settings(design, WalkSettings(slope=math.radians(degrees)), robot)
-    planar = FloorSimulator(robot, settings)
-    planar._shape_split = lambda: None  # the general step on every coordinate, as the held 3-D step
-    sloped = planar.run(2.5)
     engine = Floor3D(FloorSimulator(robot, settings), Footprint.plate(0.0, 0.0), hold_lateral=True)
     assert engine.ground.angle == pytest.approx(math.radians(degrees))  # the planar settings' ground
-    spatial = engine.run(2.5, stop_on_verdict=False)
-    n = len(sloped.t)
-    np.testing.assert_allclose(spatial.t[1 : n + 1], sloped.t, atol=1e-12)
-    assert np.abs(spatial.q[1 : n + 1, 0] - sloped.q[:, 0]).max() < 1e-7
-    assert np.abs(spatial.q[1 : n + 1, 2] - sloped.q[:, 1]).max() < 1e-7
-    assert np.abs(spatial.pitch[1 : n + 1] - sloped.q[:, 2]).max() < 1e-7
-    assert spatial.verdict.outcome == sloped.verdict.outcome
-    assert spatial.verdict.steps == sloped.verdict.steps
+    spatial, sloped = held_and_planar(robot, settings, 2.5)
     assert spatial.verdict.advance_m == pytest.approx(sloped.verdict.advance_m, abs=1e-7)  # along the slope
     assert abs(sloped.q[-1, 1] - sloped.q[0, 1]) > 0.01  # it did climb (or descend)
 
