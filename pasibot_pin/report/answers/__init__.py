@@ -31,6 +31,7 @@ carry the lines; :func:`~pasibot_pin.report.markdown.report_text` puts them firs
 from __future__ import annotations
 
 import math
+from collections import Counter
 from pathlib import Path
 
 from pasibot_pin.model.design import Design
@@ -102,10 +103,14 @@ def upright_answer_line() -> str:
         if math.isfinite(v)
     ]
     narrow = m.family("narrow")
+    others = Counter(c.outcome.replace("_", " ") for c in narrow if not c.walks and c.outcome != "tipped")
+    spacings = f"{sum(c.outcome == 'tipped' for c in narrow)} of {len(narrow)} spacings tip" + "".join(
+        f", {k} {outcome}" for outcome, k in sorted(others.items())
+    )
     return (
         f"- **In 3-D** (the hip free to roll; {m.steps} steps each, in our engine and the MuJoCo twin): on soles "
         f"centred on each leg's plane, or legs brought nearer, every walker tips over sideways at its first single "
-        f"support ({sum(not c.walks for c in narrow)} of {len(narrow)} spacings tip). Interleaved comb soles whose "
+        f"support ({spacings}). Interleaved comb soles whose "
         f"prongs pass the midline walk upright: {' and '.join(parts)}."
     )
 
