@@ -109,8 +109,8 @@ def upright_answer_line() -> str:
     )
     return (
         f"- **In 3-D** (the hip free to roll; {m.steps} steps each, in our engine and the MuJoCo twin): on soles "
-        f"centred on each leg's plane, or legs brought nearer, every walker tips over sideways at its first single "
-        f"support ({spacings}). Interleaved comb soles whose "
+        f"centred on each leg's plane, or legs brought nearer, every walker tips sideways at its first single "
+        f"support ({spacings}). Comb soles whose "
         f"prongs pass the midline walk upright: {' and '.join(parts)}."
     )
 
