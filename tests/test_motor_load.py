@@ -147,6 +147,6 @@ def test_walk_json_has_the_motor_figures(capsys):
         "motor_power_peak_W",
         "motor_power_mean_W",
     )
-    for key in (*keys, "exchange_impulse_Nms"):
+    for key in (*keys, "exchange_impulse_Nms", "exchange_impulse_floor_Nms"):
         assert out[key] is None or out[key] >= 0.0, key
     assert "peak_motor_torque_Nm" not in out  # one definition: the step's spike is gone

@@ -129,6 +129,7 @@ def verdict_json(walk, multipliers=None) -> dict:
         "motor_power_peak_W": _finite(load.power_peak_W),
         "motor_power_mean_W": _finite(load.power_mean_W),
         "exchange_impulse_Nms": _finite(load.exchange_impulse_Nms),
+        "exchange_impulse_floor_Nms": _finite(load.impulse_floor_Nms),
         "crank_speed_dip_rad_s": _finite(load.speed_dip_rad_s),
         "reflected_inertia_kg_m2": load.reflected_inertia,
         "mean_motor_power_W": _finite(v.mean_motor_power_w),
