@@ -19,6 +19,7 @@ from dataclasses import dataclass, field
 from pasibot_pin.dynamics.verdict import LINKAGE_ADVANCE_PER_STEP
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.paths import result_path
+from pasibot_pin.model.variants import get_variant
 from pasibot_pin.report.designs_catalog import SWEEP_NAME, Entry, fastest_sweep_design, sweep_entry, sweep_rows
 from pasibot_pin.report.markdown import sentence_lines
 from pasibot_pin.studies.spring_study import toppling_stiffness
@@ -103,7 +104,8 @@ def walking_answer(wmap: WalkingMap, rows: list[dict] | None = None) -> WalkingA
     least = min(with_energy, key=lambda c: c.energy_per_m_J, default=None)
     failed = [c for c in wmap.cells if not c.walks]
     failures = {v: dict(Counter(c.outcome for c in failed if c.variant == v)) for v in wmap.variants}
-    spring = [c for c in wmap.cells if c.variant == "spring" and not c.walks]
+    sprung = {v for v in wmap.variants if get_variant(v).spring_joints}  # the record says which have an ankle spring
+    spring = [c for c in wmap.cells if c.variant in sprung and not c.walks]
     details = Counter(f"{c.outcome}: {_detail_kind(c.detail)}" for c in spring).most_common()
     k = [c.spring_stiffness for c in spring if math.isfinite(c.spring_stiffness)]
     beta = [math.degrees(c.spring_rest_angle) for c in spring if math.isfinite(c.spring_rest_angle)]
