@@ -1,7 +1,7 @@
 """``pasibot info``: nq, nv, loops, actuation, Grübler's DOF, the numerical mobility and the robot's mass.
 
 It describes the robot of a design: ``--design FILE``, else the default design of ``--variant``, the
-same robot ``pasibot walk --variant V`` builds (its ``body_mass`` on the hip). The seed scenarios'
+same robot ``pasibot walk --variant`` builds (its ``body_mass`` on the hip). The seed scenarios'
 robots (the K_e tables) carry the seed's stated masses; their summaries say "seed scenario".
 """
 
