@@ -153,3 +153,13 @@ def test_find_walker_twice_with_one_seed_writes_the_same_file(tmp_path, capsys):
         text = capsys.readouterr().out
         outputs.append((text.split(" candidates walk")[0], out.read_bytes() if out.exists() else None))
     assert outputs[0] == outputs[1]
+
+
+def test_the_help_quotes_the_candidates_asked_ahead(capsys):
+    from pasibot_pin.explore.find_walker import IN_FLIGHT
+
+    with pytest.raises(SystemExit):
+        main(["find-walker", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"asks {IN_FLIGHT} candidates ahead, so more than {IN_FLIGHT} add nothing" in text
+    assert "the same seed gives the same candidates and file on any --workers" in text
