@@ -84,8 +84,9 @@ lateral-mass: install
 floor-springs: install
 	$(VENV)/bin/pasibot simulate --ground floor --study --scenario all --out docs --force
 
-# the ratio benchmarks (about 90 s); the demo's own time is `make timings`, compare_outputs.py a tool
-BENCHMARKS := bench_dynamics bench_floor bench_floor3d bench_studies bench_floor_section bench_sweep
+# the ratio benchmarks (about 2 min; bench_stability: walk --stability on the fastest walker over bench_demo's
+# reference workload); the demo's own time is `make timings`, compare_outputs.py a tool
+BENCHMARKS := bench_dynamics bench_floor bench_floor3d bench_studies bench_floor_section bench_sweep bench_stability
 bench: install
 	@set -e; for name in $(BENCHMARKS); do echo "== benchmarks/$$name.py"; $(PY) benchmarks/$$name.py; done
 

@@ -110,3 +110,56 @@ def test_a_3d_candidate_whose_legs_meet_is_collided_not_a_crash():
     assert (outcome, steps, score) == ("collided", 0, FAILED) and "sole_inner" in detail
     outcome, _, score, detail = walk_candidate(base, 2.0, {"sole_gap_from": 0.3, "sole_gap_to": 0.2}, 3, "sole", True)
     assert (outcome, score) == ("refused", FAILED) and "sole_gap_from" in detail
+
+
+def _uneven_walk(base, omega, values, steps, objective, spatial=False):
+    """A stand-in for a walk whose length varies from candidate to candidate (so two workers finish out of order)."""
+    import time
+
+    toe, heel = values["parallel_toe"], values["parallel_heel"]
+    time.sleep(0.002 + 0.03 * ((toe * 7.0 + heel * 13.0) % 1.0))
+    score = (toe - 6.0) ** 2 + (heel - 4.0) ** 2
+    return ("walks", steps, score, "") if score < 4.0 else ("slipped", 1, FAILED - 1, "")
+
+
+def _trace(result):
+    return [(c.number, c.outcome, c.score, tuple(sorted(c.values.items()))) for c in result.candidates]
+
+
+def test_the_same_seed_gives_the_same_candidates_on_one_worker_or_two(monkeypatch):
+    """Past TPE's 10 random start-up candidates each ask depends on what was told: told in trial order, the
+    candidates are the same however the workers' walks interleave (runs of uneven length, finishing out of order)."""
+    import pasibot_pin.explore.find_walker as fw
+
+    monkeypatch.setattr(fw, "walk_candidate", _uneven_walk)
+    search = WalkerSearch(2.0, "sole", budget=24, steps=3, seed=7)
+    one = find_walker(search, workers=1, progress=False)
+    two = [find_walker(search, workers=2, progress=False) for _ in range(2)]
+    assert [c.number for c in one.candidates] == list(range(24))
+    assert _trace(two[0]) == _trace(one) and _trace(two[1]) == _trace(one)
+    other = find_walker(WalkerSearch(2.0, "sole", budget=24, steps=3, seed=8), workers=2, progress=False)
+    assert _trace(other) != _trace(one)  # the seed does decide the candidates
+
+
+@pytest.mark.slow
+def test_find_walker_twice_with_one_seed_writes_the_same_file(tmp_path, capsys):
+    """The command itself, run twice on two workers with real walks: the same count and the same design file."""
+    outputs = []
+    for name in ("a.toml", "b.toml"):
+        out = tmp_path / name
+        argv = ["find-walker", "--omega", "4", "--budget", "12", "--steps", "3", "--out", str(out), "--no-progress",
+                "--workers", "2", "--seed", "3"]  # fmt: skip
+        assert main(argv) in (0, 1)
+        text = capsys.readouterr().out
+        outputs.append((text.split(" candidates walk")[0], out.read_bytes() if out.exists() else None))
+    assert outputs[0] == outputs[1]
+
+
+def test_the_help_quotes_the_candidates_asked_ahead(capsys):
+    from pasibot_pin.explore.find_walker import IN_FLIGHT
+
+    with pytest.raises(SystemExit):
+        main(["find-walker", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    assert f"asks {IN_FLIGHT} candidates ahead, so more than {IN_FLIGHT} add nothing" in text
+    assert "the same seed gives the same candidates and file on any --workers" in text

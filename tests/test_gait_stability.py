@@ -99,23 +99,20 @@ def _own_crossings(gait_map: GaitMap, walk) -> np.ndarray:
 
 @pytest.mark.slow
 def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys):
-    """Issue 34: `walk --stability` on the fastest walker, defaults, under 30 s of CPU. Its step map jumps
+    """Issue 34: `walk --stability` on the fastest walker, defaults (its CPU time is benchmarks/bench_stability.py's,
+    not a test's: machines differ 2-3x). Its step map jumps
     (a rocking foot's landings split between time steps), so Newton stalls and the map is fitted to
     simulated steps (Newton gives up as soon as an iteration stalls).
     The dominant multiplier agrees with two estimates the fit never saw: the same
     least-squares fit on the 20 steps of the walk itself, and the decay of a large kick in direct simulation."""
-    import time
-
     from pasibot_pin.__main__ import main
     from pasibot_pin.model.design import load_design
     from pasibot_pin.studies.methods.decay import decay_rate
     from pasibot_pin.studies.methods.map_fit import fit_affine_map
 
-    start = time.process_time()
     assert main(["walk", "--design", FASTEST, "--stability", "--json"]) == 0
-    cpu = time.process_time() - start
     out = json.loads(capsys.readouterr().out)
-    assert out["outcome"] == "walks" and out["stable"] is True and cpu < 30.0
+    assert out["outcome"] == "walks" and out["stable"] is True
     assert out["stability_method"].startswith("least-squares fit") and "Newton" in out["stability_newton_note"]
     assert "stalls at iteration 2" in out["stability_newton_note"]  # given up early, not after its whole budget
     radius = max(math.hypot(*z) for z in out["multipliers"])

@@ -137,3 +137,34 @@ def test_readme_answers_are_the_report_answers_box():
     block = _once(r"<!-- answers: begin -->\n(.*?)\n<!-- answers: end -->", re.S).group(1).splitlines()
     assert WALKING_SLOT in block  # the walking answer's slot is marked where another study fills it
     assert block == answers()
+
+
+def test_the_masses_quoted_are_the_code_s_one_per_variant():
+    """Issue 34: one mass per variant. The robot of `info`, `walk` and the design files (the default design's,
+    its `body_mass` on the hip) and the seed scenario's (`load()`, the report's percentage rule) are quoted
+    where the docs name them, each computed here by summing the model's body masses."""
+    from pasibot_pin.model.design import Design, design_robot
+    from pasibot_pin.model.robot import load, total_mass
+    from pasibot_pin.model.scenarios import SEED_ROUNDED_FOOT_MASS, SEED_ROUNDED_LINK_MASSES
+
+    def mass(design: Design) -> float:
+        robot = design_robot(design, 2, visuals=False)
+        assert sum(robot.model.inertias[j].mass for j in range(1, robot.model.njoints)) == total_mass(robot)
+        return total_mass(robot)
+
+    spring, rigid, parallel = (mass(Design(variant=v)) for v in ("spring", "rigid", "parallel"))
+    body = Design().body_mass
+    m = _once(
+        r"`body_mass`, (\d+) kg by default, on the hip: ([\d.]+) kg \(spring, rigid\)\s+and ([\d.]+) kg \(parallel\)"
+    )
+    assert (float(m.group(1)), m.group(2), m.group(3)) == (body, f"{spring:.2f}", f"{parallel:.2f}")
+    assert f"{rigid:.2f}" == f"{spring:.2f}"  # the rigid foot's mass is the spring foot's
+    m = _once(r"the parallel robot weighs\s+([\d.]+) kg against the spring robot's ([\d.]+) kg with the same (\d+) kg")
+    assert (m.group(1), m.group(2), float(m.group(3))) == (f"{parallel:.2f}", f"{spring:.2f}", body)
+    seed = load("spring", 2, visuals=False)
+    m = _once(r"Table 7\.1\.2 \(hip ([\d.]+) kg, ([\d.]+) kg in all\)")
+    assert (m.group(1), m.group(2)) == (f"{seed.masses.hip:.2f}", f"{total_mass(seed):.2f}")
+    assert seed.masses.hip == pytest.approx(0.25 * 65.0)  # the report's 25 % of the 65 kg human
+    m = _once(r"Their sum is ([\d.]+) kg, not 65 kg")  # the seed's rounded table: its text's body and two legs
+    leg = sum(SEED_ROUNDED_LINK_MASSES[f"l{i}"] for i in range(1, 8)) + SEED_ROUNDED_FOOT_MASS
+    assert m.group(1) == f"{SCENARIOS['run1'].body_mass + 2 * leg:.1f}"

@@ -33,8 +33,10 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument("--steps", type=int, default=20, help="steps each candidate must walk (default 20)")
     vary = "a varied field and its range (repeatable; default parallel_toe=3:10, parallel_heel=3:10)"
     p.add_argument("--vary", action="append", default=None, metavar="NAME=LO:HI", help=vary)
-    p.add_argument("--workers", type=int, default=None, help="worker processes (default 2)")
-    p.add_argument("--seed", type=int, default=0, help="the sampler's seed (default 0)")
+    workers = "worker processes (default 2; the search asks 4 candidates ahead, so more than 4 add nothing)"
+    p.add_argument("--workers", type=int, default=None, help=workers)
+    seed = "the sampler's seed (default 0): the same seed gives the same candidates and file on any --workers"
+    p.add_argument("--seed", type=int, default=0, help=seed)
     p.add_argument("--out", type=Path, required=True, metavar="FILE.toml", help="the design file to write")
     p.add_argument("--no-progress", action="store_true", help="no progress bar")
     spatial = "walk each candidate in 3-D (the hip free to roll; default base: the comb-soled walker of designs/3d/)"

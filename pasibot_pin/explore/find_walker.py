@@ -10,9 +10,12 @@ score, lower being better:
 - a design that does not walk scores :data:`FAILED` less the steps it took, so that the sampler
   moves toward designs that walk further, and any walker beats it.
 
-The candidates run on the process pool of :mod:`pasibot_pin.jobs`, two at a time on two workers;
-each finished one is told to the sampler and the next asked. Nothing is written here: the caller
-saves the best walker (:meth:`WalkerSearchResult.best`).
+The candidates run on the process pool of :mod:`pasibot_pin.jobs` with :data:`IN_FLIGHT` of them
+asked ahead. The sampler is told the results in trial order, whatever order the workers finish
+them in, and candidate ``m`` is asked right after candidate ``m - IN_FLIGHT`` is told: the sampler
+sees the same history at every ask, so a seed gives the same candidates, count and best walker on
+one worker or two, however long each walk takes. Nothing is written here: the caller saves the
+best walker (:meth:`WalkerSearchResult.best`).
 
 Units: SI; soles over the crank length L; crank speed [rad/s].
 """
@@ -41,6 +44,10 @@ OBJECTIVES: dict[str, str] = {
 
 FAILED: float = 1e6
 """A design that does not walk scores this, less the steps it took [-]."""
+
+IN_FLIGHT: int = 4
+"""Candidates asked before the first of them is told [-]: fixed, not the worker count, so the search
+is the same on any number of workers (two workers stay busy while one waits for a long walk)."""
 
 MAX_BUDGET: int = 10_000
 """Most candidates a search may walk [-]."""
@@ -171,6 +178,7 @@ def find_walker(search: WalkerSearch, workers: int = 2, progress: bool = True) -
     base = search.base.to_dict()
     candidates: list[Candidate] = []
     trials: dict[int, Any] = {}
+    finished: dict[int, tuple] = {}  # results in finishing order, told in trial order
     bar = progress_bar(search.budget, 0, progress, unit="walk")
     start = time.monotonic()
 
@@ -183,14 +191,19 @@ def find_walker(search: WalkerSearch, workers: int = 2, progress: bool = True) -
 
     def on_done(key, result):
         number, values = key
-        outcome, steps, score, detail = result
-        study.tell(trials.pop(number), score)
-        candidates.append(Candidate(number, dict(values), outcome, int(steps), float(score), detail))
+        finished[number] = (dict(values), result)
         bar.update(1)
-        asked = len(candidates) + len(trials)
-        return [ask()] if asked < search.budget else None
+        released = []
+        while len(candidates) in finished:  # the next in trial order has finished: tell it, ask one more
+            told = len(candidates)
+            told_values, (outcome, steps, score, detail) = finished.pop(told)
+            study.tell(trials.pop(told), score)
+            candidates.append(Candidate(told, told_values, outcome, int(steps), float(score), detail))
+            if len(candidates) + len(trials) < search.budget:
+                released.append(ask())
+        return released
 
-    first = [ask() for _ in range(min(max(1, workers), search.budget))]
+    first = [ask() for _ in range(min(IN_FLIGHT, search.budget))]
     try:
         run_jobs(first, on_done, workers=max(1, workers))
     finally:

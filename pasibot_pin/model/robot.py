@@ -236,11 +236,30 @@ class PasibotRobot:
             f"  numerical mobility nv - rank(J_c) = {self.model.nv} - {mob.rank} = {mob.numerical}",
             f"  leg-linkage mobility per leg = {mob.leg_linkage}",
             f"  mass model: {self.masses.rule}, inertia: {self.inertia}",
-            f"  robot mass: {total_mass(self):.3f} kg (its moving bodies; the hip {self.masses.hip:.3f} kg of it)"
-            if self.legs == 2
-            else f"  one leg's mass: {total_mass(self):.3f} kg (no hip)",
+            mass_line(self),
         ]
         return "\n".join(lines)
+
+
+SEED_MASS_RULES: tuple[str, ...] = ("seed-percentages", "scenario ")
+"""Mass models (their ``rule`` or its start) of the seed's robots: the report's percentage rule (hip 25 %
+of the 65 kg human) and the seed scenarios' stated bodies (:mod:`pasibot_pin.model.scenario_robots`)."""
+
+
+def mass_line(robot: PasibotRobot) -> str:
+    """The summary's mass line [kg], named for what the robot is.
+
+    "robot mass" for a design's robot (``pasibot info``, ``walk``, the design files), "seed scenario
+    mass" for the seed's (:data:`SEED_MASS_RULES`), so that no reader takes one for the other.
+    """
+    total = total_mass(robot)
+    if robot.legs != 2:
+        return f"  one leg's mass: {total:.3f} kg (no hip)"
+    rule, hip = robot.masses.rule, robot.masses.hip
+    if rule.startswith("design"):
+        return f"  robot mass: {total:.3f} kg (its moving bodies; the hip {hip:.3f} kg of it)"
+    what = "seed scenario mass" if rule.startswith(SEED_MASS_RULES) else "model mass"
+    return f"  {what}: {total:.3f} kg ({rule}: the hip {hip:.3f} kg of it; a design's robot has its body_mass there)"
 
 
 def total_mass(robot: PasibotRobot) -> float:

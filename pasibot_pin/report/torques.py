@@ -167,7 +167,7 @@ def build(out_dir: Path):
         "`default`: exact masses, swing foot level, exact accelerations, fit over the whole stance "
         "theta in [90, 270] deg. `seed`: every choice of the seed's MATLAB code (docs/reference.md §5).",
         "",
-        "| scenario | omega [rad/s] | body [kg] | K_e default [N.m/rad] | R^2 [-] | beta0 [deg] | "
+        "| seed scenario | omega [rad/s] | body [kg] | K_e default [N.m/rad] | R^2 [-] | beta0 [deg] | "
         "K_e seed preset [N.m/rad] | seed stored [N.m/rad] | seed without swap/lag [N.m/rad] |",
         "|---|---|---|---|---|---|---|---|---|",
     ]
