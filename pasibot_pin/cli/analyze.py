@@ -37,8 +37,8 @@ LEAD: tuple[str, ...] = ("walking",)
 """Steps whose sections come right after the Answers box, before the summary of verdicts."""
 
 ESTIMATES: dict[str, float] = {
-    "answers": 30.0,
-    "walking": 5.7,
+    "answers": 2.0,
+    "walking": 8.0,
     "kinematics": 6.7,
     "contact_energy": 6.7,
     "dynamics": 2.9,
