@@ -126,10 +126,9 @@ def _qp(h: np.ndarray, g: np.ndarray, a_eq, b_eq, c_in: np.ndarray, u_in: np.nda
 def _cone_face_bases(t: np.ndarray, n: np.ndarray, mu: float) -> tuple[np.ndarray, np.ndarray]:
     """Bases of the 16 pairs of faces of the heel's and the toe's friction cones, padded to (16, 4, 4).
 
-    A point's cone {f: |t.f| <= mu n.f} has four faces: its inside (basis: the plane), its two edges
-    (n +- mu t) and its apex (none). Returns the bases (columns beyond a face's own are zero) and, per
-    pair, 1 on the diagonal where a column is padding (0 elsewhere), so each pair's reduced system is
-    square and regular.
+    A point's cone {f: |t.f| <= mu n.f} has four faces: its inside (basis: the plane), its two edges (n +- mu t)
+    and its apex (none). Returns the bases (columns beyond a face's own are zero) and, per pair, 1 on the
+    diagonal where a column is padding (0 elsewhere): each pair's reduced system is square and regular.
     """
     zero = np.zeros(2)
     faces = np.array(
@@ -151,12 +150,10 @@ def _cone_face_bases(t: np.ndarray, n: np.ndarray, mu: float) -> tuple[np.ndarra
 def cone_qp(hess: np.ndarray, g: np.ndarray, t: np.ndarray, n: np.ndarray, mu: float) -> np.ndarray:
     """The least 1/2 f^T H f + g^T f over heel and toe forces f = [f_heel, f_toe] (4,), each in its friction cone.
 
-    Exact, by the cones' faces: the minimum lies inside one face of each point's cone (its inside, an
-    edge or the apex: 16 pairs), where it is the minimum over that face's span. Every pair's minimum is
-    solved at once; of those in both cones (to :data:`CONE_TOL`) the least is the answer (H is positive
-    definite: one minimum, and it is one of them). Sixteen 4 x 4 solves in one call instead of an
-    iterative QP (which at :func:`distribute`'s 1e-12 ran out of iterations on one wrench in ten of the
-    report's).
+    Exact, by the cones' faces: the minimum lies inside one face of each point's cone (its inside, an edge or
+    the apex: 16 pairs), where it is the minimum over that face's span. Every pair's minimum is solved at once
+    (sixteen 4 x 4 solves, one call); of those in both cones (to :data:`CONE_TOL`) the least is the answer
+    (H is positive definite: one minimum, and it is one of them).
 
     Args:
         hess: H (4, 4), symmetric positive definite.
