@@ -145,6 +145,57 @@ def test_qp_feasibility_matches_closed_form_on_random_wrenches():
     assert agree > 250
 
 
+def _cone_rows(t, n, mu):
+    """The heel and toe cones as rows C (6, 4), C f <= 0, written here from the cone's definition."""
+    rows = np.zeros((6, 4))
+    for k in range(2):
+        rows[3 * k : 3 * k + 3, 2 * k : 2 * k + 2] = [t - mu * n, -t - mu * n, -n]
+    return rows
+
+
+@pytest.mark.parametrize("regularisation", [1e-9, 1e-2])
+def test_the_cone_qp_is_proxsuites_answer_and_meets_the_kkt_conditions(regularisation):
+    """contact.cone_qp (by the cones' faces) against proxsuite run to 1e-12 on random tipping and slipping
+    problems shaped as distribute's best effort: in the cones, KKT (H f + g + C_A^T lam = 0, lam >= 0 by
+    nnls), a cost no higher than proxsuite's, and, where the Hessian is well conditioned, the same forces.
+    (At distribute's 1e-9 the heel and toe may pull against each other at almost no cost: proxsuite's
+    1e-12 leaves them a few N off.)"""
+    import proxsuite
+    from scipy.optimize import nnls
+
+    rng, compared, problems = np.random.default_rng(7), 0, 100 if regularisation > 1e-6 else 40
+    for _ in range(problems):  # proxsuite takes its time on the ill-conditioned
+        mu, pitch = rng.uniform(0.05, 1.0), rng.uniform(-0.3, 0.3)
+        t, n = np.array([math.cos(pitch), math.sin(pitch)]), np.array([-math.sin(pitch), math.cos(pitch)])
+        s_heel, s_toe = -rng.uniform(0.01, 0.1), rng.uniform(0.01, 0.2)
+        a_eq = np.array([[1.0, 0, 1, 0], [0, 1.0, 0, 1], [*(s_heel * n), *(s_toe * n)]])
+        aw = np.diag([1.0, 10.0, 1e-3 / (s_toe - s_heel)]) @ a_eq
+        wrench = rng.normal(size=3) * [100.0, 300.0, 10.0]
+        hess, g = (
+            aw.T @ aw + regularisation * np.eye(4),
+            -aw.T @ (np.diag([1.0, 10.0, 1e-3 / (s_toe - s_heel)]) @ wrench),
+        )
+        f = contact.cone_qp(hess, g, t, n, mu)
+        rows = _cone_rows(t, n, mu)
+        scale = 1.0 + np.abs(f).max()
+        assert np.max(rows @ f) <= 1e-11 * scale  # in both cones
+        active = np.abs(rows @ f) <= 1e-9 * scale
+        lam = nnls(rows[active].T, -(hess @ f + g))[0] if active.any() else np.zeros(0)  # KKT, lam >= 0
+        assert np.allclose(rows[active].T @ lam, -(hess @ f + g), atol=1e-6 * (1.0 + np.abs(g).max()))
+        other = proxsuite.proxqp.dense.solve(
+            H=hess, g=g, C=rows, l=np.full(6, -1e20), u=np.zeros(6), eps_abs=1e-12, eps_rel=0.0, max_iter=20_000
+        )
+        if other.info.status != proxsuite.proxqp.QPSolverOutput.PROXQP_SOLVED:
+            continue  # no answer to compare with (the KKT check above stands alone)
+        compared += 1
+        x = np.array(other.x)
+        cost = [0.5 * y @ hess @ y + g @ y for y in (f, x)]
+        assert cost[0] <= cost[1] + 1e-11 * (1.0 + np.abs(g).max()) * (1.0 + np.abs(x).max())  # x: cones to 1e-12
+        if regularisation > 1e-6:
+            assert np.allclose(f, x, atol=1e-6 * (1.0 + np.abs(x).max()))
+    assert compared >= problems // 2
+
+
 def test_regularised_norm_splits_the_friction_evenly_when_cones_allow():
     sol = contact.distribute([10.0, 200.0, 0.025 * 200.0], -0.025, 0.075, 0.5)
     assert sol.feasible

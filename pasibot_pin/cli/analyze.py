@@ -37,8 +37,8 @@ LEAD: tuple[str, ...] = ("walking",)
 """Steps whose sections come right after the Answers box, before the summary of verdicts."""
 
 ESTIMATES: dict[str, float] = {
-    "answers": 30.0,
-    "walking": 5.7,
+    "answers": 2.0,
+    "walking": 8.0,
     "kinematics": 6.7,
     "contact_energy": 6.7,
     "dynamics": 2.9,
@@ -118,6 +118,7 @@ def run(args: argparse.Namespace) -> int:
 def _run(out_dir: Path) -> None:
     """Every step into ``out_dir`` (claimed), then ``report.md``."""
     from pasibot_pin.jobs import WORKERS, Job, run_jobs  # deferred: keeps the CLI's start fast
+    from pasibot_pin.report import answers  # deferred: keeps the CLI's start fast
     from pasibot_pin.report.markdown import report_text  # deferred: keeps the CLI's start fast
 
     built: dict = {}  # step name -> its Section
@@ -143,6 +144,7 @@ def _run(out_dir: Path) -> None:
     built.update({name: plan.section() for name, plan in plans.items()})
     print(f"[{'], ['.join(plans)}] and everything else done in {time.perf_counter() - start:.1f} s", flush=True)
     facts = {name: b.facts for name, b in built.items()}
+    answers.complete(facts)  # the box: the answers step's lines and the walking section's (one walk for both)
     lead = [built[name].markdown for name in LEAD]
     text = report_text([built[name].markdown for name, _ in STEPS if name not in LEAD], facts, lead)
     report = write_text_atomic(out_dir / "report.md", text)

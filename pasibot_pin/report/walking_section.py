@@ -12,10 +12,11 @@ from __future__ import annotations
 from pathlib import Path
 
 from pasibot_pin.model.design import design_robot
+from pasibot_pin.report.answers import BUILD_STEPS, recommended_lines
 from pasibot_pin.report.answers.walking import walking_answer, walking_paragraph
-from pasibot_pin.report.markdown import figure
+from pasibot_pin.report.markdown import Section, figure
 from pasibot_pin.report.walking import write_walk_animation
-from pasibot_pin.studies.walking import WalkSettings, walk_design
+from pasibot_pin.studies.walking import WalkSettings, walk_design_shown
 from pasibot_pin.studies.walking_map import load_map
 from pasibot_pin.studies.walking_map3d import recommended_walker
 from pasibot_pin.viz.plots_walking import save_walking_map_figure
@@ -40,12 +41,27 @@ def section(out_dir: Path) -> str:
         The ``## Does it walk?`` section.
 
     """
+    return build(out_dir).markdown
+
+
+def build(out_dir: Path) -> Section:
+    """:func:`section`, and the Answers box's lines on the recommended walker from the same walk.
+
+    The recommended walker walks once, :data:`~pasibot_pin.report.answers.BUILD_STEPS` steps (the Answers
+    box's "what to build" and its motor: :func:`~pasibot_pin.report.answers.recommended_lines`); the
+    animation shows its first :data:`SHOWN_STEPS` (:func:`~pasibot_pin.studies.walking.walk_design_shown`).
+
+    Returns:
+        The section; its facts ``build`` and ``motor`` are those two lines of the box.
+
+    """
     out_dir = Path(out_dir)
     wmap = load_map()
     save_walking_map_figure(wmap, out_dir / MAP_PNG, dpi=100)
     design = recommended_walker()
     robot = design_robot(design, 2, visuals=False)
-    walk = walk_design(design, WalkSettings(steps=SHOWN_STEPS), robot)
+    whole, walk = walk_design_shown(design, WalkSettings(steps=BUILD_STEPS), SHOWN_STEPS, robot)
+    build_line, motor_line = recommended_lines(design, whole)
     gif = write_walk_animation(walk, robot, gif=out_dir / WALK_GIF, fps=GIF_FPS)
     animation = (
         figure(
@@ -57,7 +73,7 @@ def section(out_dir: Path) -> str:
         if gif
         else f"The recommended walker did not walk here: {walk.verdict.summary()}."
     )
-    return "\n".join(
+    text = "\n".join(
         [
             "## Does it walk?",
             "",
@@ -72,3 +88,4 @@ def section(out_dir: Path) -> str:
             animation,
         ]
     )
+    return Section(text, {"build": build_line, "motor": motor_line})

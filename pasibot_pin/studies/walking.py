@@ -200,6 +200,93 @@ def walk_design(design, settings: WalkSettings | None = None, robot=None) -> Des
     return DesignWalk(result.verdict, result, design.omega, floor.dt, floor)
 
 
+class ShownJudge:
+    """Judges one walk twice: by its own step count (it decides when the run stops) and by fewer steps.
+
+    The shorter judge hears the same samples until it decides, or until the time a run of its own
+    steps would have ended (:func:`walk_duration`); what it decided then is the verdict that
+    shorter walk would have had, and ``shown_at`` [s] the time that run would have stopped at.
+
+    Args:
+        walk: the walk's :class:`~pasibot_pin.dynamics.verdict.GaitJudge`.
+        shown: the judge of the fewer steps (the same robot and criteria but ``steps``).
+        shown_end: the last time the shorter run would have simulated [s].
+
+    """
+
+    def __init__(self, walk, shown, shown_end: float) -> None:
+        self.walk, self.shown, self.shown_end = walk, shown, shown_end
+        self.shown_at: float | None = None
+        self.shown_verdict: Verdict | None = None
+
+    def _close_shown(self, t: float) -> None:
+        if self.shown_at is None:
+            self.shown_at, self.shown_verdict = t, self.shown.verdict(t)
+
+    def update(self, sample) -> bool:
+        """Take one sample; True once the walk's own outcome is decided."""
+        if self.shown_at is None and (self.shown.update(sample) or sample.t >= self.shown_end - 1e-9):
+            self._close_shown(sample.t)
+        return self.walk.update(sample)
+
+    def diverged(self, t: float, detail: str) -> None:
+        """The simulation broke at ``t`` [s]: both judges hear it."""
+        for judge in (self.shown, self.walk):
+            judge.diverged(t, detail)
+        self._close_shown(t)
+
+    def tripped(self, t: float, detail: str) -> None:
+        """A point hit a step's riser at ``t`` [s]: both judges hear it."""
+        for judge in (self.shown, self.walk):
+            judge.tripped(t, detail)
+        self._close_shown(t)
+
+    def verdict(self, t_end: float) -> Verdict:
+        """The walk's own verdict at the run's end ``t_end`` [s] (the shorter one closed then if still open)."""
+        self._close_shown(t_end)
+        return self.walk.verdict(t_end)
+
+
+def walk_design_shown(design, settings: WalkSettings, shown: int, robot=None) -> tuple[DesignWalk, DesignWalk]:
+    """:func:`walk_design`, and the walk of its first ``shown`` steps from the same run (one simulation).
+
+    The shorter walk is judged by its own step count as :func:`walk_design` would judge it and its run
+    cut where that walk would have stopped (:meth:`~pasibot_pin.dynamics.floor.run.FloorResult.until`).
+    Its samples are the longer run's: the time step of a run divides its whole duration, so a run of
+    ``shown`` steps alone takes steps shorter by about one part in a thousand.
+
+    Returns:
+        (the walk of ``settings.steps`` steps, the walk of ``shown`` steps).
+
+    Raises:
+        ParameterError: ``shown`` not in [1, ``settings.steps``]; as :func:`walk_design`.
+
+    """
+    if not (isinstance(shown, int) and 1 <= shown <= settings.steps):
+        raise ParameterError(f"parameter 'shown' must be an integer in [1, {settings.steps}] steps, got {shown!r}")
+    robot = design_robot(design, 2, visuals=False) if robot is None else robot
+    floor = floor_settings(design, settings, robot)
+    sim = FloorSimulator(robot, floor)
+    judges: list[ShownJudge] = []
+
+    def judge(first):
+        both = ShownJudge(
+            sim.judge_of(settings.judged_by())(first),
+            sim.judge_of(replace(settings, steps=shown).judged_by())(first),
+            walk_duration(design.omega, shown),
+        )
+        judges.append(both)
+        return both
+
+    result = sim.run(walk_duration(design.omega, settings.steps), judge=judge, stop_on_verdict=True)
+    shown_at, shown_verdict = judges[0].shown_at, judges[0].shown_verdict
+    assert result.verdict is not None and shown_at is not None and shown_verdict is not None  # omega > 0
+    return (
+        DesignWalk(result.verdict, result, design.omega, floor.dt, floor),
+        DesignWalk(shown_verdict, result.until(shown_at, shown_verdict), design.omega, floor.dt, floor),
+    )
+
+
 @dataclass
 class DesignWalk3D:
     """A design on the 3-D floor: its verdict, the run and its sideways figures.

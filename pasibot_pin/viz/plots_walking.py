@@ -54,12 +54,12 @@ def plot_walking_map(wmap, variant: str, ax=None, twin: bool = True):
         for j, omega in enumerate(omegas):
             cell = wmap.cell(variant, sole, omega)
             colour = OUTCOME_COLOURS.get(cell.outcome, "white")
-            ax.add_patch(Rectangle((i - 0.5, j - 0.5), 1, 1, facecolor=colour, edgecolor="white", lw=1.5))
+            ax.add_artist(Rectangle((i - 0.5, j - 0.5), 1, 1, facecolor=colour, edgecolor="white", lw=1.5))
             label = str(cell.steps) if cell.outcome != "walks" else "W"
             ax.text(i, j, label, ha="center", va="center", fontsize=7, color="white")
             if twin and cell.twin_outcome:
                 dot = OUTCOME_COLOURS.get(cell.twin_outcome, "white")
-                ax.add_patch(Circle((i + 0.3, j + 0.3), 0.12, facecolor=dot, edgecolor="black", lw=0.6))
+                ax.add_artist(Circle((i + 0.3, j + 0.3), 0.12, facecolor=dot, edgecolor="black", lw=0.6))
     ax.set_xlim(-0.5, len(soles) - 0.5)
     ax.set_ylim(-0.5, len(omegas) - 0.5)
     ax.set_xticks(np.arange(len(soles)), [f"{s:g}" for s in soles])

@@ -12,7 +12,7 @@ Units: SI, angles [rad], forces [N].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 
@@ -234,6 +234,32 @@ class FloorResult:
         with np.errstate(invalid="ignore", divide="ignore"):
             use = np.abs(self.tangential) / self.normal
         return np.where(self.normal > 0, use, 0.0)
+
+    def until(self, t_end: float, verdict: Verdict) -> FloorResult:
+        """The run as it stood at ``t_end`` [s], judged by ``verdict``: its samples, touchdowns and landings to then.
+
+        A longer run's first part, as a shorter run that had stopped at ``t_end`` would hold it (the
+        verdict of a judge that heard only those samples, e.g. one asking fewer steps).
+        """
+        n = int(np.searchsorted(self.t, t_end, side="right"))
+        return replace(
+            self,
+            t=self.t[:n],
+            q=self.q[:n],
+            v=self.v[:n],
+            hip_pitch=self.hip_pitch[:n],
+            modes={side: modes[:n] for side, modes in self.modes.items()},
+            normal=self.normal[:n],
+            tangential=self.tangential[:n],
+            motor_torque=self.motor_torque[:n],
+            touchdowns=[x for x in self.touchdowns if x[0] <= t_end],
+            landings=[x for x in self.landings if x[0] <= t_end],
+            outcome=verdict.outcome,
+            failed=verdict.failed,
+            stop_reason=f"ran {float(self.t[n - 1]) if n else 0.0:.3f} s",
+            stopped=False,
+            verdict=verdict,
+        )
 
 
 @dataclass

@@ -128,6 +128,12 @@ def recommended_walk() -> tuple[Design, object, MotorLoad]:
     return design, walk, motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
 
 
+def recommended_lines(design: Design, walk) -> tuple[str, str]:
+    """The box's lines on the recommended walker from its walk (:data:`BUILD_STEPS` steps): what to build, its motor."""
+    load = motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
+    return build_answer_line(design, walk), motor_answer_line(load)
+
+
 def build_answer_line(design: Design, walk) -> str:
     """What to build: the recommended walker, its feet and its crank speed."""
     feet, reach, omega = RECOMMENDED
@@ -190,5 +196,20 @@ def answers() -> list[str]:
 
 
 def build(out_dir: Path):
-    """``pasibot analyze``'s answers step: no files, no text of its own; its facts carry the box's lines."""
-    return Section("", {"lines": answers()})
+    """``pasibot analyze``'s answers step: no files, no text of its own; its facts carry the box's own lines.
+
+    Those are the walking answer's (``walking``) and the spring's (``spring``); the recommended walker's two
+    lines come from the walking section, which walks it once for them and its animation
+    (:func:`pasibot_pin.report.walking_section.build`); :func:`complete` puts the box together.
+    """
+    return Section("", {"walking": walking_answer_lines(), "spring": spring_answer_line(recommended_spring())})
+
+
+def complete(facts: dict) -> None:
+    """Put the box's lines (:func:`answer_lines`) in ``facts["answers"]["lines"]``, from the two steps' facts.
+
+    ``facts``: step name -> its facts; the answers step's (:func:`build`) and the walking section's
+    (``build`` and ``motor``: :func:`recommended_lines`).
+    """
+    own, walking = facts["answers"], facts["walking"]
+    own["lines"] = answer_lines(own["walking"], walking["build"], walking["motor"], own["spring"])
