@@ -14,7 +14,7 @@ STEPS, SAMPLES, FPS, DPI = 1, 8, 10.0, 50
 
 @pytest.fixture(scope="module")
 def walk(robots):
-    return gait.walk(robots[("spring", 2)], steps=STEPS, samples_per_step=SAMPLES)
+    return gait.prescribed_gait(robots[("spring", 2)], steps=STEPS, samples_per_step=SAMPLES)
 
 
 @pytest.fixture(scope="module")

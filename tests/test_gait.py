@@ -36,7 +36,7 @@ def ankle_leg_frame(theta):
 def walks(robots):
     """Three-step walks: every variant with a flat foot, plus the seed's point and toe feet."""
     cases = [(v, "flat") for v in pp.VARIANTS] + [(v, "point") for v in pp.VARIANTS] + [("rigid", "toe")]
-    return {(v, foot): gait.walk(robots[(v, 2)], 3, SPS, omega=0.1, foot=foot) for v, foot in cases}
+    return {(v, foot): gait.prescribed_gait(robots[(v, 2)], 3, SPS, omega=0.1, foot=foot) for v, foot in cases}
 
 
 def test_walk_structure(walks, robots):
@@ -52,7 +52,7 @@ def test_walk_structure(walks, robots):
         assert walk.residual.max() < 1e-10
         assert np.all(np.isfinite(walk.q))
     # the viewer's call: positional steps and samples_per_step, default foot
-    default = gait.walk(robots[("spring", 2)], 1, 4)
+    default = gait.prescribed_gait(robots[("spring", 2)], 1, 4)
     assert default.omega > 0 and default.t is not None  # always time-stamped (the README tour prints .t)
     assert default.t == pytest.approx((default.theta - default.theta[0]) / default.omega)
     assert default.t[0] == 0 and np.all(np.diff(default.t) > 0)
@@ -146,15 +146,15 @@ def test_atan2_keeps_the_sign():
 
 def test_walk_bad_input(robots):
     with pytest.raises(ValueError, match="two-legged"):
-        gait.walk(robots[("spring", 1)])
+        gait.prescribed_gait(robots[("spring", 1)])
     with pytest.raises(ValueError, match="steps"):
-        gait.walk(robots[("spring", 2)], 0)
+        gait.prescribed_gait(robots[("spring", 2)], 0)
     with pytest.raises(ValueError, match="samples_per_step"):
-        gait.walk(robots[("spring", 2)], 1, 1)
+        gait.prescribed_gait(robots[("spring", 2)], 1, 1)
     with pytest.raises(ValueError, match="foot"):
-        gait.walk(robots[("spring", 2)], 1, 4, foot="heel")
+        gait.prescribed_gait(robots[("spring", 2)], 1, 4, foot="heel")
     with pytest.raises(ValueError, match="omega"):
-        gait.walk(robots[("spring", 2)], 1, 4, omega=0.0)
+        gait.prescribed_gait(robots[("spring", 2)], 1, 4, omega=0.0)
 
 
 # --------------------------------------------------------------------------- CLI
