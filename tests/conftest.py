@@ -54,10 +54,16 @@ def L():
 # share a module-scoped fixture (the browser screenshots, the walks, the meshcat server, a shooting, a
 # reference sweep) form one ``xdist_group``: the fixture is built once, on one worker, not once per worker.
 # The tiers (pyproject's markers): `slow`, `integration`, `browser`, `mujoco`, `network`; `make test-fast`
-# leaves them out. The tests with the most tier marks go first (a slow walk in both engines is slow and
-# mujoco), the groups with their most marked test: none of the longest starts last and keeps one worker busy
-# alone (pyproject's --no-loadscope-reorder keeps this order; xdist would put the largest groups first).
+# leaves them out.
+# The longest go first, so that none starts last and keeps one worker busy alone (pyproject's
+# --no-loadscope-reorder keeps this order; xdist would put the largest groups first): each test's time as
+# the last run measured it (setup, call and teardown, kept in pytest's cache folder by the controller: not
+# a list in the repository), a group's the sum of its tests'. Tests never timed (a fresh clone, a new
+# test) rank by their tier marks instead, after the timed ones that took longer than a second.
 TIERS = ("slow", "browser", "integration", "mujoco", "network")
+DURATIONS = "pasibot/durations"
+"""pytest cache key: node id -> seconds of its last run."""
+_RUN: dict[str, float] = {}
 
 
 def _shared_module_fixture(item) -> bool:
@@ -72,18 +78,44 @@ def _marks(item) -> int:
     return sum(item.get_closest_marker(m) is not None for m in TIERS)
 
 
+def _measured(config) -> dict[str, float]:
+    cache = getattr(config, "cache", None)  # None under -p no:cacheprovider
+    return {} if cache is None else dict(cache.get(DURATIONS, {}))
+
+
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which turns the group marks into the node ids' "@group"
 def pytest_collection_modifyitems(config, items) -> None:
-    """Group the tests sharing a module fixture on one worker; the most marked (longest) tests and groups first."""
-    rank = {item.nodeid: _marks(item) for item in items}
+    """Group the tests sharing a module fixture on one worker; the longest tests and groups first."""
+    measured = _measured(config)
+    rank: dict[str, tuple[float, int]] = {}
     for item in items:
+        key = item.nodeid
         if _shared_module_fixture(item):
-            module = item.nodeid.split("::", 1)[0]
-            item.add_marker(pytest.mark.xdist_group(name=module.rsplit("/", 1)[-1]))
-            rank[module] = max(rank.get(module, 0), rank[item.nodeid])
+            key = item.nodeid.split("::", 1)[0]
+            item.add_marker(pytest.mark.xdist_group(name=key.rsplit("/", 1)[-1]))
+        seconds, marks = rank.get(key, (0.0, 0))
+        rank[key] = (seconds + measured.get(item.nodeid, 0.0), max(marks, _marks(item)))
 
-    def first(item) -> int:
+    def first(item) -> tuple[bool, float, float]:
         group = item.get_closest_marker("xdist_group")
-        return -rank[item.nodeid.split("::", 1)[0] if group else item.nodeid]
+        seconds, marks = rank[item.nodeid.split("::", 1)[0] if group else item.nodeid]
+        return (False, -seconds, 0.0) if seconds >= 1.0 else (True, -marks, -seconds)
 
     items.sort(key=first)
+
+
+def pytest_runtest_logreport(report) -> None:
+    """Add up each test's setup, call and teardown time (in the controller: xdist sends it every report)."""
+    nodeid = report.nodeid
+    group = nodeid.rsplit("@", 1)
+    if len(group) == 2 and group[1].endswith(".py"):  # xdist's "@group" suffix: not part of the test's id
+        nodeid = group[0]
+    _RUN[nodeid] = _RUN.get(nodeid, 0.0) + report.duration
+
+
+def pytest_sessionfinish(session) -> None:
+    """Keep this run's times for the next run's order (the controller's, or a run without workers)."""
+    config = session.config
+    if hasattr(config, "workerinput") or getattr(config, "cache", None) is None or not _RUN:
+        return
+    config.cache.set(DURATIONS, {**_measured(config), **{k: round(v, 3) for k, v in _RUN.items()}})

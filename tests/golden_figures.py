@@ -55,7 +55,7 @@ def _api():
         straight_line_metrics=path_metrics.straight_line_metrics,
         leg_cycle=kinematics.leg_cycle,
         crank_grid=kinematics.crank_grid,
-        walk=gait.walk,
+        prescribed_gait=gait.prescribed_gait,
         scenario_contact=contact.scenario_contact,
         spring_step_energy=energy.spring_step_energy,
         parallel_step_energy=energy.parallel_step_energy,
@@ -119,7 +119,7 @@ def closure_and_paths(out: dict) -> None:
         cycle = api.leg_cycle(leg, api.crank_grid(math.radians(10)), omega=0.1)
         for name in ("ankle", "toe", "heel", "foot_pitch", "ankle_velocity", "ankle_acceleration"):
             out[f"cycle/{variant}/{name}"] = np.asarray(getattr(cycle, name))
-        w = api.walk(api.load(variant, 2), 2, 12, omega=0.1)
+        w = api.prescribed_gait(api.load(variant, 2), 2, 12, omega=0.1)
         out[f"walk/{variant}/q"] = w.q
 
 

@@ -6,21 +6,21 @@ import numpy as np
 import pytest
 from PIL import Image
 
-from pasibot_pin.kinematics import gait
+from pasibot_pin.kinematics.gait import prescribed_gait
 from pasibot_pin.viz import animation
 
 STEPS, SAMPLES, FPS, DPI = 1, 8, 10.0, 50
 
 
 @pytest.fixture(scope="module")
-def walk(robots):
-    return gait.walk(robots[("spring", 2)], steps=STEPS, samples_per_step=SAMPLES)
+def gait(robots):
+    return prescribed_gait(robots[("spring", 2)], steps=STEPS, samples_per_step=SAMPLES)
 
 
 @pytest.fixture(scope="module")
-def gif(walk, tmp_path_factory):
+def gif(gait, tmp_path_factory):
     out = tmp_path_factory.mktemp("gif") / "walk.gif"
-    animation.save_gif(walk.robot, walk.q, out, fps=FPS, dpi=DPI)
+    animation.save_gif(gait.robot, gait.q, out, fps=FPS, dpi=DPI)
     return out
 
 
@@ -51,39 +51,39 @@ def test_gif_draws_the_links_in_group_colours(gif):
     assert hoeken.sum() > 20 and pantograph.sum() > 200  # (the caption row above the axes leaves a little less room)
 
 
-def test_ankle_paths_match_the_walk(walk):
-    paths = animation.ankle_paths_xz(walk.robot, walk.q)
+def test_ankle_paths_match_the_gait(gait):
+    paths = animation.ankle_paths_xz(gait.robot, gait.q)
     for side in ("right", "left"):
-        np.testing.assert_allclose(paths[side], walk.positions(f"{side}_foot")[:, [0, 2]], atol=1e-12)
+        np.testing.assert_allclose(paths[side], gait.positions(f"{side}_foot")[:, [0, 2]], atol=1e-12)
     # the right foot is in stance during the first step: it does not move
     assert np.ptp(paths["right"], axis=0).max() < 1e-9
     assert np.ptp(paths["left"][:, 0]) > 0.2
 
 
-def test_save_gif_refuses_to_overwrite_and_bad_input(walk, tmp_path):
+def test_save_gif_refuses_to_overwrite_and_bad_input(gait, tmp_path):
     out = tmp_path / "mine.gif"
     out.write_bytes(b"keep")
     with pytest.raises(FileExistsError):
-        animation.save_gif(walk.robot, walk.q, out)
+        animation.save_gif(gait.robot, gait.q, out)
     assert out.read_bytes() == b"keep"
     with pytest.raises(ValueError, match="qs"):
-        animation.save_gif(walk.robot, walk.q[:1], tmp_path / "a.gif")
+        animation.save_gif(gait.robot, gait.q[:1], tmp_path / "a.gif")
     with pytest.raises(ValueError, match="qs"):
-        animation.save_gif(walk.robot, walk.q[:, :5], tmp_path / "a.gif")
+        animation.save_gif(gait.robot, gait.q[:, :5], tmp_path / "a.gif")
     with pytest.raises(ValueError, match="fps"):
-        animation.save_gif(walk.robot, walk.q, tmp_path / "a.gif", fps=-1.0)
+        animation.save_gif(gait.robot, gait.q, tmp_path / "a.gif", fps=-1.0)
     with pytest.raises(ValueError, match="out"):
-        animation.save_gif(walk.robot, walk.q, tmp_path / "a.png")
+        animation.save_gif(gait.robot, gait.q, tmp_path / "a.png")
 
 
-def test_the_caption_and_the_legend_do_not_overlap(walk):
+def test_the_caption_and_the_legend_do_not_overlap(gait):
     """The clock (top left, inside the axes) and the legend (a band under the x label) keep apart, and
     both stay inside the figure, at every frame's text (checked on the artists' extents, not pixels)."""
     import matplotlib.pyplot as plt
     from matplotlib.text import Text
 
-    for qs in (walk.q, walk.q[:3]):  # a narrow scene (a walk) and a narrower one (three frames)
-        fig, update, moving = animation._stick_scene(walk.robot, qs, FPS)
+    for qs in (gait.q, gait.q[:3]):  # a narrow scene (a gait) and a narrower one (three frames)
+        fig, update, moving = animation._stick_scene(gait.robot, qs, FPS)
         try:
             ax = fig.axes[0]
             legend, clock = ax.get_legend(), next(a for a in moving if isinstance(a, Text))

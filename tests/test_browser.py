@@ -7,7 +7,7 @@ The page is loaded from the filesystem, with the network-quieting flags, and scr
 - once with no ``#t=``: the page plays by itself (the robot has left its pose at ``#t=0``,
   where a page that does not play would keep it).
 
-Every kind of exported page (``export_html``'s kinematic walk, the report's simulated walk
+Every kind of exported page (``export_html``'s prescribed gait, the report's simulated walk
 ``simulation_<run>.html``, ``pasibot walk``'s floor walk) is also loaded and its DOM dumped: its
 title bar (``#pasibot-hud``) reads the page's title, then the time it was paused at, the crank
 angle and each foot's mode.
@@ -283,7 +283,7 @@ def exported_pages(tmp_path_factory):
     robot = pp.load("spring", legs=2)
     pages = {}
     viewer.export_html(folder / "gait.html", robot, steps=1, samples_per_step=20, fps=30.0)
-    pages["gait"] = (folder / "gait.html", "PASIBOT spring biped, 1 step (kinematic walk, stance sole welded flat)")
+    pages["gait"] = (folder / "gait.html", "PASIBOT spring biped, 1 step (prescribed gait, stance sole welded flat)")
     run4 = scenario_inputs("run4")  # the report's simulation page: pasibot analyze's simulation_run4.html
     pitch = standing_pitch(run4.robot, run4.fit, math.pi / 2)  # started where it stands, as the report starts it
     settings = SimulationSettings(omega=run4.omega, spring=run4.fit, swing_ankle="rest", dt=0.01, initial_pitch=pitch)

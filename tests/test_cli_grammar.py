@@ -19,7 +19,7 @@ from pasibot_pin.model.params import SOLE_FLOOR_MU
 DIFFERENT_MEANING = {
     "--out": "a FILE for one-file commands (export-html, export-mjcf, build-urdf), a DIR otherwise",
     "--csv": "a FILE for one-table commands; a switch (results.csv in --out) for sweep and optimize",
-    "--omega": "gait: the crank rate of a kinematic walk; torques, walk: an override of the scenario's (design's) rate",
+    "--omega": "gait: the crank rate of a prescribed gait; torques, walk: overrides the scenario's (design's) rate",
     "--samples": "torques: one stance's grid with both ends (61); contact: the stance without its last sample (60)",
     "--steps": "torques: stances of the K_e fit (1); walk: the verdict's steps on the floor (20)",
     "--objective": "optimize: METRIC:min|max, repeatable; find-walker: what makes the best walker (sole)",

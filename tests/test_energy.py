@@ -156,13 +156,13 @@ def test_analyze_step_contact_energy(tmp_path):
 
 
 def test_the_rigid_variant_advances_over_a_stride_and_its_cost_of_transport_is_positive():
-    """The rigid variant's last sample of a walk is pitched ~30 deg (before the exchange): measured
+    """The rigid variant's last sample of a prescribed gait is pitched ~30 deg (before the exchange): measured
     start to start, its hip advances every step, and the cost of transport is positive."""
     import pasibot_pin as pp
-    from pasibot_pin.kinematics.gait import stride_advance, walk
+    from pasibot_pin.kinematics.gait import prescribed_gait, stride_advance
 
     robot = pp.load("rigid", 2)
-    w = walk(robot, 5, 30)  # an independent sampling, two strides, start to start
+    w = prescribed_gait(robot, 5, 30)  # an independent sampling, two strides, start to start
     hip = w.hip_path()
     per_step = (hip[4 * 30, 0] - hip[0, 0]) / 4
     assert stride_advance(robot) == pytest.approx(per_step, rel=1e-9) and per_step > 0

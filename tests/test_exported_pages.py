@@ -105,10 +105,10 @@ def test_simulation_page_with_a_long_title_is_well_formed(tmp_path, capsys):
 @pytest.mark.parametrize("title", ["short", "a </script> & <b>tags</b> in a title, long enough to shift things"])
 def test_any_title_keeps_the_page_whole(title, tmp_path):
     from pasibot_pin.model.robot import load
-    from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, walk_trajectory
+    from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, gait_trajectory
 
     robot = load("spring", legs=2)
-    walk = walk_trajectory(robot, steps=1, samples_per_step=4)
+    walk = gait_trajectory(robot, steps=1, samples_per_step=4)
     viewer = WalkViewer(robot, offline=True)
     try:
         build_walk_scene(viewer, walk.q, 30.0, title=title)

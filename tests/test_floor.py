@@ -335,7 +335,7 @@ def test_a_diverging_run_stops_with_its_cause_and_time():
     a robot thrown down at 999 m/s passes the speed limit (1000 m/s) when free fall says,
     (1000 - 999) / g = 0.102 s; an absurd spring (1e9 N.m/rad, 1.3 rad from its rest angle, at
     the largest step) throws the feet about: the run stops within its first steps, saying why and when."""
-    from pasibot_pin.dynamics.floor.track import SPEED_LIMIT
+    from pasibot_pin.dynamics.floor.tracked_step import SPEED_LIMIT
     from pasibot_pin.dynamics.spring_energy import AnkleSpring
 
     robot = pp.load("spring", 2)

@@ -4,7 +4,6 @@ Pinocchio's ABA, the planar walk reproduced with the lateral freedoms held, and 
 
 from __future__ import annotations
 
-import functools
 import math
 from pathlib import Path
 
@@ -24,8 +23,9 @@ from pasibot_pin.studies.walking import WalkSettings, floor_settings, walk_desig
 FAST = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 
 
-@functools.cache
-def _walker():
+@pytest.fixture(scope="module")
+def walker():
+    """The fast planar walker's robot and floor settings, built once for this module's tests."""
     design = load_design(FAST)
     robot = design_robot(design, 2, visuals=False)
     return robot, floor_settings(design, WalkSettings(), robot)
@@ -38,9 +38,9 @@ def _random_planar(robot, rng):
     return q, rng.normal(size=robot.model.nv)
 
 
-def test_free_flyer_model_is_the_planar_tree():
+def test_free_flyer_model_is_the_planar_tree(walker):
     """Same frames everywhere, same mass, same kinetic energy for the same motion."""
-    robot, _ = _walker()
+    robot, _ = walker
     model = free_flyer_model(robot.model)
     assert model.nq == robot.model.nq + 4 and model.nv == robot.model.nv + 3
     rng = np.random.default_rng(3)
@@ -61,9 +61,9 @@ def test_free_flyer_model_is_the_planar_tree():
         assert roll_pitch_yaw(q3)[1] == pytest.approx(q[2], abs=1e-14)
 
 
-def test_world_aligned_dynamics_match_aba():
+def test_world_aligned_dynamics_match_aba(walker):
     """The engine's M and b in world axes give the free body's acceleration that ABA gives in local axes."""
-    robot, settings = _walker()
+    robot, settings = walker
     engine = Floor3D(FloorSimulator(robot, settings), Footprint.plate(0.03, 0.03))
     model = engine.model
     rng = np.random.default_rng(5)
@@ -107,14 +107,14 @@ def held_and_planar(robot, settings, duration: float):
 
 
 @pytest.mark.slow
-def test_held_3d_walk_is_the_planar_walk():
+def test_held_3d_walk_is_the_planar_walk(walker):
     """With y, roll and yaw held and soles of no width, 5 s of the 3-D walk are the planar walk's.
 
     Against the planar floor's general step (the same scheme): the hip's x, z and pitch within
     1e-7 m / 1e-7 rad; the planar run's default (tracked) step differs from its own general step by
     a third-order term, about 4e-6 over these 5 s.
     """
-    robot, settings = _walker()
+    robot, settings = walker
     spatial, flat = held_and_planar(robot, settings, 5.0)
     n = len(flat.t)
     assert np.abs(spatial.q[:, 1]).max() < 1e-12 and spatial.max_hip_roll_deg < 1e-9
@@ -125,12 +125,12 @@ def test_held_3d_walk_is_the_planar_walk():
 
 
 @pytest.mark.slow
-def test_centred_soles_tip_and_soles_past_the_midline_stay_upright():
+def test_centred_soles_tip_and_soles_past_the_midline_stay_upright(walker):
     """The fast walker on 0.06 m soles centred on its leg planes falls sideways in its first single
     support; a comb whose inner prong reaches 3 cm past the midline (beside the other foot's, never
     over it) keeps the hip within a degree of upright (the issue's independent MuJoCo model found
     the same of plates: roll past 10 deg at 0.52 s, and <= 0.5 deg 3 cm past the midline)."""
-    robot, settings = _walker()
+    robot, settings = walker
     centred = Floor3D(FloorSimulator(robot, settings), Footprint.plate(0.03, 0.03)).run(1.5)
     assert centred.verdict.outcome == "tipped"
     assert centred.max_hip_roll_deg > math.degrees(TIP_LIMIT)
@@ -142,9 +142,9 @@ def test_centred_soles_tip_and_soles_past_the_midline_stay_upright():
     assert wide.max_hip_roll_deg < 1.0
 
 
-def test_tipped_outcome_past_the_limit():
+def test_tipped_outcome_past_the_limit(walker):
     """A hip started rolled past the limit is ``tipped`` at the first step."""
-    robot, settings = _walker()
+    robot, settings = walker
     engine = Floor3D(FloorSimulator(robot, settings), Footprint.plate(0.03, 0.03))
     q, u, _ = engine.start()
     rotation = pin.utils.rpyToMatrix(TIP_LIMIT * 1.5, 0.0, 0.0) @ pin.Quaternion(q[3:7]).toRotationMatrix()
@@ -191,11 +191,11 @@ def test_design_lateral_fields():
             design.with_(**{name: value})
 
 
-def test_sole_clearance_at_the_start():
+def test_sole_clearance_at_the_start(walker):
     """At the start (both feet flat, side by side) the plates' clearance is the gap between their bands across
     the midline (closed form); a plate past the midline intersects the other's; a comb whose inner prong
     passes the midline beside the other foot's does not."""
-    robot, settings = _walker()
+    robot, settings = walker
     w = robot.geometry.hip_half_width
     for inner, expected in ((0.03, 2 * (w - 0.03)), (w - 0.01, 0.02)):
         engine = Floor3D(FloorSimulator(robot, settings), Footprint.plate(inner, 0.03))
@@ -271,14 +271,14 @@ def test_comb_design_fields():
         Design(sole_gap_from=0.5, sole_gap_to=0.2)
 
 
-def test_3d_export_is_the_3d_model():
+def test_3d_export_is_the_3d_model(walker):
     """The 3-D MJCF: a free joint, the same sites as our frames at the start, the soles' boxes over the
     footprint's bands, and the loops closed by the home keyframe."""
     import mujoco  # the [mujoco] extra: make test installs it, and this test never skips
 
     from pasibot_pin.model.mjcf import MjcfOptions, spatial_qpos, to_mjcf
 
-    robot, _ = _walker()
+    robot, _ = walker
     half_width = robot.geometry.hip_half_width
     comb = Footprint(((0.03, 0.03), (half_width + 0.03, -(half_width + 0.01))))
     model = mujoco.MjModel.from_xml_string(to_mjcf(robot, MjcfOptions(footprint=comb)))

@@ -1,4 +1,4 @@
-"""The biped walk in the world frame, and the ``pasibot gait`` CLI.
+"""The biped's prescribed gait in the world frame, and the ``pasibot gait`` CLI.
 
 Expected world positions come from closed-form leg geometry written here (units of L,
 complex x + i z), independent of pasibot_pin.model.assembly: with the hip level, every point is
@@ -33,35 +33,35 @@ def ankle_leg_frame(theta):
 
 
 @pytest.fixture(scope="module")
-def walks(robots):
-    """Three-step walks: every variant with a flat foot, plus the seed's point and toe feet."""
+def gaits(robots):
+    """Three-step gaits: every variant with a flat foot, plus the seed's point and toe feet."""
     cases = [(v, "flat") for v in pp.VARIANTS] + [(v, "point") for v in pp.VARIANTS] + [("rigid", "toe")]
-    return {(v, foot): gait.walk(robots[(v, 2)], 3, SPS, omega=0.1, foot=foot) for v, foot in cases}
+    return {(v, foot): gait.prescribed_gait(robots[(v, 2)], 3, SPS, omega=0.1, foot=foot) for v, foot in cases}
 
 
-def test_walk_structure(walks, robots):
+def test_gait_structure(gaits, robots):
     """Shapes, step/stance bookkeeping, time stamps and closure at every sample (< 1e-10)."""
-    w = walks[("spring", "flat")]
+    w = gaits[("spring", "flat")]
     n = 3 * SPS + 1
     assert w.q.shape == (n, robots[("spring", 2)].model.nq)
     assert w.theta == pytest.approx(math.pi / 2 + np.arange(n) * math.pi / SPS)
     assert w.t == pytest.approx((w.theta - w.theta[0]) / 0.1)
     assert list(w.step) == [0] * SPS + [1] * SPS + [2] * (SPS + 1)
     assert w.stance == ["right"] * SPS + ["left"] * SPS + ["right"] * (SPS + 1)
-    for walk in walks.values():
-        assert walk.residual.max() < 1e-10
-        assert np.all(np.isfinite(walk.q))
+    for one in gaits.values():
+        assert one.residual.max() < 1e-10
+        assert np.all(np.isfinite(one.q))
     # the viewer's call: positional steps and samples_per_step, default foot
-    default = gait.walk(robots[("spring", 2)], 1, 4)
+    default = gait.prescribed_gait(robots[("spring", 2)], 1, 4)
     assert default.omega > 0 and default.t is not None  # always time-stamped (the README tour prints .t)
     assert default.t == pytest.approx((default.theta - default.theta[0]) / default.omega)
     assert default.t[0] == 0 and np.all(np.diff(default.t) > 0)
 
 
 @pytest.mark.parametrize("case", [("rigid", "flat"), ("parallel", "flat"), ("spring", "flat"), ("rigid", "point")])
-def test_stance_contact_stays_fixed(walks, case):
+def test_stance_contact_stays_fixed(gaits, case):
     """During its stance, the stance ankle does not move (1e-9 m); flat feet stay level."""
-    w = walks[case]
+    w = gaits[case]
     xz = w.frames_xz(["right_foot", "left_foot"])
     pitch = {s: w.pitch(f"{s}_foot") for s in ("right", "left")}
     for k in range(3):
@@ -75,9 +75,9 @@ def test_stance_contact_stays_fixed(walks, case):
             assert np.max(np.abs(pitch[side][idx])) < 1e-9
 
 
-def test_toe_pinned_walk(walks, L):
+def test_toe_pinned_gait(gaits, L):
     """The seed's fixed-length foot: the stance toe stays on the ground, the hip level."""
-    w = walks[("rigid", "toe")]
+    w = gaits[("rigid", "toe")]
     toes = w.frames_xz(["right_toe", "left_toe"])
     for k in range(3):
         idx = np.flatnonzero(w.step == k)
@@ -88,9 +88,9 @@ def test_toe_pinned_walk(walks, L):
 
 
 @pytest.mark.parametrize("case", [("spring", "flat"), ("rigid", "point"), ("parallel", "point"), ("spring", "point")])
-def test_level_hip_world_posture(walks, L, case):
+def test_level_hip_world_posture(gaits, L, case):
     """Hip level: hip height varies < 0.0195 L, 8 L per step, both ankles at hip + closed form."""
-    w = walks[case]
+    w = gaits[case]
     hip = w.hip_path()
     assert np.max(np.abs(w.pitch("hip"))) < 1e-9
     assert np.ptp(hip[:, 1]) < 0.0195 * L
@@ -106,18 +106,18 @@ def test_level_hip_world_posture(walks, L, case):
     assert hip[0, 1] == pytest.approx(28 * L, abs=1e-9)
 
 
-def test_parallel_flat_walk_is_nearly_level(walks, L):
+def test_parallel_flat_gait_is_nearly_level(gaits, L):
     """With the extension, a flat-welded foot tilts the hip by at most the foot's stance pitch."""
-    w = walks[("parallel", "flat")]
+    w = gaits[("parallel", "flat")]
     bound = math.asin(2 * 0.00975 / 2 / 4.2) + 1e-4  # the stabiliser's tilt, joint 4 off its line
     assert np.max(np.abs(w.pitch("hip"))) < bound
     starts = w.hip_path()[::SPS, 0]
     assert np.diff(starts) == pytest.approx(8 * L, abs=1e-9)  # 90 and 270 deg: foot exactly level
 
 
-def test_rigid_flat_walk_body_pitch(walks, L):
+def test_rigid_flat_gait_body_pitch(gaits, L):
     """Rigid foot welded flat: the hip pitches (atan2, signed) by minus the sole's leg-frame angle."""
-    w = walks[("rigid", "flat")]
+    w = gaits[("rigid", "flat")]
     pitch = w.pitch("hip")
     # sole direction in the leg frame: the shank 6 -> 13 turned by +90 deg; 6 from the closed form
     theta = w.theta[0]
@@ -144,17 +144,17 @@ def test_atan2_keeps_the_sign():
         assert gait.seed_trace_angle(rot) == pytest.approx(abs(angle))
 
 
-def test_walk_bad_input(robots):
+def test_gait_bad_input(robots):
     with pytest.raises(ValueError, match="two-legged"):
-        gait.walk(robots[("spring", 1)])
+        gait.prescribed_gait(robots[("spring", 1)])
     with pytest.raises(ValueError, match="steps"):
-        gait.walk(robots[("spring", 2)], 0)
+        gait.prescribed_gait(robots[("spring", 2)], 0)
     with pytest.raises(ValueError, match="samples_per_step"):
-        gait.walk(robots[("spring", 2)], 1, 1)
+        gait.prescribed_gait(robots[("spring", 2)], 1, 1)
     with pytest.raises(ValueError, match="foot"):
-        gait.walk(robots[("spring", 2)], 1, 4, foot="heel")
+        gait.prescribed_gait(robots[("spring", 2)], 1, 4, foot="heel")
     with pytest.raises(ValueError, match="omega"):
-        gait.walk(robots[("spring", 2)], 1, 4, omega=0.0)
+        gait.prescribed_gait(robots[("spring", 2)], 1, 4, omega=0.0)
 
 
 # --------------------------------------------------------------------------- CLI

@@ -98,18 +98,27 @@ def _own_crossings(gait_map: GaitMap, walk) -> np.ndarray:
 
 
 @pytest.mark.slow
-def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys):
+def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys, monkeypatch):
     """Issue 34: `walk --stability` on the fastest walker, defaults (its CPU time is benchmarks/bench_stability.py's,
     not a test's: machines differ 2-3x). Its step map jumps
     (a rocking foot's landings split between time steps), so Newton stalls and the map is fitted to
     simulated steps (Newton gives up as soon as an iteration stalls).
     The dominant multiplier agrees with two estimates the fit never saw: the same
-    least-squares fit on the 20 steps of the walk itself, and the decay of a large kick in direct simulation."""
+    least-squares fit on the 20 steps of the walk itself, and the decay of a large kick in direct simulation.
+    The walk itself is the command's own (kept as it passes by, not walked a second time)."""
     from pasibot_pin.__main__ import main
     from pasibot_pin.model.design import load_design
+    from pasibot_pin.studies import walking
     from pasibot_pin.studies.methods.decay import decay_rate
     from pasibot_pin.studies.methods.map_fit import fit_affine_map
 
+    walked: list = []
+
+    def kept(design, settings, robot):
+        walked.append((design, settings, walk := walk_design(design, settings, robot)))
+        return walk
+
+    monkeypatch.setattr(walking, "walk_design", kept)
     assert main(["walk", "--design", FASTEST, "--stability", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     assert out["outcome"] == "walks" and out["stable"] is True
@@ -119,9 +128,9 @@ def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys):
     low, high = out["dominant_multiplier_spread"]
     assert 0.5 < radius < 1.0 and low <= radius + 1e-9 and high < 1.0
 
-    design = load_design(FASTEST)
+    ((design, settings, walk),) = walked  # the command walked once: this design, with the defaults
+    assert design == load_design(FASTEST) and settings == WalkSettings()
     robot = design_robot(design, 2, visuals=False)
-    walk = walk_design(design, WalkSettings(), robot)
     gait_map = GaitMap(robot, walk.settings)
     _, gait_map.guess = section_state(gait_map, walk)
     own = _own_crossings(gait_map, walk)

@@ -65,4 +65,4 @@ def test_help_has_no_internal_names(command, internal_names):
 
 
 def test_the_check_sees_a_leak(internal_names):
-    assert {"LEG_COLUMNS", "walk_columns", "design_metrics"} <= internal_names
+    assert {"LEG_COLUMNS", "gait_columns", "design_metrics"} <= internal_names

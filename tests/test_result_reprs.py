@@ -34,7 +34,7 @@ def robot():
 
 
 def test_walk_repr_shows_shapes_and_figures(robot):
-    walk = gait.walk(robot, steps=1, samples_per_step=6)
+    walk = gait.prescribed_gait(robot, steps=1, samples_per_step=6)
     text = _check(walk)
     assert f"q=array({walk.q.shape[0]}x{walk.q.shape[1]}," in text
     assert "robot=<robot spring, 2 leg(s)>" in text
@@ -44,12 +44,12 @@ def test_walk_repr_shows_shapes_and_figures(robot):
 
 
 def test_leg_run_and_walk_run_repr(robots):
-    from pasibot_pin.studies.kinematics_study import leg_run, walk_run
+    from pasibot_pin.studies.kinematics_study import biped_run, leg_run
 
     run = leg_run(robots[("parallel", 1)], step_deg=30.0)
     _check(run)
     _check(run.cycle)
-    _check(walk_run(robots[("spring", 2)], steps=1, step_deg=30.0))
+    _check(biped_run(robots[("spring", 2)], steps=1, step_deg=30.0))
 
 
 def test_spring_fit_repr():

@@ -196,7 +196,7 @@ def test_bad_zmq_url(robot):
 
 def test_exported_frames_satisfy_the_loops(robot, exported):
     export, _ = exported
-    walk = export.walk
+    walk = export.gait
     assert export.q.shape == (2 * 10 + 1, robot.model.nq)
     worst_loops, worst_all = 0.0, 0.0
     for k, q in enumerate(export.q):
@@ -236,9 +236,9 @@ def test_html_animation_closes_the_loops(robot, exported):
     # the stance foot does not move during a step
     for side in ("right", "left"):
         path = f"/meshcat/{viewer.ROOT}/visuals/{side}_foot_0"
-        stance = [k for k in range(n) if export.walk.stance[k] == side]
+        stance = [k for k in range(n) if export.gait.stance[k] == side]
         assert stance
-        p = np.array([poses[path][k][:3, 3] for k in stance if export.walk.step[k] == export.walk.step[stance[0]]])
+        p = np.array([poses[path][k][:3, 3] for k in stance if export.gait.step[k] == export.gait.step[stance[0]]])
         assert np.ptp(p, axis=0).max() < 1e-9
         assert abs(p[:, 2].mean()) < 0.05  # on the ground
 
@@ -292,7 +292,7 @@ def test_ground_slab_sits_under_the_foot_boxes(robot, exported, L):
 
 def test_quasi_static_ground_reaction_is_the_weight_below_the_com(robot, exported):
     export, _ = exported
-    walk = export.walk
+    walk = export.gait
     track = viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance)
     model = robot.model
     data = model.createData()
@@ -313,7 +313,7 @@ def test_dynamics_ground_reaction_agrees_with_the_weight_below_the_com(robot, ex
     """Two independent routes at omega = 0: constrained inverse dynamics vs the COM."""
     from pasibot_pin.dynamics import inverse as dynamics
 
-    walk = exported[0].walk
+    walk = exported[0].gait
     tracks = viewer.reaction_forces(robot, walk, omega=0.0)
     simple = viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance)
     np.testing.assert_allclose(tracks["ground"].forces, simple.forces, atol=1e-9)
@@ -324,7 +324,7 @@ def test_dynamics_ground_reaction_agrees_with_the_weight_below_the_com(robot, ex
 
 
 def test_cut_force_arrows_sit_on_the_cut_joints(robot, exported):
-    walk = exported[0].walk
+    walk = exported[0].gait
     tracks = viewer.reaction_forces(robot, walk, omega=np.pi)
     cuts = {name: t for name, t in tracks.items() if name != "ground"}
     assert set(cuts) == {f"{role}_j{j}" for role in ("stance", "swing") for j in (2, 5, 7)}
@@ -344,7 +344,7 @@ def test_cut_force_arrows_sit_on_the_cut_joints(robot, exported):
 
 def test_foot_paths_follow_the_ankles(robot, exported):
     export, _ = exported
-    right = export.walk.positions("right_foot")
+    right = export.gait.positions("right_foot")
     np.testing.assert_allclose(export.paths["right"], right, atol=1e-12)
     # a stance ankle stays put, the swing ankle lifts
     assert np.ptp(right[:11, 0]) < 1e-9
@@ -393,7 +393,7 @@ def test_force_arrows_are_scaled_and_aimed(robot, server):
     points = np.array([[0.0, 0.0, 0.0], [0.1, 0.0, 0.0], [0.2, 0.0, 0.05]])
     forces = np.array([[0.0, 0.0, 400.0], [30.0, 0.0, 300.0], [-50.0, 0.0, 120.0]])
     scale = 1e-3
-    v.add_force("ground", viewer.ForceTrack(points, forces, scale))
+    v.add_force("ground", viewer.ForceArrows(points, forces, scale))
     anim = v.walk_animation(qs, fps=10.0)
     lowered = {entry["path"]: entry["clip"] for entry in anim.lower()}
     tracks = {t["name"]: t["keys"] for t in lowered[f"/meshcat/{viewer.ROOT}/forces/ground"]["tracks"]}
@@ -407,7 +407,7 @@ def test_force_arrows_are_scaled_and_aimed(robot, server):
     with pytest.raises(ValueError, match="frames"):
         v.walk_animation(qs[:2], fps=10.0)
     with pytest.raises(ValueError, match="scale"):
-        viewer.ForceTrack(points, forces, -1.0)
+        viewer.ForceArrows(points, forces, -1.0)
     v.play(qs, fps=200.0)  # live: sends the frames (arrows included) and returns
     v.close()
 
@@ -502,7 +502,7 @@ def test_joint_markers_sit_on_the_joints_and_close_the_loops(robot, exported):
 def test_contact_points_show_the_stance_sole_on_the_ground(robot, exported):
     export, html = exported
     tracks = _clip_tracks(html)
-    walk, n = export.walk, len(export.q)
+    walk, n = export.gait, len(export.q)
     for side in ("right", "left"):
         for point in ("heel", "toe"):
             keys = tracks[f"/meshcat/{viewer.ROOT}/contacts/{side}_{point}"]
@@ -519,7 +519,7 @@ def test_contact_points_show_the_stance_sole_on_the_ground(robot, exported):
 def test_title_bar_shows_the_time_crank_angle_and_modes(robot, exported):
     export, html = exported
     info = _hud_info(html)
-    walk, n = export.walk, len(export.q)
+    walk, n = export.gait, len(export.q)
     assert info["title"].startswith("PASIBOT spring biped") and f"<title>{info['title']}</title>" in html
     assert info["fps"] == pytest.approx(export.fps) and len(info["t"]) == len(info["theta"]) == n
     np.testing.assert_allclose(info["t"], np.arange(n) / export.fps, atol=1e-6)
@@ -542,7 +542,7 @@ def test_gif_frames_draw_the_contacts_and_the_ground_reaction(robot):
     from pasibot_pin.viz import animation as stick
     from pasibot_pin.viz.contacts import foot_contacts
 
-    walk = viewer.walk_trajectory(robot, steps=1, samples_per_step=4)
+    walk = viewer.gait_trajectory(robot, steps=1, samples_per_step=4)
     track = viewer.quasi_static_ground_reaction(robot, walk.q, walk.stance)
 
     def colour_pixels(image, colour: str) -> int:

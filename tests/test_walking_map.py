@@ -29,8 +29,9 @@ from pasibot_pin.studies.walking_map import (
 )
 
 ROOT = Path(__file__).resolve().parents[1]
-SHORT_STEPS = 4
-"""Steps of a walker's re-simulation here (the advance band needs 3) [-]."""
+SHORT_STEPS = 3
+"""Steps of a walker's re-simulation here: the fewest whose verdict can be ``walks`` (the advance band is
+judged over 3) [-]."""
 
 
 @pytest.fixture(scope="module")

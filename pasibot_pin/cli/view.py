@@ -33,13 +33,13 @@ def register(sub: argparse._SubParsersAction) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    """Start the viewer, play the walk live, hold, exit."""
+    """Start the viewer, play the gait live, hold, exit."""
     from pasibot_pin.viz.viewer import (  # deferred: keeps the CLI's start fast
         WalkViewer,
         build_walk_scene,
         check_meshcat_server,
+        gait_trajectory,
         reaction_forces,
-        walk_trajectory,
     )
 
     if args.repeat < 1:
@@ -52,22 +52,22 @@ def run(args: argparse.Namespace) -> int:
         check_meshcat_server(args.zmq_url)
     design = design_of(args)
     robot = load(args.variant, legs=2) if design is None else design_robot(design, 2)
-    walk = walk_trajectory(robot, steps=args.steps, samples_per_step=args.samples_per_step)
-    forces = None if args.reactions is None else reaction_forces(robot, walk, omega=args.reactions)
+    gait = gait_trajectory(robot, steps=args.steps, samples_per_step=args.samples_per_step)
+    forces = None if args.reactions is None else reaction_forces(robot, gait, omega=args.reactions)
     viewer = WalkViewer(robot, zmq_url=args.zmq_url, open=args.open)
     try:
-        # the walk is also stored as an animation, paused: scrub it in the viewer's controls
-        build_walk_scene(viewer, walk.q, args.fps, forces=forces, play=False, repetitions=1)
+        # the gait is also stored as an animation, paused: scrub it in the viewer's controls
+        build_walk_scene(viewer, gait.q, args.fps, forces=forces, play=False, repetitions=1)
         print(f"viewer: {viewer.url}", flush=True)
         if args.open:
             time.sleep(2.0)  # let the page connect before the first frame
-        duration = len(walk.q) / args.fps * args.repeat
+        duration = len(gait.q) / args.fps * args.repeat
         print(
             f"playing {args.steps} step{'' if args.steps == 1 else 's'} "
-            f"({len(walk.q)} frames at {args.fps:g} fps, {duration:.1f} s)",
+            f"({len(gait.q)} frames at {args.fps:g} fps, {duration:.1f} s)",
             flush=True,
         )
-        viewer.play(walk.q, fps=args.fps, repetitions=args.repeat)
+        viewer.play(gait.q, fps=args.fps, repetitions=args.repeat)
         if args.hold == -1:
             print("serving until Ctrl-C", flush=True)
             try:

@@ -1,12 +1,12 @@
-"""Several welded walks at once, in lockstep: the walks of the dynamic spring sweep.
+"""Several welded runs at once, in lockstep: the runs of the dynamic spring sweep.
 
-Walks that differ only in their ankle spring (K_e, beta0, c) and their initial hip pitch share the
-touchdown times, the step and every constraint row but two: the stance weld's x (each walk's foot
-lands at its own x; the row is p_foot - p_target, so a walk's residual is the shared one plus
-x_shared - x_walk) and the swing ankle's rest angle (a per-walk target of its row).
+Runs that differ only in their ankle spring (K_e, beta0, c) and their initial hip pitch share the
+touchdown times, the step and every constraint row but two: the stance weld's x (each run's foot
+lands at its own x; the row is p_foot - p_target, so a run's residual is the shared one plus
+x_shared - x_run) and the swing ankle's rest angle (a per-run target of its row).
 :func:`simulate_many` integrates them together with the same RK4, mass-metric projection and
-impulse as :class:`~pasibot_pin.dynamics.simulator.BipedSimulator`, walk by walk for every
-Pinocchio call (M, h and the KKT solves), but with the constraint rows of every walk in one batched
+impulse as :class:`~pasibot_pin.dynamics.simulator.BipedSimulator`, run by run for every
+Pinocchio call (M, h and the KKT solves), but with the constraint rows of every run in one batched
 evaluation (``ConstraintSystem.evaluate`` on (N, nv)). The answers equal :func:`simulate`'s to
 round-off (the batched rows sum in another order); ``tests/test_simulate.py`` checks it.
 
@@ -36,26 +36,26 @@ PROJECT_ITERATIONS = 20
 
 
 class _Failed(Exception):
-    """One walk's solve failed (its message is the simulator's)."""
+    """One run's solve failed (its message is the simulator's)."""
 
 
 def _check(settings: Sequence[SimulationSettings]) -> SimulationSettings:
-    """The shared settings; ValueError unless the walks differ only in spring and initial pitch."""
+    """The shared settings; ValueError unless the runs differ only in spring and initial pitch."""
     if not settings:
-        raise ParameterError("simulate_many needs at least one walk")
+        raise ParameterError("simulate_many needs at least one run")
     first = settings[0]
     for s in settings:
         if s.with_(spring=first.spring, initial_pitch=first.initial_pitch) != first:
-            raise ParameterError("simulate_many: the walks may differ only in their spring and initial pitch")
+            raise ParameterError("simulate_many: the runs may differ only in their spring and initial pitch")
     if first.swing_ankle != "rest" or first.integrator != "rk4" or first.feedforward is not None:
-        raise ParameterError("simulate_many runs swing_ankle='rest', RK4 walks without feed-forward")
+        raise ParameterError("simulate_many runs swing_ankle='rest', RK4 runs without feed-forward")
     if first.record_every != 1 or not first.omega > 0:
-        raise ParameterError("simulate_many records every step of a walk with a positive crank rate")
+        raise ParameterError("simulate_many records every step of a run with a positive crank rate")
     return first
 
 
-class _Walks:
-    """The lockstep state: one shared constraint system per stance, per-walk targets and weld offsets."""
+class _Runs:
+    """The lockstep state: one shared constraint system per stance, per-run targets and weld offsets."""
 
     def __init__(self, robot: PasibotRobot, settings: Sequence[SimulationSettings]):
         self.model, self.data = robot.model, robot.data
@@ -63,7 +63,7 @@ class _Walks:
         self.n = len(settings)
         springs = [s.spring for s in settings if s.spring is not None]
         if len(springs) != self.n:
-            raise ParameterError("simulate_many needs a spring in every walk's settings")
+            raise ParameterError("simulate_many needs a spring in every run's settings")
         self.stiffness = np.array([sp.stiffness for sp in springs])
         self.rest = np.array([sp.rest_angle for sp in springs])
         self.damping = np.array([sp.damping for sp in springs])
@@ -71,7 +71,7 @@ class _Walks:
         self.zero = np.zeros(self.model.nv)
 
     def stance(self, stance: str, welds: list) -> None:
-        """Take the constraint rows of ``stance`` with each walk's weld (``welds[k]``, None: stopped)."""
+        """Take the constraint rows of ``stance`` with each run's weld (``welds[k]``, None: stopped)."""
         first = next(w for w in welds if w is not None)
         self.cset: ConstraintSystem = self.sims[0].constraint_set(stance, first)
         cset = self.cset
@@ -83,7 +83,7 @@ class _Walks:
         self.swing = other(stance)
 
     def rows(self, q: np.ndarray, v: np.ndarray | None, t: float, idx: np.ndarray):
-        """The rows of walks ``idx`` at (q, v) (N, nv), time t."""
+        """The rows of runs ``idx`` at (q, v) (N, nv), time t."""
         targets = np.repeat(self.cset.targets(t)[None, :], len(idx), axis=0)
         targets[:, self.ankle_target] = math.pi / 2 - self.rest[idx]
         rows = self.cset.evaluate(q, v, t, targets)
@@ -99,7 +99,7 @@ class _Walks:
         return tau
 
     def kkt(self, q: np.ndarray, tau: np.ndarray, jac: np.ndarray, gamma: np.ndarray, v=None):
-        """One walk's KKT solve (M, and h when ``v`` is given, else h = 0): (a, lambda); _Failed if singular."""
+        """One run's KKT solve (M, and h when ``v`` is given, else h = 0): (a, lambda); _Failed if singular."""
         model, data = self.model, self.data
         pin.crba(model, data, q)
         if v is None:
@@ -112,7 +112,7 @@ class _Walks:
             raise _Failed(str(err)) from err
 
     def accelerations(self, t: float, q: np.ndarray, v: np.ndarray, idx: np.ndarray, failed: dict):
-        """Constrained accelerations and multipliers of walks ``idx``; a failing walk goes into ``failed``."""
+        """Constrained accelerations and multipliers of runs ``idx``; a failing run goes into ``failed``."""
         rows = self.rows(q, v, t, idx)
         tau = self.forces(q, v, idx)
         a, lam = np.zeros(q.shape), np.zeros((len(idx), self.cset.nrows))
@@ -126,7 +126,7 @@ class _Walks:
         return a, lam
 
     def project(self, q: np.ndarray, t: float, idx: np.ndarray, failed: dict):
-        """Mass-metric Newton of walks ``idx`` onto the rows at t: (q, rows at q, residual before)."""
+        """Mass-metric Newton of runs ``idx`` onto the rows at t: (q, rows at q, residual before)."""
         q = q.copy()
         cset = self.cset
         rows = self.rows(q, None, t, idx)
@@ -162,7 +162,7 @@ class _Walks:
         return q, rows, initial
 
     def impulse(self, q: np.ndarray, v: np.ndarray, rows, idx: np.ndarray, failed: dict) -> np.ndarray:
-        """Velocity projection (inelastic impulse) of walks ``idx`` onto J v = -Phi_t."""
+        """Velocity projection (inelastic impulse) of runs ``idx`` onto J v = -Phi_t."""
         out = v.copy()
         for j, k in enumerate(idx):
             if k in failed:
@@ -185,16 +185,16 @@ class _Walks:
 
 
 def simulate_many(robot: PasibotRobot, settings: Sequence[SimulationSettings], steps: int) -> list[SimulationResult]:
-    """Walk ``steps`` stance phases with each of ``settings`` (see the module docstring).
+    """Run ``steps`` stance phases with each of ``settings`` (see the module docstring).
 
     Args:
         robot: the ``spring`` biped (``pp.load("spring", 2)`` or a scenario's copy).
-        settings: one per walk; they may differ only in ``spring`` and ``initial_pitch``
+        settings: one per run; they may differ only in ``spring`` and ``initial_pitch``
             (``swing_ankle="rest"``, RK4, no feed-forward, every step recorded).
-        steps: stance phases to walk (a touchdown ends each but the last).
+        steps: stance phases to run (a touchdown ends each but the last).
 
     Returns:
-        One :class:`~pasibot_pin.dynamics.simulator.SimulationResult` per walk, as
+        One :class:`~pasibot_pin.dynamics.simulator.SimulationResult` per run, as
         :func:`~pasibot_pin.dynamics.simulator.simulate` gives it to round-off.
 
     """
@@ -213,27 +213,27 @@ def simulate_many(robot: PasibotRobot, settings: Sequence[SimulationSettings], s
 
 
 class _Lockstep:
-    """The walks of :func:`simulate_many` walked together: their states, records and the ones still going."""
+    """The runs of :func:`simulate_many` stepped together: their states, records and the ones still going."""
 
     def __init__(self, robot: PasibotRobot, settings: Sequence[SimulationSettings], s: SimulationSettings):
         self.robot, self.s = robot, s
-        self.walks = walks = _Walks(robot, settings)
-        n = walks.n
-        starts = [sim.initial_state() for sim in walks.sims]
+        self.runs = runs = _Runs(robot, settings)
+        n = runs.n
+        starts = [sim.initial_state() for sim in runs.sims]
         self.stance = starts[0][2]
         q = np.array([st[0] for st in starts])
         v = np.array([st[1] for st in starts])
-        walks.stance(self.stance, [sim.ground_weld(self.stance, q[k]) for k, sim in enumerate(walks.sims)])
+        runs.stance(self.stance, [sim.ground_weld(self.stance, q[k]) for k, sim in enumerate(runs.sims)])
         keys = ("t", "q", "v", "lam", "stance", "drift", "swing")
         self.recs: list[dict[str, list]] = [{key: [] for key in keys} for _ in range(n)]
         self.impacts: list[list[Impact]] = [[] for _ in range(n)]
         self.fell, self.message = [False] * n, [""] * n
-        self.soles = walks.sims[0].soles
+        self.soles = runs.sims[0].soles
         failed: dict = {}
         everyone = np.arange(n)
-        self.q, rows, _ = walks.project(q, 0.0, everyone, failed)
-        self.v = walks.impulse(self.q, v, rows, everyone, failed)
-        if failed:  # the single walk raises here: so does the batch
+        self.q, rows, _ = runs.project(q, 0.0, everyone, failed)
+        self.v = runs.impulse(self.q, v, rows, everyone, failed)
+        if failed:  # the single run raises here: so does the batch
             raise SimulationError(next(iter(failed.values())))
         self.last_drift = np.zeros(n)
         self.active = np.arange(n)
@@ -245,24 +245,24 @@ class _Lockstep:
         return [(math.pi / 2 + (k0 + i) * math.pi - s.theta0) / s.omega for i in range(steps)]
 
     def record(self, k: int, t: float, qk: np.ndarray, vk: np.ndarray, lam: np.ndarray) -> None:
-        """One sample of walk ``k``."""
-        rec, walks = self.recs[k], self.walks
+        """One sample of run ``k``."""
+        rec, runs = self.recs[k], self.runs
         rec["t"].append(t)
         rec["q"].append(qk.copy())
         rec["v"].append(vk.copy())
-        rec["lam"].append(np.array([0.0 if i is None else lam[i] for i in walks.labels]))
+        rec["lam"].append(np.array([0.0 if i is None else lam[i] for i in runs.labels]))
         rec["stance"].append(self.stance)
         rec["drift"].append(self.last_drift[k])
-        rec["swing"].append(sole_height(self.robot, qk, walks.swing, self.soles[walks.swing]))
+        rec["swing"].append(sole_height(self.robot, qk, runs.swing, self.soles[runs.swing]))
 
     def finish(self, k: int, t: float, qk: np.ndarray, vk: np.ndarray) -> None:
-        """A stopped walk's last sample (its multipliers at (t, q, v), zeros if they fail)."""
+        """A stopped run's last sample (its multipliers at (t, q, v), zeros if they fail)."""
         done: dict = {}
-        lam = self.walks.accelerations(t, qk[None], vk[None], np.array([k]), done)[1][0]
-        self.record(k, t, qk, vk, np.zeros(self.walks.cset.nrows) if done else lam)
+        lam = self.runs.accelerations(t, qk[None], vk[None], np.array([k]), done)[1][0]
+        self.record(k, t, qk, vk, np.zeros(self.runs.cset.nrows) if done else lam)
 
     def integrate_phase(self, t: float, t_end: float) -> float:
-        """RK4 steps of equal length from ``t`` to ``t_end`` (at most ``dt``) for every walk still going; the new t."""
+        """RK4 steps of equal length from ``t`` to ``t_end`` (at most ``dt``) for every run still going; the new t."""
         steps_n = max(1, math.ceil((t_end - t) / self.s.dt - 1e-9))
         h = (t_end - t) / steps_n
         for _ in range(steps_n):
@@ -273,26 +273,26 @@ class _Lockstep:
         return t
 
     def rk4_step(self, t: float, h: float) -> None:
-        """One RK4 step of every active walk, projected onto its rows, then each walk's record and fall check."""
-        walks, active, half = self.walks, self.active, h / 2
+        """One RK4 step of every active run, projected onto its rows, then each run's record and fall check."""
+        runs, active, half = self.runs, self.active, h / 2
         qa, va = self.q[active], self.v[active]
         failed: dict = {}
-        a1, lam = walks.accelerations(t, qa, va, active, failed)
+        a1, lam = runs.accelerations(t, qa, va, active, failed)
         v2 = va + half * a1
-        a2 = walks.accelerations(t + half, qa + half * va, v2, active, failed)[0]
+        a2 = runs.accelerations(t + half, qa + half * va, v2, active, failed)[0]
         v3 = va + half * a2
-        a3 = walks.accelerations(t + half, qa + half * v2, v3, active, failed)[0]
+        a3 = runs.accelerations(t + half, qa + half * v2, v3, active, failed)[0]
         v4 = va + h * a3
-        a4 = walks.accelerations(t + h, qa + h * v3, v4, active, failed)[0]
+        a4 = runs.accelerations(t + h, qa + h * v3, v4, active, failed)[0]
         q_new = qa + h / 6 * ((va + v4) + 2 * (v2 + v3))
         v_new = va + h / 6 * ((a1 + a4) + 2 * (a2 + a3))
-        q_new, rows, drift = walks.project(q_new, t + h, active, failed)
-        v_new = walks.impulse(q_new, v_new, rows, active, failed)
+        q_new, rows, drift = runs.project(q_new, t + h, active, failed)
+        v_new = runs.impulse(q_new, v_new, rows, active, failed)
         keep = []
         for j, k in enumerate(active.tolist()):
             if k in failed:
                 self.fell[k], self.message[k] = True, f"stopped at t = {t:.3f} s: {failed[k]}"
-                if not self.recs[k]["t"] or self.recs[k]["t"][-1] < t:  # as the single walk: no sample twice
+                if not self.recs[k]["t"] or self.recs[k]["t"][-1] < t:  # as the single run: no sample twice
                     self.finish(k, t, qa[j], va[j])
                 continue
             self.record(k, t, qa[j], va[j], lam[j])
@@ -307,20 +307,20 @@ class _Lockstep:
         self.active = np.array(keep, dtype=int)
 
     def touchdown(self, t: float) -> None:
-        """The swing foot lands: weld it, project every walk onto the new rows, the inelastic impact."""
-        walks, robot, q, v = self.walks, self.robot, self.q, self.v
-        lam = walks.accelerations(t, q[self.active], v[self.active], self.active, {})[1]
+        """The swing foot lands: weld it, project every run onto the new rows, the inelastic impact."""
+        runs, robot, q, v = self.runs, self.robot, self.q, self.v
+        lam = runs.accelerations(t, q[self.active], v[self.active], self.active, {})[1]
         side = other(self.stance)
-        welds: list = [None] * walks.n
+        welds: list = [None] * runs.n
         poses = {}
         for j, k in enumerate(self.active.tolist()):
             self.record(k, t, q[k], v[k], lam[j])
             poses[k] = foot_pose(robot, q[k], side)
-            welds[k] = walks.sims[k].ground_weld(side, q[k])
+            welds[k] = runs.sims[k].ground_weld(side, q[k])
         self.stance = side
-        walks.stance(side, welds)
+        runs.stance(side, welds)
         failed: dict = {}
-        q_land, rows, _ = walks.project(q[self.active], t, self.active, failed)
+        q_land, rows, _ = runs.project(q[self.active], t, self.active, failed)
         keep = []
         for j, k in enumerate(self.active.tolist()):
             if k in failed:
@@ -333,17 +333,17 @@ class _Lockstep:
         active = self.active
         q[active] = q_land
         before = [total_energy(robot, q[k], v[k])["kinetic"] for k in active]
-        v_land = walks.impulse(q[active], v[active], rows, active, failed)
+        v_land = runs.impulse(q[active], v[active], rows, active, failed)
         for j, k in enumerate(active.tolist()):
             v[k] = v_land[j]
             _, z, pitch = poses[k]
             self.impacts[k].append(Impact(t, side, z, pitch, before[j], total_energy(robot, q[k], v[k])["kinetic"]))
 
     def results(self, t: float) -> list[SimulationResult]:
-        """Every walk's :class:`SimulationResult`, the ones still going ended at ``t``."""
+        """Every run's :class:`SimulationResult`, the ones still going ended at ``t``."""
         for k in self.active.tolist():
             self.finish(k, t, self.q[k], self.v[k])
         return [
             sim.result(self.recs[k], self.impacts[k], self.fell[k], self.message[k])
-            for k, sim in enumerate(self.walks.sims)
+            for k, sim in enumerate(self.runs.sims)
         ]

@@ -345,7 +345,7 @@ class BipedSimulator:
         """Integrate.
 
         Args:
-            steps: number of stance phases to walk (a touchdown ends each but the last).
+            steps: number of stance phases to run (a touchdown ends each but the last).
             duration: instead of ``steps``: simulate this long [s] on one stance foot.
             q0: initial configuration (default :meth:`initial_state`).
             v0: initial velocity (default :meth:`initial_state`).
@@ -375,7 +375,7 @@ class BipedSimulator:
         """The end of each stance phase [s]: touchdowns as the right crank reaches pi/2 + k pi, or ``duration``."""
         s = self.settings
         if (steps is None) == (duration is None):
-            raise ParameterError("give exactly one of 'steps' (walk) or 'duration' (one stance)")
+            raise ParameterError("give exactly one of 'steps' (stance phases) or 'duration' (one stance)")
         if duration is not None:
             return [check_finite("duration", duration, 0.0)]
         assert steps is not None  # one of the two is given (checked above)

@@ -1,6 +1,9 @@
-"""Biped posture in the world frame and a multi-step walk (seed §4.2.3, §4.3.3).
+"""Biped posture in the world frame and a multi-step prescribed gait (seed §4.2.3, §4.3.3).
 
-The two-legged robot walks by turning both cranks, pi apart. Each half crank turn is one
+A prescribed gait is kinematic: the legs follow the cranks and the stance foot is held, with no
+dynamics (a walk, in this package, is the simulation on the floor: :mod:`pasibot_pin.studies.walking`).
+
+The two-legged robot steps by turning both cranks, pi apart. Each half crank turn is one
 step: the right leg is in stance while its crank runs from 90 deg to 270 deg, the left leg
 during the next half turn, and so on. At every half turn the stance and swing legs exchange:
 the new stance foot is held where it is on the ground, and the old one is released.
@@ -12,7 +15,7 @@ How the stance foot holds the ground (``foot``):
   swing foot level. For ``rigid`` the hip then pitches with the shank (the rigid foot can be
   level only if the body tilts), and at each exchange the pose jumps: the new stance foot
   arrives tilted and off the ground, and the weld puts it flat on the ground.
-  :attr:`Walk.exchange_jump` records the jump.
+  :attr:`Gait.exchange_jump` records the jump.
 - ``point``: the seed's punctiform foot (Fig 4.2.7): the stance ankle is pinned to the
   ground and the hip is kept level.
 - ``toe``: the seed's fixed-length foot (Fig 4.2.8): the stance toe is pinned to the ground
@@ -48,11 +51,11 @@ if TYPE_CHECKING:
 FOOT_MODES: tuple[str, ...] = ("flat", "point", "toe")
 """How the stance foot holds the ground (see the module docstring)."""
 
-MAX_WALK_SAMPLES: int = 1_000_000
-"""Most samples one :func:`walk` takes (``steps * samples_per_step + 1``): memory stays bounded."""
+MAX_GAIT_SAMPLES: int = 1_000_000
+"""Most samples one :func:`prescribed_gait` takes (``steps * samples_per_step + 1``): memory stays bounded."""
 
 CLOSURE_TOL: float = 1e-10
-"""Largest closure residual accepted at any sample of a walk [m, rad]."""
+"""Largest closure residual accepted at any sample of a gait [m, rad]."""
 
 
 def body_pitch(rotation: np.ndarray) -> float:
@@ -69,12 +72,12 @@ def seed_trace_angle(rotation: np.ndarray) -> float:
 
 
 DEFAULT_OMEGA: float = 0.1
-"""The crank rate a walk is time-stamped at when none is given [rad/s] (the seed's Fig 5.1, ``pasibot gait``'s)."""
+"""The crank rate a gait is time-stamped at when none is given [rad/s] (the seed's Fig 5.1, ``pasibot gait``'s)."""
 
 
 @dataclass
-class Walk:
-    """A sampled multi-step walk of the two-legged robot.
+class Gait:
+    """A sampled multi-step gait of the two-legged robot.
 
     Attributes:
         robot: the robot (two legs).
@@ -192,17 +195,17 @@ def _is_int(value) -> bool:
     return isinstance(value, (int, np.integer)) and not isinstance(value, bool)
 
 
-def _check_walk_args(robot: PasibotRobot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
+def _check_gait_args(robot: PasibotRobot, steps, samples_per_step, theta_start, omega, foot, first_stance) -> None:
     if getattr(robot, "legs", None) != 2:
-        raise ParameterError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) to walk")
+        raise ParameterError("parameter 'robot' must be a two-legged robot (load(..., legs=2)) for a gait")
     if not _is_int(steps) or steps < 1:
         raise ParameterError(f"parameter 'steps' must be an integer >= 1, got {steps!r}")
     if not _is_int(samples_per_step) or samples_per_step < 2:
         raise ParameterError(f"parameter 'samples_per_step' must be an integer >= 2, got {samples_per_step!r}")
-    if steps * samples_per_step + 1 > MAX_WALK_SAMPLES:
+    if steps * samples_per_step + 1 > MAX_GAIT_SAMPLES:
         raise ParameterError(
             f"parameters 'steps' x 'samples_per_step' + 1 = {steps * samples_per_step + 1} samples "
-            f"exceed {MAX_WALK_SAMPLES}; take fewer steps or samples"
+            f"exceed {MAX_GAIT_SAMPLES}; take fewer steps or samples"
         )
     if not math.isfinite(theta_start):
         raise ParameterError(f"parameter 'theta_start' must be finite, got {theta_start!r}")
@@ -214,7 +217,7 @@ def _check_walk_args(robot: PasibotRobot, steps, samples_per_step, theta_start, 
         raise ParameterError(f"parameter 'first_stance' must be right or left, got {first_stance!r}")
 
 
-def walk(
+def prescribed_gait(
     robot: PasibotRobot,
     steps: int = 2,
     samples_per_step: int = 40,
@@ -222,8 +225,8 @@ def walk(
     omega: float | None = None,
     foot: str = "flat",
     first_stance: str = "right",
-) -> Walk:
-    """Walk ``steps`` steps: both cranks turn, stance and swing exchange at every half turn.
+) -> Gait:
+    """The prescribed gait of ``steps`` steps: both cranks turn, stance and swing exchange at every half turn.
 
     The right crank starts at ``theta_start`` with the right foot touching down (stance),
     the left crank pi apart. The starting stance contact (ankle for ``flat``/``point``,
@@ -232,7 +235,7 @@ def walk(
     Args:
         robot: a two-legged robot (``load(variant, legs=2)``).
         steps: number of steps (half crank turns), >= 1.
-        samples_per_step: samples per step, >= 2; the walk has ``steps * samples_per_step + 1``
+        samples_per_step: samples per step, >= 2; the gait has ``steps * samples_per_step + 1``
             samples, both ends included.
         theta_start: right-crank angle at the start [rad] (pi/2: touch-down).
         omega: crank rate [rad/s] for the time stamps; ``None``: :data:`DEFAULT_OMEGA`.
@@ -241,13 +244,13 @@ def walk(
             meaningful when ``theta_start`` puts the left foot at touch-down).
 
     Returns:
-        The :class:`Walk`; every sample satisfies its closure to :data:`CLOSURE_TOL`.
+        The :class:`Gait`; every sample satisfies its closure to :data:`CLOSURE_TOL`.
 
     Raises:
         ValueError: bad arguments (named), or a pose where the loops cannot close.
 
     """
-    _check_walk_args(robot, steps, samples_per_step, theta_start, omega, foot, first_stance)
+    _check_gait_args(robot, steps, samples_per_step, theta_start, omega, foot, first_stance)
     theta_start = float(theta_start)
     n = steps * samples_per_step + 1
     dtheta = math.pi / samples_per_step
@@ -275,12 +278,12 @@ def walk(
         residual[i] = float(np.max(np.abs(closure.constraint_residual(robot, q, cmodels))))
         if residual[i] > CLOSURE_TOL:
             raise ClosureError(
-                f"walk: closure residual {residual[i]:.3e} exceeds {CLOSURE_TOL:g} at theta = "
+                f"gait: closure residual {residual[i]:.3e} exceeds {CLOSURE_TOL:g} at theta = "
                 f"{math.degrees(theta[i]):.3f} deg (step {k}, stance {stance_side})"
             )
     omega = DEFAULT_OMEGA if omega is None else float(omega)
     t = (theta - theta_start) / omega
-    return Walk(
+    return Gait(
         robot=robot,
         theta=theta,
         t=t,
@@ -296,7 +299,7 @@ def walk(
 
 
 def _start_pose(robot: PasibotRobot, theta_start: float, stance_side: str, foot: str):
-    """The walk's first pose, its contact rows and prescriptions: the requested contact, hip level.
+    """The gait's first pose, its contact rows and prescriptions: the requested contact, hip level.
 
     The flat assembly first, then (for a point or toe contact, or a free ankle) the closed pose
     with that contact; the starting contact point moved to the world origin (a rigid translation).
@@ -336,43 +339,43 @@ def step_advances(
     """The hip's advance in each of ``steps`` steps, from the start of a step to the start of the next [m].
 
     Both ends are the same phase of the gait: just after an exchange (the first, the start). The
-    last sample of a walk is the *end* of its last step, before the exchange: for the ``rigid``
+    last sample of a gait is the *end* of its last step, before the exchange: for the ``rigid``
     foot, square to its shank, the body is pitched ~30 deg there, and the exchange that puts the
     new stance foot flat turns the whole robot back, so the hip's travel to that sample is not a
-    step's advance. A walk of one step more gives the next start.
+    step's advance. A gait of one step more gives the next start.
     """
-    w = walk(robot, steps + 1, samples_per_step, foot=foot, omega=omega)
+    w = prescribed_gait(robot, steps + 1, samples_per_step, foot=foot, omega=omega)
     starts = w.hip_path()[::samples_per_step, 0][: steps + 1]
     return np.diff(starts)
 
 
-def walk_and_advances(
+def gait_and_advances(
     robot: PasibotRobot, steps: int = 2, samples_per_step: int = 40, omega: float | None = None, foot: str = "flat"
-) -> tuple[Walk, np.ndarray]:
-    """``walk(robot, steps, samples_per_step, ...)`` and its :func:`step_advances`, from one walk [-, m].
+) -> tuple[Gait, np.ndarray]:
+    """``prescribed_gait(robot, steps, samples_per_step, ...)`` and its :func:`step_advances`, from one gait [-, m].
 
-    :func:`step_advances` walks one step more than the walk; that longer walk passes through every
+    :func:`step_advances` takes one step more than the gait; that longer gait passes through every
     sample of the shorter one but its last, the end of its last step (which the longer one goes on
     to solve as the start of its exchange: the same solve, made once more here). Both results are
-    those of the two calls, number for number, for the work of the longer walk alone.
+    those of the two calls, number for number, for the work of the longer gait alone.
 
     Args:
         robot: a two-legged robot (``load(variant, legs=2)``).
-        steps: steps (half crank turns) of the walk, >= 1.
+        steps: steps (half crank turns) of the gait, >= 1.
         samples_per_step: samples per step, >= 2.
         omega: crank rate [rad/s] for the time stamps; ``None``: :data:`DEFAULT_OMEGA`.
         foot: ``flat``, ``point`` or ``toe``.
 
     Returns:
-        (the :class:`Walk` of ``steps`` steps from right touch-down at pi/2, the hip's advance in
+        (the :class:`Gait` of ``steps`` steps from right touch-down at pi/2, the hip's advance in
         each of its steps [m]).
 
     Raises:
-        ValueError: as :func:`walk`.
+        ValueError: as :func:`prescribed_gait`.
 
     """
-    _check_walk_args(robot, steps, samples_per_step, math.pi / 2, omega, foot, "right")
-    longer = walk(robot, steps + 1, samples_per_step, omega=omega, foot=foot)
+    _check_gait_args(robot, steps, samples_per_step, math.pi / 2, omega, foot, "right")
+    longer = prescribed_gait(robot, steps + 1, samples_per_step, omega=omega, foot=foot)
     advances = np.diff(longer.hip_path()[::samples_per_step, 0][: steps + 1])
     n = steps * samples_per_step + 1
     dtheta = math.pi / samples_per_step
@@ -382,11 +385,11 @@ def walk_and_advances(
     residual = float(np.max(np.abs(closure.constraint_residual(robot, q_end, cmodels))))
     if residual > CLOSURE_TOL:
         raise ClosureError(
-            f"walk: closure residual {residual:.3e} exceeds {CLOSURE_TOL:g} at theta = "
+            f"gait: closure residual {residual:.3e} exceeds {CLOSURE_TOL:g} at theta = "
             f"{math.degrees(math.pi / 2 + dtheta * (n - 1)):.3f} deg (step {steps - 1}, stance {stance})"
         )
     theta = math.pi / 2 + dtheta * np.arange(n)
-    shorter = Walk(
+    shorter = Gait(
         robot=robot,
         theta=theta,
         t=(theta - math.pi / 2) / (DEFAULT_OMEGA if omega is None else float(omega)),

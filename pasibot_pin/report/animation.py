@@ -3,7 +3,7 @@
 - :func:`export_animation`: a simulated run (:mod:`pasibot_pin.studies.simulation_study`) as a
   one-file meshcat HTML page and/or a stick GIF.
 - :func:`section`: the ``animation`` section of ``pasibot analyze``: ``gait.html`` (3-D,
-  meshcat) and ``gait.gif`` (2-D stick figure) of the kinematic walk.
+  meshcat) and ``gait.gif`` (2-D stick figure) of the prescribed gait.
 """
 
 from __future__ import annotations
@@ -20,7 +20,7 @@ from pasibot_pin.model.robot import load
 from pasibot_pin.report.markdown import figure
 from pasibot_pin.studies.simulation_study import animation_frames
 from pasibot_pin.viz.animation import save_gif
-from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, export_html, reaction_forces, walk_trajectory
+from pasibot_pin.viz.viewer import WalkViewer, build_walk_scene, export_html, gait_trajectory, reaction_forces
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
@@ -53,7 +53,7 @@ def _gif(robot: PasibotRobot, q, ground, path: Path, dpi: int):
 def write_gait_gif(path: Path, dpi: int = GIF_DPI) -> Path:
     """The ``analyze`` walk's stick GIF alone (no HTML written), at ``dpi`` [dots per inch]."""
     robot = load(VARIANT, legs=2)
-    walk = walk_trajectory(robot, steps=STEPS, samples_per_step=SAMPLES_PER_STEP)
+    walk = gait_trajectory(robot, steps=STEPS, samples_per_step=SAMPLES_PER_STEP)
     ground = reaction_forces(robot, walk, omega=PLAYBACK_OMEGA)["ground"]
     _gif(robot, walk.q, ground, Path(path), dpi)
     return Path(path)

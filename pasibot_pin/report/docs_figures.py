@@ -22,7 +22,7 @@ from __future__ import annotations
 from pathlib import Path
 
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.kinematics.gait import walk
+from pasibot_pin.kinematics.gait import prescribed_gait
 from pasibot_pin.kinematics.leg import crank_grid, leg_cycle
 from pasibot_pin.model.design import Design, design_robot
 from pasibot_pin.model.params import VARIANTS
@@ -36,7 +36,7 @@ from pasibot_pin.studies.walking import WalkSettings, walk_design
 from pasibot_pin.studies.walking_map import load_map
 from pasibot_pin.viz.plots import plot_robot
 from pasibot_pin.viz.plots_dynamics import plot_torques_vs_beta
-from pasibot_pin.viz.plots_gait import plot_leg_paths, plot_walk
+from pasibot_pin.viz.plots_gait import plot_gait, plot_leg_paths
 from pasibot_pin.viz.plots_simulation import plot_hip_pitch, plot_spring_sweep
 from pasibot_pin.viz.plots_walking import walking_map_figure
 
@@ -78,7 +78,7 @@ def write_kinematics_figure(path: Path) -> Path:
     """``docs/kinematics.png``: the parallel leg's foot paths (leg frame) | the spring biped's three steps."""
     fig, axes = _subplots(1, 2, figsize=(11.5, 4.6))
     plot_leg_paths(leg_cycle(load("parallel", 1), crank_grid()), ax=axes[0])
-    plot_walk(walk(load("spring", 2), 3, 36), ax=axes[1], snapshots=4, points=("ankle",))
+    plot_gait(prescribed_gait(load("spring", 2), 3, 36), ax=axes[1], snapshots=4, points=("ankle",))
     return _save(fig, path)
 
 

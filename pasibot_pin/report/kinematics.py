@@ -17,16 +17,16 @@ from pasibot_pin.report.files import FIGURE_DPI, save_figure_file, writing
 from pasibot_pin.report.markdown import Section, figure, figure_links
 from pasibot_pin.studies.kinematics_study import (
     LEG_COLUMNS,
+    BipedRun,
     KinematicsSurvey,
     LegRun,
-    WalkRun,
+    gait_columns,
+    gait_rows,
     kinematics_survey,
     leg_rows,
-    walk_columns,
-    walk_rows,
 )
 from pasibot_pin.units import with_unit
-from pasibot_pin.viz.plots_gait import plot_foot_pitch, plot_k_sweep, plot_leg_summary, plot_walk, plot_walk_hip
+from pasibot_pin.viz.plots_gait import plot_foot_pitch, plot_gait, plot_gait_hip, plot_k_sweep, plot_leg_summary
 
 
 # --------------------------------------------------------------------------- files
@@ -51,9 +51,9 @@ def write_leg_csv(path: Path, run: LegRun) -> None:
     write_rows_csv(path, LEG_COLUMNS, leg_rows(run.cycle))
 
 
-def write_walk_csv(path: Path, run: WalkRun) -> None:
-    """Write a walk's samples (columns :func:`~pasibot_pin.studies.kinematics_study.walk_columns`)."""
-    write_rows_csv(path, walk_columns(), walk_rows(run.walk))
+def write_walk_csv(path: Path, run: BipedRun) -> None:
+    """Write a walk's samples (columns :func:`~pasibot_pin.studies.kinematics_study.gait_columns`)."""
+    write_rows_csv(path, gait_columns(), gait_rows(run.gait))
 
 
 def _save(fig, path: Path, dpi: int = FIGURE_DPI) -> None:
@@ -88,7 +88,7 @@ def write_leg_plot(path: Path, run: LegRun, dpi: int = FIGURE_DPI) -> None:
     _save(plot_leg_summary(run.cycle), path, dpi)
 
 
-def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11, 10), dpi: int = FIGURE_DPI) -> None:
+def write_walk_plot(path: Path, run: BipedRun, figsize: tuple[float, float] = (11, 10), dpi: int = FIGURE_DPI) -> None:
     """Write the walk figure: the feet and hip paths above the hip height and pitch.
 
     Args:
@@ -102,8 +102,8 @@ def write_walk_plot(path: Path, run: WalkRun, figsize: tuple[float, float] = (11
     from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     fig, axes = subplots(2, 1, figsize=figsize, gridspec_kw={"height_ratios": [3, 1]})
-    plot_walk(run.walk, ax=axes[0])
-    plot_walk_hip(run.walk, ax=axes[1])
+    plot_gait(run.gait, ax=axes[0])
+    plot_gait_hip(run.gait, ax=axes[1])
     _save(fig, path, dpi)
 
 
@@ -116,9 +116,9 @@ def leg_summary(run: LegRun) -> str:
     return "\n".join(lines)
 
 
-def walk_summary(run: WalkRun) -> str:
+def walk_summary(run: BipedRun) -> str:
     """The ``pasibot gait --legs 2`` printout: hip advance, height and pitch, closure, exchange jumps."""
-    w = run.walk
+    w = run.gait
     lines = [
         f"PASIBOT {run.variant}, two legs, foot = {run.foot}, {run.steps} step(s), {w.n} samples",
         f"  hip advance per step / L: {', '.join(f'{d / run.L:.6f}' for d in run.hip_advance)}",
@@ -132,7 +132,7 @@ def walk_summary(run: WalkRun) -> str:
 
 
 # --------------------------------------------------------------------------- the section
-def walk_name(run: WalkRun) -> str:
+def walk_name(run: BipedRun) -> str:
     """File stem of a survey walk: ``walk_<variant>``, with ``_<foot>`` unless the foot is flat."""
     return f"walk_{run.variant}" if run.foot == "flat" else f"walk_{run.variant}_{run.foot}"
 
@@ -159,7 +159,7 @@ def _leg_rows(result: KinematicsSurvey) -> list[str]:
 def _walk_rows(result: KinematicsSurvey) -> list[str]:
     """The biped walks' table rows: advance, hip height and pitch, closure residual, pose jump."""
     lines = []
-    for walk in result.walks:
+    for walk in result.gaits:
         pitch = np.degrees(walk.hip_pitch)
         lines.append(
             f"| {walk.variant} | {walk.foot} | {', '.join(f'{a:.4f}' for a in walk.hip_advance / walk.L)} "
@@ -214,7 +214,7 @@ def _markdown(result: KinematicsSurvey) -> str:
             ],
             "More figures of the leg:",
         ),
-        f"Biped walks (world frame, {s.walk_steps} steps, {s.walk_step_deg:g} deg per sample; hip = the crank axis):",
+        f"Biped walks (world frame, {s.gait_steps} steps, {s.gait_step_deg:g} deg per sample; hip = the crank axis):",
         "",
         "| variant | foot | hip advance per step [L] | hip height p-p [L] | hip pitch [deg] | max closure residual "
         "[m] | pose jump at exchange [m or rad] |",
@@ -230,13 +230,13 @@ def _markdown(result: KinematicsSurvey) -> str:
         "",
         figure(
             "walk_spring.png",
-            f"The spring biped walking {s.walk_steps} steps (world frame): feet and hip paths [m] above the hip "
+            f"The spring biped walking {s.gait_steps} steps (world frame): feet and hip paths [m] above the hip "
             "height and pitch.",
         ),
         figure_links(
             [
                 (f"{walk_name(run)}.png", f"the {run.variant} biped, foot {run.foot}")
-                for run in result.walks
+                for run in result.gaits
                 if walk_name(run) != "walk_spring"
             ],
             "The other walks of the table, as the same figure:",
@@ -273,7 +273,7 @@ def _write(out_dir: Path):
         write_leg_plot(out_dir / f"kinematics_leg_{variant}.png", run)
     _save(plot_foot_pitch({v: run.cycle for v, run in result.legs.items()}), out_dir / "foot_pitch.png")
     _save(plot_k_sweep(result.sweep), out_dir / "k_sweep.png")
-    for walk in result.walks:
+    for walk in result.gaits:
         write_walk_csv(out_dir / f"{walk_name(walk)}.csv", walk)
         write_walk_plot(out_dir / f"{walk_name(walk)}.png", walk, figsize=(12, 10))
     return _markdown(result), result

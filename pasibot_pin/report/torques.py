@@ -127,9 +127,9 @@ def _two_turns_figure(survey, sub: Path) -> None:
 
     from pasibot_pin.viz.plots_layout import subplots  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    write_result_csv(sub / "torques_run4_two_turns.csv", survey.walk)
+    write_result_csv(sub / "torques_run4_two_turns.csv", survey.gait)
     fig, (ax1, ax2) = subplots(2, 1, figsize=(10, 8))
-    plot_torques_vs_time(survey.walk, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
+    plot_torques_vs_time(survey.gait, ax=ax1, title="run4 (5 rad/s, 20 kg), default model, two crank turns")
     plot_torques_vs_time(survey.slow, ax=ax2, title="run2 (0.1 rad/s, 16 kg), default model, two crank turns")
     save_figure_file(fig, sub / "torques_vs_time.png")
     plt.close(fig)
@@ -188,7 +188,7 @@ def build(out_dir: Path):
         lines += ["Fit warnings:", *warnings_text, ""]
     lines += _attribution_lines(dict(survey.attribution))
 
-    walk = survey.walk
+    walk = survey.gait
     _two_turns_figure(survey, sub)
     lines += [
         figure(

@@ -21,7 +21,7 @@ from pasibot_pin.model.coordinates import SIDES
 from pasibot_pin.model.spatial import free_flyer_model
 from pasibot_pin.studies.motor_load import motor_load
 from pasibot_pin.viz.animation import save_gif
-from pasibot_pin.viz.viewer import ForceTrack, WalkViewer, build_walk_scene
+from pasibot_pin.viz.viewer import ForceArrows, WalkViewer, build_walk_scene
 
 FORCE_SCALE = 5e-4
 """Arrow length per newton of floor force [m/N]."""
@@ -34,7 +34,7 @@ def walk_frames(result, fps: float) -> np.ndarray:
 
 
 def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
-    """One :class:`~pasibot_pin.viz.viewer.ForceTrack` per foot: its floor force at its centre of pressure.
+    """One :class:`~pasibot_pin.viz.viewer.ForceArrows` per foot: its floor force at its centre of pressure.
 
     The heel and toe points of every frame are evaluated in one batch (:func:`~pasibot_pin.constraints.frame_rows`).
     """
@@ -49,7 +49,7 @@ def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
         cop = np.sum(weights * xz[:, feet], axis=1)
         points = np.column_stack((cop.real, np.zeros(len(index)), cop.imag))
         forces = np.column_stack((ft.sum(axis=1), np.zeros(len(index)), total))
-        tracks[f"{side} foot"] = ForceTrack(points, forces, FORCE_SCALE)
+        tracks[f"{side} foot"] = ForceArrows(points, forces, FORCE_SCALE)
     return tracks
 
 

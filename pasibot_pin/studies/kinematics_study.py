@@ -1,11 +1,11 @@
-"""Foot paths of one leg and multi-step biped walks, with their CSV rows: pure compute.
+"""Foot paths of one leg and multi-step biped gaits, with their CSV rows: pure compute.
 
 - :class:`GaitSettings` / :func:`gait_run`: one leg over one crank turn (:class:`LegRun`) or the
-  biped walking several steps (:class:`WalkRun`) (the ``pasibot gait`` command).
+  biped on its prescribed gait over several steps (:class:`BipedRun`) (the ``pasibot gait`` command).
 - :class:`KinematicsSettings` / :func:`kinematics_survey`: the leg of every variant, the K sweep,
-  the open-chain Jacobian and the biped walks (the ``kinematics`` section of ``pasibot analyze``).
-- :data:`LEG_COLUMNS` / :func:`leg_rows` and :func:`walk_columns` / :func:`walk_rows`: the CSV
-  header and rows of a leg cycle and of a walk.
+  the open-chain Jacobian and the biped gaits (the ``kinematics`` section of ``pasibot analyze``).
+- :data:`LEG_COLUMNS` / :func:`leg_rows` and :func:`gait_columns` / :func:`gait_rows`: the CSV
+  header and rows of a leg cycle and of a gait.
 
 Built on :mod:`pasibot_pin.kinematics.leg` and :mod:`pasibot_pin.kinematics.gait`. Nothing here
 writes files or draws. Units: SI; angles [rad] unless a name ends in ``_deg``.
@@ -22,7 +22,7 @@ import numpy as np
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics import leg as kin
 from pasibot_pin.kinematics import path_metrics
-from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_WALK_SAMPLES, Walk, walk_and_advances
+from pasibot_pin.kinematics.gait import FOOT_MODES, MAX_GAIT_SAMPLES, Gait, gait_and_advances
 from pasibot_pin.model.design import check_parameter, design_robot
 from pasibot_pin.model.params import VARIANTS
 from pasibot_pin.model.robot import load
@@ -49,19 +49,19 @@ LEG_COLUMNS: tuple[str, ...] = (
 )
 """CSV columns for one leg: [rad], [m], [rad], [m/s], [m/s^2]; ``stance`` is 1 in 90..270 deg."""
 
-WALK_POINTS: tuple[tuple[str, str], ...] = (("ankle", "foot"), ("toe", "toe"), ("heel", "heel"))
-"""Walk CSV points: (column prefix, frame suffix after ``right_``/``left_``)."""
+GAIT_POINTS: tuple[tuple[str, str], ...] = (("ankle", "foot"), ("toe", "toe"), ("heel", "heel"))
+"""Gait CSV points: (column prefix, frame suffix after ``right_``/``left_``)."""
 
 SPEED_ANGLES_DEG: tuple[float, float, float] = (90.0, 180.0, 270.0)
 """Crank angles at which the ankle's forward speed is reported [deg]."""
 
 
 # --------------------------------------------------------------------------- CSV rows
-def walk_columns() -> list[str]:
-    """CSV columns for the biped walk (world frame, [rad], [s], [m])."""
+def gait_columns() -> list[str]:
+    """CSV columns for the biped gait (world frame, [rad], [s], [m])."""
     cols = ["theta", "theta_left", "t", "step", "stance", "hip_x", "hip_z", "hip_pitch"]
     for side in ("right", "left"):
-        cols += [f"{side}_{p}_{axis}" for p, _ in WALK_POINTS for axis in ("x", "z")]
+        cols += [f"{side}_{p}_{axis}" for p, _ in GAIT_POINTS for axis in ("x", "z")]
         cols.append(f"{side}_foot_pitch")
     return cols
 
@@ -97,17 +97,17 @@ def leg_rows(cycle: kin.LegCycle) -> list[list]:
     return rows
 
 
-def walk_rows(w: Walk) -> list[list]:
-    """CSV rows (:func:`walk_columns`) of a walk.
+def gait_rows(w: Gait) -> list[list]:
+    """CSV rows (:func:`gait_columns`) of a gait.
 
     Args:
-        w: the walk; ``t`` is NaN when it has no crank rate.
+        w: the gait; ``t`` is NaN when it has no crank rate.
 
     Returns:
         One row per sample: floats, ``step`` as int and ``stance`` as ``right``/``left``.
 
     """
-    frames = ["hip"] + [f"{side}_{frame}" for side in ("right", "left") for _, frame in WALK_POINTS]
+    frames = ["hip"] + [f"{side}_{frame}" for side in ("right", "left") for _, frame in GAIT_POINTS]
     xz = w.frames_xz(frames)
     hip_pitch = w.pitch("hip")
     pitch = {side: w.pitch(f"{side}_foot") for side in ("right", "left")}
@@ -124,7 +124,7 @@ def walk_rows(w: Walk) -> list[list]:
             float(hip_pitch[k]),
         ]
         for side in ("right", "left"):
-            for _, frame in WALK_POINTS:
+            for _, frame in GAIT_POINTS:
                 row += list(map(float, xz[f"{side}_{frame}"][k]))
             row.append(float(pitch[side][k]))
         rows.append(row)
@@ -141,16 +141,16 @@ def samples(span_deg: float, step_deg: float) -> int:
 
     Raises:
         ValueError: ``step_deg`` not positive, not dividing the span into >= 2 samples, or
-            giving more than :data:`~pasibot_pin.kinematics.gait.MAX_WALK_SAMPLES` of them.
+            giving more than :data:`~pasibot_pin.kinematics.gait.MAX_GAIT_SAMPLES` of them.
 
     """
     if not math.isfinite(step_deg) or step_deg <= 0.0:
         raise ParameterError(f"parameter '--step-deg' must be a positive crank increment [deg], got {step_deg!r}")
     count = span_deg / step_deg
-    if count > MAX_WALK_SAMPLES:
+    if count > MAX_GAIT_SAMPLES:
         raise ParameterError(
             f"parameter '--step-deg' = {step_deg:g} deg gives {count:.3g} samples per {span_deg:g} deg; "
-            f"at most {MAX_WALK_SAMPLES} (take a step of at least {span_deg / MAX_WALK_SAMPLES:g} deg)"
+            f"at most {MAX_GAIT_SAMPLES} (take a step of at least {span_deg / MAX_GAIT_SAMPLES:g} deg)"
         )
     n = round(count)
     if n < 2 or abs(count - n) > 1e-9 * count:
@@ -185,8 +185,8 @@ class LegRun:
 
 
 @dataclass(frozen=True)
-class WalkRun:
-    """The biped walking several steps, in the world frame.
+class BipedRun:
+    """The biped on its prescribed gait over several steps, in the world frame.
 
     Attributes:
         variant: the leg variant.
@@ -194,7 +194,7 @@ class WalkRun:
         steps: steps (half crank turns).
         samples_per_step: crank intervals per step.
         L: crank length [m].
-        walk: the sampled walk.
+        gait: the sampled gait.
         hip_advance: hip x travel of each step, start to next start (steps,) [m] (:func:`step_advances`).
         hip_height_ptp: peak-to-peak hip height [m].
         hip_pitch: hip pitch at every sample (N,) [rad].
@@ -210,7 +210,7 @@ class WalkRun:
     steps: int
     samples_per_step: int
     L: float
-    walk: Walk
+    gait: Gait
     hip_advance: np.ndarray
     hip_height_ptp: float
     hip_pitch: np.ndarray
@@ -240,10 +240,10 @@ def leg_run(robot: PasibotRobot, step_deg: float = 5.0, omega: float = 0.1) -> L
     return LegRun(robot.variant, L, omega, cycle, metrics, speeds / (L * omega))
 
 
-def walk_run(
+def biped_run(
     robot: PasibotRobot, steps: int = 2, step_deg: float = 5.0, omega: float = 0.1, foot: str = "flat"
-) -> WalkRun:
-    """The biped walking ``steps`` steps from right touch-down, sampled every ``step_deg``.
+) -> BipedRun:
+    """The biped on its prescribed gait, ``steps`` steps from right touch-down, sampled every ``step_deg``.
 
     Args:
         robot: a two-leg robot (``load(variant, 2)``).
@@ -258,16 +258,16 @@ def walk_run(
     """
     sps = samples(180.0, step_deg)
     # each step's advance from its start to the next step's start (same phase: just after an exchange),
-    # read off one walk of a step more (walk_and_advances: the same numbers as walk and step_advances)
-    w, advances = walk_and_advances(robot, steps, sps, omega=omega, foot=foot)
+    # read off one gait of a step more (gait_and_advances: the same numbers as prescribed_gait and step_advances)
+    w, advances = gait_and_advances(robot, steps, sps, omega=omega, foot=foot)
     hip = w.hip_path()
-    return WalkRun(
+    return BipedRun(
         variant=robot.variant,
         foot=w.foot,
         steps=steps,
         samples_per_step=sps,
         L=robot.geometry.L,
-        walk=w,
+        gait=w,
         hip_advance=advances,
         hip_height_ptp=float(np.ptp(hip[:, 1])),
         hip_pitch=w.pitch(),
@@ -282,19 +282,19 @@ class GaitSettings:
 
     Attributes:
         variant: leg variant (see :data:`pasibot_pin.model.params.VARIANTS`).
-        legs: 1 (one crank turn in the leg frame) or 2 (the biped walk).
-        steps: steps to walk with 2 legs (``None``: 2); must be ``None`` with 1 leg.
+        legs: 1 (one crank turn in the leg frame) or 2 (the biped gait).
+        steps: steps of the gait with 2 legs (``None``: 2); must be ``None`` with 1 leg.
         step_deg: crank increment between samples [deg].
         omega: crank rate [rad/s].
         foot: stance contact with 2 legs: ``flat``, ``point`` or ``toe`` (``None``: ``flat``);
             must be ``None`` with 1 leg.
-        design: a :class:`~pasibot_pin.model.design.Design` whose robot walks (its variant replaces
+        design: a :class:`~pasibot_pin.model.design.Design` whose robot steps (its variant replaces
             ``variant``); ``None``: the seed design of ``variant``.
 
     Raises:
         ValueError: ``legs`` not 1 or 2, ``omega`` not a positive number, ``steps`` or
             ``foot`` given with 1 leg, an unknown ``foot``, ``steps`` < 1, a bad ``step_deg``,
-            or more than :data:`~pasibot_pin.kinematics.gait.MAX_WALK_SAMPLES` samples: all
+            or more than :data:`~pasibot_pin.kinematics.gait.MAX_GAIT_SAMPLES` samples: all
             checked here, before any work.
 
     """
@@ -320,23 +320,23 @@ class GaitSettings:
             return
         if self.foot is not None and self.foot not in FOOT_MODES:
             raise ParameterError(f"parameter '--foot' must be one of {', '.join(FOOT_MODES)}, got {self.foot!r}")
-        steps = self.walk_steps
+        steps = self.gait_steps
         if isinstance(steps, bool) or not isinstance(steps, int) or steps < 1:
             raise ParameterError(f"parameter '--steps' must be an integer >= 1, got {steps!r}")
         total = steps * samples(180.0, self.step_deg) + 1
-        if total > MAX_WALK_SAMPLES:
+        if total > MAX_GAIT_SAMPLES:
             raise ParameterError(
-                f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_WALK_SAMPLES}"
+                f"parameters '--steps' and '--step-deg' give {total} samples; at most {MAX_GAIT_SAMPLES}"
             )
 
     @property
-    def walk_steps(self) -> int:
-        """Steps to walk with 2 legs (``steps`` or 2)."""
+    def gait_steps(self) -> int:
+        """Steps of the gait with 2 legs (``steps`` or 2)."""
         return 2 if self.steps is None else self.steps
 
 
-def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
-    """Run :class:`GaitSettings`: a :class:`LegRun` with 1 leg, a :class:`WalkRun` with 2.
+def gait_run(settings: GaitSettings) -> LegRun | BipedRun:
+    """Run :class:`GaitSettings`: a :class:`LegRun` with 1 leg, a :class:`BipedRun` with 2.
 
     Raises:
         ValueError: an unknown variant, ``steps`` given with 1 leg, or a bad ``step_deg``,
@@ -351,11 +351,11 @@ def gait_run(settings: GaitSettings) -> LegRun | WalkRun:
         if settings.steps is not None:
             raise ParameterError("parameter '--steps' applies to --legs 2; --legs 1 samples one crank turn")
         return leg_run(robot, settings.step_deg, settings.omega)
-    return walk_run(robot, settings.walk_steps, settings.step_deg, settings.omega, settings.foot or "flat")
+    return biped_run(robot, settings.gait_steps, settings.step_deg, settings.omega, settings.foot or "flat")
 
 
 # --------------------------------------------------------------------------- the survey
-def _default_walk_cases() -> tuple[tuple[str, str], ...]:
+def _default_gait_cases() -> tuple[tuple[str, str], ...]:
     return tuple((v, "flat") for v in VARIANTS) + (("rigid", "point"), ("rigid", "toe"))
 
 
@@ -371,9 +371,9 @@ class KinematicsSettings:
         k_variant: leg variant of the K sweep.
         jacobian_variant: leg variant of the open-chain Jacobian.
         jacobian_theta: crank angle of the open-chain Jacobian [rad].
-        walk_steps: steps of every biped walk.
-        walk_step_deg: crank increment of the walks [deg].
-        walk_cases: (variant, foot) of every biped walk.
+        gait_steps: steps of every biped gait.
+        gait_step_deg: crank increment of the gaits [deg].
+        gait_cases: (variant, foot) of every biped gait.
 
     """
 
@@ -384,9 +384,9 @@ class KinematicsSettings:
     k_variant: str = "rigid"
     jacobian_variant: str = "rigid"
     jacobian_theta: float = math.pi
-    walk_steps: int = 4
-    walk_step_deg: float = 5.0
-    walk_cases: tuple[tuple[str, str], ...] = _default_walk_cases()
+    gait_steps: int = 4
+    gait_step_deg: float = 5.0
+    gait_cases: tuple[tuple[str, str], ...] = _default_gait_cases()
 
 
 @dataclass(frozen=True)
@@ -399,7 +399,7 @@ class KinematicsSurvey:
         sweep: leg cycles and metrics for every K of ``settings.k_values``.
         jacobian: 6x4 geometric Jacobian of the open chain theta1, theta2, theta4, theta6 at the
             ankle, rows v_x, v_y, v_z [m/s per rad/s], omega_x, omega_y, omega_z [rad/s per rad/s].
-        walks: one biped walk per ``settings.walk_cases`` entry.
+        gaits: one biped gait per ``settings.gait_cases`` entry.
 
     """
 
@@ -409,11 +409,11 @@ class KinematicsSurvey:
     legs: dict[str, LegRun]
     sweep: path_metrics.KSweep
     jacobian: np.ndarray
-    walks: list[WalkRun]
+    gaits: list[BipedRun]
 
 
 def kinematics_survey(settings: KinematicsSettings | None = None) -> KinematicsSurvey:
-    """Leg paths of every variant, the K sweep, the open-chain Jacobian and the biped walks.
+    """Leg paths of every variant, the K sweep, the open-chain Jacobian and the biped gaits.
 
     Args:
         settings: what to run; ``None``: :class:`KinematicsSettings` defaults.
@@ -422,7 +422,7 @@ def kinematics_survey(settings: KinematicsSettings | None = None) -> KinematicsS
     s = KinematicsSettings() if settings is None else settings
     robots: dict[tuple[str, int], PasibotRobot] = {}
 
-    def robot_of(variant: str, legs: int) -> PasibotRobot:  # each robot loaded once (the walks only read it)
+    def robot_of(variant: str, legs: int) -> PasibotRobot:  # each robot loaded once (the gaits only read it)
         if (variant, legs) not in robots:
             robots[variant, legs] = load(variant, legs)
         return robots[variant, legs]
@@ -431,5 +431,5 @@ def kinematics_survey(settings: KinematicsSettings | None = None) -> KinematicsS
     sweep = path_metrics.k_sweep(s.k_values, variant=s.k_variant)
     robot = robot_of(s.jacobian_variant, 1)
     jacobian = kin.open_chain_jacobian(robot, kin.configuration_at(robot, s.jacobian_theta))
-    walks = [walk_run(robot_of(v, 2), s.walk_steps, s.walk_step_deg, s.omega, foot) for v, foot in s.walk_cases]
-    return KinematicsSurvey(s, legs, sweep, jacobian, walks)
+    gaits = [biped_run(robot_of(v, 2), s.gait_steps, s.gait_step_deg, s.omega, foot) for v, foot in s.gait_cases]
+    return KinematicsSurvey(s, legs, sweep, jacobian, gaits)

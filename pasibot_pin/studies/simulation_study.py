@@ -384,7 +384,7 @@ def _static_cache(name: str) -> dict:
     return {}
 
 
-def _walk_options(name: str, settings: SimulationStudySettings) -> dict:
+def _run_options(name: str, settings: SimulationStudySettings) -> dict:
     fast = cached_inputs(name).omega > settings.fast_omega
     return {
         "steps": settings.fast_steps if fast else settings.slow_steps,
@@ -400,7 +400,7 @@ def case_task(
     """One spring case of scenario ``name``: its static path and walk (:func:`~.spring_study.spring_case`)."""
     scen = cached_inputs(name)
     spring = scen.fit.scaled(dict(SPRING_CASES)[label])
-    return spring_case(scen.robot, scen.omega, spring, **_walk_options(name, settings))
+    return spring_case(scen.robot, scen.omega, spring, **_run_options(name, settings))
 
 
 def sweep_shape(name: str) -> tuple[int, int]:
@@ -435,7 +435,7 @@ def sweep_rows_task(name: str, rows: Sequence[int], settings: SimulationStudySet
             if case_of_cell(scen.fit, spring) is None:
                 todo.append(((r, j), spring))
     if todo:
-        values = sweep_cells(scen.robot, scen.omega, [sp for _, sp in todo], method, **_walk_options(name, settings))
+        values = sweep_cells(scen.robot, scen.omega, [sp for _, sp in todo], method, **_run_options(name, settings))
         for ((r, j), _), value in zip(todo, values):
             out[r][j] = value
     return out

@@ -111,7 +111,7 @@ def _run_excursion(res: SimulationResult) -> float:
     return math.inf if res.fell else res.max_hip_excursion
 
 
-def _walk_settings(omega: float, spring: AnkleSpring, swing_ankle: str, dt: float, pitch: float) -> SimulationSettings:
+def _run_settings(omega: float, spring: AnkleSpring, swing_ankle: str, dt: float, pitch: float) -> SimulationSettings:
     return SimulationSettings(omega=omega, spring=spring, swing_ankle=swing_ankle, dt=dt, initial_pitch=pitch)
 
 
@@ -147,7 +147,7 @@ def spring_case(
     static = static_equilibrium(robot, spring, thetas, cache=cache)
     if omega <= 0:
         return static, None
-    settings = _walk_settings(omega, spring, swing_ankle, dt, _standing_pitch_of(static))
+    settings = _run_settings(omega, spring, swing_ankle, dt, _standing_pitch_of(static))
     return static, simulate(robot, settings, steps=steps)
 
 
@@ -192,7 +192,7 @@ def sweep_cells(
         thetas = _static_thetas(static_samples)
         return np.array([eq.max_excursion for eq in static_equilibria(robot, springs, thetas, cache=cache)])
     settings = [
-        _walk_settings(omega, sp, swing_ankle, dt, standing_pitch(robot, sp, math.pi / 2, cache)) for sp in springs
+        _run_settings(omega, sp, swing_ankle, dt, standing_pitch(robot, sp, math.pi / 2, cache)) for sp in springs
     ]
     if swing_ankle == "rest" and settings:
         runs = simulate_many(robot, settings, steps)

@@ -39,17 +39,17 @@ if TYPE_CHECKING:
 SURVEY_PRESETS: tuple[str, ...] = ("default", "seed")
 """The presets every scenario runs under in :func:`torque_survey`."""
 
-WALK_SCENARIO: str = "run4"
+GAIT_SCENARIO: str = "run4"
 """The survey's multi-step run at the seed's fastest speed (every sample written to CSV)."""
 
 SLOW_SCENARIO: str = "run2"
 """The survey's slow multi-step run, for comparison (plotted only)."""
 
-WALK_STEPS: int = 4
+GAIT_STEPS: int = 4
 """Steps (half crank turns) of the survey's multi-step runs: two crank turns."""
 
-WALK_SAMPLES_PER_STEP: int = 48
-"""Crank intervals per step of :data:`WALK_SCENARIO`; :data:`SLOW_SCENARIO` takes every 4th sample."""
+GAIT_SAMPLES_PER_STEP: int = 48
+"""Crank intervals per step of :data:`GAIT_SCENARIO`; :data:`SLOW_SCENARIO` takes every 4th sample."""
 
 DEFAULT_SAMPLES: int = 61
 """Samples over one stance when :attr:`TorqueSettings.samples` is not given."""
@@ -191,9 +191,9 @@ class TorqueSurvey:
         quasi_static_clean: the quasi-static scenario's fit under the ``seed-clean`` preset
             (the seed's quasi-static script, which does not swap L5/L6).
         attribution: dynamic scenario name -> its :func:`attribution` rows.
-        walk: :data:`WALK_SCENARIO`, default model, :data:`WALK_STEPS` steps of
-            :data:`WALK_SAMPLES_PER_STEP` intervals each.
-        slow: :data:`SLOW_SCENARIO`, default model, every 4th crank angle of ``walk``.
+        gait: :data:`GAIT_SCENARIO`, default model, :data:`GAIT_STEPS` steps of
+            :data:`GAIT_SAMPLES_PER_STEP` intervals each.
+        slow: :data:`SLOW_SCENARIO`, default model, every 4th crank angle of ``gait``.
 
     """
 
@@ -202,7 +202,7 @@ class TorqueSurvey:
     runs: Mapping[tuple[str, str], ScenarioTorques]
     quasi_static_clean: SpringFit
     attribution: Mapping[str, list[AttributionRow]]
-    walk: TorqueResult
+    gait: TorqueResult
     slow: TorqueResult
 
 
@@ -314,8 +314,8 @@ def torque_survey() -> TorqueSurvey:
     )
     dynamic = [n for n in SCENARIOS if not SCENARIOS[n].quasi_static]
     table = {n: attribution(SCENARIOS[n], runs[(n, "default")].fit.K_e, runs[(n, "seed")].fit.K_e) for n in dynamic}
-    n = WALK_STEPS * WALK_SAMPLES_PER_STEP + 1
-    thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + WALK_STEPS * math.pi, n)
-    walk = run_scenario(SCENARIOS[WALK_SCENARIO], PRESETS["default"], thetas=thetas)
+    n = GAIT_STEPS * GAIT_SAMPLES_PER_STEP + 1
+    thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + GAIT_STEPS * math.pi, n)
+    gait = run_scenario(SCENARIOS[GAIT_SCENARIO], PRESETS["default"], thetas=thetas)
     slow = run_scenario(SCENARIOS[SLOW_SCENARIO], PRESETS["default"], thetas=thetas[::4])
-    return TorqueSurvey(runs, qs_clean, table, walk, slow)
+    return TorqueSurvey(runs, qs_clean, table, gait, slow)

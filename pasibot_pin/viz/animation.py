@@ -123,8 +123,8 @@ def _force_arrow(ax, colour: str):
 
 
 def _force_arrows(ax, forces: dict) -> dict:
-    """Name -> (track, its empty arrow) for every force track, and a legend entry per colour and scale."""
-    arrows = {name: (track, _force_arrow(ax, track.colour)) for name, track in forces.items()}
+    """Name -> (force, its empty arrow) for every force, and a legend entry per colour and scale."""
+    arrows = {name: (force, _force_arrow(ax, force.colour)) for name, force in forces.items()}
     for colour, scale in sorted({(t.colour, t.scale) for t, _q in arrows.values()}):
         label = f"ground reaction on a foot (0.1 m: {0.1 / scale:.0f} N)"
         ax.plot([], [], marker=r"$\uparrow$", ls="", ms=10, color=colour, label=label)
@@ -212,9 +212,9 @@ def _stick_scene(
             marks[0].set_data(down[:, 0], down[:, 2])
             text += f"  crank {math.degrees(contacts.crank[k]):6.1f} deg\n"
             text += "  ".join(f"{side}: {modes[side][k]}" for side in modes)
-        for track, quiver in arrows.values():
-            quiver.set_offsets([track.points[k][[0, 2]]])
-            quiver.set_UVC([track.forces[k][0] * track.scale], [track.forces[k][2] * track.scale])
+        for force, quiver in arrows.values():
+            quiver.set_offsets([force.points[k][[0, 2]]])
+            quiver.set_UVC([force.forces[k][0] * force.scale], [force.forces[k][2] * force.scale])
         clock.set_text(text)
         return [bars, clock, *trails.values(), *marks, *(q for _, q in arrows.values())]
 
@@ -363,8 +363,8 @@ def save_gif(
         dpi: resolution [dots per inch] of the 6.4 x 5.0 in figure.
         force: overwrite an existing file.
         title: figure title.
-        forces: arrows to draw, name -> a track with ``points``, ``forces`` (N, 3), ``scale`` [m/N] and
-            ``colour`` (:class:`pasibot_pin.viz.viewer.ForceTrack`), e.g. the ground reaction.
+        forces: arrows to draw, name -> a :class:`ForceArrows` with ``points``, ``forces`` (N, 3), ``scale`` [m/N] and
+            ``colour`` (:class:`pasibot_pin.viz.viewer.ForceArrows`), e.g. the ground reaction.
         modes: each foot's contact mode per frame (default: from the geometry).
         times: each frame's time [s] for the caption (default: k / fps).
         follow: the camera follows the robot along x (the view as tall as the walk), else the

@@ -1,4 +1,4 @@
-"""Figures of the kinematic analyses: foot paths, foot pitch, K sweep, ankle motion, biped walk.
+"""Figures of the kinematic analyses: foot paths, foot pitch, K sweep, ankle motion, biped gait.
 
 Each function takes ``ax=None`` (a new figure when omitted) and returns the figure; none
 calls ``show()``. Stance is drawn solid, swing dashed; angles are shown in degrees.
@@ -173,20 +173,20 @@ def plot_leg_summary(cycle: LegCycle):
     return fig
 
 
-WALK_LEGEND_GAP = 6.0
-"""Gap between the walk plot's x axis and its legend below, in legend font sizes (7 pt): room for
+GAIT_LEGEND_GAP = 6.0
+"""Gap between the gait plot's x axis and its legend below, in legend font sizes (7 pt): room for
 the tick labels and the axis label."""
 
 
-def plot_walk(walk, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ankle", "toe", "heel")):
+def plot_gait(gait, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ankle", "toe", "heel")):
     """The biped walking in the world frame: hip path, both feet's paths, stick figures.
 
     Each foot's path is solid while that leg is in stance and dashed in swing.
 
     Args:
-        walk: a :class:`~pasibot_pin.kinematics.gait.Walk`.
+        gait: a :class:`~pasibot_pin.kinematics.gait.Gait`.
         ax: axes to draw on (default: a new figure).
-        snapshots: number of stick figures drawn along the walk (0 for none).
+        snapshots: number of stick figures drawn along the gait (0 for none).
         points: which foot points to trace (``ankle``, ``toe``, ``heel``).
 
     Returns:
@@ -194,14 +194,14 @@ def plot_walk(walk, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ank
 
     """
     fig, ax = _axes(ax, (11, 6))
-    robot = walk.robot
+    robot = gait.robot
     if snapshots > 0:
-        for k in np.linspace(0, walk.n - 1, snapshots).round().astype(int):
-            plot_robot(robot, walk.q[k], ax=ax, ground=False, alpha=0.35)
+        for k in np.linspace(0, gait.n - 1, snapshots).round().astype(int):
+            plot_robot(robot, gait.q[k], ax=ax, ground=False, alpha=0.35)
     names = {"ankle": "foot", "toe": "toe", "heel": "heel"}
     frames = [f"{side}_{names[p]}" for side in ("right", "left") for p in points] + ["hip"]
-    xz = walk.frames_xz(frames)
-    stance = np.array(walk.stance)
+    xz = gait.frames_xz(frames)
+    stance = np.array(gait.stance)
     for side in ("right", "left"):
         for p in points:
             colour = POINT_COLOURS[p] if side == "right" else _lighter(POINT_COLOURS[p])
@@ -211,11 +211,11 @@ def plot_walk(walk, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ank
     ax.set_aspect("equal")
     ax.set_xlabel("x (world, walking direction) [m]")
     ax.set_ylabel("z (world, up) [m]")
-    steps = int(walk.step.max()) + 1
-    ax.set_title(f"PASIBOT {robot.variant}: {steps} step(s), foot = {walk.foot}")
+    steps = int(gait.step.max()) + 1
+    ax.set_title(f"PASIBOT {robot.variant}: {steps} step(s), foot = {gait.foot}")
     ax.grid(True, alpha=0.3)
     # below the x axis' tick labels and label whatever the axes' height (borderaxespad in legend font sizes)
-    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=WALK_LEGEND_GAP, ncol=4)
+    ax.legend(fontsize=7, loc="upper center", bbox_to_anchor=(0.5, 0.0), borderaxespad=GAIT_LEGEND_GAP, ncol=4)
     return fig
 
 
@@ -225,25 +225,25 @@ def _lighter(colour: str) -> str:
     return "#" + "".join(f"{int(c):02x}" for c in rgb)
 
 
-def plot_walk_hip(walk, ax=None):
+def plot_gait_hip(gait, ax=None):
     """Hip height (relative to its mean) and hip pitch against the right-crank angle."""
     fig, ax = _axes(ax, (8, 4))
-    hip = walk.hip_path()
-    theta_deg = np.degrees(walk.theta)
-    L = walk.robot.geometry.L
+    hip = gait.hip_path()
+    theta_deg = np.degrees(gait.theta)
+    L = gait.robot.geometry.L
     height = hip[:, 1] - hip[:, 1].mean()
     ax.plot(theta_deg, height, color=POINT_COLOURS["hip"], label="hip height − mean")
-    for boundary in np.flatnonzero(np.diff(walk.step)) + 1:
+    for boundary in np.flatnonzero(np.diff(gait.step)) + 1:
         ax.axvline(theta_deg[boundary], color="#999999", lw=0.8, ls=":")
     ax.set_xlabel("right crank angle θ [deg]")
     ax.set_ylabel("hip height − mean [m]")
     twin = ax.twinx()
-    pitch_deg = np.degrees(walk.pitch("hip"))
+    pitch_deg = np.degrees(gait.pitch("hip"))
     twin.plot(theta_deg, pitch_deg, color=GROUP_COLOURS["hoeken"], label="hip pitch")
     if np.ptp(pitch_deg) < 1e-6:  # level hip: do not magnify round-off
         twin.set_ylim(-1.0, 1.0)
     twin.set_ylabel("hip pitch (atan2) [deg]")
-    ax.set_title(f"{walk.robot.variant}: hip height (peak-to-peak {np.ptp(hip[:, 1]) / L:.4f} L) and pitch")
+    ax.set_title(f"{gait.robot.variant}: hip height (peak-to-peak {np.ptp(hip[:, 1]) / L:.4f} L) and pitch")
     ax.grid(True, alpha=0.3)
     lines = ax.get_legend_handles_labels()
     lines2 = twin.get_legend_handles_labels()

@@ -14,7 +14,7 @@ The viewer only draws. Its parts: the server, listening on 127.0.0.1 only
 started yourself, its binding is then yours); the exported page's edits, its title bar and the
 ``#t=SECONDS`` seek script (:mod:`pasibot_pin.viz.meshcat_page`); the colours, markers, paths and
 force arrows (:mod:`pasibot_pin.viz.viewer_scene`). The walk and the forces it shows are computed
-in :mod:`pasibot_pin.studies.walk_forces`.
+in :mod:`pasibot_pin.studies.gait_forces`.
 
 Lengths [m], forces [N], time [s].
 """
@@ -37,7 +37,7 @@ from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import write_text_atomic
 from pasibot_pin.model.coordinates import HIP_X
 from pasibot_pin.model.robot import load
-from pasibot_pin.studies.walk_forces import walk_trajectory
+from pasibot_pin.studies.gait_forces import gait_trajectory
 from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.meshcat_page import SEEK_SCRIPT, Hud, command_type, finish_page
 from pasibot_pin.viz.meshcat_scene import OfflineWindow
@@ -52,7 +52,7 @@ from pasibot_pin.viz.viewer_scene import (
     JOINT_COLOUR,
     JOINT_RADIUS,
     PATH_COLOURS,
-    ForceTrack,
+    ForceArrows,
     arrow_transform,
     check_fps,
     check_trajectory,
@@ -61,14 +61,14 @@ from pasibot_pin.viz.viewer_scene import (
     frame_paths,
     hex_int,
     mark_transform,
-    marker_tracks,
+    marker_paths,
     quasi_static_ground_reaction,
     reaction_forces,
     sole_depth,
 )
 
 if TYPE_CHECKING:
-    from pasibot_pin.kinematics.gait import Walk
+    from pasibot_pin.kinematics.gait import Gait
     from pasibot_pin.model.robot import PasibotRobot
 
 __all__ = [
@@ -80,7 +80,7 @@ __all__ = [
     "ROOT",
     "SEEK_SCRIPT",
     "Export",
-    "ForceTrack",
+    "ForceArrows",
     "Hud",
     "ServerProcess",
     "WalkViewer",
@@ -91,12 +91,12 @@ __all__ = [
     "export_html",
     "foot_paths",
     "frame_paths",
-    "marker_tracks",
+    "marker_paths",
     "quasi_static_ground_reaction",
     "reaction_forces",
     "sole_depth",
     "start_server",
-    "walk_trajectory",
+    "gait_trajectory",
 ]
 
 ROOT = "pasibot"
@@ -159,7 +159,7 @@ class WalkViewer:
         self.viz.loadViewerModel(rootNodeName=ROOT)
         self.meshcat["/Grid"].set_property("visible", False)
         self.meshcat["/Axes"].set_property("visible", False)
-        self.forces: dict[str, ForceTrack] = {}
+        self.forces: dict[str, ForceArrows] = {}
         self.marks: dict[str, tuple[np.ndarray, np.ndarray]] = {}
         self.hud: Hud | None = None
         self.follow: np.ndarray | None = None  # the scene's shift per animation frame (N, 4, 4): the hip mid-view
@@ -248,10 +248,10 @@ class WalkViewer:
         return paths
 
     def add_markers(self, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> None:
-        """Joint markers (dark spheres) and contact points (green spheres) along ``qs`` (see :func:`marker_tracks`)."""
+        """Joint markers (dark spheres) and contact points (green spheres) along ``qs`` (see :func:`marker_paths`)."""
         import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
-        self.marks = marker_tracks(self.robot, qs, modes)
+        self.marks = marker_paths(self.robot, qs, modes)
         joint = mg.MeshLambertMaterial(color=hex_int(JOINT_COLOUR))
         contact = mg.MeshLambertMaterial(color=hex_int(CONTACT_COLOUR))
         for node, (positions, shown) in self.marks.items():
@@ -260,13 +260,13 @@ class WalkViewer:
             self.meshcat[f"{ROOT}/{node}"].set_object(sphere, joint if is_joint else contact)
             self.meshcat[f"{ROOT}/{node}"].set_transform(mark_transform(positions[0], shown[0]))
 
-    def add_force(self, name: str, track: ForceTrack) -> None:
-        """An arrow (unit length along its local x, stretched per frame) for a force track."""
+    def add_force(self, name: str, arrows: ForceArrows) -> None:
+        """An arrow (unit length along its local x, stretched per frame) for a force (one arrow per frame)."""
         import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
-        if not isinstance(track, ForceTrack):
-            raise ParameterError("parameter 'track' must be a ForceTrack")
-        material = mg.MeshLambertMaterial(color=hex_int(track.colour))
+        if not isinstance(arrows, ForceArrows):
+            raise ParameterError("parameter 'arrows' must be a ForceArrows")
+        material = mg.MeshLambertMaterial(color=hex_int(arrows.colour))
         radius = 0.006
         y_to_x = np.array([[0.0, 1.0, 0.0, 0.0], [-1.0, 0.0, 0.0, 0.0], [0.0, 0.0, 1.0, 0.0], [0.0, 0.0, 0.0, 1.0]])
 
@@ -283,12 +283,12 @@ class WalkViewer:
         node = self.meshcat[f"{ROOT}/forces/{name}"]
         node["shaft"].set_object(shaft, material)
         node["head"].set_object(head, material)
-        self.forces[name] = track
-        self._place_force(node, track, 0)
+        self.forces[name] = arrows
+        self._place_force(node, arrows, 0)
 
     @staticmethod
-    def _place_force(node, track: ForceTrack, k: int) -> None:
-        T, length = arrow_transform(track.points[k], track.forces[k], track.scale)
+    def _place_force(node, arrows: ForceArrows, k: int) -> None:
+        T, length = arrow_transform(arrows.points[k], arrows.forces[k], arrows.scale)
         T[:3, 0] *= max(length, 1e-6)
         node.set_transform(T)
 
@@ -344,8 +344,8 @@ class WalkViewer:
         for rep in range(repetitions):
             for k, q in enumerate(qs):
                 self.viz.display(q)
-                for name, track in self.forces.items():
-                    self._place_force(self.meshcat[f"{ROOT}/forces/{name}"], track, k)
+                for name, arrows in self.forces.items():
+                    self._place_force(self.meshcat[f"{ROOT}/forces/{name}"], arrows, k)
                 for node, (positions, shown) in self.marks.items():
                     self.meshcat[f"{ROOT}/{node}"].set_transform(mark_transform(positions[k], shown[k]))
                 wait = start + (rep * len(qs) + k + 1) / fps - time.monotonic()
@@ -358,16 +358,16 @@ class WalkViewer:
 
         qs = check_trajectory(self.robot, qs)
         fps = check_fps(fps)
-        for name, track in self.forces.items():
-            if len(track.points) != len(qs):
-                raise ParameterError(f"force {name!r} has {len(track.points)} frames, the trajectory {len(qs)}")
+        for name, arrows in self.forces.items():
+            if len(arrows.points) != len(qs):
+                raise ParameterError(f"force {name!r} has {len(arrows.points)} frames, the trajectory {len(qs)}")
         anim = Animation(default_framerate=fps)
         for k, q in enumerate(qs):
             with anim.at_frame(self.meshcat, k) as frame:
                 for node, T in self.visual_poses(q).items():
                     frame[node].set_transform(T)
-                for name, track in self.forces.items():
-                    T, length = arrow_transform(track.points[k], track.forces[k], track.scale)
+                for name, arrows in self.forces.items():
+                    T, length = arrow_transform(arrows.points[k], arrows.forces[k], arrows.scale)
                     frame[f"{ROOT}/forces/{name}"].set_transform(T)
                     frame[f"{ROOT}/forces/{name}"].set_property("scale", "vector3", [max(length, 1e-6), 1.0, 1.0])
                 if self.follow is not None and len(self.follow) == len(qs):
@@ -414,16 +414,16 @@ class Export:
         path: the HTML file.
         q: configuration of every animation frame (N, nq); frame k is shown at time k / fps.
         fps: frames per second of the animation [1/s].
-        walk: the walk the frames come from.
+        gait: the gait the frames come from.
         paths: the drawn traces ``{name: (N, 3)}`` [m].
-        forces: the drawn force arrows ``{name: ForceTrack}``.
+        forces: the drawn force arrows ``{name: ForceArrows}``.
 
     """
 
     path: Path
     q: np.ndarray
     fps: float
-    walk: Walk
+    gait: Gait
     paths: dict[str, np.ndarray]
     forces: dict = field(default_factory=dict)
 
@@ -437,7 +437,7 @@ def build_walk_scene(
     viewer: WalkViewer,
     qs: np.ndarray,
     fps: float,
-    forces: Mapping[str, ForceTrack] | None = None,
+    forces: Mapping[str, ForceArrows] | None = None,
     play: bool = True,
     repetitions: int = LOOP_REPETITIONS,
     title: str | None = None,
@@ -467,8 +467,8 @@ def build_walk_scene(
     xs = np.concatenate([p[:, 0] for p in paths.values()])
     margin = 0.4
     viewer.add_ground((float(xs.min()) - margin, float(xs.max()) + margin))
-    for name, track in (forces or {}).items():
-        viewer.add_force(name, track)
+    for name, arrows in (forces or {}).items():
+        viewer.add_force(name, arrows)
     viewer.add_markers(qs, modes)
     viewer.set_side_camera(qs, follow=follow)
     viewer.display(qs[0])
@@ -495,7 +495,7 @@ def export_html(
     fps: float = 30.0,
     force: bool = False,
     show_robot: bool = True,
-    forces: Mapping[str, ForceTrack] | None = None,
+    forces: Mapping[str, ForceArrows] | None = None,
     ground_reaction: bool = False,
     reactions: float | None = None,
     zmq_url: str | None = None,
@@ -511,7 +511,7 @@ def export_html(
         fps: animation frames per second [1/s].
         force: overwrite an existing file.
         show_robot: ``False`` hides the robot (ground and paths only; a reference picture).
-        forces: optional force arrows, one :class:`ForceTrack` per name, one row per frame.
+        forces: optional force arrows, one :class:`ForceArrows` per name, one row per frame.
         ground_reaction: add the quasi-static ground reaction arrow
             (:func:`quasi_static_ground_reaction`, 0.5 mm per N).
         reactions: crank speed [rad/s] at which to draw the ground reaction and the cut-joint
@@ -534,16 +534,16 @@ def export_html(
     fps = check_fps(fps)
     if robot is None:
         robot = load(variant, legs=2)
-    walk = walk_trajectory(robot, steps=steps, samples_per_step=samples_per_step)
+    gait = gait_trajectory(robot, steps=steps, samples_per_step=samples_per_step)
     if ground_reaction:
-        forces = {**(forces or {}), "ground": quasi_static_ground_reaction(robot, walk.q, walk.stance)}
+        forces = {**(forces or {}), "ground": quasi_static_ground_reaction(robot, gait.q, gait.stance)}
     if reactions is not None:
-        forces = {**(forces or {}), **reaction_forces(robot, walk, omega=reactions)}
+        forces = {**(forces or {}), **reaction_forces(robot, gait, omega=reactions)}
     viewer = WalkViewer(robot, zmq_url=zmq_url, offline=zmq_url is None)
     try:
         plural = "" if steps == 1 else "s"
-        title = f"PASIBOT {robot.variant} biped, {steps} step{plural} (kinematic walk, stance sole welded flat)"
-        paths = build_walk_scene(viewer, walk.q, fps, forces, title=title)
+        title = f"PASIBOT {robot.variant} biped, {steps} step{plural} (prescribed gait, stance sole welded flat)"
+        paths = build_walk_scene(viewer, gait.q, fps, forces, title=title)
         viewer.show_robot(show_robot)
         if not show_robot:  # a reference picture: no title bar either
             viewer.hud = None
@@ -552,4 +552,4 @@ def export_html(
         viewer.close()
 
     write_text_atomic(out, html)
-    return Export(path=out, q=walk.q.copy(), fps=fps, walk=walk, paths=paths, forces=dict(forces or {}))
+    return Export(path=out, q=gait.q.copy(), fps=fps, gait=gait, paths=paths, forces=dict(forces or {}))

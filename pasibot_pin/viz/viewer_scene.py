@@ -2,8 +2,8 @@
 
 The robot's visuals coloured by group (the colours of :data:`pasibot_pin.viz.plots.GROUP_COLOURS`,
 so the 3-D view and the 2-D plots agree; the hip see-through), the joint and contact markers of a
-trajectory, the feet's and hip's paths, and force arrows (:class:`ForceTrack`). The forces' physics
-is :mod:`pasibot_pin.studies.walk_forces`; here they become arrows.
+trajectory, the feet's and hip's paths, and force arrows (:class:`ForceArrows`). The forces' physics
+is :mod:`pasibot_pin.studies.gait_forces`; here they become arrows.
 
 Lengths [m], forces [N].
 """
@@ -19,7 +19,7 @@ import numpy as np
 import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError
-from pasibot_pin.studies.walk_forces import quasi_static_ground_force, walk_reaction_forces
+from pasibot_pin.studies.gait_forces import gait_reaction_forces, quasi_static_ground_force
 from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
 
@@ -77,7 +77,7 @@ def coloured_visual_model(robot: PasibotRobot) -> pin.GeometryModel:
     return visual
 
 
-def marker_tracks(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> dict:
+def marker_paths(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> dict:
     """Positions of the joint and contact markers along a trajectory.
 
     Args:
@@ -102,15 +102,15 @@ def marker_tracks(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Seque
             out[f"joints/{name}"][k] = data.oMi[j].translation
         for name, fid in cuts.items():
             out[f"joints/{name}"][k] = data.oMf[fid].translation
-    tracks = {node: (pos, np.ones(len(qs), bool)) for node, pos in out.items()}
+    paths = {node: (pos, np.ones(len(qs), bool)) for node, pos in out.items()}
     contacts = foot_contacts(robot, qs)
     for side, points in contacts.points.items():
         for i, point in enumerate(("heel", "toe")):
             shown = contacts.touching[side][:, i]
             if modes is not None:
                 shown = np.array([m not in ("air",) for m in modes[side]]) & shown
-            tracks[f"contacts/{side}_{point}"] = (points[:, i].copy(), shown)
-    return tracks
+            paths[f"contacts/{side}_{point}"] = (points[:, i].copy(), shown)
+    return paths
 
 
 def mark_transform(position: np.ndarray, shown: bool) -> np.ndarray:
@@ -190,7 +190,7 @@ def arrow_transform(point: np.ndarray, force: np.ndarray, scale: float) -> tuple
 
 
 @dataclass
-class ForceTrack:
+class ForceArrows:
     """A force to draw as an arrow at each frame of a trajectory.
 
     Attributes:
@@ -210,50 +210,50 @@ class ForceTrack:
         self.points = np.asarray(self.points, dtype=float)
         self.forces = np.asarray(self.forces, dtype=float)
         if self.points.ndim != 2 or self.points.shape[1] != 3 or self.forces.shape != self.points.shape:
-            raise ParameterError("ForceTrack: parameters 'points' and 'forces' must both have shape (N, 3)")
+            raise ParameterError("ForceArrows: parameters 'points' and 'forces' must both have shape (N, 3)")
         if not (np.all(np.isfinite(self.points)) and np.all(np.isfinite(self.forces))):
-            raise ParameterError("ForceTrack: parameters 'points' and 'forces' must be finite")
+            raise ParameterError("ForceArrows: parameters 'points' and 'forces' must be finite")
         if not (math.isfinite(self.scale) and self.scale > 0):
-            raise ParameterError(f"ForceTrack: parameter 'scale' must be a positive [m/N], got {self.scale}")
+            raise ParameterError(f"ForceArrows: parameter 'scale' must be a positive [m/N], got {self.scale}")
 
 
 def quasi_static_ground_reaction(
     robot: PasibotRobot, qs: np.ndarray, stance: Sequence[str], scale: float = 5e-4
-) -> ForceTrack:
-    """The arrow of the quasi-static ground force (:func:`pasibot_pin.studies.walk_forces.quasi_static_ground_force`).
+) -> ForceArrows:
+    """The arrow of the quasi-static ground force (:func:`pasibot_pin.studies.gait_forces.quasi_static_ground_force`).
 
     The ground pushes up with the whole weight, along the vertical through the centre of mass; the
     arrow starts on the ground below the COM, in the stance leg's plane, ``scale`` [m/N] long per newton.
     """
-    return ForceTrack(*quasi_static_ground_force(robot, check_trajectory(robot, qs), stance), scale)
+    return ForceArrows(*quasi_static_ground_force(robot, check_trajectory(robot, qs), stance), scale)
 
 
 def reaction_forces(
-    robot: PasibotRobot, walk, omega: float = 0.0, ground_scale: float = 5e-4, cut_scale: float | None = None
-) -> dict[str, ForceTrack]:
-    """Arrows of the ground reaction and the cut-joint forces along a walk, at crank speed ``omega`` [rad/s].
+    robot: PasibotRobot, gait, omega: float = 0.0, ground_scale: float = 5e-4, cut_scale: float | None = None
+) -> dict[str, ForceArrows]:
+    """Arrows of the ground reaction and the cut-joint forces along a gait, at crank speed ``omega`` [rad/s].
 
-    The forces come from :func:`pasibot_pin.studies.walk_forces.walk_reaction_forces` (inverse
+    The forces come from :func:`pasibot_pin.studies.gait_forces.gait_reaction_forces` (inverse
     dynamics): the ground's through the centre of pressure, each cut joint's at the joint.
 
     Args:
         robot: the two-legged robot.
-        walk: a :class:`pasibot_pin.kinematics.gait.Walk` of that robot (flat feet).
+        gait: a :class:`pasibot_pin.kinematics.gait.Gait` of that robot (flat feet).
         omega: crank speed [rad/s]; 0 = quasi-static.
         ground_scale: arrow length per newton of the ground reaction [m/N].
         cut_scale: arrow length per newton of the cut forces [m/N]; default: the largest
             cut force is drawn 0.15 m long.
 
     Returns:
-        ``{'ground': ..., 'stance_j2': ..., 'swing_j5': ...}`` :class:`ForceTrack` objects.
+        ``{'ground': ..., 'stance_j2': ..., 'swing_j5': ...}`` :class:`ForceArrows` objects.
 
     """
-    forces = walk_reaction_forces(robot, walk, omega)
+    forces = gait_reaction_forces(robot, gait, omega)
     ground = forces.pop("ground")
-    tracks = {"ground": ForceTrack(*ground, ground_scale)}
+    arrows = {"ground": ForceArrows(*ground, ground_scale)}
     largest = max(float(np.linalg.norm(f, axis=1).max()) for _, f in forces.values()) if forces else 0.0
     if cut_scale is None:
         cut_scale = 0.15 / largest if largest > 0 else 1.0
     for name, (points, f) in forces.items():
-        tracks[name] = ForceTrack(points, f, cut_scale, colour=CUT_FORCE_COLOUR)
-    return tracks
+        arrows[name] = ForceArrows(points, f, cut_scale, colour=CUT_FORCE_COLOUR)
+    return arrows

@@ -9,9 +9,11 @@ One step algorithm with its seams, each in one module:
 - :mod:`~pasibot_pin.dynamics.floor.qp`: the contact QP of one step (the exact active set, a
   reduced solve on the free motions, proxsuite).
 - :mod:`~pasibot_pin.dynamics.floor.engine`: :class:`FloorSimulator`, the planar biped (hip x, z,
-  pitch): its step, start and run; :mod:`~pasibot_pin.dynamics.floor.shape_track` and
-  :mod:`~pasibot_pin.dynamics.floor.track` its tracked step (the legs' shape known ahead, the
-  step on the hip's freedoms in Python floats).
+  pitch): its step, start and run. The *shape track*
+  (:mod:`~pasibot_pin.dynamics.floor.shape_track`, in 3-D coordinates
+  :mod:`~pasibot_pin.dynamics.floor.shape_track3d`) is the legs' shape known ahead; the *tracked step*
+  (:mod:`~pasibot_pin.dynamics.floor.tracked_step`) is the step that follows it, on the hip's freedoms in
+  Python floats. "Track" means nothing else in the package (the viewer draws :class:`ForceArrows`).
 - :mod:`~pasibot_pin.dynamics.floor.run`: what a run records (:class:`FloorResult`, the contact
   modes, the judge's samples).
 - :mod:`~pasibot_pin.dynamics.floor.engine3d`: :class:`Floor3D`, the same step with a free hip in

@@ -52,7 +52,7 @@ from pasibot_pin.dynamics.floor.run import (
 )
 from pasibot_pin.dynamics.floor.settings import FloorSettings, crank_advance, crank_advances, step_count
 from pasibot_pin.dynamics.floor.shape_track import ShapeSplit, ShapeTrack
-from pasibot_pin.dynamics.floor.track import FreeStepper, PointRows, check_speed
+from pasibot_pin.dynamics.floor.tracked_step import FreeStepper, PointRows, check_speed
 from pasibot_pin.dynamics.spring_energy import ankle_indices, spring_forces
 from pasibot_pin.dynamics.verdict import GaitCriteria, GaitJudge, GaitSample, JudgeFactory
 from pasibot_pin.errors import (
@@ -182,7 +182,7 @@ class FloorSimulator:
     def shape_track(self, h: float) -> ShapeTrack | None:
         """The legs' shape along the crank schedule, for steps of ``h`` [s] (``None``: the rows have no split).
 
-        Without the planar contact rows: the 3-D floor (:mod:`~pasibot_pin.dynamics.floor.track3d`) reads
+        Without the planar contact rows: the 3-D floor (:mod:`~pasibot_pin.dynamics.floor.shape_track3d`) reads
         the shapes, their velocities and tangents, and computes its own contacts.
         """
         split = self._shape_split()
@@ -209,7 +209,7 @@ class FloorSimulator:
         return self.ground.planar_gaps(rows), rows.real, jac.imag, jac.real
 
     def _contact_at(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
-        """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor.track.PointRows`).
+        """:meth:`contact_rows` from the cached rows (:class:`~pasibot_pin.dynamics.floor.tracked_step.PointRows`).
 
         The arrays are views of the cache: read them, never write into them.
         """

@@ -17,7 +17,7 @@ velocity u is the hip's linear and angular velocity *in world axes* (then the le
 the hip's y, roll and yaw held, u is the planar velocity and the step the planar step, term for
 term, so :class:`Floor3D` with ``hold_lateral=True`` and a footprint of no width reproduces the
 planar walk (tests/test_floor3d.py). Free, the QP is solved exactly on the hip's freedoms
-(:mod:`.ldp`), the legs' shape known ahead (:mod:`.track3d`), and a settled gait repeats (:mod:`.repeat3d`).
+(:mod:`.ldp`), the legs' shape known ahead (:mod:`.shape_track3d`), and a settled gait repeats (:mod:`.repeat3d`).
 The planar judge hears each foot's heel and toe (the corners summed), plus ``tipped`` and ``collided``.
 
 Units: SI, angles [rad], impulses [N.s]; forces are impulses over h [N].
@@ -41,8 +41,8 @@ from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, Replayed, SettledGai
 from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
 from pasibot_pin.dynamics.floor.run import foot_samples, point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
-from pasibot_pin.dynamics.floor.track import check_speed
-from pasibot_pin.dynamics.floor.track3d import SpatialShape, SpatialTrack
+from pasibot_pin.dynamics.floor.shape_track3d import SpatialShape, SpatialTrack
+from pasibot_pin.dynamics.floor.tracked_step import check_speed
 from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitSample, JudgeFactory, Verdict
 from pasibot_pin.errors import (
     ClosureError,
@@ -94,7 +94,7 @@ class Floor3D:
             ``y - amplitude sin(theta + phase) = 0``, on the model's slider.
 
     Attributes:
-        tracked: take the tracked step (:mod:`~pasibot_pin.dynamics.floor.track3d`: the legs' shape known
+        tracked: take the tracked step (:mod:`~pasibot_pin.dynamics.floor.shape_track3d`: the legs' shape known
             ahead, the hip and a free ankle left to the QP) where the track has the shape; ``False``:
             the general step on every coordinate (the check of the tracked one).
         repeats: repeat a settled gait's steps (:mod:`~pasibot_pin.dynamics.floor.repeat3d`); ``False``: simulate all.
@@ -348,7 +348,7 @@ class Floor3D:
         return q_new, u_new, normal, bilateral[self._crank_rows]
 
     def tracked_step(self, q: np.ndarray, u: np.ndarray, h: float, shape: SpatialShape, track: SpatialTrack):
-        """One step with the legs' shape known ahead (:mod:`~pasibot_pin.dynamics.floor.track3d`), as :meth:`step`'s.
+        """One step with the legs' shape known ahead (:mod:`.shape_track3d`), as :meth:`step`'s.
 
         ``None`` where the free coordinates' QP does not answer exactly (the general step takes it).
         """

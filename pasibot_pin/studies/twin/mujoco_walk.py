@@ -11,7 +11,7 @@ of our floor simulator. Everything but the engine is shared:
   stand at theta0, as :func:`walk_design`), the soles' capsules :data:`SINK` into the floor;
 * the cranks: theta0 + omega advance(t) (:func:`~pasibot_pin.dynamics.floor.crank_advance`,
   the walk's ramp), imposed by :data:`MJ_WALK`'s ``constraint`` drives (an ``equality joint``
-  per crank, set every step). They track better than the position servo: measured on the
+  per crank, set every step). They follow the target better than the position servo: measured on the
   4.5 L parallel walker at 1 rad/s, the servo (kp 5000, kv 20, its ramp lag kv omega / kp
   added) is 5-10 mrad off under the stance torque, the drive 1.9 mrad before and < 0.1 mrad
   after its own lag (2 tau zeta^2 omega with the equality's solref (tau, zeta)) is added
@@ -68,7 +68,7 @@ import pinocchio as pin
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.run import LOAD_TOL
 from pasibot_pin.dynamics.floor.settings import crank_advance
-from pasibot_pin.dynamics.floor.track import SPEED_LIMIT
+from pasibot_pin.dynamics.floor.tracked_step import SPEED_LIMIT
 from pasibot_pin.dynamics.verdict import FootSample, GaitJudge, GaitSample, Verdict
 from pasibot_pin.errors import MissingExtraError, ParameterError, SimulationError
 from pasibot_pin.model.coordinates import HIP_PITCH, HIP_X, HIP_Z, SIDES

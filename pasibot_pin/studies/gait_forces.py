@@ -1,9 +1,9 @@
-"""The forces of a kinematic walk, for the viewer to draw: the ground's and the cut joints'.
+"""The forces of a prescribed (kinematic) gait, for the viewer to draw: the ground's and the cut joints'.
 
 The 3-D viewer (:mod:`pasibot_pin.viz.viewer`) only draws; the physics of what it draws is here:
-the walk itself (:func:`walk_trajectory`), the quasi-static ground force through the centre of
+the gait itself (:func:`gait_trajectory`), the quasi-static ground force through the centre of
 mass (:func:`quasi_static_ground_force`) and, at a crank speed, the ground reaction through the
-centre of pressure and every cut joint's force by inverse dynamics (:func:`walk_reaction_forces`).
+centre of pressure and every cut joint's force by inverse dynamics (:func:`gait_reaction_forces`).
 Each force is a pair (application points (N, 3) [m], force vectors (N, 3) [N]) in the world frame.
 
 Units: SI [m, N, rad/s].
@@ -19,21 +19,21 @@ import pinocchio as pin
 
 from pasibot_pin.dynamics.inverse import inverse_dynamics
 from pasibot_pin.errors import ParameterError, SimulationError
-from pasibot_pin.kinematics import gait
+from pasibot_pin.kinematics.gait import Gait, prescribed_gait
 from pasibot_pin.model.coordinates import SIDES, other
 
 if TYPE_CHECKING:
     from pasibot_pin.model.robot import PasibotRobot
 
-__all__ = ["PointForces", "quasi_static_ground_force", "walk_reaction_forces", "walk_trajectory"]
+__all__ = ["PointForces", "quasi_static_ground_force", "gait_reaction_forces", "gait_trajectory"]
 
 PointForces = tuple[np.ndarray, np.ndarray]
 """(application points (N, 3) [m], force vectors (N, 3) [N]), world frame."""
 
 
-def walk_trajectory(robot: PasibotRobot, steps: int = 2, samples_per_step: int = 30) -> gait.Walk:
-    """The walk to show: :func:`pasibot_pin.kinematics.gait.walk` (stance exchange every half crank turn)."""
-    return gait.walk(robot, steps=steps, samples_per_step=samples_per_step)
+def gait_trajectory(robot: PasibotRobot, steps: int = 2, samples_per_step: int = 30) -> Gait:
+    """The gait to show: :func:`pasibot_pin.kinematics.gait.prescribed_gait` (stance exchange every half crank turn)."""
+    return prescribed_gait(robot, steps=steps, samples_per_step=samples_per_step)
 
 
 def quasi_static_ground_force(robot: PasibotRobot, qs: np.ndarray, stance: Sequence[str]) -> PointForces:
@@ -47,7 +47,7 @@ def quasi_static_ground_force(robot: PasibotRobot, qs: np.ndarray, stance: Seque
     Args:
         robot: a two-legged robot.
         qs: configurations (N, nq).
-        stance: the stance side at each frame (``'right'`` / ``'left'``), e.g. ``walk.stance``.
+        stance: the stance side at each frame (``'right'`` / ``'left'``), e.g. ``gait.stance``.
 
     Returns:
         (points, forces (0, 0, m g)) [m, N].
@@ -67,8 +67,8 @@ def quasi_static_ground_force(robot: PasibotRobot, qs: np.ndarray, stance: Seque
     return points, np.tile([0.0, 0.0, weight], (len(qs), 1))
 
 
-def walk_reaction_forces(robot: PasibotRobot, walk: gait.Walk, omega: float = 0.0) -> dict[str, PointForces]:
-    """Ground reaction and cut-joint forces along a walk, from :func:`pasibot_pin.dynamics.inverse_dynamics`.
+def gait_reaction_forces(robot: PasibotRobot, gait: Gait, omega: float = 0.0) -> dict[str, PointForces]:
+    """Ground reaction and cut-joint forces along a gait, from :func:`pasibot_pin.dynamics.inverse_dynamics`.
 
     The ground's in-plane wrench on the stance foot (Fx, Fz and the moment about the ankle) is one
     force through the centre of pressure, on the ground. Each cut joint's force on the first link
@@ -76,7 +76,7 @@ def walk_reaction_forces(robot: PasibotRobot, walk: gait.Walk, omega: float = 0.
 
     Args:
         robot: the two-legged robot.
-        walk: a :class:`pasibot_pin.kinematics.gait.Walk` of that robot (flat feet).
+        gait: a :class:`pasibot_pin.kinematics.gait.Gait` of that robot (flat feet).
         omega: crank speed [rad/s]; 0 = quasi-static.
 
     Returns:
@@ -86,12 +86,12 @@ def walk_reaction_forces(robot: PasibotRobot, walk: gait.Walk, omega: float = 0.
         SimulationError: no vertical ground reaction at a frame (the centre of pressure is undefined).
 
     """
-    res = inverse_dynamics(robot, walk.theta, omega)
+    res = inverse_dynamics(robot, gait.theta, omega)
     data = robot.model.createData()
-    n = len(walk.q)
+    n = len(gait.q)
     ground_points, ground_forces = np.zeros((n, 3)), np.zeros((n, 3))
     cut_points = {name: np.zeros((n, 3)) for name in res.cuts}
-    for k, q in enumerate(walk.q):
+    for k, q in enumerate(gait.q):
         pin.framesForwardKinematics(robot.model, data, q)
         side = res.stance[k]
         fx, fz, moment = res.ground[k]
