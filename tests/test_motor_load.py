@@ -150,3 +150,15 @@ def test_walk_json_has_the_motor_figures(capsys):
     for key in (*keys, "exchange_impulse_Nms", "exchange_impulse_floor_Nms"):
         assert out[key] is None or out[key] >= 0.0, key
     assert "peak_motor_torque_Nm" not in out  # one definition: the step's spike is gone
+
+
+def test_a_run_too_short_for_figures_says_so_without_a_nan():
+    """A run that ends inside its crank ramp has no drive to size (a start that breaks a limit ends at once)."""
+    short = motor_load(_synthetic(1e-3, 0.0), omega=2.0, ramp=2.0)
+    assert np.isnan(short.torque_peak_Nm) and "nan" not in short.summary() and "no figures" in short.summary()
+    result = _synthetic(1e-3, 0.3)
+    result.modes["right"] = ["sliding"] * len(result.t)  # every sample next to a mode change: all in an exchange
+    result.modes["right"][::2] = ["sticking"] * len(result.modes["right"][::2])
+    busy = motor_load(result, omega=2.0)
+    assert np.isnan(busy.torque_peak_Nm) and "nan" not in busy.summary()
+    assert busy.exchange_impulse_Nms > 0 and "impulse up to" in busy.summary()

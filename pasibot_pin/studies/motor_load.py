@@ -116,7 +116,11 @@ class MotorLoad:
         return self.torque_peak_Nm * scale, self.torque_rms_Nm * scale, self.omega * ratio
 
     def summary(self) -> str:
-        """Two lines: the drive between the exchanges, then the exchanges."""
+        """Two lines: the drive between the exchanges, then the exchanges (no NaN: a figure not there is said)."""
+        if not math.isfinite(self.exchange_impulse_Nms):
+            return f"motor: no figures (the run ended before the cranks, ramping up, reached {self.omega:g} rad/s)"
+        if not math.isfinite(self.torque_peak_Nm):
+            return f"motor: no sample between the foot exchanges to size the drive by\n{self._exchanges()}"
         power = self.power_mean_W
         mean = f"mean positive power {power:.1f} W (both cranks) " if math.isfinite(power) else ""
         return (
@@ -128,7 +132,7 @@ class MotorLoad:
 
     def _exchanges(self) -> str:
         """The exchanges' line: the largest impulse and its dip, or that none is resolved."""
-        floor = f"{self.impulse_floor_Nms:.3f} N.m.s" if math.isfinite(self.impulse_floor_Nms) else "the step's"
+        floor = f"{self.impulse_floor_Nms:.3f} N.m.s" if math.isfinite(self.impulse_floor_Nms) else "the step's floor"
         if not self.exchange_impulse_Nms > 0:
             return f"exchanges: no impulse through a crank above {floor} (what this time step resolves)"
         return (
