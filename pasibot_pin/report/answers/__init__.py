@@ -121,11 +121,10 @@ def _speeds(omegas: list[float]) -> str:
     return f"{', '.join(f'{w:g}' for w in omegas[:-1])} and {omegas[-1]:g} rad/s"
 
 
-def recommended_walk() -> tuple[Design, object, MotorLoad]:
-    """The recommended walker, its walk on the floor (:data:`BUILD_STEPS` steps) and its motor load."""
+def recommended_walk() -> tuple[Design, object]:
+    """The recommended walker and its walk on the floor (:data:`BUILD_STEPS` steps)."""
     design = recommended_walker()
-    walk = walk_design(design, WalkSettings(steps=BUILD_STEPS))
-    return design, walk, motor_load(walk.result, walk.omega, walk.settings.crank_ramp)
+    return design, walk_design(design, WalkSettings(steps=BUILD_STEPS))
 
 
 def recommended_lines(design: Design, walk) -> tuple[str, str]:
@@ -186,13 +185,8 @@ def answer_lines(walking: list[str], build: str, motor: str, spring: str) -> lis
 
 def answers() -> list[str]:
     """The box's lines, every walk run afresh (:func:`answer_lines`)."""
-    design, walk, load = recommended_walk()
-    return answer_lines(
-        walking_answer_lines(),
-        build_answer_line(design, walk),
-        motor_answer_line(load),
-        spring_answer_line(recommended_spring()),
-    )
+    build_line, motor_line = recommended_lines(*recommended_walk())  # the lines analyze takes from its walk
+    return answer_lines(walking_answer_lines(), build_line, motor_line, spring_answer_line(recommended_spring()))
 
 
 def build(out_dir: Path):
