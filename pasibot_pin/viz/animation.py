@@ -256,7 +256,9 @@ def _clock_painter(fig, clock):
     font = ImageFont.truetype(findfont(props), size=size)
     x, y = clock.get_transform().transform(clock.get_position())
     anchor = (float(x), float(fig.bbox.height - y))  # matplotlib's y points up, the image's down
-    linespacing = clock.get_linespacing()  # a factor, or "normal" (the font's own line gap)
+    # a factor, or "normal" (the font's own line gap); matplotlib < 3.11 has no getter (its default is 1.2)
+    getter = getattr(clock, "get_linespacing", None)
+    linespacing = getter() if getter is not None else getattr(clock, "_linespacing", 1.2)
     spacing = (linespacing - 1.0) * size if isinstance(linespacing, (int, float)) else 0.2 * size
     colour = tuple(round(255 * c) for c in to_rgba(clock.get_color()))
 
