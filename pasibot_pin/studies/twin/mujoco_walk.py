@@ -209,9 +209,10 @@ class _Twin:
         self.one_motor = self.floor.motors == "one"
         self.model.eq_data[self.drives, 0] = self.theta0
         self._drive_rows: np.ndarray | None = None
-        self._foot_of_geom = np.full(model.ngeom, -1)
+        foot_of_geom = np.full(model.ngeom, -1)
         for foot, geoms in enumerate(names):
-            self._foot_of_geom[[model.geom(name).id for name in geoms]] = foot
+            foot_of_geom[[model.geom(name).id for name in geoms]] = foot
+        self._foot_of_geom: list[int] = foot_of_geom.tolist()  # read once per contact and step: a list
         self._ends = np.array(self.sites).ravel()
         self._recent = np.zeros((max(1, round(LOAD_WINDOW / SAMPLE_DT)), 4))  # the last samples' forces [N]
         self._slot = 0
@@ -247,18 +248,21 @@ class _Twin:
         ncon = data.ncon
         if not ncon:
             return
-        # a few contacts: scalar arithmetic on lists is cheaper than numpy's per-call cost here
+        # a few dozen contacts at most: scalar arithmetic on lists is cheaper than numpy's per-call cost
+        # here, and a list's float sums are the very IEEE sums of numpy's float64 scalars, in the same order
         contact = data.contact
         address = contact.efc_address[:ncon].tolist()
         geoms = np.maximum(contact.geom1[:ncon], contact.geom2[:ncon]).tolist()
         along = contact.pos[:ncon, 0].tolist()
         ends = data.site_xpos[self._ends, 0].tolist()  # x of right heel, right toe, left heel, left toe
+        efc = efc_force.tolist()
+        foot_of_geom = self._foot_of_geom
         force = [0.0, 0.0, 0.0, 0.0]  # this step's sums, then added to the window's (as one bincount)
         for a, geom, x in zip(address, geoms, along):
-            foot = int(self._foot_of_geom[geom])
+            foot = foot_of_geom[geom]
             if a < 0 or foot < 0:
                 raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
-            normal = float(efc_force[a] + efc_force[a + 1] + efc_force[a + 2] + efc_force[a + 3])  # the edges
+            normal = efc[a] + efc[a + 1] + efc[a + 2] + efc[a + 3]  # the pyramid's edges
             heel, toe = ends[2 * foot], ends[2 * foot + 1]
             force[2 * foot + ((x - 0.5 * (heel + toe)) * (toe - heel) >= 0.0)] += normal  # the toe half in x
         self._force += force
