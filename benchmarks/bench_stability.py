@@ -4,7 +4,7 @@ Runs ``walk --design designs/fastest_*.toml --stability --json`` in this process
 before the clock starts; the walk, the section state, Newton's attempt and the fitted step map are
 timed) and prints its CPU time [s] and that time over the reference workload of
 ``benchmarks/bench_demo.py`` (:func:`bench_demo.reference`, ``pin.rnea`` on the spring biped, timed
-here just before), so a regression shows as a ratio that does not depend on the machine's speed
+here just before), so a regression shows as a ratio that depends on the machine far less than seconds do
 (machines differ 2-3x in seconds; the tests assert no time). Issue 34's goal: under 30 s of CPU.
 
 Run: ``.venv/bin/python benchmarks/bench_stability.py [--repeat N]`` (or ``make bench``).

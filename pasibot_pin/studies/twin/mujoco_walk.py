@@ -208,19 +208,24 @@ class _Twin:
         self.sites = [[model.site(f"{side}_{p}").id for p in ("heel", "toe")] for side in SIDES]
         self.one_motor = self.floor.motors == "one"
         self.model.eq_data[self.drives, 0] = self.theta0
-        self._drive_rows: np.ndarray | None = None
+        self._drive_rows: list[int] | None = None
         foot_of_geom = np.full(model.ngeom, -1)
         for foot, geoms in enumerate(names):
             foot_of_geom[[model.geom(name).id for name in geoms]] = foot
         self._foot_of_geom: list[int] = foot_of_geom.tolist()  # read once per contact and step: a list
-        self._ends = np.array(self.sites).ravel()
+        self._ends: list[int] = np.array(self.sites).ravel().tolist()
+        self._site_x = self.data.site_xpos[:, 0]  # a view: MjData's buffer stays where it is
+        self._eq_angle = self.model.eq_data[:, 0]  # a view too (the drives' targets)
+        self._drive_ids: list[int] = self.drives.tolist()
+        self._theta0: list[float] = self.theta0.tolist()
         self._recent = np.zeros((max(1, round(LOAD_WINDOW / SAMPLE_DT)), 4))  # the last samples' forces [N]
         self._slot = 0
         self._reset_window()
 
     def _reset_window(self) -> None:
-        self._force = np.zeros(4)  # right heel half, right toe half, left heel half, left toe half: summed [N]
-        self._torque = np.zeros(len(self.drives))
+        # Python floats, added one by one: the very IEEE sums numpy's arrays gave, at a step's fraction of the cost
+        self._force = [0.0, 0.0, 0.0, 0.0]  # right heel half, right toe half, left heel half, left toe half [N]
+        self._torque = [0.0] * len(self.drives)
         self._n = 0
 
     def schedule(self, t: float) -> tuple[np.ndarray, float]:
@@ -230,8 +235,11 @@ class _Twin:
 
     def step(self, t: float) -> None:
         """One MuJoCo step from ``t`` [s], the drives on the schedule (lag added), forces summed."""
-        angle, rate = self.schedule(t)
-        self.model.eq_data[self.drives, 0] = angle + self.lead * rate
+        advance, rate = crank_advance(t, self.floor.crank_ramp)  # :meth:`schedule`, on floats (one step's cost)
+        omega = self.floor.omega
+        shift, lag = omega * advance, self.lead * (omega * rate)
+        for drive, theta0 in zip(self._drive_ids, self._theta0):
+            self._eq_angle[drive] = theta0 + shift + lag
         self.mj.mj_step(self.model, self.data)
         self._accumulate()
 
@@ -239,12 +247,14 @@ class _Twin:
         """Add this step's drive torques and each sole half's normal force to the window's sums."""
         data = self.data
         self._n += 1
-        efc_force = data.efc_force
+        efc = data.efc_force.tolist()
         if self._drive_rows is None:  # equality rows come first in MuJoCo's order: fixed indices
             eq_type, efc_id = int(self.mj.mjtConstraint.mjCNSTR_EQUALITY), data.efc_id
             kind = np.asarray(data.efc_type, dtype=int)
-            self._drive_rows = np.array([np.flatnonzero((kind == eq_type) & (efc_id == eq))[0] for eq in self.drives])
-        self._torque += efc_force[self._drive_rows]  # a joint equality's row has J = 1 on its crank
+            self._drive_rows = [int(np.flatnonzero((kind == eq_type) & (efc_id == eq))[0]) for eq in self.drives]
+        torque = self._torque
+        for i, row in enumerate(self._drive_rows):  # a joint equality's row has J = 1 on its crank
+            torque[i] += efc[row]
         ncon = data.ncon
         if not ncon:
             return
@@ -252,28 +262,30 @@ class _Twin:
         # here, and a list's float sums are the very IEEE sums of numpy's float64 scalars, in the same order
         contact = data.contact
         address = contact.efc_address[:ncon].tolist()
-        geoms = np.maximum(contact.geom1[:ncon], contact.geom2[:ncon]).tolist()
+        firsts, seconds = contact.geom1[:ncon].tolist(), contact.geom2[:ncon].tolist()
         along = contact.pos[:ncon, 0].tolist()
-        ends = data.site_xpos[self._ends, 0].tolist()  # x of right heel, right toe, left heel, left toe
-        efc = efc_force.tolist()
+        site_x = self._site_x.tolist()
+        ends = [site_x[s] for s in self._ends]  # x of right heel, right toe, left heel, left toe
         foot_of_geom = self._foot_of_geom
-        force = [0.0, 0.0, 0.0, 0.0]  # this step's sums, then added to the window's (as one bincount)
-        for a, geom, x in zip(address, geoms, along):
-            foot = foot_of_geom[geom]
+        force = [0.0, 0.0, 0.0, 0.0]  # this step's sums, then added to the window's
+        for a, first, second, x in zip(address, firsts, seconds, along):
+            foot = foot_of_geom[max(first, second)]
             if a < 0 or foot < 0:
                 raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
             normal = efc[a] + efc[a + 1] + efc[a + 2] + efc[a + 3]  # the pyramid's edges
             heel, toe = ends[2 * foot], ends[2 * foot + 1]
             force[2 * foot + ((x - 0.5 * (heel + toe)) * (toe - heel) >= 0.0)] += normal  # the toe half in x
-        self._force += force
+        window = self._force
+        for k in range(4):
+            window[k] += force[k]
 
     def sample(self, t: float) -> GaitSample:
         """The judge's sample at ``t`` [s]: this instant's pose, the forces averaged (:data:`LOAD_WINDOW`)."""
         mj, data = self.mj, self.data
         n = max(self._n, 1)
-        self._recent[self._slot % len(self._recent)] = self._force / n
+        self._recent[self._slot % len(self._recent)] = np.array(self._force) / n
         self._slot += 1
-        force, torque = self._recent[: self._slot].mean(axis=0).reshape(2, 2), self._torque / n
+        force, torque = self._recent[: self._slot].mean(axis=0).reshape(2, 2), np.array(self._torque) / n
         velocity = np.zeros(6)
         feet = []
         for i in range(len(SIDES)):
