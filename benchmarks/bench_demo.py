@@ -11,7 +11,8 @@ timing (``tests/test_readme_numbers.py`` checks).
 The demo's CPU is also printed over a fixed reference workload timed in this process just before
 (:func:`reference`: ``REFERENCE_CALLS`` bare ``pin.rnea`` on the spring biped), so a regression shows
 as a ratio that depends on the machine far less than seconds do. Less, not nothing: one commit's ratio
-differs between processor models (259dc77's analysis: 36x on an Intel Xeon, 47-56x on an AMD EPYC).
+differs between processor models (259dc77's analysis: 20 s of CPU on an Intel Xeon, about 36x by issue
+33's account; 47-56x on an AMD EPYC, 2026-11-28).
 Two revisions are compared in pairs on one machine, in one session (``farm-bench --vs``).
 
 ``--fresh`` also times ``make demo`` in a fresh clone of this checkout (the venv, the plain install
