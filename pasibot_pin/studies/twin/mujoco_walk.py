@@ -228,18 +228,23 @@ class _Twin:
         self._torque = [0.0] * len(self.drives)
         self._n = 0
 
+    def _angles(self, t: float) -> tuple[list[float], float]:
+        """:meth:`schedule` on Python floats (each step's; the same sums as numpy's)."""
+        advance, rate = crank_advance(t, self.floor.crank_ramp)
+        shift = self.floor.omega * advance
+        return [theta0 + shift for theta0 in self._theta0], self.floor.omega * rate
+
     def schedule(self, t: float) -> tuple[np.ndarray, float]:
         """The cranks' angles [rad] and rate [rad/s] at ``t`` [s] after the start."""
-        advance, rate = crank_advance(t, self.floor.crank_ramp)
-        return self.theta0 + self.floor.omega * advance, self.floor.omega * rate
+        angles, rate = self._angles(t)
+        return np.array(angles), rate
 
     def step(self, t: float) -> None:
         """One MuJoCo step from ``t`` [s], the drives on the schedule (lag added), forces summed."""
-        advance, rate = crank_advance(t, self.floor.crank_ramp)  # :meth:`schedule`, on floats (one step's cost)
-        omega = self.floor.omega
-        shift, lag = omega * advance, self.lead * (omega * rate)
-        for drive, theta0 in zip(self._drive_ids, self._theta0):
-            self._eq_angle[drive] = theta0 + shift + lag
+        angles, rate = self._angles(t)
+        lag = self.lead * rate
+        for drive, angle in zip(self._drive_ids, angles):
+            self._eq_angle[drive] = angle + lag
         self.mj.mj_step(self.model, self.data)
         self._accumulate()
 
