@@ -217,8 +217,12 @@ def check(
 
     The map is not smooth below the step's scale: a landing is resolved over two steps, and where in
     a step the tip meets the slope moves the rate after it by O(h) (8e-4 rad/s at h = 1e-4 s). So the
-    fixed point is bracketed (bisection of F(x) - x, which only needs its sign) rather than Newton-shot
-    with finite differences, and the slope is a secant over +-``spread``, wide against that jitter.
+    fixed point is bracketed rather than Newton-shot with finite differences: F(x) - x keeps a sign
+    change inside the bracket, each new point is the bracket's secant (regula falsi, Illinois: an end
+    that stays twice has its value halved, so both ends close in), and the search stops when the bracket
+    is 1e-4 rad/s wide or |F(x) - x| is 1e-4 rad/s or less. F is nearly affine, so this takes about
+    half a bisection's strides; the landing rate is that last stride's. The slope is a secant over
+    +-``spread``, wide against that jitter.
 
     Args:
         wheel: the wheel (default :class:`RimlessWheel`).
@@ -231,11 +235,13 @@ def check(
     """
     stepper = WheelStepper(RimlessWheel() if wheel is None else wheel)
     strides = 0
+    landings: dict[float, float] = {}
 
     def gap(x: float) -> float:
         nonlocal strides
         strides += 1
-        return stepper.step_map(x) - x
+        after, landings[x] = stepper.stride(x)
+        return after - x
 
     low, high = bracket
     f_low, f_high = gap(low), gap(high)
@@ -243,14 +249,17 @@ def check(
         raise NoFixedPointError(
             f"rimless wheel: no fixed point in {bracket} rad/s (F(x) - x: {f_low:+.3g}, {f_high:+.3g})"
         )
-    while high - low > 1e-4:
-        middle = 0.5 * (low + high)
-        if (gap(middle) > 0.0) == (f_low > 0.0):
-            low = middle
+    kept = 0  # which end stayed last (-1 low, +1 high): Illinois halves an end that stays twice
+    x, f_x = (low, f_low) if abs(f_low) < abs(f_high) else (high, f_high)
+    while high - low > 1e-4 and abs(f_x) > 1e-4:
+        x = (low * f_high - high * f_low) / (f_high - f_low)
+        f_x = gap(x)
+        if (f_x > 0.0) == (f_low > 0.0):
+            low, f_low = x, f_x
+            f_high, kept = (0.5 * f_high if kept == 1 else f_high), 1
         else:
-            high = middle
-    x = 0.5 * (low + high)
-    _, landing = stepper.stride(x)
+            high, f_high = x, f_x
+            f_low, kept = (0.5 * f_low if kept == -1 else f_low), -1
     slope = (stepper.step_map(x + spread) - stepper.step_map(x - spread)) / (2.0 * spread)
     closed_rate, closed_slope = stepper.wheel.closed_form()
-    return WheelCheck(x, landing, slope, closed_rate, closed_slope, spread, strides + 3)
+    return WheelCheck(float(x), landings[x], float(slope), closed_rate, closed_slope, spread, strides + 2)
