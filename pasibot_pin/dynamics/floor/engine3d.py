@@ -38,12 +38,12 @@ from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.dynamics.floor.ldp import floating_qp, ldp_free_qp, solve_spd
 from pasibot_pin.dynamics.floor.qp import ContactQP, proxsuite_free_qp, reduced_qp
 from pasibot_pin.dynamics.floor.repeat3d import PeriodStep, Replayed, SettledGait, period_grid
-from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult
+from pasibot_pin.dynamics.floor.result3d import CLEARANCE_EVERY, Floor3DResult, floor3d_result, group_minima, group_sums
 from pasibot_pin.dynamics.floor.run import foot_samples, point_sample
 from pasibot_pin.dynamics.floor.settings import step_count
 from pasibot_pin.dynamics.floor.shape_track3d import SpatialShape, SpatialTrack
-from pasibot_pin.dynamics.floor.tracked_step import check_speed
-from pasibot_pin.dynamics.verdict import TIP_LIMIT, GaitCriteria, GaitSample, JudgeFactory, Verdict
+from pasibot_pin.dynamics.floor.tracked_step import SPEED_LIMIT, check_speed
+from pasibot_pin.dynamics.verdict import GaitCriteria, GaitSample, JudgeFactory, Verdict
 from pasibot_pin.errors import (
     ClosureError,
     ContactSolveError,
@@ -56,6 +56,7 @@ from pasibot_pin.model.spatial import (
     NQ_ROOT,
     NV_ROOT,
     PLANAR_NQ_ROOT,
+    CornerJacobians,
     Footprint,
     LateralMass,
     check_interference,
@@ -128,6 +129,13 @@ class Floor3D:
         crank = self.model.joints[self.model.getJointId(robot.actuated_joints[0])]
         self._crank_q, self._crank_v = crank.idx_q, crank.idx_v  # the right crank, which moves the lateral mass
         self.corners = corner_frames(self.model, self.extend(planar_to_spatial(robot.q0)), footprint)
+        frame, self._normal = self.ground.frame(), self.ground.normal
+        axes = np.abs(frame).argmax(axis=1)
+        if (frame[range(3), axes] == 1.0).all() and (np.abs(frame).sum(axis=1) == 1.0).all():
+            self._frame = None  # the ground's frame is the world's axes in another order (flat): rows picked
+            self._corner_rows = CornerJacobians(self.model, self.corners, tuple(int(a) for a in axes))
+        else:
+            self._frame, self._corner_rows = frame, CornerJacobians(self.model, self.corners)
         self.data = self.model.createData()
         self._kkt_data = self.model.createData()
         self._contact_cache: tuple[bytes, tuple[np.ndarray, np.ndarray, np.ndarray]] | None = None
@@ -147,7 +155,7 @@ class Floor3D:
         self._shift = NV_ROOT - PLANAR_NQ_ROOT
         self._crank_rows = planar.crank_rows
         self._motor_index = [i + self._shift for i in planar.motor_index]
-        self._motor_targets = [row - planar.bilateral.n_constraint_rows for row in planar.crank_rows]
+        self._motor_targets = np.array(planar.crank_rows, dtype=int) - planar.bilateral.n_constraint_rows
         self.tracked = True
         self.repeats = True
         self.fallback = 0
@@ -182,14 +190,19 @@ class Floor3D:
             self._rotation_key, self._rotation_value = key, pin.Quaternion(q[3:7]).normalized().toRotationMatrix()
         return self._rotation_value
 
-    def _advance(self, q: np.ndarray, du: np.ndarray) -> np.ndarray:
-        """Q moved by du: the hip by du's world-axes translation and rotation, the legs by addition."""
-        out = q.copy()
-        out[:3] += du[:3]
-        rotation = pin.exp3(du[3:6]) @ self._rotation(q)
-        out[3:7] = pin.Quaternion(rotation).coeffs()
-        out[NQ_ROOT:] += du[NV_ROOT:]
-        return out
+    def _attitude(self, q: np.ndarray) -> tuple[float, float, float]:
+        """:func:`~pasibot_pin.model.spatial.roll_pitch_yaw` of ``q`` from :meth:`_rotation` (the same arithmetic)."""
+        roll, pitch, yaw = pin.rpy.matrixToRpy(self._rotation(q))
+        return float(roll), float(-pitch), float(yaw)
+
+    def _advance(self, q: np.ndarray, du: np.ndarray, legs: np.ndarray | None = None) -> np.ndarray:
+        """Q moved by du: the hip by du's world-axes translation and rotation, the legs by addition (or at ``legs``).
+
+        With ``legs`` given, only du's first six (the hip's) are read.
+        """
+        rotation = pin.exp3(du[3:6]).dot(self._rotation(q))
+        rest = q[NQ_ROOT:] + du[NV_ROOT:] if legs is None else legs
+        return np.concatenate((q[:3] + du[:3], pin.Quaternion(rotation).coeffs(), rest))
 
     def _transform(self, q: np.ndarray) -> np.ndarray:
         """T (nv, nv) with v = T u: Pinocchio's local root velocity from the world-aligned one."""
@@ -201,32 +214,31 @@ class Floor3D:
 
     @staticmethod
     def _times_transform(matrix: np.ndarray, rotation: np.ndarray) -> np.ndarray:
-        """``matrix @ T`` (any leading axes) without forming T: the root's linear and angular columns turned by R^T."""
-        flat = matrix.reshape(-1, matrix.shape[-1])
-        out = flat.copy()
-        out[:, :3] = flat[:, :3] @ rotation.T
-        out[:, 3:6] = flat[:, 3:6] @ rotation.T
-        return out.reshape(matrix.shape)
+        """``matrix @ T`` in place (2-D, rows of nv) without forming T: the root's columns turned by R^T; ``matrix``."""
+        turned = rotation.T
+        matrix[:, :3] = matrix[:, :3].dot(turned)
+        matrix[:, 3:6] = matrix[:, 3:6].dot(turned)
+        return matrix
 
     def _mass(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
         """M in world-aligned coordinates, and R (the root's rotation: v = T u, T = diag(R^T, R^T, I))."""
         rotation = self._rotation(q)
         mass = self._times_transform(symmetric_mass_matrix(self.model, self.data, q), rotation)
-        mass[:3] = rotation @ mass[:3]  # T^T (M T): the root's rows turned by R
-        mass[3:6] = rotation @ mass[3:6]
+        mass[:3] = rotation.dot(mass[:3])  # T^T (M T): the root's rows turned by R
+        mass[3:6] = rotation.dot(mass[3:6])
         return mass, rotation
 
     def _mass_and_bias(self, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """M and b in world-aligned coordinates, and the root's rotation R (v = T u, T = diag(R^T, R^T, I))."""
         mass_u, rotation = self._mass(q)
-        v = u.copy()
-        v[:3], v[3:6] = rotation.T @ u[:3], rotation.T @ u[3:6]
+        linear, angular = rotation.T.dot(u[:3]), rotation.T.dot(u[3:6])
+        v = np.concatenate((linear, angular, u[6:]))
         # d/dt (R^T p') = R^T p'' - w x v: the local acceleration that a world-aligned u' = 0 means
         drift = np.zeros(self.model.nv)
-        (wx, wy, wz), (vx, vy, vz) = v[3:6], v[:3]
-        drift[:3] = (wz * vy - wy * vz, wx * vz - wz * vx, wy * vx - wx * vy)  # -(w x v)
+        (vx, vy, vz), (wx, wy, wz) = linear.tolist(), angular.tolist()
+        drift[0], drift[1], drift[2] = wz * vy - wy * vz, wx * vz - wz * vx, wy * vx - wx * vy  # -(w x v)
         bias = pin.rnea(self.model, self.data, q, v, drift)
-        bias[:3], bias[3:6] = rotation @ bias[:3], rotation @ bias[3:6]  # T^T b
+        bias[:3], bias[3:6] = rotation.dot(bias[:3]), rotation.dot(bias[3:6])  # T^T b
         return mass_u, bias, rotation
 
     def contact(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
@@ -236,15 +248,14 @@ class Floor3D:
         step's start): read the arrays, never write into them.
         """
         key = q.tobytes()
-        if self._contact_cache is not None and self._contact_cache[0] == key:
-            return self._contact_cache[1]
-        model, data = self.model, self.data
-        pin.computeJointJacobians(model, data, q)
-        pin.updateFramePlacements(model, data)
-        points = np.array([data.oMf[i].translation for i in self.corners])
-        local = np.array([pin.getFrameJacobian(model, data, i, pin.LOCAL_WORLD_ALIGNED)[:3] for i in self.corners])
-        jac = self._times_transform(self.ground.frame() @ local, self._rotation(q))
-        out = (points, jac, self.ground.gap(points))
+        cached = self._contact_cache
+        if cached is not None and cached[0] == key:
+            return cached[1]
+        points, jac = self._corner_rows(self.model, self.data, q)  # Pinocchio's LOCAL_WORLD_ALIGNED linear rows
+        if self._frame is not None:  # in the ground's frame (flat: picked in that order already)
+            jac = self._frame @ jac
+        jac = self._times_transform(jac.reshape(-1, self.model.nv), self._rotation(q)).reshape(jac.shape)
+        out = (points, jac, points.dot(self._normal))  # the ground's gap (no step edge in 3-D)
         self._contact_cache = (key, out)
         return out
 
@@ -304,7 +315,7 @@ class Floor3D:
         """The step's M, H (M and the springs' implicit term) and g = -(M u + h (tau - b)), world-aligned."""
         mass, bias, _ = self._mass_and_bias(q, u)
         if self.settings.spring is None:  # no ankle spring: no torque, no implicit term
-            return mass, mass, -(mass @ u - h * bias)
+            return mass, mass, -(mass.dot(u) - h * bias)
         hessian = mass
         spring_tau, stiffness = self.planar.springs(self.planar_view(q), h)
         tau = np.zeros(self.model.nv)
@@ -313,17 +324,20 @@ class Floor3D:
             hessian = mass.copy()
             for i in self.planar.ankles.values():
                 hessian[i + self._shift, i + self._shift] += stiffness
-        return mass, hessian, -(mass @ u + h * (tau - bias))
+        return mass, hessian, -(mass.dot(u) + h * (tau - bias))
 
     def _cone(self, q: np.ndarray, h: float) -> tuple[np.ndarray, np.ndarray, int]:
         """The corners' pyramid rows C (blocks x corners, nv) on u, their bounds l = -gap / h, and the blocks."""
         _, jac, gap = self.contact(q)
-        mu = self.ground.mu
-        normal_rows, along, across = jac[:, 0], jac[:, 1], jac[:, 2]
-        blocks = [normal_rows + mu * along, normal_rows - mu * along]
-        if not self.hold:
-            blocks += [normal_rows + mu * across, normal_rows - mu * across]
-        return np.concatenate(blocks), np.tile(-gap / h, len(blocks)), len(blocks)
+        tangents = 1 if self.hold else 2  # held: along the ground only
+        n, nv = jac.shape[0], jac.shape[2]
+        scaled = (self.ground.mu * jac[:, 1 : 1 + tangents]).transpose(1, 0, 2)  # mu t_k rows (tangents, n, nv)
+        cone = np.empty((tangents, 2, n, nv))  # blocks n + mu t_1, n - mu t_1, n + mu t_2, n - mu t_2
+        np.add(jac[:, 0], scaled, out=cone[:, 0])
+        np.subtract(jac[:, 0], scaled, out=cone[:, 1])
+        lower = np.empty((2 * tangents, n))
+        np.divide(gap, -h, out=lower)  # -gap / h, every block
+        return cone.reshape(-1, nv), lower.reshape(-1), 2 * tangents
 
     def step(self, t: float, q: np.ndarray, u: np.ndarray, h: float):
         """One step from (q, u) at ``t``: (q+, u+, each corner's normal impulse (k,), the motors' impulses) [N.s]."""
@@ -343,7 +357,7 @@ class Floor3D:
                 raise ContactSolveError("the 3-D contact QP did not solve")
             u_new, bilateral, z = solved
         check_speed(u_new)
-        normal = z.reshape(blocks, -1).sum(axis=0)
+        normal = np.add.reduce(z.reshape(blocks, -1))
         q_new = self.project(self._advance(q, h * u_new), t + h)
         return q_new, u_new, normal, bilateral[self._crank_rows]
 
@@ -355,25 +369,25 @@ class Floor3D:
         mass, hessian, g = self._terms(q, u, h)
         cone, lower, blocks = self._cone(q, h)
         free, block = track.rows, track.block
-        base = hessian @ shape.velocity + g
-        found = ldp_free_qp(hessian[block], base[free], cone[:, free], lower - cone @ shape.velocity)
+        base = hessian.dot(shape.velocity) + g
+        found = ldp_free_qp(hessian[block], base[free], cone[:, free], lower - cone.dot(shape.velocity))
         if found is None:
             return None
         u_free, z = found
-        check_speed(u_free)
+        if not np.maximum.reduce(np.abs(u_free)) <= SPEED_LIMIT:  # check_speed's test (NaN too), its cost at a miss
+            check_speed(u_free)
         x = shape.velocity.copy()
         x[free] = u_free
-        motor = shape.tangent[:, self._motor_targets].T @ (hessian @ x + g - cone.T @ z)
-        shift = solve_spd(mass[block], (mass @ shape.moved)[free])  # the projection: F by the mass metric
+        motor = shape.tangent[:, self._motor_targets].T.dot(hessian.dot(x) + g - cone.T.dot(z))
+        shift = solve_spd(mass[block], mass.dot(shape.moved)[free])  # the projection: F by the mass metric
         if shift is None:  # M_FF singular: as the general projection's least-norm step, F stays
             shift = np.zeros(len(u_free))
-        du = np.zeros(self.model.nv)
-        du[free] = h * u_free - shift
-        q_new = self._advance(q, du)
-        legs = shape.end.copy()
-        legs[track.free_legs] = q_new[NQ_ROOT + track.free_legs]
-        q_new[NQ_ROOT : self.nq_robot] = legs
-        return q_new, x, z.reshape(blocks, -1).sum(axis=0), motor
+        du = h * u_free - shift  # F's move: the hip's six, then a free ankle's
+        legs = shape.end  # the legs on the next shape, a free ankle advanced
+        if len(track.free_legs):
+            legs = legs.copy()
+            legs[track.free_legs] = q[NQ_ROOT + track.free_legs] + du[NV_ROOT:]
+        return self._advance(q, du, legs), x, np.add.reduce(z.reshape(blocks, -1)), motor
 
     def _step_any(self, t: float, q: np.ndarray, u: np.ndarray, h: float, track: SpatialTrack | None):
         """The tracked step where the track has the legs' shape at ``t``, else the general :meth:`step`."""
@@ -401,12 +415,20 @@ class Floor3D:
 
     def _hip_view(self, q: np.ndarray, pitch: float) -> tuple[float, float]:
         """The judge's hip: along the ground [m], its pitch from the ground's normal [rad] (the planar floor's)."""
-        return float(q[:3] @ self._along), pitch - self.ground.angle
+        return float(q[:3].dot(self._along)), pitch - self.ground.angle
 
-    def _view(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
+    def _view(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None, gap: np.ndarray | None = None):
         """Each heel's and toe's (heights, x along the ground, speeds) and loads, from :meth:`_views_of`'s inputs."""
-        heights, xs, speeds, loads = self._views_of(points, velocity, normal)
-        return (heights.tolist(), xs.tolist(), speeds.tolist()), None if loads is None else loads.tolist()
+        k = self.per_point
+        if k > 2:
+            heights, xs, speeds, loads = self._views_of(points, velocity, normal, gap)
+            return (heights.tolist(), xs.tolist(), speeds.tolist()), None if loads is None else loads.tolist()
+        # one step's numbers as floats (gap: contact's), _views_of's reductions to the bit (group_sums, group_minima)
+        gaps = (self.ground.gap(points) if gap is None else gap).tolist()
+        xs = [s / k for s in group_sums(points.dot(self._along).tolist(), k)]
+        speeds = [s / k for s in group_sums(velocity[:, 1].tolist(), k)]
+        loads = None if normal is None else group_sums(normal.tolist(), k)
+        return (group_minima(gaps, k), xs, speeds), loads
 
     def views(self, steps: PeriodStep) -> list:
         """The judge's two feet (:func:`~pasibot_pin.dynamics.floor.run.foot_samples`) of a period's stacked steps."""
@@ -414,16 +436,18 @@ class Floor3D:
         assert loads is not None
         return foot_samples(heights, xs, speeds, loads)
 
-    def _views_of(self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None):
+    def _views_of(
+        self, points: np.ndarray, velocity: np.ndarray, normal: np.ndarray | None, gap: np.ndarray | None = None
+    ):
         """(heights, x along the ground, speeds, loads) of each heel and toe, on any leading axes.
 
-        From the corners' world positions (..., k, 3) [m], ground-frame velocities (..., k, 3) [m/s]
-        and normal forces (..., k) [N] (``None``: loads ``None``).
+        From the corners' world positions (..., k, 3) [m], ground-frame velocities (..., k, 3) [m/s],
+        normal forces (..., k) [N] (``None``: loads ``None``) and gaps (k,) [m] (``None``: from the points).
         """
         lead, k = points.shape[:-2], self.per_point
         # heel and toe of each foot: the mean of their corners (one corner: the point itself)
         along = (points @ self._along).reshape(*lead, -1, k)
-        gap = self.ground.gap(points.reshape(-1, 3)).reshape(*lead, -1, k)
+        gap = (self.ground.gap(points.reshape(-1, 3)) if gap is None else gap).reshape(*lead, -1, k)
         speeds = velocity[..., 1].reshape(*lead, -1, k).sum(axis=-1) / k
         loads = None if normal is None else normal.reshape(*lead, -1, k).sum(axis=-1)
         return gap.min(axis=-1), along.sum(axis=-1) / k, speeds, loads
@@ -436,8 +460,11 @@ class Floor3D:
         """
         pin.framesForwardKinematics(self.model, self.data, q)
         pin.updateGeometryPlacements(self.model, self.data, self._geometry, self._geometry_data)
-        pin.computeDistances(self._geometry, self._geometry_data)
-        return min(float(result.min_distance) for result in self._geometry_data.distanceResults)
+        nearest = pin.computeDistances(self._geometry, self._geometry_data)  # the pair of the least distance
+        results = self._geometry_data.distanceResults
+        if nearest < len(results):  # read that one (each result read is a copy)
+            return float(results[nearest].min_distance)
+        return min(float(result.min_distance) for result in results)
 
     def start(self) -> tuple[np.ndarray, np.ndarray, str]:
         """The planar floor's consistent start (both feet flat, at rest), in 3-D: (q, u, start kind)."""
@@ -515,13 +542,13 @@ class Floor3D:
                     observer.diverged(t, str(err))
                     break
                 t += h
-                power = tuple(float(m / h) * float(u[i]) for m, i in zip(motor, self._motor_index))
-                corners, jac, _ = self.contact(q)
-                velocity, attitude = jac @ u, roll_pitch_yaw(q)
+                power = tuple(m * float(u[i]) for m, i in zip((motor / h).tolist(), self._motor_index))
+                corners, jac, gap = self.contact(q)
+                velocity, attitude, load = jac @ u, self._attitude(q), normal / h
                 clearance = self.sole_clearance(q) if measure else math.nan
-                points, loads = self._view(corners, velocity, normal / h)
+                points, loads = self._view(corners, velocity, load, gap)
                 sample, _ = point_sample(t, self._hip_view(q, attitude[1]), points, loads, power)
-                row = Replayed(q, u, normal / h, power, sample.feet, attitude, clearance)
+                row = Replayed(q, u, load, power, sample.feet, attitude, clearance)
                 step = PeriodStep(q, u, row.normal, np.array(power), corners, velocity, np.array(attitude), clearance)
                 if watch is not None and watch.push(step):
                     settled_at = t
@@ -565,25 +592,7 @@ class Floor3D:
     def _result(
         self, t: np.ndarray, q: np.ndarray, normal: np.ndarray, attitude: np.ndarray, verdict: Verdict, clearance: float
     ) -> Floor3DResult:
-        roll, pitch, yaw = attitude.T
-        max_roll = float(np.degrees(np.max(np.abs(roll))))
-        steps = max(1, verdict.steps)
-        return Floor3DResult(
-            t=t,
-            q=q,
-            hip=q[:, :3].copy(),
-            roll=roll,
-            pitch=pitch,
-            yaw=yaw,
-            normal=normal,
-            verdict=verdict,
-            max_hip_roll_deg=max_roll,
-            yaw_per_step_deg=float(np.degrees(yaw[-1])) / steps,
-            lateral_drift_m=float(q[-1, 1]),
-            roll_margin_deg=math.degrees(TIP_LIMIT) - max_roll,
-            fallback=self.fallback,
-            min_sole_clearance_m=clearance,
-            leg_clearance_m=leg_clearance(
-                self.footprint, self.planar.robot.geometry.hip_half_width, self.planar.robot.geometry.L
-            ),  # fmt: skip
-        )
+        """The run's result (:func:`~.result3d.floor3d_result`) with this floor's fallbacks and the legs' clearance."""
+        geometry = self.planar.robot.geometry
+        legs = leg_clearance(self.footprint, geometry.hip_half_width, geometry.L)
+        return floor3d_result(t, q, normal, attitude, verdict, clearance, self.fallback, legs)

@@ -28,6 +28,9 @@ Units: as the caller's.
 
 from __future__ import annotations
 
+import math
+from collections.abc import Callable
+
 import numpy as np
 
 from pasibot_pin.dynamics.floor.qp import SIGN_TOL, TOUCH_TOL, reduced_qp
@@ -36,6 +39,11 @@ GRAM_TOL = 1e-12
 """Largest relative residual of the least-norm split through the rows' Gram matrix before the SVD is asked [-]."""
 FEASIBLE_TOL = 1e-9
 """Largest violation of a cone row by the NNLS answer, relative to the row's scale, before proxsuite is asked [-]."""
+
+# a vector's max and min (NaN if any) by the ufuncs themselves, without the array methods' Python wrapping
+_largest, _smallest = np.maximum.reduce, np.minimum.reduce
+_SCIPY: dict[str, Callable] = {}
+"""SciPy's routines by name, once imported (:func:`_scipy`)."""
 
 
 def ldp_free_qp(
@@ -60,32 +68,33 @@ def ldp_free_qp(
         return None
     u_0 = -to_u.dot(g)
     rows = c_in.dot(to_u.T)  # G = C L^-T (k, n)
-    need = lower - rows.dot(u_0)  # d
-    scale = 1.0 + np.abs(need).max()
-    if need.max() <= 0.0:  # u_0 meets every row: no impulse
+    e = np.empty((n + 1, len(lower)))  # NNLS's E = [G^T; d^T]
+    e[:n] = rows.T
+    need = np.subtract(lower, rows.dot(u_0), out=e[n])  # d
+    high, low = float(_largest(need)), float(_smallest(need))
+    scale = 1.0 + max(high, -low)  # 1 + max |d|
+    if high <= 0.0:  # u_0 meets every row: no impulse
         w, z = np.zeros(n), np.zeros(len(lower))
     else:
-        e = np.empty((n + 1, len(need)))
-        e[:n], e[n] = rows.T, need
         f = np.zeros(n + 1)
         f[n] = 1.0
-        from scipy.optimize import nnls  # deferred: heavy (scipy), keeps the CLI's start fast
-
         try:
-            v, _ = nnls(e, f)
+            v, _ = _scipy("optimize", "nnls")(e, f)
         except RuntimeError:  # NNLS's iteration limit
             return None
-        r = e @ v - f
-        if not -r[n] > 0.0:  # an infeasible program (cannot happen on a floor: moving up meets every row)
+        r = e.dot(v) - f
+        last = float(r[n])
+        if not -last > 0.0:  # an infeasible program (cannot happen on a floor: moving up meets every row)
             return None
-        w, z = -r[:n] / r[n], v / -r[n]
-    slack = rows @ w - need
-    if not (np.isfinite(w).all() and slack.min() >= -FEASIBLE_TOL * scale):
+        w, z = r[:n] / -last, v / -last  # -r / r_n: the same rounding
+    slack = rows.dot(w) - need
+    if not (all(map(math.isfinite, w.tolist())) and _smallest(slack) >= -FEASIBLE_TOL * scale):
         return None
-    touching = np.flatnonzero(slack <= TOUCH_TOL)
-    if len(touching) and z.any():
+    touching = (slack <= TOUCH_TOL).nonzero()[0]
+    if len(touching) and np.logical_or.reduce(z):
         least = _least_norm(rows[touching], w)
-        if float(least.min()) >= -SIGN_TOL * (1.0 + float(np.abs(least).max())):
+        lowest = float(_smallest(least))
+        if lowest >= -SIGN_TOL * (1.0 + max(float(_largest(least)), -lowest)):
             z = np.zeros(len(lower))
             z[touching] = np.maximum(least, 0.0)
     x = to_u.T.dot(u_0 + w)
@@ -94,12 +103,25 @@ def ldp_free_qp(
 
 def _least_norm(rows: np.ndarray, w: np.ndarray) -> np.ndarray:
     """The least-norm z with rows^T z = w: z = rows y, (rows^T rows) y = w (Cholesky), or by SVD when rank-deficient."""
-    y = solve_spd(rows.T @ rows, w)
+    y = solve_spd(rows.T.dot(rows), w)
     if y is not None:
-        z = rows @ y
-        if np.abs(rows.T @ z - w).max() <= GRAM_TOL * (1.0 + np.abs(w).max()):
+        z = rows.dot(y)
+        tol = GRAM_TOL * (1.0 + max(map(abs, w.tolist())))  # w is finite (ldp_free_qp checked it)
+        if all(abs(r) <= tol for r in (rows.T.dot(z) - w).tolist()):  # NaN: not close
             return z
     return np.linalg.lstsq(rows.T, w, rcond=None)[0]
+
+
+def _scipy(module: str, name: str) -> Callable:
+    """SciPy's ``name`` from ``scipy.optimize`` or ``scipy.linalg.lapack``, looked up once (asked every step)."""
+    found = _SCIPY.get(name)
+    if found is None:
+        if module == "optimize":
+            from scipy import optimize as source  # deferred: heavy (scipy), keeps the CLI's start fast
+        else:
+            from scipy.linalg import lapack as source  # deferred: heavy (scipy), keeps the CLI's start fast
+        found = _SCIPY[name] = getattr(source, name)
+    return found
 
 
 def cholesky_inverse(matrix: np.ndarray) -> np.ndarray | None:
@@ -108,20 +130,16 @@ def cholesky_inverse(matrix: np.ndarray) -> np.ndarray | None:
     On the 6 x 6 systems of a step, ``numpy.linalg``'s per-call cost (its error-state context and
     generalised ufunc) is several times LAPACK's own work.
     """
-    from scipy.linalg import lapack  # deferred: heavy (scipy), keeps the CLI's start fast
-
-    factor, info = lapack.dpotrf(matrix, lower=1, clean=1)
+    factor, info = _scipy("lapack", "dpotrf")(matrix, lower=1, clean=1)
     if info != 0:
         return None
-    inverse, info = lapack.dtrtri(factor, lower=1)
+    inverse, info = _scipy("lapack", "dtrtri")(factor, lower=1)
     return inverse if info == 0 else None
 
 
 def solve_spd(matrix: np.ndarray, rhs: np.ndarray) -> np.ndarray | None:
     """Solve A x = b for a small SPD A (LAPACK's posv, Cholesky); ``None`` when A is not positive definite."""
-    from scipy.linalg import lapack  # deferred: heavy (scipy), keeps the CLI's start fast
-
-    _, x, info = lapack.dposv(matrix, rhs, lower=1)
+    _, x, info = _scipy("lapack", "dposv")(matrix, rhs, lower=1)
     return x if info == 0 else None
 
 

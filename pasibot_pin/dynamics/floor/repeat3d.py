@@ -129,6 +129,20 @@ class FloorMotion(NamedTuple):
     def apply(self, step: PeriodStep) -> PeriodStep:
         """``step`` (or a period's steps, stacked) moved: its forces, powers, roll, pitch and clearance kept."""
         c, s = self.cos, self.sin
+        q, u = self.state(step)
+        turn = np.array([[c, s], [-s, c]])  # (x, y) rows times this: turned
+        points = step.points.copy()
+        points[..., :2] = step.points[..., :2] @ turn + self.shift
+        velocity = step.velocity.copy()  # (normal, along, across): the flat floor's (z, x, y)
+        velocity[..., 1:] = step.velocity[..., 1:] @ turn
+        attitude = step.attitude.copy()
+        yaw = step.attitude[..., 2] + self.psi
+        attitude[..., 2] = yaw - (2.0 * math.pi) * np.round(yaw / (2.0 * math.pi))
+        return step._replace(q=q, u=u, points=points, velocity=velocity, attitude=attitude)
+
+    def state(self, step: PeriodStep) -> tuple[np.ndarray, np.ndarray]:
+        """The configuration and velocity of ``step`` (or stacked steps) moved: :meth:`apply`'s (q, u) alone."""
+        c, s = self.cos, self.sin
         q = step.q + self.turns
         x, y = step.q[..., 0], step.q[..., 1]
         q[..., 0], q[..., 1] = c * x - s * y + self.shift[0], s * x + c * y + self.shift[1]
@@ -140,15 +154,7 @@ class FloorMotion(NamedTuple):
         for i in (0, 3):  # the hip's linear and angular velocity, turned
             a, b = step.u[..., i], step.u[..., i + 1]
             u[..., i], u[..., i + 1] = c * a - s * b, s * a + c * b
-        turn = np.array([[c, s], [-s, c]])  # (x, y) rows times this: turned
-        points = step.points.copy()
-        points[..., :2] = step.points[..., :2] @ turn + self.shift
-        velocity = step.velocity.copy()  # (normal, along, across): the flat floor's (z, x, y)
-        velocity[..., 1:] = step.velocity[..., 1:] @ turn
-        attitude = step.attitude.copy()
-        yaw = step.attitude[..., 2] + self.psi
-        attitude[..., 2] = yaw - (2.0 * math.pi) * np.round(yaw / (2.0 * math.pi))
-        return step._replace(q=q, u=u, points=points, velocity=velocity, attitude=attitude)
+        return q, u
 
 
 def motion_between(before: np.ndarray, after: np.ndarray, angular: np.ndarray) -> FloorMotion:
@@ -166,11 +172,11 @@ def motion_between(before: np.ndarray, after: np.ndarray, angular: np.ndarray) -
     return FloorMotion(psi, c, s, (math.cos(0.5 * psi), math.sin(0.5 * psi)), shift, turns)
 
 
-def _difference(a: PeriodStep, b: PeriodStep) -> float:
-    """The largest difference of two steps' states, a quaternion and its negative the same."""
-    q = np.abs(a.q - b.q)
-    q[3:7] = np.minimum(q[3:7], np.abs(a.q[3:7] + b.q[3:7]))
-    return max(float(q.max()), float(np.abs(a.u - b.u).max()))
+def _difference(a: tuple[np.ndarray, np.ndarray], b: PeriodStep) -> float:
+    """The largest difference of a state (q, u) and a step's, a quaternion and its negative the same."""
+    q = np.abs(a[0] - b.q)
+    q[3:7] = np.minimum(q[3:7], np.abs(a[0][3:7] + b.q[3:7]))
+    return max(float(q.max()), float(np.abs(a[1] - b.u).max()))
 
 
 def _rotation(q: np.ndarray) -> np.ndarray:
@@ -208,7 +214,7 @@ class SettledGait:
         if self._k < self.first or before is None:
             return False
         motion = motion_between(before.q, step.q, self.angular)
-        if _difference(motion.apply(before), step) <= REPEAT_TOL:
+        if _difference(motion.state(before), step) <= REPEAT_TOL:
             self.motion = motion
             first = self._k + 1  # the last period, oldest first
             steps = [self._steps[(first + j) % self.period] for j in range(self.period)]

@@ -1,4 +1,4 @@
-"""What a 3-D floor run returns (:class:`Floor3DResult`), one sample per step.
+"""What a 3-D floor run returns (:class:`Floor3DResult`), one sample per step, and the judge's sums of corners.
 
 Units: SI, angles [rad] unless a name says deg.
 """
@@ -71,3 +71,62 @@ class Floor3DResult:
             f"lateral drift {1000 * self.lateral_drift_m:+.1f} mm, "
             f"soles {1000 * self.min_sole_clearance_m:.1f} mm apart, legs {1000 * self.leg_clearance_m:.1f} mm"
         )
+
+
+def floor3d_result(
+    t: np.ndarray,
+    q: np.ndarray,
+    normal: np.ndarray,
+    attitude: np.ndarray,
+    verdict: Verdict,
+    clearance: float,
+    fallback: int,
+    leg_clearance_m: float,
+) -> Floor3DResult:
+    """A run's :class:`Floor3DResult` from its samples and figures.
+
+    Args:
+        t: times [s] (n,).
+        q: configurations (n, nq).
+        normal: each corner's normal force [N] (n, corners).
+        attitude: the hip's roll, pitch and yaw [rad] (n, 3).
+        verdict: the walk's verdict.
+        clearance: the soles' least distance over the walk [m].
+        fallback: the QP solves proxsuite answered.
+        leg_clearance_m: the legs' least lateral gap [m].
+
+    """
+    roll, pitch, yaw = attitude.T
+    max_roll = float(np.degrees(np.max(np.abs(roll))))
+    steps = max(1, verdict.steps)
+    return Floor3DResult(
+        t=t,
+        q=q,
+        hip=q[:, :3].copy(),
+        roll=roll,
+        pitch=pitch,
+        yaw=yaw,
+        normal=normal,
+        verdict=verdict,
+        max_hip_roll_deg=max_roll,
+        yaw_per_step_deg=float(np.degrees(yaw[-1])) / steps,
+        lateral_drift_m=float(q[-1, 1]),
+        roll_margin_deg=math.degrees(TIP_LIMIT) - max_roll,
+        fallback=fallback,
+        min_sole_clearance_m=clearance,
+        leg_clearance_m=leg_clearance_m,
+    )
+
+
+def group_sums(values: list[float], k: int) -> list[float]:
+    """The sum of each run of k (1 or 2) values as floats, numpy's ``sum`` to the bit: 0 + a (+ b), zeros' signs too."""
+    if k == 1:
+        return [0.0 + a for a in values]
+    return [0.0 + a + b for a, b in zip(values[::2], values[1::2])]
+
+
+def group_minima(values: list[float], k: int) -> list[float]:
+    """The least of each run of k (1 or 2) values as floats, numpy's ``min`` to the bit (NaN kept, its zero pick)."""
+    if k == 1:
+        return values
+    return [a if a < b or a != a else b for a, b in zip(values[::2], values[1::2])]

@@ -77,18 +77,18 @@ class SpatialTrack:
         self.free = np.array(list(range(root)) + [i + root for i in ankles], dtype=int)
         self.rows: slice | np.ndarray = slice(0, root) if not ankles else self.free
         self.block: tuple = (self.rows, self.rows) if not ankles else np.ix_(self.free, self.free)
+        self._zeros, self._planar_zeros = np.zeros(root), np.zeros(planar_root)  # the roots' rows, read only
 
     def step(self, t: float, legs: np.ndarray) -> SpatialShape | None:
         """The step from ``t`` with the legs at ``legs`` (planar order) [rad]; ``None``: the general step takes it."""
-        planar = np.concatenate((np.zeros(self.planar_root), legs))
+        planar = np.concatenate((self._planar_zeros, legs))
         shape = self.track.step(t, planar)
         return None if shape is None else self._spatial(shape)
 
     def _spatial(self, shape: TrackStep) -> SpatialShape:
         cut = self.planar_root
-        velocity, moved = np.zeros(self.nv), np.zeros(self.nv)
+        velocity = np.concatenate((self._zeros, shape.velocity[cut:]))
+        moved = np.concatenate((self._zeros, shape.moved[cut:]))
         tangent = np.zeros((self.nv, shape.tangent.shape[1]))
-        velocity[self.root :] = shape.velocity[cut:]
-        moved[self.root :] = shape.moved[cut:]
         tangent[self.root :] = shape.tangent[cut:]
         return SpatialShape(velocity, tangent, moved, shape.end[cut:])
