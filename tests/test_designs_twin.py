@@ -7,12 +7,19 @@ verdict can be walks; the committed table is their 20-step verdict, checked by
 largest hip pitch within 2 deg. A non-walker must fail the same way in both. Where the catalog
 records that the twin differs (`designs_catalog.TWIN_OUTCOMES`: the fastest walker, which slides
 past the 5 mm limit in MuJoCo), the twin must give that recorded outcome, and ours still walks.
+
+Our 3-step walk of a walker is also its walking-map row's check (`map_checks.check_walker`: it walks its
+first steps with a hip pitch no larger than its 20-step row's), so tests/test_walking_map.py walks it no
+second time. The twin's own record is checked on each: the drives keep a walker's crank schedule (within 1 mrad,
+their lag added), the start is ours, and the trace is one row per sample up to the decision.
 """
 
 import math
 from pathlib import Path
 
+import numpy as np
 import pytest
+from map_checks import SHORT_STEPS, check_walker
 
 pytest.importorskip("mujoco")
 
@@ -25,7 +32,7 @@ from pasibot_pin.studies.walking_map import load_map  # noqa: E402
 pytestmark = [pytest.mark.mujoco, pytest.mark.slow]
 
 DESIGNS = sorted((Path(__file__).resolve().parents[1] / "designs").glob("*.toml"))
-STEPS = 3
+STEPS = SHORT_STEPS
 
 
 def test_there_are_designs_and_a_fast_walker_among_them():
@@ -38,9 +45,21 @@ def test_mujoco_gives_the_same_outcome(path):
     design = load_design(path)
     robot = design_robot(design, 2, visuals=False)
     settings = WalkSettings(steps=STEPS)
-    ours = walk_design(design, settings, robot).verdict
-    twin = walk_in_mujoco(design, settings, robot).verdict
-    recorded = {e.name: e.twin_outcome for e in pick_designs(load_map(), sweep_rows())}[path.stem]
+    walk = walk_design(design, settings, robot)
+    ours = walk.verdict
+    walked = walk_in_mujoco(design, settings, robot)
+    twin = walked.verdict
+    entry = {e.name: e for e in pick_designs(load_map(), sweep_rows())}[path.stem]
+    if entry.cell is None or entry.cell.walks:  # a walker's map or sweep row: it walks its first steps
+        check_walker(ours, entry.cell)
+    assert walked.start_kind == walk.result.start_kind  # both start from the same state
+    if ours.walks:  # the drives keep the schedule (their lag added); a slip's jolt can pass 1 mrad
+        assert walked.max_crank_error < 1e-3
+    n = len(walked.t)
+    assert walked.hip_x.shape == walked.hip_pitch.shape == (n,) and walked.loaded.shape == walked.normal.shape == (n, 2)
+    assert np.all(np.diff(walked.t) > 0) and walked.t[-1] == pytest.approx(twin.decided_at)
+    assert twin.outcome in repr(walked) and len(repr(walked)) < 200
+    recorded = entry.twin_outcome
     if recorded:  # a disagreement the catalog states: the twin gives it, ours walks
         assert ours.walks and twin.outcome == recorded, (ours.summary(), twin.summary())
         return

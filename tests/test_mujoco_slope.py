@@ -25,7 +25,7 @@ from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco  # noqa: E402
 pytestmark = [pytest.mark.mujoco]
 
 WALKER = Design(variant="parallel", parallel_toe=4.5, parallel_heel=4.5, omega=1.0)
-"""The long-soled parallel walker of tests/test_mujoco_walk.py."""
+"""The long-soled parallel walker (4.5 L soles each side, 1 rad/s): flat, it walks 1.174 m in 3 steps in ours."""
 
 
 @pytest.mark.parametrize("degrees", [5.0, -8.0])
