@@ -70,6 +70,7 @@ def _hits(model, qs, footprint, height: float) -> bool:
     return False
 
 
+@pytest.mark.slow
 def test_the_bridge_clears_the_other_foot_where_it_says_and_not_lower(walk):
     design, model, qs = walk
     footprint = design.footprint()
@@ -80,11 +81,13 @@ def test_the_bridge_clears_the_other_foot_where_it_says_and_not_lower(walk):
     assert _hits(model, qs, footprint, need.toe_m - 0.005)
 
 
+@pytest.mark.slow
 def test_a_plate_needs_no_bridge(walk):
     design, model, qs = walk
     assert bridge_need(model, qs[:10], Footprint.centred(design.L)) is None
 
 
+@pytest.mark.slow
 def test_the_docs_quote_the_committed_walker_s_bridge(walk):
     """docs/floor3d.md's arch heights are bridge_need's on the committed comb walker (one source for every number)."""
     from pathlib import Path

@@ -126,6 +126,7 @@ def _trace(result):
     return [(c.number, c.outcome, c.score, tuple(sorted(c.values.items()))) for c in result.candidates]
 
 
+@pytest.mark.slow
 def test_the_same_seed_gives_the_same_candidates_on_one_worker_or_two(monkeypatch):
     """Past TPE's 10 random start-up candidates each ask depends on what was told: told in trial order, the
     candidates are the same however the workers' walks interleave (runs of uneven length, finishing out of order)."""

@@ -115,6 +115,7 @@ def _both_steps(robot, settings, footprint, duration):
     return runs[True], runs[False], general[True]
 
 
+@pytest.mark.slow
 def test_the_tracked_3d_walk_is_the_general_walk():
     """A comb walker, 1.2 s (its first steps): tracked and general agree to a third-order term."""
     design = load_design(COMB)

@@ -52,6 +52,7 @@ def test_a_slope_past_the_limit_is_refused_by_name(capsys):
     assert main(["walk", "--slope", "3", "--3d", "--step-height", "0.01", "--step-at", "1"]) == 2
 
 
+@pytest.mark.slow
 def test_walk_uphill_and_downhill():
     for degrees in (-3.0, 3.0):
         v = walk_design(FAST, WalkSettings(steps=4, slope=math.radians(degrees))).verdict

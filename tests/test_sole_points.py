@@ -36,6 +36,7 @@ def _with_ball(robot):
     return robot
 
 
+@pytest.mark.slow
 def test_a_third_sole_point_written_once_walks_as_heel_and_toe():
     settings = WalkSettings(steps=3)
     robot = design_robot(FAST, 2, visuals=False)

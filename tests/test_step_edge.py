@@ -41,6 +41,7 @@ def flat3(robot):
     return walk_design(FAST, WalkSettings(steps=3), robot)
 
 
+@pytest.mark.slow
 def test_a_step_of_height_zero_or_far_ahead_is_the_flat_floor_bit_for_bit(robot, flat3):
     flat = flat3.result
     for height, at in ((0.0, 0.5), (0.01, 100.0)):  # the second runs the step's rows, every tread at 0
@@ -49,6 +50,7 @@ def test_a_step_of_height_zero_or_far_ahead_is_the_flat_floor_bit_for_bit(robot,
         assert np.array_equal(flat.normal, other.normal)
 
 
+@pytest.mark.slow
 def test_a_walk_wholly_past_a_step_is_the_flat_walk_raised_by_its_height(robot, flat3):
     height, flat = 0.01, flat3
     high = walk_design(FAST, WalkSettings(steps=3, step_height=height, step_at=-100.0), robot)
