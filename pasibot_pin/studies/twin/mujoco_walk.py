@@ -95,6 +95,8 @@ LOAD_WINDOW = 0.01
 """A foot's load is its sole's normal force averaged over this long [s] (see the module docstring)."""
 SINK = 1e-6
 """The soles start this far into MuJoCo's floor [m], so its contacts carry the weight from the first step."""
+_WARNINGS = ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL")
+"""MuJoCo's warnings that it reset a bad acceleration or state: the walk diverged."""
 MISSING = "needs the mujoco extra: pip install 'pasibot-pin[mujoco]'"
 
 
@@ -214,11 +216,14 @@ class _Twin:
             foot_of_geom[[model.geom(name).id for name in geoms]] = foot
         self._foot_of_geom: list[int] = foot_of_geom.tolist()  # read once per contact and step: a list
         self._ends: list[int] = np.array(self.sites).ravel().tolist()
-        self._site_x = self.data.site_xpos[:, 0]  # a view: MjData's buffer stays where it is
+        self._site_xpos = self.data.site_xpos  # MjData's buffer stays where it is (not so its contacts')
         self._eq_angle = self.model.eq_data[:, 0]  # a view too (the drives' targets)
         self._drive_ids: list[int] = self.drives.tolist()
         self._theta0: list[float] = self.theta0.tolist()
-        self._recent = np.zeros((max(1, round(LOAD_WINDOW / SAMPLE_DT)), 4))  # the last samples' forces [N]
+        self._warnings = [(int(getattr(mujoco.mjtWarning, name)), name[7:]) for name in _WARNINGS]
+        self._velocity = np.zeros(6)  # mj_objectVelocity's output: angular, then linear
+        # the last samples' forces [N], as lists: the same divisions and sums as numpy's rows, cheaper
+        self._recent: list[list[float]] = [[0.0] * 4 for _ in range(max(1, round(LOAD_WINDOW / SAMPLE_DT)))]
         self._slot = 0
         self._reset_window()
 
@@ -229,22 +234,23 @@ class _Twin:
         self._n = 0
 
     def _angles(self, t: float) -> tuple[list[float], float]:
-        """:meth:`schedule` on Python floats (each step's; the same sums as numpy's)."""
+        """The cranks' angles [rad] and rate [rad/s] at ``t`` [s] after the start (Python floats: each step's)."""
         advance, rate = crank_advance(t, self.floor.crank_ramp)
         shift = self.floor.omega * advance
         return [theta0 + shift for theta0 in self._theta0], self.floor.omega * rate
 
     def schedule(self, t: float) -> tuple[np.ndarray, float]:
-        """The cranks' angles [rad] and rate [rad/s] at ``t`` [s] after the start."""
+        """The cranks' angles [rad] and rate [rad/s] at ``t`` [s] after the start, as arrays (for benchmarks)."""
         angles, rate = self._angles(t)
         return np.array(angles), rate
 
     def step(self, t: float) -> None:
         """One MuJoCo step from ``t`` [s], the drives on the schedule (lag added), forces summed."""
-        angles, rate = self._angles(t)
-        lag = self.lead * rate
-        for drive, angle in zip(self._drive_ids, angles):
-            self._eq_angle[drive] = angle + lag
+        advance, rate = crank_advance(t, self.floor.crank_ramp)  # :meth:`_angles`, inlined: every step's
+        omega, eq_angle = self.floor.omega, self._eq_angle
+        shift, lag = omega * advance, self.lead * (omega * rate)
+        for drive, theta0 in zip(self._drive_ids, self._theta0):
+            eq_angle[drive] = theta0 + shift + lag  # (theta0 + shift) + lag, as the angle plus the lag
         self.mj.mj_step(self.model, self.data)
         self._accumulate()
 
@@ -260,71 +266,89 @@ class _Twin:
         torque = self._torque
         for i, row in enumerate(self._drive_rows):  # a joint equality's row has J = 1 on its crank
             torque[i] += efc[row]
-        ncon = data.ncon
-        if not ncon:
+        if not data.ncon:
             return
         # a few dozen contacts at most: scalar arithmetic on lists is cheaper than numpy's per-call cost
         # here, and a list's float sums are the very IEEE sums of numpy's float64 scalars, in the same order
-        contact = data.contact
-        address = contact.efc_address[:ncon].tolist()
-        firsts, seconds = contact.geom1[:ncon].tolist(), contact.geom2[:ncon].tolist()
-        along = contact.pos[:ncon, 0].tolist()
-        site_x = self._site_x.tolist()
-        ends = [site_x[s] for s in self._ends]  # x of right heel, right toe, left heel, left toe
+        contact = data.contact  # ncon long: its fields need no slicing
+        xpos, (s0, s1, s2, s3) = self._site_xpos, self._ends
+        heel_r, toe_r, heel_l, toe_l = xpos.item(s0, 0), xpos.item(s1, 0), xpos.item(s2, 0), xpos.item(s3, 0)
+        middle = (0.5 * (heel_r + toe_r), 0.5 * (heel_l + toe_l))
+        length = (toe_r - heel_r, toe_l - heel_l)
         foot_of_geom = self._foot_of_geom
         force = [0.0, 0.0, 0.0, 0.0]  # this step's sums, then added to the window's
-        for a, first, second, x in zip(address, firsts, seconds, along):
-            foot = foot_of_geom[max(first, second)]
+        for a, geoms, pos in zip(contact.efc_address.tolist(), contact.geom.tolist(), contact.pos.tolist()):
+            foot = foot_of_geom[max(geoms)]
             if a < 0 or foot < 0:
                 raise SimulationError("a contact that is not a sole's pyramidal condim-3 contact with the floor")
             normal = efc[a] + efc[a + 1] + efc[a + 2] + efc[a + 3]  # the pyramid's edges
-            heel, toe = ends[2 * foot], ends[2 * foot + 1]
-            force[2 * foot + ((x - 0.5 * (heel + toe)) * (toe - heel) >= 0.0)] += normal  # the toe half in x
+            force[2 * foot + ((pos[0] - middle[foot]) * length[foot] >= 0.0)] += normal  # the toe half in x
         window = self._force
         for k in range(4):
             window[k] += force[k]
 
     def sample(self, t: float) -> GaitSample:
-        """The judge's sample at ``t`` [s]: this instant's pose, the forces averaged (:data:`LOAD_WINDOW`)."""
-        mj, data = self.mj, self.data
+        """The judge's sample at ``t`` [s]: this instant's pose, the forces averaged (:data:`LOAD_WINDOW`).
+
+        On Python floats: the very divisions, sums (numpy's mean over the rows adds them in row order,
+        then divides) and products numpy gave, without its per-call cost on 4 numbers.
+        """
         n = max(self._n, 1)
-        self._recent[self._slot % len(self._recent)] = np.array(self._force) / n
+        recent = self._recent
+        recent[self._slot % len(recent)] = [f / n for f in self._force]
         self._slot += 1
-        force, torque = self._recent[: self._slot].mean(axis=0).reshape(2, 2), np.array(self._torque) / n
-        velocity = np.zeros(6)
-        feet = []
-        for i in range(len(SIDES)):
-            heel, toe = (self._grounded(data.site_xpos[s]) for s in self.sites[i])
-            half_loaded = force[i] > LOAD_TOL
-            slip = 0.0
-            for k in range(2):
-                if half_loaded[k]:
-                    mj.mj_objectVelocity(self.model, data, mj.mjtObj.mjOBJ_SITE, self.sites[i][k], velocity, 0)
-                    slip = max(slip, abs(float(self._grounded(velocity[3:6])[0])))
-            feet.append(
-                FootSample(
-                    loaded=bool(force[i].sum() > LOAD_TOL),
-                    x=0.5 * float(heel[0] + toe[0]),
-                    pitch=math.atan2(float(toe[2] - heel[2]), float(toe[0] - heel[0])),
-                    normal=float(force[i].sum()),
-                    slip=slip,
-                    on_point=bool(half_loaded[0] != half_loaded[1]),
-                )
-            )
-        rates = data.qvel[self.dofs]
-        power = [float(tau * w) for tau, w in zip(torque, rates)]
+        rows = recent[: self._slot]
+        total = list(rows[0])
+        for row in rows[1:]:
+            for k in range(4):
+                total[k] += row[k]
+        force = [f / len(rows) for f in total]  # right heel half, right toe half, left heel half, left toe half [N]
+        feet = (self._foot(0, force[0], force[1]), self._foot(1, force[2], force[3]))
+        qvel = self.data.qvel
+        power = [tau / n * qvel.item(dof) for tau, dof in zip(self._torque, self.dofs)]
         if self.one_motor:
             power = [sum(power)]
         self._reset_window()
         hip_x, pitch = self.hip()
-        return GaitSample(t, hip_x, pitch, (feet[0], feet[1]), tuple(power))
+        return GaitSample(t, hip_x, pitch, feet, tuple(power))
 
-    def _grounded(self, point: np.ndarray) -> np.ndarray:
-        """A world point or velocity (3,) read along the ground (x) and across it (z) (itself on the flat floor)."""
+    def _foot(self, i: int, heel_force: float, toe_force: float) -> FootSample:
+        """Foot ``i``'s sample from its heel and toe halves' average normal forces [N]."""
+        heel_site, toe_site = self.sites[i]
+        heel_x, heel_z = self._along(*self._xz(heel_site))
+        toe_x, toe_z = self._along(*self._xz(toe_site))
+        normal = heel_force + toe_force
+        slip = 0.0
+        for site, half in ((heel_site, heel_force), (toe_site, toe_force)):
+            if half > LOAD_TOL:  # the site's linear velocity, along the ground
+                self.mj.mj_objectVelocity(self.model, self.data, self.mj.mjtObj.mjOBJ_SITE, site, self._velocity, 0)
+                velocity = self._velocity
+                slip = max(slip, abs(self._along(velocity.item(3), velocity.item(5))[0]))
+        return FootSample(
+            loaded=normal > LOAD_TOL,
+            x=0.5 * (heel_x + toe_x),
+            pitch=math.atan2(toe_z - heel_z, toe_x - heel_x),
+            normal=normal,
+            slip=slip,
+            on_point=(heel_force > LOAD_TOL) != (toe_force > LOAD_TOL),
+        )
+
+    def _xz(self, site: int) -> tuple[float, float]:
+        """A site's world x and z [m]."""
+        return self._site_xpos.item(site, 0), self._site_xpos.item(site, 2)
+
+    def _along(self, x: float, z: float) -> tuple[float, float]:
+        """A world point's or velocity's (x, z) read along the ground and across it (itself on the flat floor)."""
         if self.turn == 1.0:
-            return point
-        at = complex(point[0], point[2]) * self.turn
-        return np.array([at.real, point[1], at.imag])
+            return x, z
+        at = complex(x, z) * self.turn
+        return at.real, at.imag
+
+    def crank_error(self, t: float) -> float:
+        """The largest |crank - schedule| at ``t`` [rad] (the drives' lag not added)."""
+        angles, _ = self._angles(t)
+        qpos = self.data.qpos
+        return max(abs(qpos.item(adr) - angle) for adr, angle in zip(self.qadr, angles))
 
     def hip(self) -> tuple[float, float]:
         """The hip's position along the ground [m] and its pitch from the ground's normal [rad] (as ours)."""
@@ -350,20 +374,25 @@ class _Twin:
         self._slot = 0  # the start's zero forces are no part of the first window
         feet = []
         for i, foot in enumerate(sample.feet):
-            heights = [self._grounded(self.data.site_xpos[s])[2] - self.options.sole_radius for s in self.sites[i]]
+            heights = [self._along(*self._xz(s))[1] - self.options.sole_radius for s in self.sites[i]]
             on = [h < 1e-6 for h in heights]
             feet.append(foot._replace(loaded=any(on), on_point=on[0] != on[1], normal=0.0, slip=0.0))
         return sample._replace(feet=(feet[0], feet[1]), motor_power=tuple(0.0 for _ in sample.motor_power))
 
     def broken(self) -> str:
-        """Why MuJoCo's state is not to be trusted (empty: it is fine)."""
-        mj, data = self.mj, self.data
-        for name in ("mjWARN_BADQACC", "mjWARN_BADQPOS", "mjWARN_BADQVEL"):
-            if data.warning[getattr(mj.mjtWarning, name)].number:
-                return f"MuJoCo warned {name[7:]} (it reset the state)"
-        if not (np.all(np.isfinite(data.qpos)) and np.all(np.isfinite(data.qvel))):
+        """Why MuJoCo's state is not to be trusted (empty: it is fine).
+
+        On lists: a few dozen numbers, where numpy's per-call cost is most of the check's.
+        """
+        data = self.data
+        counts = data.warning.number.tolist()
+        for index, name in self._warnings:
+            if counts[index]:
+                return f"MuJoCo warned {name} (it reset the state)"
+        qpos, qvel = data.qpos.tolist(), data.qvel.tolist()
+        if not (all(map(math.isfinite, qpos)) and all(map(math.isfinite, qvel))):
             return "the state is not finite"
-        if np.max(np.abs(data.qvel)) > SPEED_LIMIT:
+        if max(map(abs, qvel)) > SPEED_LIMIT:  # every number finite here: no NaN in the max
             return f"a velocity passed {SPEED_LIMIT:g}"
         return ""
 
@@ -433,7 +462,7 @@ def walk_in_mujoco(
             judge.diverged(t, f"MuJoCo diverged: {broken}")
             break
         sample = twin.sample(t)
-        crank_error = max(crank_error, float(np.max(np.abs(twin.data.qpos[twin.qadr] - twin.schedule(t)[0]))))
+        crank_error = max(crank_error, twin.crank_error(t))
         feet = sample.feet
         rows.append((t, sample.hip_x, sample.hip_pitch, *(f.loaded for f in feet), *(f.normal for f in feet)))
         if _judged(judge, sample, twin, t):
