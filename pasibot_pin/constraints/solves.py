@@ -146,14 +146,17 @@ def inverse_lists(matrix: list[list[float]]) -> list[list[float]]:
         (a, b), (c, d) = matrix
         det = a * d - b * c
         cofactors = [[d, -b], [-c, a]]
-    elif n == 3:
+    elif n == 3:  # written out: the floor's step inverts two 3 x 3 per time step
         (a00, a01, a02), (a10, a11, a12), (a20, a21, a22) = matrix
         c00, c01, c02 = a11 * a22 - a12 * a21, a12 * a20 - a10 * a22, a10 * a21 - a11 * a20
         det = a00 * c00 + a01 * c01 + a02 * c02
-        cofactors = [
-            [c00, a02 * a21 - a01 * a22, a01 * a12 - a02 * a11],
-            [c01, a00 * a22 - a02 * a20, a02 * a10 - a00 * a12],
-            [c02, a01 * a20 - a00 * a21, a00 * a11 - a01 * a10],
+        if det == 0.0 or not math.isfinite(det):
+            raise np.linalg.LinAlgError("singular matrix")
+        r = 1.0 / det
+        return [
+            [c00 * r, (a02 * a21 - a01 * a22) * r, (a01 * a12 - a02 * a11) * r],
+            [c01 * r, (a00 * a22 - a02 * a20) * r, (a02 * a10 - a00 * a12) * r],
+            [c02 * r, (a01 * a20 - a00 * a21) * r, (a00 * a11 - a01 * a10) * r],
         ]
     else:
         inverse = np.linalg.inv(np.array(matrix, dtype=float))

@@ -315,6 +315,8 @@ class GaitJudge:
         if not (math.isfinite(self.omega) and self.omega > 0):
             raise ParameterError(f"parameter 'omega' must be a crank rate > 0 [rad/s] to walk, got {self.omega!r}")
         self.period = math.pi / self.omega
+        self._grace = self.criteria.grace_steps * self.period  # landings before start.t + this are not judged [s]
+        self._bearing = self.criteria.bearing_share * self.weight  # a stance foot's normal force passes this [N]
         self._feet = [_Foot(stand=f.x, loaded=f.loaded) for f in self.start.feet]
         self._t = self.start.t
         self._hip_x = self.start.hip_x
@@ -380,21 +382,25 @@ class GaitJudge:
         """Take one sample (in time order); True once the outcome is decided."""
         if self.outcome:
             return True
-        c = self.criteria
-        h = sample.t - self._t
-        self._t = sample.t
+        c, t = self.criteria, sample.t
+        h = t - self._t
+        self._t = t
         self._hip_x = sample.hip_x
-        self._work += h * sum(max(p, 0.0) for p in sample.motor_power)
+        self._work += h * sum([0.0 if p < 0.0 else p for p in sample.motor_power])  # each max(p, 0), summed
         pitch = abs(sample.hip_pitch)
-        self._max_pitch = max(self._max_pitch, pitch)
+        if pitch > self._max_pitch:
+            self._max_pitch = pitch
         if not math.isfinite(sample.hip_pitch + sample.hip_x):
-            self._decide("diverged", sample.t, "the state is not finite")
+            self._decide("diverged", t, "the state is not finite")
         elif pitch > c.max_hip_pitch:
-            self._decide("fell", sample.t, f"|hip pitch| passed {math.degrees(c.max_hip_pitch):.0f} deg", "hip_pitch")
-        judged = sample.t - self.start.t > c.grace_steps * self.period
+            self._decide("fell", t, f"|hip pitch| passed {math.degrees(c.max_hip_pitch):.0f} deg", "hip_pitch")
+        judged = t - self.start.t > self._grace
         for i, foot in enumerate(sample.feet):
             self._foot(i, foot, sample, h, judged)
-        self._flight(sample, judged)
+        if any([f.loaded for f in sample.feet]):
+            self._flight_since = None
+        else:
+            self._flight(sample, judged)
         if not self.outcome and sample.t - self._last_progress > 2.0 * self.period:
             self._decide("stalled", sample.t, f"no step in {2.0 * self.period:.2f} s (two step periods)", "steps")
         if not self.outcome and len(self._steps) >= c.steps:
@@ -402,22 +408,23 @@ class GaitJudge:
         return bool(self.outcome)
 
     def _foot(self, i: int, foot: FootSample, sample: GaitSample, h: float, judged: bool) -> None:
-        c, state, side = self.criteria, self._feet[i], SIDES[i]
-        if foot.loaded and foot.on_point:
+        state, loaded = self._feet[i], foot.loaded
+        if loaded and foot.on_point:
             self._max_foot_roll = max(self._max_foot_roll, abs(foot.pitch))
-            if abs(foot.pitch) > c.roll_limit:
-                rolled = f"the {side} foot rolled past {math.degrees(c.roll_limit):.0f} deg"
+            if abs(foot.pitch) > self.criteria.roll_limit:
+                rolled = f"the {SIDES[i]} foot rolled past {math.degrees(self.criteria.roll_limit):.0f} deg"
                 self._decide("rolled", sample.t, rolled, "foot_roll")
-        if judged and foot.loaded and foot.normal > c.bearing_share * self.weight:
+        if judged and loaded and foot.normal > self._bearing:
             state.stance_slip += h * foot.slip
             self._max_slip = max(self._max_slip, state.stance_slip)
-            if state.stance_slip > c.slip_per_step and judged:
-                slid = f"the {side} foot slid {1e3 * state.stance_slip:.1f} mm in one stance"
+            if state.stance_slip > self.criteria.slip_per_step:
+                slid = f"the {SIDES[i]} foot slid {1e3 * state.stance_slip:.1f} mm in one stance"
                 self._decide("slipped", sample.t, slid, "slide")
         # debounce: a change of contact counts once it has lasted ``dwell``
-        if foot.loaded == state.loaded:
+        if loaded == state.loaded:
             state.pending_since = None
             return
+        c, side = self.criteria, SIDES[i]
         if state.pending_since is None:
             state.pending_since = sample.t
         if sample.t - state.pending_since + 1e-12 < c.dwell:
@@ -444,10 +451,7 @@ class GaitJudge:
         state.stand = foot.x
 
     def _flight(self, sample: GaitSample, judged: bool) -> None:
-        airborne = not any(f.loaded for f in sample.feet)
-        if not airborne:
-            self._flight_since = None
-            return
+        """Both feet are in the air at ``sample``: a flight longer than the limit is a hop."""
         if self._flight_since is None:
             self._flight_since = sample.t
         if judged:

@@ -356,8 +356,8 @@ class FloorSimulator:
     def hip_view(self, q: np.ndarray) -> tuple[float, float]:
         """The judge's hip: its position along the ground [m] and its pitch from the ground's normal [rad]."""
         if self.turn == 1.0:
-            return float(q[HIP_X]), float(q[HIP_PITCH])
-        return (complex(q[HIP_X], q[HIP_Z]) * self.turn).real, float(q[HIP_PITCH]) - self.settings.slope
+            return q.item(HIP_X), q.item(HIP_PITCH)
+        return (complex(q.item(HIP_X), q.item(HIP_Z)) * self.turn).real, q.item(HIP_PITCH) - self.settings.slope
 
     def rest_forces(self, q: np.ndarray) -> tuple[np.ndarray, np.ndarray, float]:
         """Contact forces holding ``q`` at rest, the cranks held.
@@ -477,6 +477,9 @@ class FloorSimulator:
             observer = judge(first) if judge is not None else self.judge_of(criteria)(first)
         track, stepper = self._tracker(h)
         t = 0.0
+        # the loop's constants, looked up once
+        names, motor_index, has_step = self.sole_points, self._motor_index, self.ground.has_step
+        hip_view, update = self.hip_view, None if observer is None else observer.update
         for _ in range(n):
             try:
                 q, v, normal, tangential, motor, points = self._advance(t, q, v, h, track, stepper)
@@ -487,12 +490,12 @@ class FloorSimulator:
                 break
             t += h
             forces = ([x / h for x in normal], [x / h for x in tangential], [x / h for x in motor])
-            power = tuple(tau * rate for tau, rate in zip(forces[2], v.take(self._motor_index).tolist()))
-            sample, loaded = point_sample(t, self.hip_view(q), points, forces[0], power, self.sole_points)
+            power = tuple([tau * v.item(i) for tau, i in zip(forces[2], motor_index)])
+            sample, loaded = point_sample(t, hip_view(q), points, forces[0], power, names)
             log.record(t, q, v, sample, forces, loaded, points[2])
-            if self.ground.has_step and self._tripped(t, points[0], log, observer):
+            if has_step and self._tripped(t, points[0], log, observer):
                 break
-            if observer is not None and observer.update(sample) and stop_on_verdict:
+            if update is not None and update(sample) and stop_on_verdict:
                 break
             if not stop_on_verdict and log.stopped(t, q):
                 break

@@ -342,8 +342,13 @@ def _free_kkt(
     row j. A row of ``c_in`` is read to its n-th entry.
     """
     n = len(g)
-    x_0 = [-sum(map(mul, row, g)) for row in inverse]
     pulled: dict[int, list[float]] = {}
+    unheld: list[list[float]] = []  # x_0, formed when a pass first holds fewer rows than unknowns
+
+    def start() -> list[float]:
+        if not unheld:
+            unheld.append([-sum(map(mul, row, g)) for row in inverse])
+        return unheld[0]
 
     def toward(j: int) -> list[float]:
         column = pulled.get(j)
@@ -363,6 +368,7 @@ def _free_kkt(
             pushed = [sum(map(mul, row, x)) + b for row, b in zip(hessian, g)]  # H x + g = C_W^T z_W
             z_w = [sum(map(mul, column, pushed)) for column in zip(*held_inverse)]
         elif rows:
+            x_0 = start()
             columns = [toward(j) for j in rows]
             held = [[sum(map(mul, c_in[i], column)) for column in columns] for i in rows]
             solved = _solve_small(held, [lower[i] - sum(map(mul, c_in[i], x_0)) for i in rows])
@@ -373,11 +379,11 @@ def _free_kkt(
             for z, column in zip(z_w, columns):
                 x = [a + z * b for a, b in zip(x, column)]
         else:
-            x, z_w = x_0, []
+            x, z_w = start(), []
         slack = [sum(map(mul, c, x)) - bound for c, bound in zip(c_in, lower)]
         if not math.isfinite(sum(slack) + sum(x)):
             return None
-        accurate = all(abs(slack[i]) <= RESIDUAL_TOL for i in rows)
+        accurate = all([abs(slack[i]) <= RESIDUAL_TOL for i in rows])
         return x, z_w, None, accurate, slack
 
     return kkt

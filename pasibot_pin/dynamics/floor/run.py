@@ -37,6 +37,9 @@ BEARING_SHARE = 0.25
 """A foot bears weight when its normal force exceeds this share of the robot's weight (a dragging
 swing toe does not count as a slip) [-]."""
 
+_new = tuple.__new__
+"""Builds a named tuple from a tuple of its fields without its Python-level ``__new__`` (three per time step)."""
+
 
 def mode_runs(modes: list[str] | tuple[str, ...], dt: float, dwell: float = 0.0) -> list[tuple[str, float]]:
     """A foot's mode sequence, run-length encoded: (mode, start time [s]) of each run.
@@ -96,21 +99,22 @@ def point_sample(
         loaded = [f > LOAD_TOL for f in f_n]
     n = len(names)
     feet = []
-    for i in range(len(SIDES)):
-        heel, toe = n * i, n * i + n - 1
-        own = range(heel, toe + 1)
-        count = sum(loaded[k] for k in own)
-        feet.append(
-            FootSample(  # loaded, x, pitch, normal, slip, on_point
-                count > 0,
-                0.5 * (xs[heel] + xs[toe]),
-                math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel]),
-                sum(f_n[k] for k in own),
-                max(abs(slip[k]) if loaded[k] else 0.0 for k in own),
-                count == 1,
-            )
-        )
-    return GaitSample(t, hip[0], hip[1], (feet[0], feet[1]), power), loaded
+    for heel in range(0, n * len(SIDES), n):
+        toe = heel + n - 1
+        if n == 2:  # heel and toe alone (the default sole): sum() and max() of two, written out
+            on_heel, on_toe = loaded[heel], loaded[toe]
+            count = 0 + on_heel + on_toe  # sum(): an int (of numpy booleans too)
+            normal_sum = 0.0 + f_n[heel] + f_n[toe]  # sum() of floats, to the bit (0 + -0.0 is 0.0)
+            slip_max = max(abs(slip[heel]) if on_heel else 0.0, abs(slip[toe]) if on_toe else 0.0)
+        else:
+            own = loaded[heel : toe + 1]
+            count = sum(own)
+            normal_sum = sum(f_n[heel : toe + 1])
+            slip_max = max([abs(s) if on else 0.0 for s, on in zip(slip[heel : toe + 1], own)])
+        pitch = math.atan2(gaps[toe] - gaps[heel], xs[toe] - xs[heel])
+        # FootSample(loaded, x, pitch, normal, slip, on_point)
+        feet.append(_new(FootSample, (count > 0, 0.5 * (xs[heel] + xs[toe]), pitch, normal_sum, slip_max, count == 1)))
+    return _new(GaitSample, (t, hip[0], hip[1], (feet[0], feet[1]), power)), loaded
 
 
 def foot_samples(
@@ -153,13 +157,22 @@ def foot_mode(loaded: list[bool], slip: list[float], foot: int, names: tuple[str
     ``air`` (no point loads), ``sliding`` (a loaded point slides), ``flat`` (two or more load: the
     sole lies on the floor) or the name of the one point that loads (``names``: a foot's points).
     """
-    own = range(len(names) * foot, len(names) * (foot + 1))
-    on = [k for k in own if loaded[k]]
-    if not on:
+    return _mode(loaded, slip, len(names) * foot, names)
+
+
+def _mode(loaded: list[bool], slip: list[float], start: int, names: tuple[str, ...]) -> str:
+    """:func:`foot_mode` of the foot whose points start at index ``start`` (a loop: two feet per time step)."""
+    count, first = 0, start  # the loaded points, the first of them
+    for k in range(start, start + len(names)):
+        if loaded[k]:
+            if abs(slip[k]) > SLIP_TOL:
+                return "sliding"
+            if not count:
+                first = k
+            count += 1
+    if not count:
         return "air"
-    if any(abs(slip[k]) > SLIP_TOL for k in on):
-        return "sliding"
-    return "flat" if len(on) > 1 else names[on[0] - own.start]
+    return "flat" if count > 1 else names[first - start]
 
 
 @dataclass
@@ -327,6 +340,8 @@ class RunLog:
         self.air_before = [True] * len(SIDES)
         self.slid = [0.0] * len(SIDES)
         self.stop_reason = ""
+        self._bearing = BEARING_SHARE * weight  # a foot's normal force above this bears weight [N]
+        self._mode_lists = [self.modes[side] for side in SIDES]
 
     def stop_on(self, err: SimulationError, t: float) -> None:
         """A step failed at ``t`` [s]: the cause named by the error's type."""
@@ -345,31 +360,35 @@ class RunLog:
 
         ``loaded`` and ``slip``: each point's load flag and tangential speed [m/s] (as the sample's).
         """
-        h = t - (self.rec["t"][-1] if self.rec["t"] else 0.0)
-        names, n = self.names, len(self.names)
-        for k, now in enumerate(loaded):
-            if now and not self.loaded_before[k]:
-                self.touchdowns.append((t, SIDES[k // n], names[k % n]))
-        for i, side in enumerate(SIDES):
-            foot = sample.feet[i]
-            mode = foot_mode(loaded, slip, i, names)
-            self.modes[side].append(mode)
-            if foot.loaded and self.air_before[i] and t > h:
+        rec = self.rec
+        times = rec["t"]
+        h = t - (times[-1] if times else 0.0)
+        names, n, before = self.names, len(self.names), self.loaded_before
+        if loaded != before:  # the same flags: no point starts to load
+            for k, now in enumerate(loaded):
+                if now and not before[k]:
+                    self.touchdowns.append((t, SIDES[k // n], names[k % n]))
+        air_before, slid = self.air_before, self.slid
+        for i, (side, foot, modes) in enumerate(zip(SIDES, sample.feet, self._mode_lists)):
+            mode = _mode(loaded, slip, n * i, names)
+            modes.append(mode)
+            if foot.loaded and air_before[i] and t > h:
                 self.landings.append((t, side, foot.x))
-            self.air_before[i] = not foot.loaded
-            if foot.normal > BEARING_SHARE * self.weight:
-                self.slid[i] += h * foot.slip
+            air_before[i] = not foot.loaded
+            if foot.normal > self._bearing:
+                slid[i] += h * foot.slip
             if mode in names and abs(foot.pitch) > ROLL_LIMIT:
                 self.stop_reason = f"the {side} foot rolled over its {mode} at t = {t:.3f} s"
-            if self.slid[i] > SLIP_LIMIT:
-                self.stop_reason = f"the {side} foot slipped {1e3 * self.slid[i]:.0f} mm by t = {t:.3f} s"
+            if slid[i] > SLIP_LIMIT:
+                self.stop_reason = f"the {side} foot slipped {1e3 * slid[i]:.0f} mm by t = {t:.3f} s"
         self.loaded_before = loaded
-        rec = self.rec
-        rec["t"].append(t)
+        times.append(t)
         rec["q"].append(q)
         rec["v"].append(v)
-        for key, value in zip(("normal", "tangential", "motor"), force):  # flat: floats, no container per step
-            rec[key].extend(value)
+        normal, tangential, motor = force  # flat: floats, no container per step
+        rec["normal"].extend(normal)
+        rec["tangential"].extend(tangential)
+        rec["motor"].extend(motor)
 
     def stopped(self, t: float, q: np.ndarray) -> bool:
         """True when a run without a verdict stops here (see the class docstring)."""

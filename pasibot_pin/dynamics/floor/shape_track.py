@@ -61,6 +61,9 @@ JUMP_TOL = 1e-2
 """Largest step of the shape off its tangent, |s_(k+1) - s_k - h x_S| [rad, m] (an assembly branch
 switch jumps by far more; a smooth step is O(h^2), below 1e-4)."""
 
+_new = tuple.__new__
+"""Builds a named tuple from a tuple of all its fields, without its Python-level ``__new__`` (once per time step)."""
+
 
 class StepContact(NamedTuple):
     """The contact points' rows of one step, the hip at its origin, unpitched (a :class:`~.constraints.FloatingForm`).
@@ -244,9 +247,9 @@ class ShapeTrack:
             if 0 <= k < block.length and abs(block.t0 + k * self.h - t) <= 1e-6 * self.h:
                 contact = None
                 if block.contact is not None:
-                    contact = StepContact(block.contact[0][k], block.contact[1][k])
+                    contact = _new(StepContact, (block.contact[0][k], block.contact[1][k]))
                 shapes, columns = block.shapes, block.columns
-                return TrackStep(shapes[k], shapes[k + 1], columns[k], block.columns_t[k], block.free, contact)
+                return _new(TrackStep, (shapes[k], shapes[k + 1], columns[k], block.columns_t[k], block.free, contact))
         if t < self._declined_until:
             return None
         self._block = self._solve_block(t, q)

@@ -209,7 +209,7 @@ class FreeStepper:
             c = f + 1 + j
             work = k[f][c] - scale * pr[c] - sum(map(mul, z, [row[c] for row in cone]))  # D^T M x_S: K symmetric
             motor.append(work + sum(map(mul, u, [row[c] for row in k[:f]])))
-        x = shape.velocity.copy()
+        x = shape.columns_t[f].copy()  # x_S, contiguous
         x[at] = u
         q_new = shape.end.copy()
         q_free = [a + h * b - c for a, b, c in zip(q_free, u, shift)]
