@@ -277,8 +277,8 @@ class CornerJacobians:
         pin.computeJointJacobians(model, data, q)
         k, a = len(self.frames), len(self.axes)  # corners, rows
         points = np.array([pin.updateFramePlacement(model, data, frame).translation for frame in self.frames])
-        world = data.J[self._rows]  # (3 a, nv): the rows a, then the angular factors
-        terms = points[:, self._factors].reshape(k, 2, a, 1) * world[a:].reshape(2, a, -1)
+        world = data.J.take(self._rows, axis=0)  # (3 a, nv): the rows a, then the angular factors
+        terms = points.take(self._factors, axis=1).reshape(k, 2, a, 1) * world[a:].reshape(2, a, -1)
         jac = np.zeros((k, a, model.nv))  # C order: its reshape to (k a, nv) is a view
         np.copyto(jac, world[:a] - (terms[:, 0] - terms[:, 1]), where=self.columns)
         return points, jac

@@ -155,7 +155,9 @@ class Floor3D:
         self._shift = NV_ROOT - PLANAR_NQ_ROOT
         self._crank_rows = planar.crank_rows
         self._motor_index = [i + self._shift for i in planar.motor_index]
-        self._motor_targets = np.array(planar.crank_rows, dtype=int) - planar.bilateral.n_constraint_rows
+        targets = [row - planar.bilateral.n_constraint_rows for row in planar.crank_rows]
+        # the motors' rows of D^T (C-ordered: as D's columns picked out); the first ones: a view, not a copy
+        self._motor_targets = slice(0, len(targets)) if targets == list(range(len(targets))) else np.array(targets)
         self.tracked = True
         self.repeats = True
         self.fallback = 0
@@ -231,8 +233,8 @@ class Floor3D:
     def _mass_and_bias(self, q: np.ndarray, u: np.ndarray) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """M and b in world-aligned coordinates, and the root's rotation R (v = T u, T = diag(R^T, R^T, I))."""
         mass_u, rotation = self._mass(q)
-        linear, angular = rotation.T.dot(u[:3]), rotation.T.dot(u[3:6])
-        v = np.concatenate((linear, angular, u[6:]))
+        v = u.copy()  # the root's six turned into the local axes in place (the same products, no concatenation)
+        linear, angular = rotation.T.dot(u[:3], out=v[:3]), rotation.T.dot(u[3:6], out=v[3:6])
         # d/dt (R^T p') = R^T p'' - w x v: the local acceleration that a world-aligned u' = 0 means
         drift = np.zeros(self.model.nv)
         (vx, vy, vz), (wx, wy, wz) = linear.tolist(), angular.tolist()
@@ -378,7 +380,7 @@ class Floor3D:
             check_speed(u_free)
         x = shape.velocity.copy()
         x[free] = u_free
-        motor = shape.tangent[:, self._motor_targets].T.dot(hessian.dot(x) + g - cone.T.dot(z))
+        motor = shape.tangent.T[self._motor_targets].dot(hessian.dot(x) + g - cone.T.dot(z))
         shift = solve_spd(mass[block], mass.dot(shape.moved)[free])  # the projection: F by the mass metric
         if shift is None:  # M_FF singular: as the general projection's least-norm step, F stays
             shift = np.zeros(len(u_free))

@@ -30,13 +30,16 @@ import numpy as np
 from pasibot_pin.dynamics.floor.shape_track import ShapeTrack, TrackStep
 from pasibot_pin.errors import ParameterError
 
+_new = tuple.__new__  # a NamedTuple from its fields' tuple, without the generated __new__'s keyword handling
+
 
 class SpatialShape(NamedTuple):
     """One tracked step in the 3-D floor's velocity coordinates.
 
     Attributes:
         velocity: x_S (nv,): the legs' shape velocity in the step, 0 on F [rad/s].
-        tangent: D (nv, scalar rows): the shape's motion per unit of each scalar row's target [rad/rad].
+        tangent: D (nv, scalar rows): the shape's motion per unit of each scalar row's target [rad/rad]; the
+            transpose of a C-ordered D^T (its rows, D's columns, contiguous).
         moved: s_(k+1) - s_k - h x_S (nv,): the projection's move of the shape [rad].
         end: the legs' configuration after the step (legs,), 0 on a free ankle [rad].
 
@@ -77,7 +80,7 @@ class SpatialTrack:
         self.free = np.array(list(range(root)) + [i + root for i in ankles], dtype=int)
         self.rows: slice | np.ndarray = slice(0, root) if not ankles else self.free
         self.block: tuple = (self.rows, self.rows) if not ankles else np.ix_(self.free, self.free)
-        self._zeros, self._planar_zeros = np.zeros(root), np.zeros(planar_root)  # the roots' rows, read only
+        self._planar_zeros = np.zeros(planar_root)  # the planar root's rows, read only
 
     def step(self, t: float, legs: np.ndarray) -> SpatialShape | None:
         """The step from ``t`` with the legs at ``legs`` (planar order) [rad]; ``None``: the general step takes it."""
@@ -86,9 +89,8 @@ class SpatialTrack:
         return None if shape is None else self._spatial(shape)
 
     def _spatial(self, shape: TrackStep) -> SpatialShape:
-        cut = self.planar_root
-        velocity = np.concatenate((self._zeros, shape.velocity[cut:]))
-        moved = np.concatenate((self._zeros, shape.moved[cut:]))
-        tangent = np.zeros((self.nv, shape.tangent.shape[1]))
-        tangent[self.root :] = shape.tangent[cut:]
-        return SpatialShape(velocity, tangent, moved, shape.end[cut:])
+        cut, free, root, nv = self.planar_root, shape.free, self.root, self.nv
+        rows = shape.columns_t  # P^T: x_S, D^T and the move as contiguous rows (the properties' values, copied)
+        velocity, moved, tangent_t = np.zeros(nv), np.zeros(nv), np.zeros((len(rows) - free - 2, nv))
+        velocity[root:], moved[root:], tangent_t[:, root:] = rows[free, cut:], rows[-1, cut:], rows[free + 1 : -1, cut:]
+        return _new(SpatialShape, (velocity, tangent_t.T, moved, shape.end[cut:]))
