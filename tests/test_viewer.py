@@ -261,6 +261,10 @@ def test_html_is_self_contained_with_group_colours_paths_and_ground(robot, expor
     _, html = exported
     assert "<script src=" not in html and "http://" not in html.split("<script>")[0]
     assert "new MeshCat.Viewer" in html and viewer.SEEK_SCRIPT.strip() in html
+    # the seek wraps the viewer's commands before the first is fetched: a fetch's callback may run as soon as the
+    # parser yields, and the animation handled before the wrap would play instead of pausing at #t=
+    made = html.index("new MeshCat.Viewer")
+    assert made < html.index(viewer.SEEK_SCRIPT.strip()) < html.index('fetch("data:') > made
     objects = {c["path"]: c["object"] for c in decode_commands(html) if c["type"] == "set_object"}
     for obj in robot.visual_model.geometryObjects:
         group = link_group(robot.model.frames[obj.parentFrame].name)

@@ -5,8 +5,9 @@ root node, so it would come first and the nodes' static poses after it: :func:`a
 moves it to the end (the commands are base64 msgpack blobs, read by :func:`command_type`). The
 page gets a title bar (:class:`Hud`: meshcat has no text overlay of its own) with the scene's
 title, the time, the crank angle and each foot's contact mode, following the animation, and
-:data:`SEEK_SCRIPT`: ``#t=SECONDS`` in the address pauses the animation at that time (a still
-for screenshots and bookmarks); without it the walk plays in a loop. :func:`finish_page` does all three.
+:data:`SEEK_SCRIPT`, inside meshcat's own script before its commands: ``#t=SECONDS`` in the address
+pauses the animation at that time (a still for screenshots and bookmarks); without it the walk
+plays in a loop. :func:`finish_page` does all three.
 """
 
 from __future__ import annotations
@@ -49,7 +50,6 @@ background:rgba(255,255,255,0.85);border-radius:4px;pointer-events:none;white-sp
 """
 
 SEEK_SCRIPT = """
-<script>
 // pasibot_pin: '#t=SECONDS' in the address pauses the walk at that time; without it the walk loops.
 (function () {
   var match = /[#&]t=([0-9.eE+-]+)/.exec(window.location.hash);
@@ -78,8 +78,14 @@ SEEK_SCRIPT = """
     }
   };
 })();
-</script>
 """
+"""The seek's JavaScript. :func:`finish_page` puts it into meshcat's own script, right after the viewer is made
+and before the first command is fetched: the commands arrive by ``fetch()``, whose callbacks may run as soon as
+the parser yields, so a script placed after them could wrap ``handle_command`` only once the animation had
+arrived (seen in Chromium under load: a page paused at ``#t=0.5`` that played instead)."""
+
+VIEWER_MADE = 'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));'
+"""The statement of meshcat's static page that makes the viewer; the commands' fetches follow it."""
 
 
 _COMMAND = re.compile(
@@ -153,7 +159,12 @@ def finish_page(page: str, hud: Hud | None) -> str:
     page = animation_last(page)
     if hud is not None:  # before the insertion point is found: the title changes the length
         page = page.replace("<title>MeshCat</title>", f"<title>{html_text.escape(hud.title)}</title>", 1)
+    made = page.find(VIEWER_MADE)
+    if made < 0:
+        raise RuntimeError("meshcat's static_html() makes no viewer where expected")
+    made += len(VIEWER_MADE)
+    page = page[:made] + SEEK_SCRIPT + page[made:]  # before the first command is fetched (SEEK_SCRIPT)
     at = page.rfind("</body>")
     if at < 0:
         raise RuntimeError("meshcat's static_html() has no </body>")
-    return page[:at] + (hud.script() if hud is not None else "") + SEEK_SCRIPT + page[at:]
+    return page[:at] + (hud.script() if hud is not None else "") + page[at:]
