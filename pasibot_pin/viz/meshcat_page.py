@@ -82,7 +82,7 @@ SEEK_SCRIPT = """
 """The seek's JavaScript. :func:`finish_page` puts it into meshcat's own script, right after the viewer is made
 and before the first command is fetched: the commands arrive by ``fetch()``, whose callbacks may run as soon as
 the parser yields, so a script placed after them could wrap ``handle_command`` only once the animation had
-arrived (seen in Chromium under load: a page paused at ``#t=0.5`` that played instead)."""
+arrived (seen once, in a fresh clone's test run: a page asked for ``#t=0.5`` played instead)."""
 
 VIEWER_MADE = 'var viewer = new MeshCat.Viewer(document.getElementById("meshcat-pane"));'
 """The statement of meshcat's static page that makes the viewer; the commands' fetches follow it."""
