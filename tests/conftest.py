@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import gc
 import os
 import sys
 
@@ -16,6 +17,9 @@ os.environ.pop("PYTHONDONTWRITEBYTECODE", None)
 # Headless plots, here and in the commands' subprocesses; set before matplotlib is first imported
 # (not imported here: a worker that runs no plotting test never pays for it).
 os.environ["MPLBACKEND"] = "Agg"
+
+from plain_install import GROUP as PLAIN_INSTALL  # noqa: E402
+from plain_install import analyze, analyzed, installed  # noqa: E402, F401  (session fixtures: the plain install)
 
 import pasibot_pin as pp  # noqa: E402
 
@@ -53,6 +57,8 @@ def L():
 # work is one test, so that long tests spread over the workers, except that the tests of one module that
 # share a module-scoped fixture (the browser screenshots, the walks, the meshcat server, a shooting, a
 # reference sweep) form one ``xdist_group``: the fixture is built once, on one worker, not once per worker.
+# The tests of any module that use the plain install (plain_install.py: the wheel in a clean venv and
+# `pasibot analyze` run there) form one group too, PLAIN_INSTALL: its session fixtures are built once.
 # The tiers (pyproject's markers): `slow`, `integration`, `browser`, `mujoco`, `network`; `make test-fast`
 # leaves them out.
 # The longest go first, so that none starts last and keeps one worker busy alone (pyproject's
@@ -74,6 +80,16 @@ def _shared_module_fixture(item) -> bool:
     return any(defs and defs[-1].scope == "module" for defs in info.name2fixturedefs.values())
 
 
+def unit_of_work(item) -> str:
+    """What xdist schedules ``item`` with: the plain install's group (PLAIN_INSTALL), its module's (it uses a module
+    fixture: the module file's name), or the test alone (its node id)."""
+    if "installed" in getattr(item, "fixturenames", ()):
+        return PLAIN_INSTALL
+    if _shared_module_fixture(item):
+        return item.nodeid.split("::", 1)[0].rsplit("/", 1)[-1]
+    return item.nodeid
+
+
 def _marks(item) -> int:
     return sum(item.get_closest_marker(m) is not None for m in TIERS)
 
@@ -85,23 +101,30 @@ def _measured(config) -> dict[str, float]:
 
 @pytest.hookimpl(tryfirst=True)  # before xdist's own hook, which turns the group marks into the node ids' "@group"
 def pytest_collection_modifyitems(config, items) -> None:
-    """Group the tests sharing a module fixture on one worker; the longest tests and groups first."""
+    """Group the tests sharing a module fixture, or the plain install, on one worker; the longest tests and groups
+    first."""
     measured = _measured(config)
     rank: dict[str, tuple[float, int]] = {}
     for item in items:
-        key = item.nodeid
-        if _shared_module_fixture(item):
-            key = item.nodeid.split("::", 1)[0]
-            item.add_marker(pytest.mark.xdist_group(name=key.rsplit("/", 1)[-1]))
+        key = unit_of_work(item)
+        if key != item.nodeid:
+            item.add_marker(pytest.mark.xdist_group(name=key))
         seconds, marks = rank.get(key, (0.0, 0))
         rank[key] = (seconds + measured.get(item.nodeid, 0.0), max(marks, _marks(item)))
 
     def first(item) -> tuple[bool, float, float]:
         group = item.get_closest_marker("xdist_group")
-        seconds, marks = rank[item.nodeid.split("::", 1)[0] if group else item.nodeid]
+        seconds, marks = rank[group.kwargs["name"] if group else item.nodeid]
         return (False, -seconds, 0.0) if seconds >= 1.0 else (True, -marks, -seconds)
 
     items.sort(key=first)
+
+
+def pytest_collection_finish(session) -> None:
+    """Freeze what exists once the tests are collected (their items, the package and its libraries' modules): the
+    cyclic collector's full passes skip it from then on, in every worker, as the analysis's pool does
+    (:func:`pasibot_pin.jobs.run_jobs`). Its objects live to the end of the run anyway."""
+    gc.freeze()
 
 
 def pytest_runtest_logreport(report) -> None:

@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pinocchio as pin
 import pytest
-from report_checks import assert_reads_like_a_report
+from report_checks import assert_reads_like_a_report, links
 
 from pasibot_pin.dynamics.inverse import inverse_dynamics
 from pasibot_pin.model.scenario_robots import scenario_robot
@@ -131,28 +131,29 @@ def test_energy_errors():
 
 
 @pytest.mark.slow
-def test_analyze_step_contact_energy(tmp_path):
-    """The ``contact_energy`` step of ``pasibot analyze``: its section, tables, CSVs and figures."""
+@pytest.mark.integration
+def test_analyze_step_contact_energy(analyzed):
+    """The ``contact_energy`` step of ``pasibot analyze`` (as the plain install wrote it): its section, tables, CSVs
+    and figures."""
     import csv
 
-    from pasibot_pin.report import contact_energy
-
-    text = contact_energy.section(tmp_path)
-    assert text.startswith("## Beyond the report: contact, one motor, energy")
+    text, out = analyzed.section("Beyond the report: contact, one motor, energy"), analyzed.folder
     for scenario in ("quasi-static", "run1", "run2", "run3", "run4"):
         for variant in ("spring", "parallel"):
             assert f"| {scenario} ({variant}) |" in text
-            assert (tmp_path / "contact_energy" / f"contact_{variant}_{scenario}.png").stat().st_size > 10_000
+            assert (out / "contact_energy" / f"contact_{variant}_{scenario}.png").stat().st_size > 10_000
     assert "first failure" in text and ": slip." in text
-    rows = list(csv.DictReader((tmp_path / "contact_energy" / "energy.csv").open()))
+    rows = list(csv.DictReader((out / "contact_energy" / "energy.csv").open()))
     assert {r["variant"] for r in rows} == {"spring", "parallel"} and len(rows) == 10
     for r in rows:  # the table's CoT is its positive work over weight x distance
         assert float(r["cot_motors"]) == pytest.approx(
             float(r["W_crank_pos_J"]) / (float(r["mass_kg"]) * G * float(r["distance_m"])), rel=1e-9
         )
     for name in ("single_motor_run4.png", "cost_of_transport.png", "power_spring_5.png", "single_motor_run4.csv"):
-        assert (tmp_path / "contact_energy" / name).exists()
-    assert_reads_like_a_report(tmp_path, text, 13)  # every figure linked with a caption, units on every column
+        assert (out / "contact_energy" / name).exists()
+    assert_reads_like_a_report(out, text, 13, shared=True)  # every figure linked with a caption, units on every column
+    own = {f"contact_energy/{p.name}" for p in (out / "contact_energy").glob("*.png")}
+    assert len(own) >= 13 and own <= links(text)  # the step's folder holds only figures this section links
 
 
 def test_the_rigid_variant_advances_over_a_stride_and_its_cost_of_transport_is_positive():

@@ -12,6 +12,7 @@ import math
 import mujoco
 import numpy as np
 import pytest
+from report_checks import assert_reads_like_a_report
 
 import pasibot_pin as pp
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
@@ -395,25 +396,28 @@ def test_simulate_study_command_writes_the_weld_against_floor_table(tmp_path, ca
 
 
 @pytest.mark.slow
-def test_analyze_floor_section_links_its_figure_and_states_its_facts(tmp_path):
-    """``pasibot analyze``'s floor section: the figure linked, the CSV written, the summary row from its facts."""
-    from pasibot_pin.report import floor as floor_report
-    from pasibot_pin.report.markdown import summary
+@pytest.mark.integration
+def test_analyze_floor_section_links_its_figure_and_states_its_facts(analyzed):
+    """``pasibot analyze``'s floor section, as the plain install wrote it: the figure linked, the CSV written, the
+    summary's row quoting the CSV's run1 row with the fitted spring (the start, both pitches, the outcome)."""
+    import csv
 
-    section = floor_report.build(tmp_path)
-    assert sorted(p.name for p in tmp_path.iterdir()) == ["floor_springs.csv", "floor_springs.png"]
-    assert "](floor_springs.png)" in section.markdown
-    facts = section.facts
-    assert 0 <= facts["floor_max_pitch"] and 0 <= facts["weld_max_pitch"]
-    row = summary({"floor": facts})
-    assert f"{math.degrees(facts['floor_max_pitch']):.1f}°" in row and facts["floor_outcome"] in row
-    # runs 1-4 answered quasi-statically (exact statics), the rows those of the library's study
     from pasibot_pin.report.floor_static import case_rows
     from pasibot_pin.studies.floor_static import floor_static_study
 
-    quasi = section.markdown.split("### Quasi-static")[1]
-    for row in case_rows(floor_static_study(("run4",), sweep=False)):
-        assert "| " + " | ".join(row.values()) + " |" in quasi
+    section, out = analyzed.section("The spring study on the floor"), analyzed.folder
+    assert "](floor_springs.png)" in section and (out / "floor_springs.csv").is_file()
+    assert_reads_like_a_report(out, section, 1, shared=True)
+    with (out / "floor_springs.csv").open(encoding="utf-8") as f:
+        fitted = next(r for r in csv.DictReader(f) if r["run"] == "run1" and r["spring"] == "fitted")
+    (row,) = [line for line in analyzed.section("Summary").splitlines() if "on a real floor (run 1)" in line]
+    floor_pitch, weld_pitch = fitted["floor: max pitch in 2 s [deg]"], fitted["weld: max pitch in 2 s [deg]"]
+    assert f"the largest hip pitch over 2 s is {floor_pitch}° against {weld_pitch}° welded" in row
+    assert f"({fitted['floor: start'].split()[0]})" in row and fitted["floor: outcome"] in row
+    # runs 1-4 answered quasi-statically (exact statics), the rows those of the library's study
+    quasi = section.split("### Quasi-static")[1]
+    for case in case_rows(floor_static_study(("run4",), sweep=False)):
+        assert "| " + " | ".join(case.values()) + " |" in quasi
     for run in ("run1", "run2", "run3"):
         assert quasi.count(f"| {run} |") == 4
 

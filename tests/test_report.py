@@ -10,15 +10,16 @@ from __future__ import annotations
 
 import itertools
 import math
+import re
 import time
 from pathlib import Path
 
 import numpy as np
 import pytest
-from report_checks import assert_reads_like_a_report, columns_without_units
+from report_checks import assert_reads_like_a_report, columns_without_units, tables
 
 from pasibot_pin.jobs import run_jobs
-from pasibot_pin.report import kinematics, markdown, model, torques
+from pasibot_pin.report import markdown, model, torques
 from pasibot_pin.report.simulation import SimulationPlan
 from pasibot_pin.studies.simulation_study import SimulationStudySettings
 
@@ -44,12 +45,23 @@ def test_the_checks_catch_what_they_look_for(tmp_path):
 
 
 @pytest.mark.slow
-def test_kinematics_section(tmp_path):
-    built = kinematics.build(tmp_path)
-    assert_reads_like_a_report(tmp_path, built.markdown, 9)
-    summary = markdown.summary({"kinematics": built.facts})
-    assert f"stroke {built.facts['stroke_L']:.3f} L" in summary
-    assert f"within {built.facts['parallel_pitch_deg']:.3f}° in stance" in summary
+@pytest.mark.integration
+def test_kinematics_section(analyzed):
+    """The kinematics section of the plain install's report: its figures linked and captioned, and the summary's
+    rows quote the section's own table (the parallel leg's stroke, its band and its stance foot pitch)."""
+    text = analyzed.section("Kinematics")
+    assert_reads_like_a_report(analyzed.folder, text, 9, shared=True)
+    header, rows = tables(text)[0]
+    leg = {row[0]: dict(zip(header, row)) for row in rows}
+    summary = analyzed.section("Summary")
+    quoted = re.search(r"\| stroke ([\d.]+) L, off the line by at most ([\d.]+) L \|", summary)
+    stroke, band = map(float, quoted.groups())
+    assert stroke == pytest.approx(float(leg["parallel"]["stroke [L]"]), abs=5e-4)
+    assert band == pytest.approx(float(leg["parallel"]["ankle band [L]"]), abs=5e-5)
+    quoted = re.search(r"within ([\d.]+)° in stance; the rigid foot tilts up to ([\d.]+)°", summary)
+    level, tilt = map(float, quoted.groups())
+    assert level == pytest.approx(float(leg["parallel"]["stance foot pitch max [deg]"]), abs=6e-4)
+    assert tilt == pytest.approx(float(leg["rigid"]["stance foot pitch max [deg]"]), abs=0.06)
 
 
 @pytest.mark.slow
@@ -95,19 +107,35 @@ def test_the_walking_section_comes_right_after_the_answers_box():
 
 
 @pytest.mark.slow
-def test_the_walking_section_draws_the_map_and_a_walker_that_walks(tmp_path):
+@pytest.mark.integration
+def test_the_walking_section_draws_the_map_and_a_walker_that_walks(analyzed):
     """The section's files are in the report's folder (no link into docs/), and its animation is of a walk."""
     from PIL import Image
 
-    from pasibot_pin.report.walking_section import MAP_PNG, WALK_GIF, section
+    from pasibot_pin.report.walking_section import MAP_PNG, WALK_GIF
 
-    text = section(tmp_path)
-    assert text.startswith("## Does it walk?") and "docs/" not in text.replace("designs/", "")
+    text = analyzed.section("Does it walk?")
+    assert "docs/" not in text.replace("designs/", "")
     assert f"]({MAP_PNG})" in text and f"]({WALK_GIF})" in text and ": walks." in text
-    with Image.open(tmp_path / WALK_GIF) as gif:
+    assert_reads_like_a_report(analyzed.folder, text, 2, shared=True)
+    with Image.open(analyzed.folder / WALK_GIF) as gif:
         assert gif.size[0] >= 640 and gif.n_frames > 10
-    with Image.open(tmp_path / MAP_PNG) as png:
+    with Image.open(analyzed.folder / MAP_PNG) as png:
         assert png.size[0] > 600
+
+
+@pytest.mark.slow
+@pytest.mark.integration
+def test_the_installed_report_reads_like_a_report(analyzed):
+    """The whole report of the plain install: every figure in its folder linked from report.md and captioned,
+    every numeric column with its unit, one resolution; the sections in :data:`~pasibot_pin.cli.analyze.STEPS`'
+    order, the walking section right after the answers box, before the summary."""
+    from pasibot_pin.cli.analyze import STEPS
+
+    assert_reads_like_a_report(analyzed.folder, analyzed.text, 40)
+    headings = re.findall(r"^## (.+)$", analyzed.text, re.M)
+    assert headings[:3] == ["Answers", "Does it walk?", "Summary"]
+    assert len(headings) == len(STEPS) + 1  # every step's section and the summary (the answers step has its box)
 
 
 def test_the_summary_says_how_runs_fell():

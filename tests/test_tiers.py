@@ -1,5 +1,5 @@
 """The test tiers and their scheduling (issue 35): the markers are registered and enforced, `make test-fast`
-leaves the marked tiers out, and the tests sharing a module fixture run on one xdist worker.
+leaves the marked tiers out, and the tests sharing a module fixture (or the plain install) run on one xdist worker.
 
 pytest 9.2 changed how node ids are stored, and pytest-xdist 3.8's ``--dist loadgroup`` then silently stops
 grouping (pytest-dev/pytest-xdist#1386): every worker builds every module fixture again. ``pyproject.toml``
@@ -51,3 +51,18 @@ def test_a_module_fixture_s_tests_share_one_worker(request, shared):
 def test_a_test_without_module_fixture_is_its_own_unit(request):
     assert request.node.get_closest_marker("xdist_group") is None
     assert "@" not in request.node.nodeid
+
+
+def test_the_plain_install_s_tests_are_one_group_whatever_their_module():
+    """A test that uses the plain install (plain_install.py's session fixtures) is scheduled in its one group, from
+    any module: the venv is built and ``analyze`` run once, on one worker."""
+    from types import SimpleNamespace
+
+    from conftest import unit_of_work
+    from plain_install import GROUP
+
+    for module in ("test_report.py", "test_energy.py", "test_wheel_install.py"):
+        item = SimpleNamespace(nodeid=f"tests/{module}::test_a", fixturenames=["analyzed", "installed", "analyze"])
+        assert unit_of_work(item) == GROUP == "plain_install"
+    alone = SimpleNamespace(nodeid="tests/test_report.py::test_b", fixturenames=["tmp_path"])
+    assert unit_of_work(alone) == alone.nodeid
