@@ -2,7 +2,6 @@
 
 from __future__ import annotations
 
-import gc
 import os
 import sys
 
@@ -118,13 +117,6 @@ def pytest_collection_modifyitems(config, items) -> None:
         return (False, -seconds, 0.0) if seconds >= 1.0 else (True, -marks, -seconds)
 
     items.sort(key=first)
-
-
-def pytest_collection_finish(session) -> None:
-    """Freeze what exists once the tests are collected (their items, the package and its libraries' modules): the
-    cyclic collector's full passes skip it from then on, in every worker, as the analysis's pool does
-    (:func:`pasibot_pin.jobs.run_jobs`). Its objects live to the end of the run anyway."""
-    gc.freeze()
 
 
 def pytest_runtest_logreport(report) -> None:
