@@ -44,7 +44,7 @@ GROUP = "plain_install"
 
 ROOT = Path(__file__).resolve().parents[1]
 TIMES: dict[str, float] = {}
-"""Wall time of each step [s], printed at the end of the module (``-s`` or the captured output)."""
+"""Wall time of each step [s], printed when the session ends (``-s`` or the captured output)."""
 
 
 def _cache_root(tmp_path_factory) -> Path:
