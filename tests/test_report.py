@@ -128,8 +128,9 @@ def test_the_walking_section_draws_the_map_and_a_walker_that_walks(analyzed):
 @pytest.mark.integration
 def test_the_installed_report_reads_like_a_report(analyzed):
     """The whole report of the plain install: every figure in its folder linked from report.md and captioned,
-    every numeric column with its unit, one resolution; the sections in :data:`~pasibot_pin.cli.analyze.STEPS`'
-    order, the walking section right after the answers box, before the summary."""
+    every numeric column with its unit, one resolution; one section per step of
+    :data:`~pasibot_pin.cli.analyze.STEPS` and the summary, the walking section right after the answers box, before
+    the summary."""
     from pasibot_pin.cli.analyze import STEPS
 
     assert_reads_like_a_report(analyzed.folder, analyzed.text, 40)
