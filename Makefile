@@ -2,22 +2,26 @@
 PYTHON ?= python3
 VENV := .venv
 PY := $(VENV)/bin/python
+UV := $(VENV)/bin/uv
 OUT ?= out
 
 .PHONY: install browser-deps urdf-tools test test-fast demo urdf bench timings lint clean answers floor-springs docs-figures walking-map walking-map-3d designs designs-3d lateral-mass
 
+# uv installs (PyPI's uv, put in the venv by its pip): one parallel resolve and download, no byte code compiled ahead
+# (each module compiles as it is first imported). On this project's extras: 23 s on a cold cache and about 3 s on a
+# warm one, where pip took 55 s with its cache warm.
+$(UV):
+	[ -x $(PY) ] || $(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet "uv>=0.5,<1"
+
 # the plain install (what `pasibot analyze` needs: make demo), then the extras the tests need (make test)
-$(VENV)/.installed-base: pyproject.toml
-	$(PYTHON) -m venv $(VENV)
-	$(PY) -m pip install --quiet --upgrade pip
-	$(PY) -m pip install --quiet -e .
+$(VENV)/.installed-base: pyproject.toml | $(UV)
+	$(UV) pip install --python $(PY) --quiet -e .
 	touch $@
 
-# On a fresh clone one pip call installs the package with its extras (one resolve, one build of the package),
-# and byte code is compiled as the tests import it (conftest), not for every module of every dependency.
-$(VENV)/.installed: pyproject.toml
-	[ -x $(PY) ] || { $(PYTHON) -m venv $(VENV) && $(PY) -m pip install --quiet --upgrade pip; }
-	$(PY) -m pip install --quiet --no-compile -e ".[dev,mujoco,sweep]"
+# On a fresh clone one call installs the package with its extras (one resolve, one build of the package).
+$(VENV)/.installed: pyproject.toml | $(UV)
+	$(UV) pip install --python $(PY) --quiet -e ".[dev,mujoco,sweep]"
 	touch $(VENV)/.installed-base $@
 
 install: $(VENV)/.installed

@@ -2,8 +2,9 @@
 ``pasibot analyze`` run there once.
 
 The wheel is built from this checkout (``pip wheel --no-deps --no-build-isolation``: the dev extra's hatchling)
-and installed into a fresh ``python -m venv --without-pip`` (no system site-packages) by this venv's pip
-(``pip --python``); its base dependencies come from PyPI.
+and installed into a fresh ``python -m venv --without-pip`` (no system site-packages) by this venv's uv
+(``uv pip install --python``, the installer ``make install`` uses); its base dependencies come from PyPI, through
+uv's cache. A user's ``pip install .`` resolves the same metadata (the README's); uv does it in seconds.
 The venv is cached between runs beside pytest's numbered temporary folders, keyed by the base
 dependencies and the Python version; the wheel itself is built every run and reinstalled unless
 the venv already holds exactly its files (:func:`_holds`: a run from unchanged sources). Commands run
@@ -43,6 +44,8 @@ GROUP = "plain_install"
 """The xdist group of every test that uses the plain install (``conftest.py`` adds it)."""
 
 ROOT = Path(__file__).resolve().parents[1]
+INSTALLER_FILES = ("INSTALLER", "REQUESTED", "direct_url.json", "uv_cache.json")
+"""What the installer (uv; pip writes the first three) adds to the wheel's ``.dist-info``."""
 TIMES: dict[str, float] = {}
 """Wall time of each step [s], printed when the session ends (``-s`` or the captured output)."""
 
@@ -62,6 +65,15 @@ def _key() -> str:
     return hashlib.sha256(text.encode()).hexdigest()[:12]
 
 
+def _uv() -> str:
+    """The ``uv`` executable of this venv (the dev extra), or the test fails naming the extra."""
+    try:
+        from uv import find_uv_bin
+    except ImportError:
+        pytest.fail("uv is missing: pip install -e '.[dev]'")
+    return find_uv_bin()
+
+
 def _clean_env(venv: Path) -> dict[str, str]:
     env = {k: v for k, v in os.environ.items() if k not in ("PYTHONPATH", "PYTHONHOME", "VIRTUAL_ENV", "PYTHONSTARTUP")}
     env["PATH"] = f"{venv / 'bin'}{os.pathsep}{env.get('PATH', '')}"
@@ -79,7 +91,7 @@ def timed(name: str, args: list, **kwargs) -> subprocess.CompletedProcess:
 
 def _holds(venv: Path, wheel: Path) -> bool:
     """Whether ``venv`` has ``wheel`` installed and nothing else of the package: the same files as the wheel's
-    RECORD, each with its SHA-256, and the ``pasibot`` script (pip's own files and byte code aside)."""
+    RECORD, each with its SHA-256, and the ``pasibot`` script (the installer's own files and byte code aside)."""
     import base64
     import zipfile
 
@@ -89,9 +101,9 @@ def _holds(venv: Path, wheel: Path) -> bool:
     sites = list(venv.glob("lib/python*/site-packages"))
     if len(sites) != 1 or not (sites[0] / name).is_file() or not (venv / "bin" / "pasibot").is_file():
         return False
-    site, pip_own = sites[0], {f"{name.split('/')[0]}/{f}" for f in ("INSTALLER", "REQUESTED", "direct_url.json")}
+    site, own = sites[0], {f"{name.split('/')[0]}/{f}" for f in INSTALLER_FILES}
     installed = {line.split(",", 1)[0] for line in (site / name).read_text().splitlines() if line}
-    installed = {p for p in installed if not p.startswith("../") and "__pycache__" not in p} - pip_own
+    installed = {p for p in installed if not p.startswith("../") and "__pycache__" not in p} - own
     if installed != {path for path, _ in wanted}:
         return False
     for path, digest in wanted:
@@ -136,21 +148,21 @@ def installed(tmp_path_factory) -> Installed:
     venv = cache / f"pasibot-wheel-venv-{_key()}"
     with open(cache / f"{venv.name}.lock", "w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)  # another worker or run may be building the same venv
-        # this venv's pip installs into the plain venv (pip --python): the plain venv needs no pip of its own, and
-        # --no-compile leaves the byte code to the first import (pip's compiling of every installed module, unused
-        # ones included, was ~45 of its ~80 s)
-        pip = [sys.executable, "-m", "pip", "--python", str(venv / "bin" / "python"), "install", "-q", "--no-compile"]
+        # this venv's uv (the dev extra; what `make install` ran) installs into the plain venv: the plain venv needs no
+        # installer of its own, the wheels come from uv's cache when `make install` filled it (~3 s, where pip took
+        # ~20 s of CPU), and no byte code is compiled ahead (the first import compiles what it uses)
+        pip = [_uv(), "pip", "install", "--python", str(venv / "bin" / "python"), "--quiet"]
         env = _clean_env(venv)
         if not (venv / ".complete").is_file():
             shutil.rmtree(venv, ignore_errors=True)
             made = timed("venv", [sys.executable, "-m", "venv", "--without-pip", str(venv)], env=env)
             assert made.returncode == 0, made.stderr
-            done = timed("pip install (base deps from PyPI)", [*pip, str(wheel)], env=env, timeout=1200)
+            done = timed("uv pip install (base deps from PyPI)", [*pip, str(wheel)], env=env, timeout=1200)
             assert done.returncode == 0, done.stderr
             (venv / ".complete").touch()
         elif not _holds(venv, wheel):
             done = timed(
-                "pip install (wheel only, cached venv)", [*pip, "--no-deps", "--force-reinstall", str(wheel)], env=env
+                "uv pip install (wheel only, cached venv)", [*pip, "--no-deps", "--reinstall", str(wheel)], env=env
             )
             assert done.returncode == 0, done.stderr
         assert _holds(venv, wheel)
