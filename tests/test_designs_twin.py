@@ -6,7 +6,8 @@ verdict can be walks; the committed table is their 20-step verdict, checked by
 `test_walking_map.py`): the same outcome, steps within one, the hip's advance within 5 %, the
 largest hip pitch within 2 deg. A non-walker must fail the same way in both. Where the catalog
 records that the twin differs (`designs_catalog.TWIN_OUTCOMES`: the fastest walker, which slides
-past the 5 mm limit in MuJoCo), the twin must give that recorded outcome, and ours still walks.
+past the 5 mm limit in MuJoCo), the twin must give that recorded outcome, and ours still walks;
+the note's quoted slide and time are the twin's, and at half the twin's time step it walks (the note says so).
 
 Our 3-step walk of a walker is also its walking-map row's check (`map_checks.check_walker`: it walks its
 first steps with a hip pitch no larger than its 20-step row's), so tests/test_walking_map.py walks it no
@@ -15,6 +16,8 @@ their lag added), the start is ours, and the trace is one row per sample up to t
 """
 
 import math
+import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -24,8 +27,8 @@ from map_checks import SHORT_STEPS, check_walker
 pytest.importorskip("mujoco")
 
 from pasibot_pin.model.design import design_robot, load_design  # noqa: E402
-from pasibot_pin.report.designs_catalog import pick_designs, sweep_rows  # noqa: E402
-from pasibot_pin.studies.twin.mujoco_walk import walk_in_mujoco  # noqa: E402
+from pasibot_pin.report.designs_catalog import TWIN_NOTES, pick_designs, sweep_rows  # noqa: E402
+from pasibot_pin.studies.twin.mujoco_walk import MJ_WALK, walk_in_mujoco  # noqa: E402
 from pasibot_pin.studies.walking import WalkSettings, walk_design  # noqa: E402
 from pasibot_pin.studies.walking_map import load_map  # noqa: E402
 
@@ -62,9 +65,21 @@ def test_mujoco_gives_the_same_outcome(path):
     recorded = entry.twin_outcome
     if recorded:  # a disagreement the catalog states: the twin gives it, ours walks
         assert ours.walks and twin.outcome == recorded, (ours.summary(), twin.summary())
+        _check_twin_note(TWIN_NOTES[entry.role], twin, design, settings, robot)
         return
     assert twin.outcome == ours.outcome, (ours.summary(), twin.summary())
     assert abs(twin.steps - ours.steps) <= 1
     if ours.walks:
         assert twin.advance_m == pytest.approx(ours.advance_m, rel=0.05)
         assert abs(math.degrees(twin.max_hip_pitch - ours.max_hip_pitch)) <= 2.0
+
+
+def _check_twin_note(note: str, twin, design, settings, robot) -> None:
+    """The catalog's note on a twin that slips: the slide and the time it quotes are the twin's, and at half
+    the twin's time step (the step the note names) the twin walks, as ours: the slip is the limit's edge."""
+    slid, at = re.search(r"slides ([0-9.]+) mm in one stance at ([0-9.]+) s", note).groups()
+    assert f"slid {slid} mm in one stance" in twin.summary() and f"{twin.decided_at:.2f}" == at, twin.summary()
+    half = MJ_WALK.timestep / 2
+    assert f"half the twin's time step ({half * 1e3:g} ms)" in note
+    finer = walk_in_mujoco(design, settings, robot, options=replace(MJ_WALK, timestep=half)).verdict
+    assert finer.walks and finer.steps == settings.steps, finer.summary()

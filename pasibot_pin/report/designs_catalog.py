@@ -44,9 +44,12 @@ PICTURE_STEPS = 4
 
 TWIN_NOTES = {
     "fastest": "the MuJoCo twin disagrees on it: its left foot slides 5.1 mm in one stance at 0.92 s, past the "
-    "verdict's 5 mm limit, so there it slipped (`tests/test_designs_twin.py` holds the twin to that)",
+    "verdict's 5 mm limit, so there it slipped; at half the twin's time step (0.05 ms) it slides less and walks, as "
+    "ours does: the disagreement sits on the edge of the limit, not in the gait (`tests/test_designs_twin.py` holds "
+    "the twin to both)",
 }
-"""Where the MuJoCo twin's 3-step outcome differs from ours, by the entry's role: what it says (Markdown)."""
+"""Where the MuJoCo twin's 3-step outcome differs from ours, by the entry's role: what it says (Markdown; the
+figures it quotes are the twin's, checked by ``tests/test_designs_twin.py``)."""
 
 TWIN_OUTCOMES = {"fastest": "slipped"}
 """The MuJoCo twin's 3-step outcome of those entries, by role (``tests/test_designs_twin.py``)."""
