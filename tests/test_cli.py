@@ -76,6 +76,7 @@ def test_build_urdf_rejects_bad_ratio(capsys):
     assert "r4" in capsys.readouterr().err
 
 
+@pytest.mark.slow  # about 2 s of CPU: the model step loads a dozen robots
 @pytest.mark.parametrize("variant", ["spring"])
 def test_analyze_model_step_writes_pictures(tmp_path, variant):
     from pasibot_pin.report import model as model_report

@@ -153,7 +153,7 @@ def _cone_rows(t, n, mu):
     return rows
 
 
-@pytest.mark.parametrize("regularisation", [1e-9, 1e-2])
+@pytest.mark.parametrize("regularisation", [1e-9, pytest.param(1e-2, marks=pytest.mark.slow)])  # 1e-2: ~1.6 s of CPU
 def test_the_cone_qp_is_proxsuites_answer_and_meets_the_kkt_conditions(regularisation):
     """contact.cone_qp (by the cones' faces) against proxsuite run to 1e-12 on random tipping and slipping
     problems shaped as distribute's best effort: in the cones, KKT (H f + g + C_A^T lam = 0, lam >= 0 by

@@ -18,6 +18,7 @@ from pasibot_pin.studies.walking import WalkSettings, walk_design
 FAST = Design(variant="parallel", parallel_toe=6.0, parallel_heel=6.0, omega=3.0)
 
 
+@pytest.mark.slow  # about 1.8 s of CPU: two 3-step walks
 def test_a_zero_slope_is_the_flat_floor_bit_for_bit():
     robot = design_robot(FAST, 2, visuals=False)
     flat = walk_design(FAST, WalkSettings(steps=3), robot).result

@@ -36,6 +36,7 @@ def _expected_spans(path: Path) -> list[tuple[float, float]]:
     return [(-outer, gap[0]), (gap[1], inner)]
 
 
+@pytest.mark.slow  # about 1.8 s of CPU
 def test_build_urdf_draws_the_comb_prongs(tmp_path):
     """``build-urdf --design`` of the comb walker: each foot's boxes span the file's bands, mirrored."""
     import yourdfpy  # deferred: yourdfpy is the independent URDF reader of this test
