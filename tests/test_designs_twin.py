@@ -77,8 +77,9 @@ def test_mujoco_gives_the_same_outcome(path):
 def _check_twin_note(note: str, twin, design, settings, robot) -> None:
     """The catalog's note on a twin that slips: the slide and the time it quotes are the twin's, and at half
     the twin's time step (the step the note names) the twin walks, as ours: the slip is the limit's edge."""
-    slid, at = re.search(r"slides ([0-9.]+) mm in one stance at ([0-9.]+) s", note).groups()
-    assert f"slid {slid} mm in one stance" in twin.summary() and f"{twin.decided_at:.2f}" == at, twin.summary()
+    side, slid, at = re.search(r"its (left|right) foot slides ([0-9.]+) mm in one stance at ([0-9.]+) s", note).groups()
+    assert f"the {side} foot slid {slid} mm in one stance" in twin.summary(), twin.summary()
+    assert f"{twin.decided_at:.2f}" == at, twin.summary()
     half = MJ_WALK.timestep / 2
     assert f"half the twin's time step ({half * 1e3:g} ms)" in note
     finer = walk_in_mujoco(design, settings, robot, options=replace(MJ_WALK, timestep=half)).verdict
