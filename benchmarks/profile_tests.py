@@ -68,10 +68,11 @@ def pytest_sessionfinish(session):
     Path(folder, f"{worker}.json").write_text(json.dumps(record))
 
 
-def _test_id(nodeid: str) -> str:
-    """The node id without xdist's ``@group`` suffix."""
-    base, _, group = nodeid.rpartition("@")
-    return base if base and group.endswith(".py") else nodeid
+def _collected_id(nodeid: str) -> str:
+    """The node id without xdist's ``@group`` suffix (as ``tests/conftest.py``'s ``collected_id``; a group's name holds
+    no ``]`` or ``::``)."""
+    base, at, group = nodeid.rpartition("@")
+    return base if at and "]" not in group and "::" not in group else nodeid
 
 
 def report(folder: Path, wall: float, top: int, modules: int) -> str:
@@ -79,7 +80,7 @@ def report(folder: Path, wall: float, top: int, modules: int) -> str:
     workers = {p.stem: json.loads(p.read_text()) for p in sorted(folder.glob("*.json"))}
     if not workers:
         return "no test ran"
-    tests = [(cpu, w, _test_id(n)) for r in workers.values() for n, w, cpu in r["tests"]]
+    tests = [(cpu, w, _collected_id(n)) for r in workers.values() for n, w, cpu in r["tests"]]
     total = sum(cpu for cpu, _, _ in tests)
     by_module: collections.Counter = collections.Counter()
     for cpu, _, name in tests:

@@ -119,12 +119,18 @@ def pytest_collection_modifyitems(config, items) -> None:
     items.sort(key=first)
 
 
+def collected_id(nodeid: str) -> str:
+    """``nodeid`` without xdist's ``@group`` suffix (a module's file name or PLAIN_INSTALL): the id collection gives.
+
+    A group's name holds no ``]`` or ``::``; an ``@`` inside a parameter's id (``[a@b]``) is left alone.
+    """
+    base, at, group = nodeid.rpartition("@")
+    return base if at and "]" not in group and "::" not in group else nodeid
+
+
 def pytest_runtest_logreport(report) -> None:
     """Add up each test's setup, call and teardown time (in the controller: xdist sends it every report)."""
-    nodeid = report.nodeid
-    group = nodeid.rsplit("@", 1)
-    if len(group) == 2 and group[1].endswith(".py"):  # xdist's "@group" suffix: not part of the test's id
-        nodeid = group[0]
+    nodeid = collected_id(report.nodeid)
     _RUN[nodeid] = _RUN.get(nodeid, 0.0) + report.duration
 
 

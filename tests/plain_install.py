@@ -151,18 +151,18 @@ def installed(tmp_path_factory) -> Installed:
         # this venv's uv (the dev extra; what `make install` ran) installs into the plain venv: the plain venv needs no
         # installer of its own, the wheels come from uv's cache when `make install` filled it (~3 s, where pip took
         # ~20 s of CPU), and no byte code is compiled ahead (the first import compiles what it uses)
-        pip = [_uv(), "pip", "install", "--python", str(venv / "bin" / "python"), "--quiet"]
+        install = [_uv(), "pip", "install", "--python", str(venv / "bin" / "python"), "--quiet"]
         env = _clean_env(venv)
         if not (venv / ".complete").is_file():
             shutil.rmtree(venv, ignore_errors=True)
             made = timed("venv", [sys.executable, "-m", "venv", "--without-pip", str(venv)], env=env)
             assert made.returncode == 0, made.stderr
-            done = timed("uv pip install (base deps from PyPI)", [*pip, str(wheel)], env=env, timeout=1200)
+            done = timed("uv pip install (base deps from PyPI)", [*install, str(wheel)], env=env, timeout=1200)
             assert done.returncode == 0, done.stderr
             (venv / ".complete").touch()
         elif not _holds(venv, wheel):
             done = timed(
-                "uv pip install (wheel only, cached venv)", [*pip, "--no-deps", "--reinstall", str(wheel)], env=env
+                "uv pip install (wheel only, cached venv)", [*install, "--no-deps", "--reinstall", str(wheel)], env=env
             )
             assert done.returncode == 0, done.stderr
         assert _holds(venv, wheel)

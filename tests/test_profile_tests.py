@@ -16,7 +16,7 @@ def test_the_report_adds_the_workers_records(tmp_path):
             "cpu": 9.0,
             "tests": [["tests/test_a.py::one@test_a.py", 4.0, 3.5], ["tests/test_b.py::two", 2.0, 1.0]],
         },
-        "gw1": {"span": 8.0, "cpu": 7.5, "tests": [["tests/test_a.py::three", 6.0, 6.5]]},
+        "gw1": {"span": 8.0, "cpu": 7.5, "tests": [["tests/test_a.py::three@plain_install", 6.0, 6.5]]},
     }
     for name, record in records.items():
         (tmp_path / f"{name}.json").write_text(json.dumps(record))

@@ -66,3 +66,15 @@ def test_the_plain_install_s_tests_are_one_group_whatever_their_module():
         assert unit_of_work(item) == GROUP == "plain_install"
     alone = SimpleNamespace(nodeid="tests/test_report.py::test_b", fixturenames=["tmp_path"])
     assert unit_of_work(alone) == alone.nodeid
+
+
+def test_a_test_s_time_is_kept_under_the_id_collection_gives():
+    """The durations that order the next run are kept by the collected node id: xdist's group suffix, the plain
+    install's included, is not part of it (else the group's time is never read back)."""
+    from conftest import collected_id
+
+    assert collected_id("tests/test_a.py::t@test_a.py") == "tests/test_a.py::t"
+    assert collected_id("tests/test_energy.py::test_x@plain_install") == "tests/test_energy.py::test_x"
+    assert collected_id("tests/test_a.py::t[a@b]") == "tests/test_a.py::t[a@b]"
+    assert collected_id("tests/test_a.py::t[a@b]@test_a.py") == "tests/test_a.py::t[a@b]"
+    assert collected_id("tests/test_a.py::t") == "tests/test_a.py::t"
