@@ -5,7 +5,9 @@ workers) with this file loaded as a plugin (``-p profile_tests``). Each worker r
 its wall time and its CPU time: the worker's own and that of the subprocesses it waited for in the
 meantime (``getrusage``: a command run by the test, a pool's workers, a notebook's kernel), and
 writes them to a JSON file per worker. Then prints the run's wall time, the CPU of every worker
-(and how busy each was), and the costliest test modules and tests.
+(and how busy each was), the machine's busy core-seconds over the run (Linux's ``/proc/stat``: what
+the per-test figures cannot see, such as the renderer and GPU processes of a browser, which the
+browser's own process never reaps), and the costliest test modules and tests.
 
 A test's subprocesses count when they are reaped: a process started in one test and waited for in
 another (the plain install's ``analyze``) counts where it was waited for. CPU time depends far less
@@ -75,8 +77,24 @@ def _collected_id(nodeid: str) -> str:
     return base if at and "]" not in group and "::" not in group else nodeid
 
 
-def report(folder: Path, wall: float, top: int, modules: int) -> str:
-    """The workers' records in ``folder`` as text."""
+def machine_busy(stat: str | None = None) -> float | None:
+    """The machine's busy CPU time since boot [core-s]: every CPU's time but idle and I/O wait.
+
+    Args:
+        stat: the text of ``/proc/stat`` (default: read it; ``None`` where there is none, off Linux).
+    """
+    if stat is None:
+        try:
+            stat = Path("/proc/stat").read_text()
+        except OSError:
+            return None
+    fields = [int(x) for x in stat.split("\n", 1)[0].split()[1:]]  # the "cpu" line, in clock ticks
+    idle, iowait = fields[3], fields[4] if len(fields) > 4 else 0
+    return (sum(fields[:8]) - idle - iowait) / os.sysconf("SC_CLK_TCK")  # guest time is in user already
+
+
+def report(folder: Path, wall: float, top: int, modules: int, machine: float | None = None) -> str:
+    """The workers' records in ``folder`` as text; ``machine``: the machine's busy core-seconds over the run."""
     workers = {p.stem: json.loads(p.read_text()) for p in sorted(folder.glob("*.json"))}
     if not workers:
         return "no test ran"
@@ -89,6 +107,14 @@ def report(folder: Path, wall: float, top: int, modules: int) -> str:
     for name, r in workers.items():
         busy = sum(w for _, w, _ in r["tests"]) / r["span"] if r["span"] > 0 else 0.0
         lines.append(f"  {name}: {r['cpu']:.1f} s CPU over {r['span']:.1f} s, in tests {100 * busy:.0f} % of it")
+    if machine is not None:
+        cores = os.cpu_count() or 1
+        share = 100 * machine / (cores * wall) if wall > 0 else 0.0
+        lines.append(
+            f"machine: {machine:.1f} core-s busy over the run ({share:.0f} % of {cores} cores), "
+            f"{machine - total:.1f} core-s more than the tests counted (workers' start-up and collection, other "
+            "processes on the machine, and the processes no test waited for: a browser's renderers)"
+        )
     lines += ["", f"modules by CPU [s] (top {modules}):"]
     lines += [f"  {cpu:7.1f}  {name}" for name, cpu in by_module.most_common(modules)]
     lines += ["", f"tests by CPU [s] (top {top}; wall [s] beside):"]
@@ -106,11 +132,13 @@ def main(argv: list[str] | None = None) -> int:
     with tempfile.TemporaryDirectory(prefix="pasibot-profile-tests-") as folder:
         path = os.pathsep.join(p for p in (str(Path(__file__).parent), os.environ.get("PYTHONPATH")) if p)
         env = dict(os.environ, PYTHONPATH=path, **{OUT_ENV: folder})
-        start = time.monotonic()
+        start, busy = time.monotonic(), machine_busy()
         done = subprocess.run(
             [sys.executable, "-m", "pytest", "-q", "-p", "profile_tests", *args.pytest_args], cwd=root, env=env
         )
-        print(report(Path(folder), time.monotonic() - start, args.top, args.modules))
+        after = machine_busy()
+        machine = None if busy is None or after is None else after - busy
+        print(report(Path(folder), time.monotonic() - start, args.top, args.modules, machine))
     return done.returncode
 
 

@@ -6,7 +6,9 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
 
-from profile_tests import report  # noqa: E402
+import os  # noqa: E402
+
+from profile_tests import machine_busy, report  # noqa: E402
 
 
 def test_the_report_adds_the_workers_records(tmp_path):
@@ -35,3 +37,24 @@ def test_the_report_adds_the_workers_records(tmp_path):
 
 def test_no_record_says_so(tmp_path):
     assert report(tmp_path, 1.0, top=3, modules=3) == "no test ran"
+
+
+def test_the_machine_line_is_the_busy_time_beyond_the_tests(tmp_path):
+    (tmp_path / "gw0.json").write_text(
+        json.dumps({"span": 10.0, "cpu": 9.0, "tests": [["tests/test_a.py::one", 4.0, 3.0]]})
+    )
+    text = report(tmp_path, 10.0, top=1, modules=1, machine=12.0)
+    cores = os.cpu_count() or 1
+    assert (
+        f"machine: 12.0 core-s busy over the run ({100 * 12 / (10 * cores):.0f} % of {cores} cores), 9.0 core-s more"
+        in text
+    )
+    assert "machine:" not in report(tmp_path, 10.0, top=1, modules=1)
+
+
+def test_busy_time_is_every_cpu_field_but_idle_and_iowait():
+    ticks = os.sysconf("SC_CLK_TCK")
+    # user nice system idle iowait irq softirq steal guest guest_nice: busy = 1+2+3+6+7+8 ticks (guest is in user)
+    stat = "cpu  1 2 3 4 5 6 7 8 9 10\ncpu0 1 2 3 4 5 6 7 8 9 10\n"
+    assert machine_busy(stat) == (1 + 2 + 3 + 6 + 7 + 8) / ticks
+    assert machine_busy() is None or machine_busy() > 0
