@@ -8,11 +8,13 @@ constant. So the tree of any geometry is the seed's tree with its translations r
     t(x) = t(x0) + A (x - x0),     x = :func:`length_vector` (geometry),
 
 where A is *measured on the xacro itself*: one rendering per length, each length changed in
-turn by 5 % (:func:`placement_map`, once per variant and leg count and process). The xacro stays the
-only source; this module never writes a number of its own. :func:`placement_map` checks the map
-on a rendering at an unrelated geometry and refuses to work (RuntimeError) if any translation
-differs by more than :data:`CHECK_TOL` relative to L; ``tests/test_design_metrics.py`` checks it
-on random geometries against :func:`pasibot_pin.model.robot.load`.
+turn by 5 % (:func:`placement_map`, once per variant and leg count, kept on disk between processes).
+The xacro stays the only source; this module never writes a number of its own. A map just measured
+is checked on a rendering at an unrelated geometry, and refused (RuntimeError) if any translation
+differs by more than :data:`CHECK_TOL` relative to L; a map read back from the disk is the one checked
+when it was measured (its file is named by a hash of everything the rendering depends on, and holds
+a digest of its arrays). ``tests/test_design_metrics.py`` checks the map on random geometries against
+:func:`pasibot_pin.model.robot.load`.
 
 Inertias are not part of the map: :func:`pasibot_pin.model.robot.apply_masses` sets them all.
 """
@@ -21,6 +23,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
+import importlib.metadata
 import os
 from dataclasses import dataclass
 from pathlib import Path
@@ -98,8 +101,8 @@ def _cache_file(variant: str, legs: int) -> Path | None:
     """Where the map of ``variant``/``legs`` is kept between processes, or ``None`` (no cache folder).
 
     The name carries a hash of everything the map depends on: the xacro sources, this module,
-    the seed geometry and the Pinocchio version. ``PASIBOT_CACHE`` (or ``XDG_CACHE_HOME``) moves
-    the folder; ``PASIBOT_CACHE=off`` turns the cache off.
+    the seed geometry, and the versions of Pinocchio and of the xacro processor. ``PASIBOT_CACHE``
+    (or ``XDG_CACHE_HOME``) moves the folder; ``PASIBOT_CACHE=off`` turns the cache off.
     """
     root = os.environ.get("PASIBOT_CACHE") or os.path.join(
         os.environ.get("XDG_CACHE_HOME") or os.path.join(os.path.expanduser("~"), ".cache"), "pasibot_pin"
@@ -109,7 +112,7 @@ def _cache_file(variant: str, legs: int) -> Path | None:
     digest = hashlib.sha256()
     for source in sorted(XACRO_PATH.parent.glob("*.xacro")) + [Path(__file__)]:
         digest.update(source.read_bytes())
-    digest.update(f"{Geometry()!r}{pin.__version__}{STEP}".encode())
+    digest.update(f"{Geometry()!r}{pin.__version__}{importlib.metadata.version('xacro')}{STEP}".encode())
     return Path(root) / f"placements_{variant}_{legs}_{digest.hexdigest()[:16]}.npz"
 
 
@@ -125,50 +128,81 @@ def _measure(variant: str, legs: int, model: pin.Model) -> tuple[np.ndarray, np.
     return x0, t0, np.stack(columns, axis=-1)
 
 
+def _arrays_digest(x0: np.ndarray, t0: np.ndarray, a: np.ndarray) -> str:
+    """SHA-256 of a map's arrays (their shapes, types and bytes): what its cache file holds beside them."""
+    digest = hashlib.sha256()
+    for array in (x0, t0, a):
+        digest.update(f"{array.shape}{array.dtype.str}".encode())
+        digest.update(np.ascontiguousarray(array).tobytes())
+    return digest.hexdigest()
+
+
+def _read_cache(cache: Path | None) -> tuple[np.ndarray, np.ndarray, np.ndarray] | None:
+    """The arrays (x0, t0, A) kept in ``cache``, or ``None``: no file, or one that is not whole (its digest)."""
+    if cache is None or not cache.is_file():
+        return None
+    try:
+        with np.load(cache) as saved:
+            arrays = saved["x0"], saved["t0"], saved["A"]
+            digest = str(saved["digest"])
+    except (OSError, ValueError, KeyError):
+        return None
+    return arrays if digest == _arrays_digest(*arrays) else None
+
+
+def _write_cache(cache: Path | None, out: PlacementMap) -> None:
+    """Keep ``out``'s arrays in ``cache`` (written under a temporary name, then renamed; a read-only home: not kept)."""
+    if cache is None:
+        return
+    try:
+        cache.parent.mkdir(parents=True, exist_ok=True)
+        tmp = cache.with_name(f".{cache.name}.{os.getpid()}.tmp.npz")
+        np.savez(tmp, x0=out.x0, t0=out.t0, A=out.A, digest=_arrays_digest(out.x0, out.t0, out.A))
+        os.replace(tmp, cache)
+    except OSError:
+        pass  # measured again next time
+
+
+def check_map(out: PlacementMap, variant: str, legs: int) -> float:
+    """The map's largest translation error [m] against a direct rendering at an unrelated geometry.
+
+    The geometry changes every length at once (by up to 3 %).
+
+    Raises:
+        RuntimeError: the error passes :data:`CHECK_TOL` relative to L (the translations are not linear in the
+            lengths: the xacro changed in a way this module does not support).
+
+    """
+    x = out.x0 * (1.0 + 0.03 * np.cos(np.arange(len(out.x0))))
+    err = float(np.max(np.abs(_translations(_tree(variant, legs, _geometry_of(x, variant))) - out.translations(x))))
+    if err > CHECK_TOL * x[0]:
+        raise RuntimeError(f"the xacro's translations are not linear in the lengths (error {err:.3g} m)")
+    return err
+
+
 @functools.cache
 def placement_map(variant: str, legs: int) -> PlacementMap:
     """The :class:`PlacementMap` of a variant and leg count, measured on the xacro.
 
     Kept in memory, and on disk between processes (:func:`_cache_file`, about 20 renderings of
     the xacro saved). The seed's tree is the committed default URDF (a test keeps it equal to
-    its rendering). Every map, fresh or read back, is checked against a direct rendering at an
-    unrelated geometry.
+    its rendering). A map just measured is checked (:func:`check_map`, one more rendering) before
+    it is kept; one read back is taken when its file is whole (the digest of its arrays) and its
+    seed translations are the committed URDF's, else measured again.
 
     Raises:
-        RuntimeError: the translations are not linear in the lengths (the xacro changed in a
-            way this module does not support): the map disagrees with a direct rendering.
+        RuntimeError: the translations are not linear in the lengths (the xacro changed in a way
+            this module does not support): the map disagrees with a direct rendering.
 
     """
     model = build_tree(urdf_path(variant, legs).read_text(), legs)
     cache = _cache_file(variant, legs)
-    arrays = None
-    if cache is not None and cache.is_file():
-        try:
-            with np.load(cache) as saved:
-                arrays = saved["x0"], saved["t0"], saved["A"]
-        except (OSError, ValueError, KeyError):
-            arrays = None
-    fresh = arrays is None or arrays[1].shape != _translations(model).shape
-    if arrays is None or fresh:
-        arrays = _measure(variant, legs, model)
-    out = PlacementMap(model, *arrays)
-    # check at an unrelated geometry (every length changed at once)
-    x = out.x0 * (1.0 + 0.03 * np.cos(np.arange(len(out.x0))))
-    err = np.max(np.abs(_translations(_tree(variant, legs, _geometry_of(x, variant))) - out.translations(x)))
-    if err > CHECK_TOL * x[0] or not np.array_equal(out.t0, _translations(model)):
-        if not fresh and cache is not None:  # a stale or damaged cache: measure again
-            cache.unlink(missing_ok=True)
-            placement_map.cache_clear()
-            return placement_map(variant, legs)
-        raise RuntimeError(f"the xacro's translations are not linear in the lengths (error {err:.3g} m)")
-    if fresh and cache is not None:
-        try:
-            cache.parent.mkdir(parents=True, exist_ok=True)
-            tmp = cache.with_name(f".{cache.name}.{os.getpid()}.tmp.npz")
-            np.savez(tmp, x0=out.x0, t0=out.t0, A=out.A)
-            os.replace(tmp, cache)
-        except OSError:
-            pass  # a read-only home: measure again next time
+    arrays = _read_cache(cache)
+    if arrays is not None and np.array_equal(arrays[1], _translations(model)):
+        return PlacementMap(model, *arrays)
+    out = PlacementMap(model, *_measure(variant, legs, model))
+    check_map(out, variant, legs)
+    _write_cache(cache, out)
     return out
 
 
