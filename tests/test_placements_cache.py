@@ -59,7 +59,7 @@ def test_a_map_read_back_is_the_one_measured_and_renders_nothing(cache):
     assert placements.check_map(again, VARIANT, LEGS) <= placements.CHECK_TOL * again.x0[0]
 
 
-@pytest.mark.parametrize("damage", ["a changed number", "no digest", "not an archive", "another seed"])
+@pytest.mark.parametrize("damage", ["a changed number", "no digest", "not an archive", "cut short", "another seed"])
 def test_a_damaged_or_foreign_cache_file_is_measured_again(cache, damage):
     reference, counts, path = cache
     _fresh()
@@ -73,6 +73,8 @@ def test_a_damaged_or_foreign_cache_file_is_measured_again(cache, damage):
         np.savez(path, **arrays)
     elif damage == "not an archive":
         path.write_bytes(b"half a file")
+    elif damage == "cut short":  # a file whose writer died half way (the cache is renamed whole, but a disk fills)
+        path.write_bytes(path.read_bytes()[: path.stat().st_size // 2])
     else:  # whole and consistent, but of another seed tree: its t0 is not the committed URDF's
         arrays["t0"] = arrays["t0"] + 1e-3
         arrays["digest"] = np.array(placements._arrays_digest(arrays["x0"], arrays["t0"], arrays["A"]))

@@ -25,6 +25,7 @@ import functools
 import hashlib
 import importlib.metadata
 import os
+import zipfile
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -145,7 +146,7 @@ def _read_cache(cache: Path | None) -> tuple[np.ndarray, np.ndarray, np.ndarray]
         with np.load(cache) as saved:
             arrays = saved["x0"], saved["t0"], saved["A"]
             digest = str(saved["digest"])
-    except (OSError, ValueError, KeyError):
+    except (OSError, ValueError, KeyError, EOFError, zipfile.BadZipFile):  # not a whole archive of ours
         return None
     return arrays if digest == _arrays_digest(*arrays) else None
 
