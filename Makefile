@@ -90,7 +90,7 @@ floor-springs: install
 
 # the ratio benchmarks (about 2 min; bench_stability: walk --stability on the fastest walker over bench_demo's
 # reference workload); the demo's own time is `make timings`, compare_outputs.py a tool
-BENCHMARKS := bench_dynamics bench_floor bench_floor3d bench_studies bench_floor_section bench_sweep bench_stability
+BENCHMARKS := bench_dynamics bench_floor bench_floor3d bench_studies bench_floor_section bench_sweep bench_stability bench_start
 bench: install
 	@set -e; for name in $(BENCHMARKS); do echo "== benchmarks/$$name.py"; $(PY) benchmarks/$$name.py; done
 
