@@ -25,7 +25,7 @@ from __future__ import annotations
 
 import functools
 import hashlib
-import importlib.metadata
+import importlib.util
 import os
 import zipfile
 from dataclasses import dataclass
@@ -104,7 +104,7 @@ def _cache_file(variant: str, legs: int) -> Path | None:
     """Where the map of ``variant``/``legs`` is kept between processes, or ``None`` (no cache folder).
 
     The name carries a hash of everything the map depends on: the xacro sources, this module,
-    the seed geometry, and the versions of Pinocchio and of the xacro processor. ``PASIBOT_CACHE``
+    the xacro processor's own source, the seed geometry and the Pinocchio version. ``PASIBOT_CACHE``
     (or ``XDG_CACHE_HOME``) moves the folder; ``PASIBOT_CACHE=off`` turns the cache off.
     """
     root = os.environ.get("PASIBOT_CACHE") or os.path.join(
@@ -115,7 +115,10 @@ def _cache_file(variant: str, legs: int) -> Path | None:
     digest = hashlib.sha256()
     for source in sorted(XACRO_PATH.parent.glob("*.xacro")) + [Path(__file__)]:
         digest.update(source.read_bytes())
-    digest.update(f"{Geometry()!r}{pin.__version__}{importlib.metadata.version('xacro')}{STEP}".encode())
+    xacro = importlib.util.find_spec("xacro")  # its source, not its version: importlib.metadata costs 40 ms a process
+    if xacro is not None and xacro.origin is not None:
+        digest.update(Path(xacro.origin).read_bytes())
+    digest.update(f"{Geometry()!r}{pin.__version__}{STEP}".encode())
     return Path(root) / f"placements_{variant}_{legs}_{digest.hexdigest()[:16]}.npz"
 
 
