@@ -74,20 +74,28 @@ def chromium() -> str:
     return path
 
 
-def screenshot(html: Path, png: Path, fragment: str = "", budget_ms: int = 3000, size=(WIDTH, HEIGHT)) -> np.ndarray:
-    """Load ``html`` from the filesystem in headless Chromium and save a screenshot; returns RGB (rows, cols, 3)."""
+def run_chromium(address: str, size: tuple[int, int], budget_ms: int, *extra: str) -> subprocess.CompletedProcess:
+    """Headless Chromium (:data:`FLAGS`, a fresh profile) on ``address`` in a window of ``size`` [px], after
+    ``budget_ms`` of virtual time, with ``extra`` flags (what to output); fails the test if Chromium does."""
     with tempfile.TemporaryDirectory(prefix="chromium-profile-") as profile:
         cmd = [
             chromium(),
             *FLAGS,
+            *extra,
             f"--window-size={size[0]},{size[1]}",
             f"--user-data-dir={profile}",
             f"--virtual-time-budget={budget_ms}",
-            f"--screenshot={png}",
-            html.resolve().as_uri() + fragment,
+            address,
         ]
         proc = subprocess.run(cmd, capture_output=True, text=True, timeout=90)
-    assert proc.returncode == 0 and png.exists(), f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
+    assert proc.returncode == 0, f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
+    return proc
+
+
+def screenshot(html: Path, png: Path, fragment: str = "", budget_ms: int = 3000, size=(WIDTH, HEIGHT)) -> np.ndarray:
+    """Load ``html`` from the filesystem in headless Chromium and save a screenshot; returns RGB (rows, cols, 3)."""
+    proc = run_chromium(html.resolve().as_uri() + fragment, size, budget_ms, f"--screenshot={png}")
+    assert png.exists(), f"chromium wrote no screenshot:\n{proc.stderr[-2000:]}"
     return np.asarray(Image.open(png).convert("RGB")).astype(int)
 
 
@@ -258,21 +266,9 @@ setInterval(function () {{
 </script>"""
     reader = folder / "title_bars.html"
     reader.write_text(f'<html><body style="margin:0;overflow:hidden">{frames}\n{script}</body></html>')
-    with tempfile.TemporaryDirectory(prefix="chromium-profile-") as profile:
-        cmd = [
-            chromium(),
-            *FLAGS,
-            "--allow-file-access-from-files",
-            f"--window-size={len(names) * WIDTH},{HEIGHT}",
-            f"--user-data-dir={profile}",
-            f"--virtual-time-budget={budget_ms}",
-            "--dump-dom",
-            reader.resolve().as_uri(),
-        ]
-        proc = subprocess.run(cmd, capture_output=True, text=True, timeout=90)
-    assert proc.returncode == 0 and "<html" in proc.stdout, (
-        f"chromium failed ({proc.returncode}):\n{proc.stderr[-2000:]}"
-    )
+    size = (len(names) * WIDTH, HEIGHT)
+    proc = run_chromium(reader.resolve().as_uri(), size, budget_ms, "--allow-file-access-from-files", "--dump-dom")
+    assert "<html" in proc.stdout, f"chromium dumped no page:\n{proc.stderr[-2000:]}"
     return {
         name: (_text_of(proc.stdout, f"hud{k}").splitlines(), _text_of(proc.stdout, f"title{k}"))
         for k, name in enumerate(names)
