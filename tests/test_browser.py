@@ -37,12 +37,7 @@ from PIL import Image
 
 from pasibot_pin.viz import viewer
 
-# meshcat imports pyzmq's deprecated eventloop module; not ours to fix.
-pytestmark = [
-    pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning"),
-    pytest.mark.browser,
-    pytest.mark.slow,
-]
+pytestmark = [pytest.mark.browser, pytest.mark.slow]
 
 ARTIFACTS = Path(__file__).resolve().parent / "artifacts" / "browser"
 WIDTH, HEIGHT = 800, 600

@@ -15,9 +15,6 @@ import pytest
 from pasibot_pin.__main__ import main
 from pasibot_pin.model.design import Design
 
-# export-html imports meshcat, which imports pyzmq's deprecated eventloop module; not ours to fix.
-pytestmark = pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning")
-
 
 @pytest.fixture()
 def _cli(capsys, tmp_path, monkeypatch):

@@ -23,11 +23,7 @@ from pasibot_pin.model import closure
 from pasibot_pin.viz import viewer
 from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
 
-# meshcat imports pyzmq's deprecated eventloop module; not ours to fix.
-pytestmark = [
-    pytest.mark.filterwarnings("ignore:zmq.eventloop.ioloop is deprecated:DeprecationWarning"),
-    pytest.mark.network,
-]
+pytestmark = [pytest.mark.network]
 
 LOOPBACK_HEX = "0100007F"  # 127.0.0.1 as /proc/net/tcp prints it (little-endian)
 
