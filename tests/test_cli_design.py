@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from pasibot_pin.__main__ import main
+from pasibot_pin.errors import DesignError
 from pasibot_pin.model.design import Design
 
 
@@ -68,6 +69,30 @@ def test_torques_of_a_design_equal_the_scenario_it_copies(_cli, tmp_path):
 
     assert k_e(by_design.stdout) == k_e(by_scenario.stdout)
     assert "scenario design" in by_design.stdout
+
+
+@pytest.mark.parametrize("variant", ["rigid", "parallel"])
+def test_torques_of_a_design_without_a_free_ankle_fit_no_spring(_cli, tmp_path, variant):
+    """Without a free ankle the linkage holds the foot: no spring is fitted (a rigid foot's beta is constant, a
+    parallel foot's T_e is zero, so a fit would print K_e = -0 and beta0 = inf); the crank torques are printed."""
+    from pasibot_pin.dynamics.inverse import crank_grid, inverse_dynamics
+    from pasibot_pin.model.design import design_robot
+    from pasibot_pin.studies.torques_study import TorqueSettings, scenario_torques
+
+    design = Design().with_(variant=variant, omega=0.5)
+    res = _cli("torques", "--samples", "21", "--design", str(design.save(tmp_path / "d.toml")))
+    assert res.returncode == 0, res.stderr
+    assert "K_e" not in res.stdout and "inf" not in res.stdout and "nan" not in res.stdout.lower()
+    assert f"variant {variant} has no free ankle" in res.stdout
+    run = scenario_torques(TorqueSettings(samples=21, design=design))
+    assert run.fit is None and np.all(run.result.Te == 0.0)
+    with pytest.raises(DesignError, match="free ankle"):
+        run.spring  # noqa: B018
+    # the printed range is the crank torque over the stance, computed again on a grid of our own
+    grid = crank_grid(run.result.theta[0], run.result.theta[-1], 21)
+    ta = inverse_dynamics(design_robot(design, 2), grid, 0.5).Ta
+    low, high = map(float, re.search(r"T_a from (-?[0-9.]+) to (-?[0-9.]+) N.m", res.stdout).groups())
+    assert (low, high) == (round(float(ta.min()), 2), round(float(ta.max()), 2))
 
 
 def test_simulate_walks_the_design_on_the_floor(_cli, tmp_path):

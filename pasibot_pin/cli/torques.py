@@ -18,6 +18,7 @@ from pasibot_pin.cli.common import (
     design_of,
 )
 from pasibot_pin.model.scenarios import ACCELERATION_MODES, PRESETS, SWING_FOOT_MODES, get_scenario
+from pasibot_pin.model.variants import get_variant
 
 
 def register(sub: argparse._SubParsersAction) -> None:
@@ -69,7 +70,15 @@ def run(args: argparse.Namespace) -> int:
         f"scenario {scenario.name} ({scenario.description}) at omega = {omega:g} rad/s{note}; "
         f"preset {args.preset}; {len(res.result)} samples"
     )
-    print(fit.summary())
+    if fit is not None:
+        print(fit.summary())
+    else:  # a variant without a free ankle: T_e is zero, the crank torques are the answer
+        variant = get_variant(design.variant if design is not None else "spring")
+        ta = res.result.Ta
+        print(
+            f"no ankle spring to fit: variant {variant.name} has no free ankle ({variant.description}); "
+            f"crank torque T_a from {ta.min():.2f} to {ta.max():.2f} N.m"
+        )
     if scenario.seed_K_e is not None:
         print(
             f"seed stored K_e = {scenario.seed_K_e:.2f} N.m/rad (without swap and lag: {scenario.seed_K_e_clean:.2f})"

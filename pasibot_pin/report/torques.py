@@ -101,9 +101,9 @@ def _stiffness_figures(survey, sub: Path) -> tuple[list[str], list[str]]:
             run = survey.runs[(name, preset)]
             write_result_csv(sub / f"torques_{name}_{preset}.csv", run.result)
             plot_torques_vs_beta(run.result, run.fit, ax=axes[row, col], title=f"{scenario.description} [{preset}]")
-            if run.fit.warning:
-                warnings_text.append(f"- {name} [{preset}]: {run.fit.warning}")
-        d, s = survey.runs[(name, "default")].fit, survey.runs[(name, "seed")].fit
+            if run.spring.warning:
+                warnings_text.append(f"- {name} [{preset}]: {run.spring.warning}")
+        d, s = survey.runs[(name, "default")].spring, survey.runs[(name, "seed")].spring
         stored = "-" if scenario.seed_K_e is None else f"{scenario.seed_K_e:.2f}"
         clean = "-" if scenario.seed_K_e_clean is None else f"{scenario.seed_K_e_clean:.2f}"
         lines.append(
@@ -142,10 +142,10 @@ def _summary_facts(survey) -> dict:
         n: row.delta for n in dynamic for row in survey.attribution[n] if row.label == SEED_CHOICE_NAMES["fit_thetas"]
     }
     return {
-        "default": [survey.runs[(n, "default")].fit.K_e for n in dynamic],
-        "seed_preset": [survey.runs[(n, "seed")].fit.K_e for n in dynamic],
+        "default": [survey.runs[(n, "default")].spring.K_e for n in dynamic],
+        "seed_preset": [survey.runs[(n, "seed")].spring.K_e for n in dynamic],
         "seed_stored": [SCENARIOS[n].seed_K_e for n in dynamic],
-        "run4_r2": survey.runs[("run4", "default")].fit.r2,
+        "run4_r2": survey.runs[("run4", "default")].spring.r2,
         "window_delta": window,
     }
 

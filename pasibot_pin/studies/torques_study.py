@@ -19,7 +19,7 @@ from dataclasses import dataclass
 from typing import TYPE_CHECKING
 
 from pasibot_pin.dynamics.inverse import STANCE_RANGE, TorqueResult, crank_grid, inverse_dynamics, run_scenario
-from pasibot_pin.errors import ParameterError
+from pasibot_pin.errors import DesignError, ParameterError
 from pasibot_pin.model.design import check_parameter, design_robot
 from pasibot_pin.model.scenarios import (
     PRESETS,
@@ -30,6 +30,7 @@ from pasibot_pin.model.scenarios import (
     get_preset,
     get_scenario,
 )
+from pasibot_pin.model.variants import get_variant
 from pasibot_pin.reprs import short_repr
 from pasibot_pin.studies.methods.spring_fit import SpringFit, fit_result
 
@@ -152,7 +153,8 @@ class ScenarioTorques:
         preset: name of the modelling preset the choices start from.
         choices: the modelling choices run (the preset with any overrides).
         result: torques and reactions along the motion [N.m, N].
-        fit: the linear spring fitted to the stance T_e(beta) (K_e [N.m/rad], beta0 [rad]).
+        fit: the linear spring fitted to the stance T_e(beta) (K_e [N.m/rad], beta0 [rad]); ``None`` for a
+            design whose variant has no free ankle (its foot is held by the linkage: T_e is zero, nothing to fit).
 
     """
 
@@ -162,7 +164,19 @@ class ScenarioTorques:
     preset: str
     choices: ModelChoices
     result: TorqueResult
-    fit: SpringFit
+    fit: SpringFit | None
+
+    @property
+    def spring(self) -> SpringFit:
+        """The fitted spring (:attr:`fit`).
+
+        Raises:
+            DesignError: the design's variant has no free ankle (no spring was fitted).
+
+        """
+        if self.fit is None:
+            raise DesignError("parameter 'variant': a design without a free ankle has no ankle spring to fit")
+        return self.fit
 
 
 @dataclass(frozen=True)
@@ -240,7 +254,8 @@ def design_torques(settings: TorqueSettings) -> ScenarioTorques:
     """:func:`scenario_torques` of ``settings.design``: its robot, speed and motors; the whole stance fitted.
 
     The result's ``scenario`` is named ``design`` and carries the design's crank speed, body mass
-    and COM (no seed values).
+    and COM (no seed values). A variant without a free ankle (its record's ``free_ankle``) has no
+    spring to fit: its ``fit`` is ``None``.
     """
     design = settings.design
     if design is None:
@@ -254,7 +269,8 @@ def design_torques(settings: TorqueSettings) -> ScenarioTorques:
     scenario = Scenario(
         "design", omega, design.body_mass, design.body_mass, design.body_com_dx, None, None, "design file"
     )
-    return ScenarioTorques(scenario, "default", get_preset("default"), result, fit_result(result, None, warn=False))
+    fit = fit_result(result, None, warn=False) if get_variant(design.variant).free_ankle else None
+    return ScenarioTorques(scenario, "default", get_preset("default"), result, fit)
 
 
 def preset_torques(scenario: Scenario, preset: str, reactions: bool = True) -> ScenarioTorques:
@@ -289,7 +305,7 @@ def attribution(
 
     """
     if default_K_e is None:
-        default_K_e = preset_torques(scenario, "default", reactions=False).fit.K_e
+        default_K_e = preset_torques(scenario, "default", reactions=False).spring.K_e
     seed = PRESETS["seed"]
     choices = PRESETS["default"]
     rows = [AttributionRow("default model", default_K_e, 0.0)]
@@ -313,7 +329,9 @@ def torque_survey() -> TorqueSurvey:
         run_scenario(SCENARIOS["quasi-static"], PRESETS["seed-clean"], reactions=False), None, warn=False
     )
     dynamic = [n for n in SCENARIOS if not SCENARIOS[n].quasi_static]
-    table = {n: attribution(SCENARIOS[n], runs[(n, "default")].fit.K_e, runs[(n, "seed")].fit.K_e) for n in dynamic}
+    table = {
+        n: attribution(SCENARIOS[n], runs[(n, "default")].spring.K_e, runs[(n, "seed")].spring.K_e) for n in dynamic
+    }
     n = GAIT_STEPS * GAIT_SAMPLES_PER_STEP + 1
     thetas = crank_grid(STANCE_RANGE[0], STANCE_RANGE[0] + GAIT_STEPS * math.pi, n)
     gait = run_scenario(SCENARIOS[GAIT_SCENARIO], PRESETS["default"], thetas=thetas)
