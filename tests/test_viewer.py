@@ -16,6 +16,7 @@ import numpy as np
 import pinocchio as pin
 import pytest
 import umsgpack
+from meshcat_checks import decode_commands
 from report_checks import assert_reads_like_a_report
 
 from pasibot_pin.__main__ import main
@@ -45,12 +46,6 @@ def listening_addresses(port: int) -> set[str]:
             if fields[3] == "0A" and int(port_hex, 16) == port:  # 0A = LISTEN
                 found.add(address)
     return found
-
-
-def decode_commands(html: str) -> list[dict]:
-    """Every meshcat command embedded in a static_html() page."""
-    blobs = re.findall(r"data:application/octet-binary;base64,([A-Za-z0-9+/=]+)", html)
-    return [umsgpack.unpackb(base64.b64decode(b)) for b in blobs]
 
 
 def without_uuids(commands: list[dict]) -> list:

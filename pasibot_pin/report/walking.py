@@ -95,12 +95,23 @@ def write_walk_animation(
                 modes=modes,
                 times=times,
                 follow=True,
+                ground=walk.settings.ground,
             )
         written.append(gif)
     if html is not None:
         viewer = WalkViewer(robot, offline=True)
         try:
-            build_walk_scene(viewer, qs, fps, forces=forces, title=title, times=times, modes=modes, follow=True)
+            build_walk_scene(
+                viewer,
+                qs,
+                fps,
+                forces=forces,
+                title=title,
+                times=times,
+                modes=modes,
+                follow=True,
+                ground=walk.settings.ground,
+            )
             text = viewer.static_html()
         finally:
             viewer.close()
@@ -200,7 +211,7 @@ def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> 
     every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))
     roll = f"max roll {result.max_hip_roll_deg:.1f} deg"
     title = f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
-    text = walk3d_html(robot, free_flyer_model(robot.model), result.q[::every], footprint, fps, title)
+    text = walk3d_html(robot, free_flyer_model(robot.model), result.q[::every], footprint, fps, title, walk.ground)
     with atomic_path(html) as temp:
         temp.write_text(text, encoding="utf-8")
     return html

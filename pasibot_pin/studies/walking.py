@@ -17,11 +17,11 @@ Units: SI, angles [rad].
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, field, replace
 
 from pasibot_pin.dynamics.floor.engine import FloorSimulator
 from pasibot_pin.dynamics.floor.engine3d import Floor3D
-from pasibot_pin.dynamics.floor.ground import check_mu, check_step
+from pasibot_pin.dynamics.floor.ground import Ground, check_mu, check_step
 from pasibot_pin.dynamics.floor.result3d import Floor3DResult
 from pasibot_pin.dynamics.floor.run import FloorResult
 from pasibot_pin.dynamics.floor.settings import FloorSettings
@@ -296,6 +296,7 @@ class DesignWalk3D:
         result: the 3-D run (:class:`~pasibot_pin.dynamics.floor.engine3d.Floor3DResult`).
         omega: crank speed [rad/s].
         dt: the time step used [s].
+        ground: the ground it walked on (:class:`~pasibot_pin.dynamics.floor.ground.Ground`: its slope, friction).
 
     """
 
@@ -303,6 +304,7 @@ class DesignWalk3D:
     result: Floor3DResult
     omega: float
     dt: float
+    ground: Ground = field(default_factory=Ground)
 
     def figures(self) -> dict[str, float]:
         """Largest |roll| [deg], its tip margin [deg], yaw per step [deg], lateral drift [m], clearances [m].
@@ -339,4 +341,4 @@ def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> 
     engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), floor.ground, lateral=design.lateral())
     duration = walk_duration(design.omega, settings.steps)
     result = engine.run(duration, criteria=settings.judged_by())
-    return DesignWalk3D(result.verdict, result, design.omega, engine.time_grid(duration)[0])
+    return DesignWalk3D(result.verdict, result, design.omega, engine.time_grid(duration)[0], floor.ground)

@@ -22,9 +22,10 @@ import pinocchio as pin
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import PART_MARKER, atomic_path
 from pasibot_pin.viz.contacts import foot_contacts
-from pasibot_pin.viz.plots import GROUP_COLOURS, robot_segments
+from pasibot_pin.viz.plots import GROUND_LINE_COLOUR, GROUP_COLOURS, robot_segments
 
 if TYPE_CHECKING:
+    from pasibot_pin.dynamics.floor.ground import Ground
     from pasibot_pin.model.robot import PasibotRobot
 
 PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad"}
@@ -149,6 +150,7 @@ def _stick_scene(
     modes=None,
     times=None,
     follow: bool = False,
+    ground: Ground | None = None,
 ):
     """Draw the still part of the stick animation; return (figure, frame updater, moving artists).
 
@@ -156,6 +158,8 @@ def _stick_scene(
     walked part, the clock and the legend) are listed in the order the axes draw them (z-order,
     then order of creation). ``update(k)`` moves them to frame ``k``, and with ``follow`` the
     view along x with the robot (:func:`_follow_window`: it stays in frame over any walk).
+    ``ground``: the walk's ground (a slope, a step edge), drawn as its line and read for the soles'
+    contacts; ``None``: the flat floor z = 0.
     """
     import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
     from matplotlib.collections import LineCollection  # deferred: heavy (matplotlib), keeps the CLI's start fast
@@ -173,8 +177,15 @@ def _stick_scene(
     window = _follow_window(fig, ax, segments) if follow else (lambda k: still)
     ax.set_title(title or f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
     lines = []
-    if robot.floating:
-        lines.append(ax.axhline(0.0, color="#8b5a2b", lw=1.2))
+    flat = ground is None or (ground.angle == 0.0 and not ground.has_step)
+    if robot.floating and flat:
+        lines.append(ax.axhline(0.0, color=GROUND_LINE_COLOUR, lw=1.2))
+    elif robot.floating and ground is not None:  # the treads under the walk, a view's width either side (follow)
+        xs = np.concatenate([s[:, :, 0].ravel() for s in segments])
+        reach = float(np.diff(ax.get_xlim())[0]) + 1.0
+        surface = ground.surface(float(xs.min()) - reach, float(xs.max()) + reach)
+        (line,) = ax.plot(surface[:, 0], surface[:, 1], color=GROUND_LINE_COLOUR, lw=1.2)
+        lines.append(line)
     paths = ankle_paths_xz(robot, qs)
     trails = {}
     for side, xz in paths.items():
@@ -186,7 +197,7 @@ def _stick_scene(
     clock = ax.text(0.02, 0.97, "", transform=ax.transAxes, va="top", family="monospace", fontsize=8)
     marks, contacts = [], None
     if robot.floating:
-        contacts = foot_contacts(robot, qs)
+        contacts = foot_contacts(robot, qs, ground=ground)
         modes = contacts.modes if modes is None else modes
         (dots,) = ax.plot([], [], "o", color=CONTACT_COLOUR, ms=5, zorder=3, label="sole on the ground")
         marks.append(dots)
@@ -221,7 +232,14 @@ def _stick_scene(
     return fig, update, moving
 
 
-def stick_animation(robot: PasibotRobot, qs: np.ndarray, fps: float = 20.0, ax=None, title: str | None = None):
+def stick_animation(
+    robot: PasibotRobot,
+    qs: np.ndarray,
+    fps: float = 20.0,
+    ax=None,
+    title: str | None = None,
+    ground: Ground | None = None,
+):
     """A matplotlib ``FuncAnimation`` of the robot along ``qs``, one frame per row.
 
     Args:
@@ -230,6 +248,8 @@ def stick_animation(robot: PasibotRobot, qs: np.ndarray, fps: float = 20.0, ax=N
         fps: frames per second [1/s] (sets the frame interval and the time label).
         ax: axes to draw on (default: a new figure).
         title: figure title (default: variant and number of legs).
+        ground: the walk's ground (a slope, a step edge), drawn and read for the soles' contacts;
+            ``None``: the flat floor z = 0.
 
     Returns:
         The animation; its figure is ``anim._fig`` (also ``ax.figure``).
@@ -237,7 +257,7 @@ def stick_animation(robot: PasibotRobot, qs: np.ndarray, fps: float = 20.0, ax=N
     """
     from matplotlib.animation import FuncAnimation  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    fig, update, _ = _stick_scene(robot, qs, fps, ax, title)
+    fig, update, _ = _stick_scene(robot, qs, fps, ax, title, ground=ground)
     return FuncAnimation(fig, update, frames=len(qs), interval=1000.0 / fps, blit=False)
 
 
@@ -354,6 +374,7 @@ def save_gif(
     modes=None,
     times=None,
     follow: bool = False,
+    ground: Ground | None = None,
 ) -> Path:
     """Write the stick animation of ``qs`` as a GIF, one frame per row (Pillow).
 
@@ -371,6 +392,8 @@ def save_gif(
         times: each frame's time [s] for the caption (default: k / fps).
         follow: the camera follows the robot along x (the view as tall as the walk), else the
             whole walk is in view.
+        ground: the walk's ground (:class:`~pasibot_pin.dynamics.floor.ground.Ground`: a slope, a step edge),
+            drawn and read for the soles' contacts; ``None``: the flat floor z = 0.
 
     Returns:
         The path written.
@@ -390,7 +413,9 @@ def save_gif(
         raise ParameterError(f"parameter 'out' must end in .gif, got {out}")
     if not (isinstance(dpi, int) and dpi > 0):
         raise ParameterError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
-    frames = _frame_arrays(robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times, follow=follow)
+    frames = _frame_arrays(
+        robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times, follow=follow, ground=ground
+    )
     if all(f[..., 3].min() == 255 for f in frames):
         images = _shared_palette(frames)
     else:

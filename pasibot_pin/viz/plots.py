@@ -19,6 +19,9 @@ GROUP_COLOURS = {
     "hip": "#9a9aa6",
 }
 
+GROUND_LINE_COLOUR = "#8b5a2b"
+"""Colour of the ground's line in the side views (the plots, the stick animation)."""
+
 
 def link_group(link: str) -> str:
     """Colour group of a link name: hoeken, pantograph, extension, foot or hip."""
@@ -99,7 +102,7 @@ def robot_legend(ax, groups, pivots: bool, ground: bool, extra: Sequence = ()) -
         handles.append(Line2D([], [], color=GROUP_COLOURS["hip"], marker="s", ls="", ms=7, label=label))
     handles.append(Line2D([], [], color="k", marker="+", ls="", ms=10, label="hip frame (body origin)"))
     if ground:
-        handles.append(Line2D([], [], color="#8b5a2b", lw=1, label="ground z = 0"))
+        handles.append(Line2D([], [], color=GROUND_LINE_COLOUR, lw=1, label="ground z = 0"))
     handles += list(extra)
     ax.legend(handles=handles, fontsize=7, loc="upper center", bbox_to_anchor=(0.5, -0.1), ncol=2)
 
@@ -155,7 +158,7 @@ def plot_robot(
         ax.plot(pts[:, 0], pts[:, 1], "s", color=GROUP_COLOURS["hip"], ms=7, alpha=alpha)
     if ground and robot.floating:
         xs = ax.get_xlim()
-        ax.axhline(0.0, color="#8b5a2b", lw=1)
+        ax.axhline(0.0, color=GROUND_LINE_COLOUR, lw=1)
         ax.set_xlim(xs)
     ax.plot(*hip[0], "k+", ms=10)
     if legend:

@@ -13,7 +13,7 @@ import numpy as np
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.kinematics.leg import STANCE, LegCycle
 from pasibot_pin.kinematics.path_metrics import KSweep
-from pasibot_pin.viz.plots import GROUP_COLOURS, figure_axes, plot_robot
+from pasibot_pin.viz.plots import GROUND_LINE_COLOUR, GROUP_COLOURS, figure_axes, plot_robot
 
 POINT_COLOURS = {"ankle": "#2673d9", "toe": "#d62728", "heel": "#7f7f7f", "hip": "#000000"}
 
@@ -207,7 +207,7 @@ def plot_gait(gait, ax=None, snapshots: int = 5, points: tuple[str, ...] = ("ank
             colour = POINT_COLOURS[p] if side == "right" else _lighter(POINT_COLOURS[p])
             _phase_lines(ax, xz[f"{side}_{names[p]}"], stance == side, colour, f"{side} {p}", lw=1.6)
     ax.plot(xz["hip"][:, 0], xz["hip"][:, 1], color=POINT_COLOURS["hip"], lw=1.5, label="hip (crank axis)")
-    ax.axhline(0.0, color="#8b5a2b", lw=1, label="ground")
+    ax.axhline(0.0, color=GROUND_LINE_COLOUR, lw=1, label="ground")
     ax.set_aspect("equal")
     ax.set_xlabel("x (world, walking direction) [m]")
     ax.set_ylabel("z (world, up) [m]")

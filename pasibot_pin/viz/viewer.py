@@ -68,6 +68,7 @@ from pasibot_pin.viz.viewer_scene import (
 )
 
 if TYPE_CHECKING:
+    from pasibot_pin.dynamics.floor.ground import Ground
     from pasibot_pin.kinematics.gait import Gait
     from pasibot_pin.model.robot import PasibotRobot
 
@@ -202,15 +203,19 @@ class WalkViewer:
 
     # ---- static scene
 
-    def add_ground(self, x_range: tuple[float, float], width: float = 0.6, top: float | None = None) -> None:
-        """A ground slab spanning ``x_range`` [m] and ``width`` across [m].
+    def add_ground(
+        self, x_range: tuple[float, float], width: float = 0.6, top: float | None = None, ground: Ground | None = None
+    ) -> None:
+        """A ground slab spanning ``x_range`` [m] and ``width`` across [m]: one per tread of ``ground``.
 
         Args:
             x_range: (start, end) of the slab along x [m].
             width: extent across (y) [m].
-            top: height of its top face [m]; default :func:`sole_depth` below z = 0: the
-                URDF's foot box hangs below the sole (the contact plane z = 0), so the slab
-                sits under it instead of hiding the stance foot.
+            top: height of its top face [m] below the contact surface; default :func:`sole_depth`: the
+                URDF's foot box hangs below the sole (the contact plane), so the slab sits under it
+                instead of hiding the stance foot.
+            ground: the walk's ground (:class:`~pasibot_pin.dynamics.floor.ground.Ground`): a slope tilts
+                the slab, a step edge makes two (nodes ``ground`` and ``ground_upper``); ``None``: the flat floor.
 
         """
         import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
@@ -221,12 +226,21 @@ class WalkViewer:
         if not width > 0:
             raise ParameterError(f"parameter 'width' must be > 0 m, got {width!r}")
         top = -sole_depth(self.robot) if top is None else float(top)
-        node = self.meshcat[f"{ROOT}/ground"]
         material = mg.MeshLambertMaterial(color=hex_int(GROUND_COLOUR))
-        node.set_object(mg.Box([x1 - x0, width, GROUND_THICKNESS]), material)
-        T = np.eye(4)
-        T[:3, 3] = [(x0 + x1) / 2, 0.0, top - GROUND_THICKNESS / 2]
-        node.set_transform(T)
+        treads = [(x0, x1, 0.0)] if ground is None else ground.treads(x0, x1)
+        angle = 0.0 if ground is None else ground.angle
+        for k, (a, b, height) in enumerate(treads):
+            node = self.meshcat[f"{ROOT}/ground" + ("_upper" if k else "")]
+            node.set_object(mg.Box([b - a, width, GROUND_THICKNESS]), material)
+            T = np.eye(4)
+            if angle:
+                T[:3, :3] = pin.utils.rotate("y", -angle)  # the slab's x along the ground, rising by its angle
+            if ground is None:
+                T[:3, 3] = [(a + b) / 2, 0.0, top - GROUND_THICKNESS / 2]
+            else:
+                x, z = ground.world((a + b) / 2, height + top - GROUND_THICKNESS / 2)
+                T[:3, 3] = [x, 0.0, z]
+            node.set_transform(T)
 
     def add_path(self, name: str, points: np.ndarray, colour: str) -> None:
         """A polyline through ``points`` (N, 3) [m], world frame."""
@@ -247,11 +261,13 @@ class WalkViewer:
             self.add_path(name, pts, PATH_COLOURS[name])
         return paths
 
-    def add_markers(self, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> None:
+    def add_markers(
+        self, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None, ground: Ground | None = None
+    ) -> None:
         """Joint markers (dark spheres) and contact points (green spheres) along ``qs`` (see :func:`marker_paths`)."""
         import meshcat.geometry as mg  # deferred: heavy (meshcat), keeps the CLI's start fast
 
-        self.marks = marker_paths(self.robot, qs, modes)
+        self.marks = marker_paths(self.robot, qs, modes, ground)
         joint = mg.MeshLambertMaterial(color=hex_int(JOINT_COLOUR))
         contact = mg.MeshLambertMaterial(color=hex_int(CONTACT_COLOUR))
         for node, (positions, shown) in self.marks.items():
@@ -444,6 +460,7 @@ def build_walk_scene(
     times: np.ndarray | None = None,
     modes: Mapping[str, Sequence[str]] | None = None,
     follow: bool = False,
+    ground: Ground | None = None,
 ) -> dict[str, np.ndarray]:
     """Ground, foot paths, joint and contact markers, forces, side camera, title bar and the walk animation.
 
@@ -458,6 +475,7 @@ def build_walk_scene(
         times: each frame's time for the title bar [s] (default: the animation's, k / fps).
         modes: each foot's contact mode per frame (default: from the geometry).
         follow: the camera follows the hip (:meth:`WalkViewer.set_side_camera`).
+        ground: the walk's ground (a slope, a step edge: :meth:`WalkViewer.add_ground`); ``None``: the flat floor.
 
     Returns:
         The drawn traces ``{name: (N, 3)}`` [m].
@@ -466,15 +484,15 @@ def build_walk_scene(
     paths = viewer.add_foot_paths(qs)
     xs = np.concatenate([p[:, 0] for p in paths.values()])
     margin = 0.4
-    viewer.add_ground((float(xs.min()) - margin, float(xs.max()) + margin))
+    viewer.add_ground((float(xs.min()) - margin, float(xs.max()) + margin), ground=ground)
     for name, arrows in (forces or {}).items():
         viewer.add_force(name, arrows)
-    viewer.add_markers(qs, modes)
+    viewer.add_markers(qs, modes, ground)
     viewer.set_side_camera(qs, follow=follow)
     viewer.display(qs[0])
     viewer.set_walk_animation(qs, fps=fps, repetitions=repetitions, play=play)
     if viewer.robot.floating:
-        contacts = foot_contacts(viewer.robot, qs)
+        contacts = foot_contacts(viewer.robot, qs, ground=ground)
         viewer.hud = Hud(
             title=title or f"PASIBOT {viewer.robot.variant} biped",
             fps=fps,

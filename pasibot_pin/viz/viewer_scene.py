@@ -24,6 +24,7 @@ from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUP_COLOURS, link_group
 
 if TYPE_CHECKING:
+    from pasibot_pin.dynamics.floor.ground import Ground
     from pasibot_pin.model.robot import PasibotRobot
 
 PATH_COLOURS: dict[str, str] = {"right": "#d62728", "left": "#8e44ad", "hip": "#555555"}
@@ -77,7 +78,12 @@ def coloured_visual_model(robot: PasibotRobot) -> pin.GeometryModel:
     return visual
 
 
-def marker_paths(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Sequence[str]] | None = None) -> dict:
+def marker_paths(
+    robot: PasibotRobot,
+    qs: np.ndarray,
+    modes: Mapping[str, Sequence[str]] | None = None,
+    ground: Ground | None = None,
+) -> dict:
     """Positions of the joint and contact markers along a trajectory.
 
     Args:
@@ -85,6 +91,7 @@ def marker_paths(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Sequen
         qs: configurations (N, nq).
         modes: each foot's contact mode per frame (default: from the geometry,
             :func:`pasibot_pin.viz.contacts.foot_contacts`).
+        ground: the ground the contacts are read on (default the flat floor z = 0).
 
     Returns:
         ``{node: (positions (N, 3) [m], shown (N,) bool)}``: ``joints/<joint>`` for every joint and
@@ -103,7 +110,7 @@ def marker_paths(robot: PasibotRobot, qs: np.ndarray, modes: Mapping[str, Sequen
         for name, fid in cuts.items():
             out[f"joints/{name}"][k] = data.oMf[fid].translation
     paths = {node: (pos, np.ones(len(qs), bool)) for node, pos in out.items()}
-    contacts = foot_contacts(robot, qs)
+    contacts = foot_contacts(robot, qs, ground=ground)
     for side, points in contacts.points.items():
         for i, point in enumerate(("heel", "toe")):
             shown = contacts.touching[side][:, i]

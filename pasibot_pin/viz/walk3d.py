@@ -9,6 +9,9 @@ outcome and the largest roll.
 
 from __future__ import annotations
 
+import math
+from typing import TYPE_CHECKING
+
 import numpy as np
 import pinocchio as pin
 
@@ -17,11 +20,22 @@ from pasibot_pin.model.spatial import SOLE_HALF_THICKNESS, Footprint, sole_boxes
 from pasibot_pin.viz.meshcat_page import finish_page
 from pasibot_pin.viz.meshcat_scene import OfflineWindow
 
+if TYPE_CHECKING:
+    from pasibot_pin.dynamics.floor.ground import Ground
+
 SOLE_RGBA = np.array([0.15, 0.15, 0.15, 1.0])
 """The soles' colour [-]."""
 
 
-def walk3d_html(robot, model: pin.Model, q: np.ndarray, footprint: Footprint, fps: float, title: str) -> str:
+def walk3d_html(
+    robot,
+    model: pin.Model,
+    q: np.ndarray,
+    footprint: Footprint,
+    fps: float,
+    title: str,
+    ground: Ground | None = None,
+) -> str:
     """The page of a 3-D walk.
 
     Args:
@@ -31,6 +45,7 @@ def walk3d_html(robot, model: pin.Model, q: np.ndarray, footprint: Footprint, fp
         footprint: the soles' shape.
         fps: frames per second [1/s].
         title: the page's title.
+        ground: the ground it walked on (its slope tilts the ground's slab); ``None``: the flat floor.
 
     Raises:
         ValueError: a robot loaded without visuals (no URDF text).
@@ -51,9 +66,14 @@ def walk3d_html(robot, model: pin.Model, q: np.ndarray, footprint: Footprint, fp
     data, gdata = model.createData(), visual.createData()
     viewer = meshcat.Visualizer(window=OfflineWindow())
     xs = q[:, 0]
-    ground = g.Box([float(xs.max() - xs.min()) + 2.0, 1.5, 0.01])
-    viewer["ground"].set_object(ground, g.MeshLambertMaterial(color=0xD8D8CC))
-    viewer["ground"].set_transform(_translation([0.5 * float(xs.max() + xs.min()), 0.0, -0.005 - SOLE_HALF_THICKNESS]))
+    slab = g.Box([float(xs.max() - xs.min()) + 2.0, 1.5, 0.01])
+    viewer["ground"].set_object(slab, g.MeshLambertMaterial(color=0xD8D8CC))
+    pose = _translation([0.5 * float(xs.max() + xs.min()), 0.0, -0.005 - SOLE_HALF_THICKNESS])
+    if ground is not None and ground.angle:  # the slab along the slope: its top face the ground's plane, lowered
+        pose[:3, :3] = pin.utils.rotate("y", -ground.angle)
+        x, z = ground.world(float(pose[0, 3]) / math.cos(ground.angle), float(pose[2, 3]))
+        pose[:3, 3] = [x, 0.0, z]
+    viewer["ground"].set_transform(pose)
     nodes = []
     for obj in visual.geometryObjects:
         node = f"robot/{obj.name}"

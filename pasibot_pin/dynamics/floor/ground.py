@@ -105,6 +105,40 @@ class Ground:
         """The tread's height at ``along`` [m] along the ground: ``step_height`` past the edge, else 0 [m]."""
         return self.step_height if along >= self.step_at else 0.0
 
+    def world(self, along: float, across: float = 0.0) -> tuple[float, float]:
+        """The world (x, z) [m] of the point ``along`` the ground and ``across`` it (up its normal) [m]."""
+        c, s = math.cos(self.angle), math.sin(self.angle)
+        return along * c - across * s, along * s + across * c
+
+    def treads(self, x_start: float, x_end: float) -> list[tuple[float, float, float]]:
+        """The treads under the world's ``x_start`` to ``x_end`` [m]: (along from, along to, height) each [m].
+
+        One tread on a plain ground; two where the step edge lies between (the riser joins them at
+        ``step_at``, along the normal). The ends are where the treads' surface reaches those x.
+        """
+        if not (math.isfinite(x_start) and math.isfinite(x_end) and x_end > x_start):
+            raise ParameterError(f"parameters 'x_start', 'x_end' must be finite and increasing, got {x_start}, {x_end}")
+        c, s = math.cos(self.angle), math.sin(self.angle)
+
+        def along(x: float) -> float:  # on the tread it is over: x = a c - rise(a) s
+            a = x / c
+            return (x + self.rise(a) * s) / c
+
+        start, end = along(x_start), along(x_end)
+        if self.has_step and start < self.step_at < end:
+            return [(start, self.step_at, 0.0), (self.step_at, end, self.step_height)]
+        return [(start, end, self.rise(start))]
+
+    def surface(self, x_start: float, x_end: float) -> np.ndarray:
+        """The ground's line in the x-z plane under the world's ``x_start`` to ``x_end`` [m]: (k, 2) (x, z) [m].
+
+        Its treads (:meth:`treads`), joined by the riser where there is a step edge: what a side view draws.
+        """
+        points = []
+        for a, b, height in self.treads(x_start, x_end):
+            points += [self.world(a, height), self.world(b, height)]
+        return np.array(points)
+
     def planar_gaps(self, rows: np.ndarray) -> np.ndarray:
         """Each planar point's gap above its tread (rows: along + i across the ground, complex (k,) [m]) (k,) [m]."""
         if not self.has_step:
