@@ -340,8 +340,8 @@ def test_every_design_in_3d_and_its_twin(name):
 
 @pytest.mark.slow
 def test_walk_3d_page(tmp_path, capsys):
-    """``walk --3d --html`` writes one page whose title names the outcome and the roll, atomically; --gif with
-    --3d is refused in one line."""
+    """``walk --3d --html`` writes one page whose title names the outcome and the roll, atomically; a step edge
+    with --3d is refused in one line."""
     from pasibot_pin.__main__ import main
 
     assert main(["walk", "--design", FAST, "--3d", "--steps", "2", "--html", "--out", str(tmp_path)]) == 0
@@ -350,9 +350,9 @@ def test_walk_3d_page(tmp_path, capsys):
     assert len(page) > 100_000  # the scene and its frames, base64 in the page
     assert not list(tmp_path.glob(".*.part-*"))  # no temporary file left (the .pasibot marker says whose folder)
     capsys.readouterr()
-    assert main(["walk", "--design", FAST, "--3d", "--gif", "--out", str(tmp_path), "--force"]) == 2
+    assert main(["walk", "--design", FAST, "--3d", "--step-height", "0.01", "--step-at", "0.3"]) == 2
     err = capsys.readouterr().err
-    assert "--3d" in err and len(err.strip().splitlines()) == 1
+    assert "--step-height" in err and "--3d" in err and len(err.strip().splitlines()) == 1
 
 
 def test_export_mjcf_3d_command(tmp_path, capsys):

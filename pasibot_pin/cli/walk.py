@@ -10,7 +10,7 @@ and power and the cost of transport; ``--json`` prints one JSON object instead. 
 multipliers of the gait (a fixed point of the step-to-step map, found by shooting).
 ``--html``/``--gif`` write the walk on the floor with its contact forces. The frontal ZMP line
 says whether the soles could hold the planar walk upright sideways; ``--3d`` walks it with the hip
-free to roll. ``--slope DEG`` tilts the ground; ``--step-height M --step-at M`` puts a step edge on it
+free to roll (its ``--gif``: the side view and the view from behind, the hip's roll in the caption). ``--slope DEG`` tilts the ground; ``--step-height M --step-at M`` puts a step edge on it
 (its treads only: a heel or toe that hits the riser has ``tripped``).
 """
 
@@ -79,7 +79,8 @@ def register(sub: argparse._SubParsersAction) -> None:
     p.add_argument(
         "--gif",
         action="store_true",
-        help="also write the walk as a stick GIF, 640 px wide, its camera following the robot (walk_NAME.gif)",
+        help="also write the walk as a stick GIF, 640 px wide, its camera following the robot (walk_NAME.gif; with "
+        "--3d: its side view and its view from behind, 960 px wide)",
     )
     add_out_folder_option(p, Path("out"), "the animations (NAME: the design file's stem, else the variant)")
     add_force_option(p, "overwrite existing animations")
@@ -107,15 +108,15 @@ def run(args: argparse.Namespace) -> int:
     check_walk_budget(
         walk_cost(design.omega, steps, spatial=args.spatial), f"--steps {steps} at --omega {design.omega:g} rad/s"
     )
-    if args.spatial and args.gif:
-        raise ParameterError("--3d walks without --gif so far (--html draws the 3-D walk)")
     if args.spatial and args.step_height:
         raise ParameterError("--step-height is the planar floor's so far: walk without --3d")
     if html is None and gif is None:
-        return _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, None, None)
+        return (
+            _run_3d(design, steps, args, None, None) if args.spatial else _run_planar(design, steps, args, None, None)
+        )
     folder = OutputFolder(args.out).claim()  # one writer per folder, refused at once (--force: per file, above)
     try:
-        code = _run_3d(design, steps, args, html) if args.spatial else _run_planar(design, steps, args, html, gif)
+        code = _run_3d(design, steps, args, html, gif) if args.spatial else _run_planar(design, steps, args, html, gif)
     except BaseException:
         folder.discard()  # what this run added, and the folders it made
         raise
@@ -183,8 +184,8 @@ def _bridge(design: Design, walk, robot):
     return bridge_need(free_flyer_model(robot.model), walk.result.q, design.footprint())
 
 
-def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | None) -> int:
-    """``walk --3d``: the verdict on the 3-D floor and the sideways figures (``html``: the page of the walk)."""
+def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | None, gif: Path | None) -> int:
+    """``walk --3d``: the verdict on the 3-D floor and the sideways figures (``html``/``gif``: the walk's files)."""
     from pasibot_pin.studies.walking import WalkSettings, walk_design_3d  # deferred: keeps the CLI's start fast
 
     robot = design_robot(design, 2, visuals=html is not None)
@@ -193,6 +194,10 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
         from pasibot_pin.report.walking import write_walk3d_page  # deferred: keeps the CLI's start fast
 
         write_walk3d_page(walk, robot, design.footprint(), html)
+    if gif is not None:
+        from pasibot_pin.report.walking import write_walk3d_gif  # deferred: keeps the CLI's start fast
+
+        write_walk3d_gif(walk, robot, design.footprint(), gif)
     figures = walk.figures()
     bridge = _bridge(design, walk, robot)
     stability, note = _stability_3d(design, walk, robot) if args.stability else (None, "")
@@ -220,8 +225,9 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
         print(json.dumps(out), flush=True)
         return 0
     print(walk.verdict.summary(), flush=True)
-    if html is not None:
-        print(f"wrote {html}", flush=True)
+    for written in (html, gif):
+        if written is not None:
+            print(f"wrote {written}", flush=True)
     print(
         f"3-D: max |hip roll| {figures['max_hip_roll_deg']:.2f} deg (margin {figures['roll_margin_deg']:+.2f} deg "
         f"to tipping), yaw {figures['yaw_per_step_deg']:+.3f} deg/step, "

@@ -194,6 +194,27 @@ def walk_lines(walk) -> list[str]:
     return lines
 
 
+def write_walk3d_gif(walk, robot, footprint, gif: Path, fps: float = 20.0) -> Path:
+    """Write a 3-D walk (:class:`~pasibot_pin.studies.walking.DesignWalk3D`) as a GIF of its two views, atomically.
+
+    Args:
+        walk: the 3-D walk.
+        robot: its robot.
+        footprint: its soles' shape.
+        gif: the file.
+        fps: frames per second of simulated time [1/s].
+
+    """
+    from pasibot_pin.viz.walk3d_gif import save_walk3d_gif  # deferred: heavy (matplotlib), keeps the CLI's start fast
+
+    result = walk.result
+    every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))
+    roll = f"max roll {result.max_hip_roll_deg:.1f} deg"
+    title = f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
+    model = free_flyer_model(robot.model)
+    return save_walk3d_gif(model, result.q[::every], footprint, gif, fps, result.t[::every], title, walk.ground)
+
+
 def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> Path:
     """Write a 3-D walk (:class:`~pasibot_pin.studies.walking.DesignWalk3D`) as a one-file meshcat page, atomically.
 

@@ -416,6 +416,17 @@ def save_gif(
     frames = _frame_arrays(
         robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times, follow=follow, ground=ground
     )
+    return write_gif(frames, out, fps)
+
+
+def write_gif(frames: list[np.ndarray], out: Path, fps: float) -> Path:
+    """Write RGBA frames (height, width, 4) as a looping GIF at ``fps`` [1/s], whole or not at all.
+
+    Opaque frames share one palette (:func:`_shared_palette`). ``out`` is written through a temporary
+    name and renamed, unless it is a temporary name already (the caller's :func:`~pasibot_pin.files.atomic_path`).
+    """
+    if not frames:
+        raise ParameterError("parameter 'frames': a GIF needs at least one frame")
     if all(f[..., 3].min() == 255 for f in frames):
         images = _shared_palette(frames)
     else:

@@ -48,7 +48,8 @@ def skeleton(model: pin.Model, data: pin.Data, q: np.ndarray) -> list[tuple[str,
     return lines
 
 
-def _sole_corners(model: pin.Model, data: pin.Data, boxes) -> list[tuple[str, np.ndarray]]:
+def sole_corners(model: pin.Model, data: pin.Data, boxes) -> list[tuple[str, np.ndarray]]:
+    """Each sole plate's four corners (side, (4, 3) [m]) at ``data``'s last kinematics (its heel-toe plane)."""
     out = []
     for box in boxes:
         pose = data.oMi[box.joint] * box.placement
@@ -92,7 +93,7 @@ def plot_walk_3d(
         for side, a, b in skeleton(model, data, q[k]):
             colour = LEG_COLOURS.get(side, "0.3")
             ax.plot(*np.column_stack((a, b)), color=colour, lw=2.5 if last else 1.0, alpha=alpha)
-        for side, corners in _sole_corners(model, data, boxes):
+        for side, corners in sole_corners(model, data, boxes):
             plate = Poly3DCollection([corners], facecolor=LEG_COLOURS[side], edgecolor="k", alpha=0.8 * alpha)
             ax.add_collection3d(plate)
     hip = q[:, :3]
