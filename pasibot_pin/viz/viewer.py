@@ -211,8 +211,8 @@ class WalkViewer:
         Args:
             x_range: (start, end) of the slab along x [m].
             width: extent across (y) [m].
-            top: height of its top face [m] below the contact surface; default :func:`sole_depth`: the
-                URDF's foot box hangs below the sole (the contact plane), so the slab sits under it
+            top: height of its top face over the contact surface [m]; default minus :func:`sole_depth`:
+                the URDF's foot box hangs below the sole (the contact plane), so the slab sits under it
                 instead of hiding the stance foot.
             ground: the walk's ground (:class:`~pasibot_pin.dynamics.floor.ground.Ground`): a slope tilts
                 the slab, a step edge makes two (nodes ``ground`` and ``ground_upper``); ``None``: the flat floor.
