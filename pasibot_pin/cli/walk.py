@@ -10,8 +10,9 @@ and power and the cost of transport; ``--json`` prints one JSON object instead. 
 multipliers of the gait (a fixed point of the step-to-step map, found by shooting).
 ``--html``/``--gif`` write the walk on the floor with its contact forces. The frontal ZMP line
 says whether the soles could hold the planar walk upright sideways; ``--3d`` walks it with the hip
-free to roll (its ``--gif``: the side view and the view from behind, the hip's roll in the caption). ``--slope DEG`` tilts the ground; ``--step-height M --step-at M`` puts a step edge on it
-(its treads only: a heel or toe that hits the riser has ``tripped``).
+free to roll (its ``--gif``: the side view and the view from behind, the hip's roll in the caption).
+``--slope DEG`` tilts the ground; ``--step-height M --step-at M`` puts a step edge on it (its treads
+only: a heel or toe that hits the riser has ``tripped``); the GIF and the page draw that ground.
 """
 
 from __future__ import annotations
@@ -111,9 +112,8 @@ def run(args: argparse.Namespace) -> int:
     if args.spatial and args.step_height:
         raise ParameterError("--step-height is the planar floor's so far: walk without --3d")
     if html is None and gif is None:
-        return (
-            _run_3d(design, steps, args, None, None) if args.spatial else _run_planar(design, steps, args, None, None)
-        )
+        run_walk = _run_3d if args.spatial else _run_planar
+        return run_walk(design, steps, args, None, None)
     folder = OutputFolder(args.out).claim()  # one writer per folder, refused at once (--force: per file, above)
     try:
         code = _run_3d(design, steps, args, html, gif) if args.spatial else _run_planar(design, steps, args, html, gif)
