@@ -140,6 +140,17 @@ def _place_legend(ax, fig, own: bool) -> None:
         ax.legend(loc="upper right", fontsize=8)
 
 
+def _ground_line(ax, segments: list[np.ndarray], ground: Ground | None):
+    """The ground's line: z = 0 across the axes on the flat floor, else its treads under the walk (and beyond)."""
+    if ground is None or (ground.angle == 0.0 and not ground.has_step):
+        return ax.axhline(0.0, color=GROUND_LINE_COLOUR, lw=1.2)
+    xs = np.concatenate([s[:, :, 0].ravel() for s in segments])
+    reach = float(np.diff(ax.get_xlim())[0]) + 1.0
+    surface = ground.surface(float(xs.min()) - reach, float(xs.max()) + reach)
+    (line,) = ax.plot(surface[:, 0], surface[:, 1], color=GROUND_LINE_COLOUR, lw=1.2)
+    return line
+
+
 def _stick_scene(
     robot: PasibotRobot,
     qs: np.ndarray,
@@ -158,8 +169,7 @@ def _stick_scene(
     walked part, the clock and the legend) are listed in the order the axes draw them (z-order,
     then order of creation). ``update(k)`` moves them to frame ``k``, and with ``follow`` the
     view along x with the robot (:func:`_follow_window`: it stays in frame over any walk).
-    ``ground``: the walk's ground (a slope, a step edge), drawn as its line and read for the soles'
-    contacts; ``None``: the flat floor z = 0.
+    ``ground``: the walk's ground (``None``: z = 0), drawn and read for the soles' contacts.
     """
     import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
     from matplotlib.collections import LineCollection  # deferred: heavy (matplotlib), keeps the CLI's start fast
@@ -176,16 +186,7 @@ def _stick_scene(
     still = ax.get_xlim()  # the whole walk's view [m], unless the camera follows
     window = _follow_window(fig, ax, segments) if follow else (lambda k: still)
     ax.set_title(title or f"PASIBOT {robot.variant}, {robot.legs} leg{'s' if robot.legs > 1 else ''}")
-    lines = []
-    flat = ground is None or (ground.angle == 0.0 and not ground.has_step)
-    if robot.floating and flat:
-        lines.append(ax.axhline(0.0, color=GROUND_LINE_COLOUR, lw=1.2))
-    elif robot.floating and ground is not None:  # the treads under the walk, a view's width either side (follow)
-        xs = np.concatenate([s[:, :, 0].ravel() for s in segments])
-        reach = float(np.diff(ax.get_xlim())[0]) + 1.0
-        surface = ground.surface(float(xs.min()) - reach, float(xs.max()) + reach)
-        (line,) = ax.plot(surface[:, 0], surface[:, 1], color=GROUND_LINE_COLOUR, lw=1.2)
-        lines.append(line)
+    lines = [_ground_line(ax, segments, ground)] if robot.floating else []
     paths = ankle_paths_xz(robot, qs)
     trails = {}
     for side, xz in paths.items():

@@ -65,15 +65,7 @@ def walk3d_html(
         visual.addGeometryObject(obj)
     data, gdata = model.createData(), visual.createData()
     viewer = meshcat.Visualizer(window=OfflineWindow())
-    xs = q[:, 0]
-    slab = g.Box([float(xs.max() - xs.min()) + 2.0, 1.5, 0.01])
-    viewer["ground"].set_object(slab, g.MeshLambertMaterial(color=0xD8D8CC))
-    pose = _translation([0.5 * float(xs.max() + xs.min()), 0.0, -0.005 - SOLE_HALF_THICKNESS])
-    if ground is not None and ground.angle:  # the slab along the slope: its top face the ground's plane, lowered
-        pose[:3, :3] = pin.utils.rotate("y", -ground.angle)
-        x, z = ground.world(float(pose[0, 3]) / math.cos(ground.angle), float(pose[2, 3]))
-        pose[:3, 3] = [x, 0.0, z]
-    viewer["ground"].set_transform(pose)
+    _ground_slab(viewer, q[:, 0], ground)
     nodes = []
     for obj in visual.geometryObjects:
         node = f"robot/{obj.name}"
@@ -110,6 +102,20 @@ def walk3d_html(
     viewer.set_animation(animation, play=True, repetitions=1000)
     page = finish_page(viewer.static_html(), None)
     return page.replace("<title>MeshCat</title>", f"<title>{title}</title>", 1)
+
+
+def _ground_slab(viewer, xs: np.ndarray, ground: Ground | None) -> None:
+    """The ground's slab under the hip's ``xs`` [m]: its top face under the ground's plane, turned by the slope."""
+    import meshcat.geometry as g  # deferred: heavy (meshcat), keeps the CLI's start fast
+
+    slab = g.Box([float(xs.max() - xs.min()) + 2.0, 1.5, 0.01])
+    viewer["ground"].set_object(slab, g.MeshLambertMaterial(color=0xD8D8CC))
+    pose = _translation([0.5 * float(xs.max() + xs.min()), 0.0, -0.005 - SOLE_HALF_THICKNESS])
+    if ground is not None and ground.angle:  # the slab along the slope: its top face the ground's plane, lowered
+        pose[:3, :3] = pin.utils.rotate("y", -ground.angle)
+        x, z = ground.world(float(pose[0, 3]) / math.cos(ground.angle), float(pose[2, 3]))
+        pose[:3, 3] = [x, 0.0, z]
+    viewer["ground"].set_transform(pose)
 
 
 def _translation(p) -> np.ndarray:
