@@ -74,6 +74,7 @@ def _held_points(robot, walk, every: int = 1) -> np.ndarray:
     return np.concatenate([contacts.points[s][_held(walk, s)[::every]].reshape(-1, 3) for s in ("right", "left")])
 
 
+@pytest.mark.slow  # the module's two walks: about 2.6 s of CPU
 def test_contacts_are_read_on_the_walks_ground(walked):
     robot, walk = walked
     ground = walk.settings.ground
@@ -101,6 +102,7 @@ def _distance_to_polyline(points: np.ndarray, line: np.ndarray) -> np.ndarray:
     return best
 
 
+@pytest.mark.slow  # the module's two walks: about 2.6 s of CPU
 def test_the_gifs_ground_line_is_under_the_held_soles(walked):
     import matplotlib.pyplot as plt
 
@@ -119,6 +121,7 @@ def test_the_gifs_ground_line_is_under_the_held_soles(walked):
     plt.close(anim._fig)
 
 
+@pytest.mark.slow  # the module's two walks: about 2.6 s of CPU
 def test_the_pages_slabs_lie_under_the_held_soles(walked):
     """Each tread's slab is turned by the slope, and its top face is the URDF's sole depth under the held soles."""
     robot, walk = walked

@@ -21,6 +21,8 @@ from pasibot_pin.model.spatial import free_flyer_model
 from pasibot_pin.studies.walking import WalkSettings, walk_design_3d
 from pasibot_pin.viz.walk3d_gif import Walk3DScene
 
+pytestmark = pytest.mark.slow  # a 3-D walk each (the module's, the command's): about 1.5 and 3 s of CPU
+
 TIPS = "designs/map_top_speed_parallel_sole6L_omega3.toml"
 """A planar walker that tips over sideways in 3-D at its first single support (within 0.8 s)."""
 SLOPE = math.radians(5.0)
@@ -81,6 +83,7 @@ def test_the_soles_are_drawn_at_the_floors_contact_corners(tipping):
     assert Ground(SLOPE).surface(0.0, 1.0)[1, 1] == pytest.approx(np.tan(SLOPE))
 
 
+@pytest.mark.integration
 def test_walk_3d_gif_command(tmp_path, capsys):
     out = tmp_path / "anim"
     assert main(["walk", "--3d", "--steps", "3", "--gif", "--out", str(out), "--design", TIPS]) == 0
