@@ -80,38 +80,18 @@ def write_walk_animation(
     forces = floor_force_tracks(robot, result, index)
     modes = {side: [result.modes[side][k] for k in index] for side in SIDES}
     title = f"{robot.variant} on the floor, {walk.omega:.3g} rad/s: {walk.verdict.short()}"
+    # what both pictures show: the camera follows the robot over the walk's own ground
+    shown = {"title": title, "forces": forces, "modes": modes, "times": times, "follow": True}
+    shown["ground"] = walk.settings.ground
     written = []
     if gif is not None:
         with atomic_path(gif) as temp:
-            save_gif(
-                robot,
-                qs,
-                temp,
-                fps=fps,
-                dpi=dpi,
-                force=True,
-                title=title,
-                forces=forces,
-                modes=modes,
-                times=times,
-                follow=True,
-                ground=walk.settings.ground,
-            )
+            save_gif(robot, qs, temp, fps=fps, dpi=dpi, force=True, **shown)
         written.append(gif)
     if html is not None:
         viewer = WalkViewer(robot, offline=True)
         try:
-            build_walk_scene(
-                viewer,
-                qs,
-                fps,
-                forces=forces,
-                title=title,
-                times=times,
-                modes=modes,
-                follow=True,
-                ground=walk.settings.ground,
-            )
+            build_walk_scene(viewer, qs, fps, **shown)
             text = viewer.static_html()
         finally:
             viewer.close()
@@ -194,6 +174,13 @@ def walk_lines(walk) -> list[str]:
     return lines
 
 
+def _frames_3d(walk, robot, fps: float) -> tuple[slice, str]:
+    """The samples a 3-D walk's pictures show (``fps`` frames a simulated second) and their title."""
+    every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))
+    roll = f"max roll {walk.result.max_hip_roll_deg:.1f} deg"
+    return slice(None, None, every), f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
+
+
 def write_walk3d_gif(walk, robot, footprint, gif: Path, fps: float = 20.0) -> Path:
     """Write a 3-D walk (:class:`~pasibot_pin.studies.walking.DesignWalk3D`) as a GIF of its two views, atomically.
 
@@ -207,12 +194,9 @@ def write_walk3d_gif(walk, robot, footprint, gif: Path, fps: float = 20.0) -> Pa
     """
     from pasibot_pin.viz.walk3d_gif import save_walk3d_gif  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
-    result = walk.result
-    every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))
-    roll = f"max roll {result.max_hip_roll_deg:.1f} deg"
-    title = f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
-    model = free_flyer_model(robot.model)
-    return save_walk3d_gif(model, result.q[::every], footprint, gif, fps, result.t[::every], title, walk.ground)
+    frames, title = _frames_3d(walk, robot, fps)
+    model, result = free_flyer_model(robot.model), walk.result
+    return save_walk3d_gif(model, result.q[frames], footprint, gif, fps, result.t[frames], title, walk.ground)
 
 
 def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> Path:
@@ -228,11 +212,8 @@ def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> 
     """
     from pasibot_pin.viz.walk3d import walk3d_html  # deferred: heavy (meshcat), keeps the CLI's start fast
 
-    result = walk.result
-    every = max(1, round(1.0 / (fps * max(walk.dt, 1e-9))))
-    roll = f"max roll {result.max_hip_roll_deg:.1f} deg"
-    title = f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
-    text = walk3d_html(robot, free_flyer_model(robot.model), result.q[::every], footprint, fps, title, walk.ground)
+    frames, title = _frames_3d(walk, robot, fps)
+    text = walk3d_html(robot, free_flyer_model(robot.model), walk.result.q[frames], footprint, fps, title, walk.ground)
     with atomic_path(html) as temp:
         temp.write_text(text, encoding="utf-8")
     return html
