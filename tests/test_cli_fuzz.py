@@ -122,6 +122,17 @@ def test_the_floor_bound_is_the_studys():
     assert BOUNDS["sweep"]["--floor"].high == BOUNDS["optimize"]["--floor"].high == MAX_FLOOR_STEPS
 
 
+def test_the_search_bounds_are_the_searchs_and_the_judges():
+    """find-walker's budget is the search's own limit, its fewest steps the verdict's stride, its workers and seed
+    the exploration's (the CLI keeps its literals to start fast: this test holds them to their sources)."""
+    from pasibot_pin.dynamics.verdict import MIN_STRIDE_STEPS
+    from pasibot_pin.explore.find_walker import MAX_BUDGET
+
+    search = BOUNDS["find-walker"]
+    assert search["--budget"].high == MAX_BUDGET and search["--steps"].low == MIN_STRIDE_STEPS
+    assert search["--workers"] == BOUNDS["sweep"]["--workers"] and search["--seed"] == BOUNDS["sweep"]["--seed"]
+
+
 def test_every_numeric_flag_has_a_bound():
     flags = {(command, action.option_strings[0]) for command, action in _numeric_actions()}
     bounded = {(command, flag) for command, table in BOUNDS.items() for flag in table}

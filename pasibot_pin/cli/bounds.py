@@ -188,8 +188,8 @@ BOUNDS: dict[str, dict[str, Bound]] = {
         "--omega": _WALKING,
         "--budget": Bound(1, 10_000, integer=True),  # explore.find_walker.MAX_BUDGET
         "--steps": Bound(3, 1000, "steps", integer=True),  # verdict.MIN_STRIDE_STEPS: fewer cannot say walks
-        "--workers": Bound(1, 64, integer=True),
-        "--seed": Bound(0, 2**32 - 1, integer=True),
+        "--workers": _EXPLORE["--workers"],
+        "--seed": _EXPLORE["--seed"],
     },
     "optimize": {
         "--trials": Bound(1, 1_000_000, integer=True),
