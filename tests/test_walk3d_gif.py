@@ -92,3 +92,19 @@ def test_walk_3d_gif_command(tmp_path, capsys):
     with Image.open(gif) as image:
         assert image.size == (960, 480) and image.n_frames >= 10  # 20 frames a second of a walk that tips at 0.7 s
     assert sorted(p.name for p in out.iterdir() if p.name != ".pasibot") == [gif.name]  # no temporary left
+
+
+def test_blitted_frames_are_the_frames_drawn_whole(tipping):
+    """The GIF draws the still part once per camera position and the moving artists over it: the same pixels as
+    drawing every frame whole."""
+    model, walk, scene, every = tipping
+    picks = slice(None, None, 4)
+
+    def frames(blit: bool):
+        again = Walk3DScene(model, scene.q[picks], scene.footprint, scene.times[picks], "t", scene.ground, 60)
+        return again.frames(blit=blit)
+
+    whole, blitted = frames(False), frames(True)
+    assert len(whole) == len(blitted) >= 8
+    for a, b in zip(whole, blitted):
+        np.testing.assert_array_equal(a, b)

@@ -137,7 +137,7 @@ def _run_planar(design: Design, steps: int, args: argparse.Namespace, html: Path
         steps=steps, mu=args.mu, slope=math.radians(args.slope), step_height=args.step_height, step_at=args.step_at
     )
     robot = design_robot(design, 2, visuals=html is not None)
-    walk = walk_design(design, settings, robot)
+    walk = walk_design(design, settings, robot, progress=_progress(args))
     stability, no_gait = None, ""
     if args.stability and not walk.verdict.walks:
         no_gait = f"stability: no periodic gait to linearise (the design {walk.verdict.outcome})"
@@ -184,12 +184,18 @@ def _bridge(design: Design, walk, robot):
     return bridge_need(free_flyer_model(robot.model), walk.result.q, design.footprint())
 
 
+def _progress(args: argparse.Namespace) -> bool:
+    """Whether the walk shows a progress bar: on a terminal's stderr, not for --json (a script reads that)."""
+    return not args.json and sys.stderr.isatty()
+
+
 def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | None, gif: Path | None) -> int:
     """``walk --3d``: the verdict on the 3-D floor and the sideways figures (``html``/``gif``: the walk's files)."""
     from pasibot_pin.studies.walking import WalkSettings, walk_design_3d  # deferred: keeps the CLI's start fast
 
     robot = design_robot(design, 2, visuals=html is not None)
-    walk = walk_design_3d(design, WalkSettings(steps=steps, mu=args.mu, slope=math.radians(args.slope)), robot)
+    settings = WalkSettings(steps=steps, mu=args.mu, slope=math.radians(args.slope))
+    walk = walk_design_3d(design, settings, robot, progress=_progress(args))
     if html is not None:
         from pasibot_pin.report.walking import write_walk3d_page  # deferred: keeps the CLI's start fast
 

@@ -29,6 +29,7 @@ from pasibot_pin.dynamics.verdict import GaitCriteria, Verdict
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.design import MIN_WALK_OMEGA, check_parameter, design_robot
 from pasibot_pin.model.params import SOLE_FLOOR_MU
+from pasibot_pin.progress import progress_bar
 from pasibot_pin.studies.methods.spring_fit import design_spring
 
 WALK_MU = SOLE_FLOOR_MU
@@ -175,13 +176,49 @@ def floor_settings(design, settings: WalkSettings, robot) -> FloorSettings:
     )  # fmt: skip
 
 
-def walk_design(design, settings: WalkSettings | None = None, robot=None) -> DesignWalk:
+class ProgressJudge:
+    """A walk's judge that also moves a progress bar, one tick per simulated second.
+
+    It hears every sample the judge hears and passes it on; everything else (the verdict, a
+    divergence, a trip, the 3-D floor's roll) is the judge's own.
+
+    Args:
+        judge: the walk's judge (:class:`~pasibot_pin.dynamics.verdict.GaitJudge`).
+        bar: a progress bar over the run's simulated seconds (:func:`~pasibot_pin.progress.progress_bar`).
+
+    """
+
+    def __init__(self, judge, bar) -> None:
+        self.judge, self.bar, self.shown = judge, bar, 0
+
+    def update(self, sample) -> bool:
+        """Move the bar to the sample's whole second; the judge's answer (the walk decided)."""
+        second = int(sample.t)
+        if second > self.shown:
+            self.bar.update(second - self.shown)
+            self.shown = second
+        return self.judge.update(sample)
+
+    def __getattr__(self, name: str):
+        return getattr(self.judge, name)
+
+
+def _judged(judge_of, settings: WalkSettings, duration: float, progress: bool):
+    """The run's judge factory and its bar (``None``: no bar, the default judge by the settings' criteria)."""
+    if not progress:
+        return {"criteria": settings.judged_by()}, None
+    bar = progress_bar(math.ceil(duration), 0, True, unit="simulated second")
+    return {"judge": lambda first: ProgressJudge(judge_of(settings.judged_by())(first), bar)}, bar
+
+
+def walk_design(design, settings: WalkSettings | None = None, robot=None, progress: bool = False) -> DesignWalk:
     """Put ``design`` on the floor and judge its walk (see the module docstring).
 
     Args:
         design: a :class:`~pasibot_pin.model.design.Design`.
         settings: :class:`WalkSettings` (default: 20 steps).
         robot: its two-legged robot, if already built.
+        progress: show a progress bar over the simulated seconds on stderr.
 
     Returns:
         :class:`DesignWalk`; a walk that fails is its verdict, not an exception.
@@ -195,7 +232,13 @@ def walk_design(design, settings: WalkSettings | None = None, robot=None) -> Des
     robot = design_robot(design, 2, visuals=False) if robot is None else robot
     floor = floor_settings(design, settings, robot)
     sim = FloorSimulator(robot, floor)
-    result = sim.run(walk_duration(design.omega, settings.steps), criteria=settings.judged_by(), stop_on_verdict=True)
+    duration = walk_duration(design.omega, settings.steps)
+    judged, bar = _judged(sim.judge_of, settings, duration, progress)
+    try:
+        result = sim.run(duration, stop_on_verdict=True, **judged)
+    finally:
+        if bar is not None:
+            bar.close()
     assert result.verdict is not None  # omega > 0
     return DesignWalk(result.verdict, result, design.omega, floor.dt, floor)
 
@@ -323,11 +366,12 @@ class DesignWalk3D:
         }
 
 
-def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> DesignWalk3D:
+def walk_design_3d(design, settings: WalkSettings | None = None, robot=None, progress: bool = False) -> DesignWalk3D:
     """Put ``design`` on the 3-D floor (free hip, its soles' footprint) and judge its walk.
 
     The same start, cranks, ramp and time step as :func:`walk_design`; the soles are
-    ``design.footprint()`` and the legs sit at ``design.hip_half_width``.
+    ``design.footprint()`` and the legs sit at ``design.hip_half_width``. ``progress``: a
+    progress bar over the simulated seconds on stderr.
 
     Raises:
         ParameterError: bad settings, a crank speed below :data:`MIN_OMEGA`, or soles that overlap
@@ -340,5 +384,10 @@ def walk_design_3d(design, settings: WalkSettings | None = None, robot=None) -> 
     floor = floor_settings(design, settings, robot)
     engine = Floor3D(FloorSimulator(robot, floor), design.footprint(), floor.ground, lateral=design.lateral())
     duration = walk_duration(design.omega, settings.steps)
-    result = engine.run(duration, criteria=settings.judged_by())
+    judged, bar = _judged(engine.planar.judge_of, settings, duration, progress)
+    try:
+        result = engine.run(duration, **judged)
+    finally:
+        if bar is not None:
+            bar.close()
     return DesignWalk3D(result.verdict, result, design.omega, engine.time_grid(duration)[0], floor.ground)

@@ -32,6 +32,11 @@ HIP_COLOUR = "0.35"
 """Colour of the hip's links."""
 SIDE_HALF_WIDTH = 0.9
 """The side view spans the hip's x this much either way [m]."""
+MOVING = 2.6
+"""The z-order of what moves, above everything still (grid 1.5, ground line 2, spines 2.5): drawn last, as blitting
+draws it."""
+CAMERA_STEP = SIDE_HALF_WIDTH / 8
+"""The side view's camera follows the hip in steps of this [m] (each step redraws the still part)."""
 BEHIND_HALF_WIDTH = 0.45
 """The view from behind spans y this much either way of the midline [m]."""
 
@@ -95,7 +100,9 @@ class Walk3DScene:
         top = float(np.max(self.q[:, 2])) + 0.45
         for name, ax in (("side", self.side), ("behind", self.behind)):
             self.links[name] = LineCollection([], colors=colours, linewidths=2.0, capstyle="round", zorder=3)
-            self.soles[name] = PolyCollection([], facecolors=plates, edgecolors="k", linewidths=0.6, alpha=0.8)
+            self.soles[name] = PolyCollection(
+                [], facecolors=plates, edgecolors="k", linewidths=0.6, alpha=0.8, zorder=MOVING
+            )
             ax.add_collection(self.soles[name])
             ax.add_collection(self.links[name])
             ax.set_aspect("equal")
@@ -114,8 +121,8 @@ class Walk3DScene:
         xs = self.q[:, 0]
         surface = self._surface(float(xs.min()) - 2 * SIDE_HALF_WIDTH, float(xs.max()) + 2 * SIDE_HALF_WIDTH)
         self.side.plot(surface[:, 0], surface[:, 1], color=GROUND_LINE_COLOUR, lw=1.2)
-        (self.floor_behind,) = self.behind.plot([], [], color=GROUND_LINE_COLOUR, lw=1.2)
-        (self.hip_path,) = self.side.plot([], [], color="k", lw=0.8, label="hip path")
+        (self.floor_behind,) = self.behind.plot([], [], color=GROUND_LINE_COLOUR, lw=1.2, zorder=MOVING)
+        (self.hip_path,) = self.side.plot([], [], color="k", lw=0.8, label="hip path", zorder=MOVING)
         self.clock = self.side.text(0.02, 0.96, "", transform=self.side.transAxes, va="top", family="monospace")
         self.clock.set_fontsize(8)
         self.figure.suptitle(self.title, fontsize=10)
@@ -137,23 +144,41 @@ class Walk3DScene:
             self.links[name].set_segments([np.array([a[axes], b[axes]]) for _, a, b in lines])
             self.soles[name].set_verts([c[:, axes] for _, c in corners])
         x = float(q[0])
-        self.side.set_xlim(x - SIDE_HALF_WIDTH, x + SIDE_HALF_WIDTH)
+        centre = round(x / CAMERA_STEP) * CAMERA_STEP  # the camera moves in steps: the still part is redrawn at each
+        self.side.set_xlim(centre - SIDE_HALF_WIDTH, centre + SIDE_HALF_WIDTH)
         self.hip_path.set_data(self.q[: k + 1, 0], self.q[: k + 1, 2])
         self.floor_behind.set_data([BEHIND_HALF_WIDTH, -BEHIND_HALF_WIDTH], [self._ground_z(x)] * 2)
         roll = math.degrees(hip_roll(q))
         self.clock.set_text(f"t = {self.times[k]:5.2f} s   hip roll {roll:+6.2f} deg")
 
-    def frames(self) -> list[np.ndarray]:
-        """Every frame as an RGBA array (height, width, 4)."""
+    def frames(self, blit: bool = True) -> list[np.ndarray]:
+        """Every frame as an RGBA array (height, width, 4).
+
+        With ``blit`` the still part (axes, ticks, labels, the ground's line) is drawn once per camera
+        position and the moving artists over it; without, every frame is drawn whole (the same pixels).
+        """
         from matplotlib.backends.backend_agg import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
             FigureCanvasAgg,
         )
 
         canvas = FigureCanvasAgg(self.figure)
-        out = []
+        moving = [*self.soles.values(), *self.links.values(), self.hip_path, self.floor_behind, self.clock]
+        moving.sort(key=lambda a: (a.get_zorder(), a.axes.get_children().index(a)))  # each axes' own drawing order
+        for artist in moving:
+            artist.set_animated(blit)
+        out, limits, background = [], None, None
         for k in range(len(self.q)):
             self.draw(k)
-            canvas.draw()
+            if not blit:
+                canvas.draw()
+            else:
+                if self.side.get_xlim() != limits:  # the camera moved: the still part again
+                    limits = self.side.get_xlim()
+                    canvas.draw()
+                    background = canvas.copy_from_bbox(self.figure.bbox)
+                canvas.restore_region(background)
+                for artist in moving:
+                    artist.axes.draw_artist(artist)
             out.append(np.asarray(canvas.buffer_rgba()).copy())
         return out
 
