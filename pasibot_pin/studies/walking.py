@@ -211,6 +211,16 @@ def _judged(judge_of, settings: WalkSettings, duration: float, progress: bool):
     return {"judge": lambda first: ProgressJudge(judge_of(settings.judged_by())(first), bar)}, bar
 
 
+def _finish(bar) -> None:
+    """Close the walk's bar at the time it reached (a verdict stops the walk early: that time is the whole)."""
+    if bar is None:
+        return
+    if getattr(bar, "total", None) is not None and hasattr(bar, "refresh"):  # tqdm's
+        bar.total = bar.n
+        bar.refresh()
+    bar.close()
+
+
 def walk_design(design, settings: WalkSettings | None = None, robot=None, progress: bool = False) -> DesignWalk:
     """Put ``design`` on the floor and judge its walk (see the module docstring).
 
@@ -237,8 +247,7 @@ def walk_design(design, settings: WalkSettings | None = None, robot=None, progre
     try:
         result = sim.run(duration, stop_on_verdict=True, **judged)
     finally:
-        if bar is not None:
-            bar.close()
+        _finish(bar)
     assert result.verdict is not None  # omega > 0
     return DesignWalk(result.verdict, result, design.omega, floor.dt, floor)
 
@@ -388,6 +397,5 @@ def walk_design_3d(design, settings: WalkSettings | None = None, robot=None, pro
     try:
         result = engine.run(duration, **judged)
     finally:
-        if bar is not None:
-            bar.close()
+        _finish(bar)
     return DesignWalk3D(result.verdict, result, design.omega, engine.time_grid(duration)[0], floor.ground)
