@@ -98,3 +98,16 @@ def test_the_caption_and_the_legend_do_not_overlap(gait):
                 assert fig.bbox.contains(key.x0, key.y0) and fig.bbox.contains(key.x1, key.y1)
         finally:
             plt.close(fig)
+
+
+def test_a_gif_with_its_progress_bar_is_the_same_gif(gait, gif, tmp_path, capsys):
+    """``progress=True`` counts the frames on stderr (tqdm's bar, or the plain one without the extra) and writes the
+    same file."""
+    import re
+
+    capsys.readouterr()
+    out = tmp_path / "shown.gif"
+    animation.save_gif(gait.robot, gait.q, out, fps=FPS, dpi=DPI, progress=True)
+    counts = [int(n) for n in re.findall(r"(\d+)/\d+ (?:\[|frames)", capsys.readouterr().err)]
+    assert counts and counts[-1] == len(gait.q)
+    assert out.read_bytes() == gif.read_bytes()

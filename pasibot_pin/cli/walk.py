@@ -163,7 +163,7 @@ def _run_planar(design: Design, steps: int, args: argparse.Namespace, html: Path
         print(f"sideways (planar walk, {_plates(design)}): {zmp.summary()}", flush=True)
         if args.stability:
             print(stability.summary() if stability is not None else no_gait, flush=True)
-    written = write_walk_animation(walk, robot, html, gif)
+    written = write_walk_animation(walk, robot, html, gif, progress=_progress(args))
     for path in written if not args.json else ():
         print(f"wrote {path}")
     if (html or gif) and not written:
@@ -203,7 +203,7 @@ def _run_3d(design: Design, steps: int, args: argparse.Namespace, html: Path | N
     if gif is not None:
         from pasibot_pin.report.walking import write_walk3d_gif  # deferred: keeps the CLI's start fast
 
-        write_walk3d_gif(walk, robot, design.footprint(), gif)
+        write_walk3d_gif(walk, robot, design.footprint(), gif, progress=_progress(args))
     figures = walk.figures()
     bridge = _bridge(design, walk, robot)
     stability, note = _stability_3d(design, walk, robot) if args.stability else (None, "")

@@ -54,7 +54,13 @@ def floor_force_tracks(robot, result, index: np.ndarray) -> dict:
 
 
 def write_walk_animation(
-    walk, robot, html: Path | None = None, gif: Path | None = None, fps: float = 20.0, dpi: int = 100
+    walk,
+    robot,
+    html: Path | None = None,
+    gif: Path | None = None,
+    fps: float = 20.0,
+    dpi: int = 100,
+    progress: bool = False,
 ):
     """Write the walk as a one-file meshcat page and/or a stick GIF (each to a temporary name, then renamed).
 
@@ -66,6 +72,7 @@ def write_walk_animation(
         fps: frames per second of simulated time [1/s].
         dpi: the GIF's resolution [dots per inch] (6.4 x 5 in: 640 x 500 px at the default). The GIF's
             camera follows the robot (:func:`~pasibot_pin.viz.animation.save_gif`'s ``follow``).
+        progress: a progress bar over the GIF's frames on stderr.
 
     Returns:
         The files written (none when none was asked for, or the run has no sample to draw: a walk
@@ -86,7 +93,7 @@ def write_walk_animation(
     written = []
     if gif is not None:
         with atomic_path(gif) as temp:
-            save_gif(robot, qs, temp, fps=fps, dpi=dpi, force=True, **shown)
+            save_gif(robot, qs, temp, fps=fps, dpi=dpi, force=True, progress=progress, **shown)
         written.append(gif)
     if html is not None:
         viewer = WalkViewer(robot, offline=True)
@@ -181,7 +188,7 @@ def _frames_3d(walk, robot, fps: float) -> tuple[slice, str]:
     return slice(None, None, every), f"{robot.variant} in 3-D, {walk.omega:g} rad/s: {walk.verdict.short()}, {roll}"
 
 
-def write_walk3d_gif(walk, robot, footprint, gif: Path, fps: float = 20.0) -> Path:
+def write_walk3d_gif(walk, robot, footprint, gif: Path, fps: float = 20.0, progress: bool = False) -> Path:
     """Write a 3-D walk (:class:`~pasibot_pin.studies.walking.DesignWalk3D`) as a GIF of its two views, atomically.
 
     Args:
@@ -190,13 +197,15 @@ def write_walk3d_gif(walk, robot, footprint, gif: Path, fps: float = 20.0) -> Pa
         footprint: its soles' shape.
         gif: the file.
         fps: frames per second of simulated time [1/s].
+        progress: a progress bar over the frames on stderr.
 
     """
     from pasibot_pin.viz.walk3d_gif import save_walk3d_gif  # deferred: heavy (matplotlib), keeps the CLI's start fast
 
     frames, title = _frames_3d(walk, robot, fps)
     model, result = free_flyer_model(robot.model), walk.result
-    return save_walk3d_gif(model, result.q[frames], footprint, gif, fps, result.t[frames], title, walk.ground)
+    times = result.t[frames]
+    return save_walk3d_gif(model, result.q[frames], footprint, gif, fps, times, title, walk.ground, progress=progress)
 
 
 def write_walk3d_page(walk, robot, footprint, html: Path, fps: float = 20.0) -> Path:

@@ -21,6 +21,7 @@ import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.files import PART_MARKER, atomic_path
+from pasibot_pin.progress import progress_bar
 from pasibot_pin.viz.contacts import foot_contacts
 from pasibot_pin.viz.plots import GROUND_LINE_COLOUR, GROUP_COLOURS, robot_segments
 
@@ -292,14 +293,15 @@ def _clock_painter(fig, clock):
 
 
 def _frame_arrays(
-    robot: PasibotRobot, qs: np.ndarray, fps: float, dpi: int, title: str | None, **marks
+    robot: PasibotRobot, qs: np.ndarray, fps: float, dpi: int, title: str | None, progress: bool = False, **marks
 ) -> list[np.ndarray]:
     """The frames of :func:`stick_animation` as RGBA arrays (height, width, 4) of ``dpi`` dots per inch.
 
     The still part (axes, ticks, labels, grid) is drawn once; each frame restores it and draws
     only the moving artists over it (blitting), in the axes' own drawing order. The legend,
     drawn last and the same in every frame, is rendered once as a transparent layer and
-    composited over each frame; the clock's text is drawn last, with Pillow.
+    composited over each frame; the clock's text is drawn last, with Pillow. ``progress``: a bar over
+    the frames on stderr.
     """
     import matplotlib.pyplot as plt  # deferred: heavy (matplotlib), keeps the CLI's start fast
     from matplotlib.backends.backend_agg import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
@@ -309,6 +311,7 @@ def _frame_arrays(
     from PIL import Image  # deferred: heavy (PIL), keeps the CLI's start fast
 
     fig, update, moving = _stick_scene(robot, qs, fps, title=title, **marks)
+    bar = progress_bar(len(qs), 0, progress, unit="frame")
     try:
         fig.set_dpi(dpi)
         canvas = FigureCanvasAgg(fig)
@@ -341,7 +344,9 @@ def _frame_arrays(
                 image = Image.alpha_composite(image, layer)
             paint(image)
             frames.append(np.asarray(image))
+            bar.update(1)
     finally:
+        bar.close()
         plt.close(fig)
     return frames
 
@@ -376,6 +381,7 @@ def save_gif(
     times=None,
     follow: bool = False,
     ground: Ground | None = None,
+    progress: bool = False,
 ) -> Path:
     """Write the stick animation of ``qs`` as a GIF, one frame per row (Pillow).
 
@@ -395,6 +401,7 @@ def save_gif(
             whole walk is in view.
         ground: the walk's ground (:class:`~pasibot_pin.dynamics.floor.ground.Ground`: a slope, a step edge),
             drawn and read for the soles' contacts; ``None``: the flat floor z = 0.
+        progress: a progress bar over the frames on stderr.
 
     Returns:
         The path written.
@@ -415,7 +422,7 @@ def save_gif(
     if not (isinstance(dpi, int) and dpi > 0):
         raise ParameterError(f"parameter 'dpi' must be a positive integer, got {dpi!r}")
     frames = _frame_arrays(
-        robot, qs, fps, dpi, title, forces=forces, modes=modes, times=times, follow=follow, ground=ground
+        robot, qs, fps, dpi, title, progress, forces=forces, modes=modes, times=times, follow=follow, ground=ground
     )
     return write_gif(frames, out, fps)
 

@@ -21,6 +21,7 @@ import pinocchio as pin
 
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.spatial import Footprint, sole_boxes
+from pasibot_pin.progress import progress_bar
 from pasibot_pin.viz.animation import write_gif
 from pasibot_pin.viz.plots import GROUND_LINE_COLOUR
 from pasibot_pin.viz.plots_robot3d import LEG_COLOURS, skeleton, sole_corners
@@ -151,11 +152,12 @@ class Walk3DScene:
         roll = math.degrees(hip_roll(q))
         self.clock.set_text(f"t = {self.times[k]:5.2f} s   hip roll {roll:+6.2f} deg")
 
-    def frames(self, blit: bool = True) -> list[np.ndarray]:
+    def frames(self, blit: bool = True, progress: bool = False) -> list[np.ndarray]:
         """Every frame as an RGBA array (height, width, 4).
 
         With ``blit`` the still part (axes, ticks, labels, the ground's line) is drawn once per camera
         position and the moving artists over it; without, every frame is drawn whole (the same pixels).
+        ``progress``: a bar over the frames on stderr.
         """
         from matplotlib.backends.backend_agg import (  # deferred: heavy (matplotlib), keeps the CLI's start fast
             FigureCanvasAgg,
@@ -167,6 +169,7 @@ class Walk3DScene:
         for artist in moving:
             artist.set_animated(blit)
         out, limits, background = [], None, None
+        bar = progress_bar(len(self.q), 0, progress, unit="frame")
         for k in range(len(self.q)):
             self.draw(k)
             if not blit:
@@ -180,6 +183,8 @@ class Walk3DScene:
                 for artist in moving:
                     artist.axes.draw_artist(artist)
             out.append(np.asarray(canvas.buffer_rgba()).copy())
+            bar.update(1)
+        bar.close()
         return out
 
 
@@ -199,6 +204,7 @@ def save_walk3d_gif(
     title: str = "",
     ground: Ground | None = None,
     dpi: int = 100,
+    progress: bool = False,
 ) -> Path:
     """Write a 3-D walk's two views as a GIF (:class:`Walk3DScene`), one frame per row of ``q``, atomically.
 
@@ -212,6 +218,7 @@ def save_walk3d_gif(
         title: the figure's title.
         ground: the ground it walked on (default the flat floor).
         dpi: resolution [dots per inch] of the 9.6 x 4.8 in figure.
+        progress: a progress bar over the frames on stderr.
 
     Returns:
         The path written.
@@ -222,4 +229,4 @@ def save_walk3d_gif(
     q = np.atleast_2d(np.asarray(q, dtype=float))
     times = np.arange(len(q)) / fps if times is None else np.asarray(times, dtype=float)
     scene = Walk3DScene(model, q, footprint, times, title, ground, dpi)
-    return write_gif(scene.frames(), Path(out), fps)
+    return write_gif(scene.frames(progress=progress), Path(out), fps)
