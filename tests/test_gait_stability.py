@@ -114,8 +114,8 @@ def test_walk_stability_of_the_fastest_walker_with_the_defaults(capsys, monkeypa
 
     walked: list = []
 
-    def kept(design, settings, robot):
-        walked.append((design, settings, walk := walk_design(design, settings, robot)))
+    def kept(design, settings, robot, progress=False):
+        walked.append((design, settings, walk := walk_design(design, settings, robot, progress=progress)))
         return walk
 
     monkeypatch.setattr(walking, "walk_design", kept)
