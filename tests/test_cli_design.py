@@ -41,6 +41,7 @@ def design_file(tmp_path):
     return Design().with_(K=2.2, r4=9.4, body_mass=25.0).save(tmp_path / "d.toml")
 
 
+@pytest.mark.slow  # renders the design's xacro: about 1.6 s of CPU
 def test_info_and_build_urdf_use_the_design(_cli, design_file, tmp_path):
     import yourdfpy
 

@@ -34,6 +34,7 @@ def reference(tmp_path_factory):
     return run_sweep(PLAN, folder, workers=1, progress=False)
 
 
+@pytest.mark.slow  # the module's reference sweep: about 2 s of CPU
 def test_table_has_every_parameter_and_metric(reference):
     names = reference.table.column_names
     assert names[0] == "index"
@@ -52,6 +53,7 @@ def test_table_has_every_parameter_and_metric(reference):
         assert got == metrics[name] or (np.isnan(got) and np.isnan(metrics[name]))
 
 
+@pytest.mark.slow  # the module's reference sweep: about 2 s of CPU
 def test_interrupted_sweep_resumes_to_the_same_table(tmp_path, reference):
     calls = []
 
@@ -75,6 +77,7 @@ def test_interrupted_sweep_resumes_to_the_same_table(tmp_path, reference):
     assert third.evaluated == 0 and (tmp_path / "results.parquet").stat().st_mtime_ns == stamp
 
 
+@pytest.mark.slow  # the module's reference sweep: about 2 s of CPU
 def test_another_plan_in_the_same_folder_needs_force(tmp_path, reference):
     other = SweepPlan(ranges=PLAN.ranges, n=PLAN.n, seed=PLAN.seed + 1)
     with pytest.raises(FileExistsError, match="different run"):
@@ -132,6 +135,7 @@ def test_pareto_front_by_brute_force():
         assert mask[i] == (np.isfinite(x[i]) and not beaten)
 
 
+@pytest.mark.slow  # the module's reference sweep: about 2 s of CPU
 def test_best_rows_are_sorted_and_feasible(reference):
     rows = best_rows(reference.table, "peak_crank_torque_Nm", "min", 3)
     values = [reference.table.column("peak_crank_torque_Nm")[r].as_py() for r in rows]
@@ -249,6 +253,7 @@ def test_a_walking_sweep_runs_its_slow_walks_first():
     assert task_cost(fixed, [[2.0]]) == pytest.approx(6 * math.pi / fixed.base.omega + RAMP_MAX)
 
 
+@pytest.mark.slow  # writes the sweep's figures: about 2 s of CPU
 def test_a_walking_sweeps_pareto_figure_uses_the_floor_columns_and_walkers_only(tmp_path):
     """Issue 34: with floor columns, pareto.png plots the motor's peak on the floor against its energy per metre,
     and only walkers can be on the front: a non-walker better in both is greyed, not on it."""
