@@ -48,6 +48,10 @@ def test_the_surface_is_the_ground_in_closed_form():
     assert riser == pytest.approx([0.02 * math.sin(a), -0.02 * math.cos(a)], abs=1e-12)
     assert tilted[1] == pytest.approx([0.4 * math.cos(a), 0.4 * math.sin(a)], abs=1e-12)
     assert Ground.step(0.03, 5.0).surface(-1.0, 1.0) == pytest.approx(np.array([[-1.0, 0.0], [1.0, 0.0]]))
+    assert Ground(a).height(0.7) == pytest.approx(0.7 * math.tan(a), abs=1e-12)
+    assert [Ground.step(0.03, 0.4).height(x) for x in (0.3, 0.5)] == [0.0, 0.03]
+    # on the tilted step: the upper tread's line is the slope's lifted by 0.02 / cos(a), downward here
+    assert Ground(a, 0.8, 0.4, -0.02).height(1.2) == pytest.approx(1.2 * math.tan(a) - 0.02 / math.cos(a), abs=1e-12)
 
 
 @pytest.fixture(scope="module", params=["slope", "step"])

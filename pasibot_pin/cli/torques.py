@@ -72,8 +72,8 @@ def run(args: argparse.Namespace) -> int:
     )
     if fit is not None:
         print(fit.summary())
-    else:  # a variant without a free ankle: T_e is zero, the crank torques are the answer
-        variant = get_variant(design.variant if design is not None else "spring")
+    elif design is not None:  # a variant without a free ankle: T_e is zero, the crank torques are the answer
+        variant = get_variant(design.variant)
         ta = res.result.Ta
         print(
             f"no ankle spring to fit: variant {variant.name} has no free ankle ({variant.description}); "

@@ -14,20 +14,17 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from pathlib import Path
-from typing import TYPE_CHECKING
 
 import numpy as np
 import pinocchio as pin
 
+from pasibot_pin.dynamics.floor.ground import Ground
 from pasibot_pin.errors import ParameterError
 from pasibot_pin.model.spatial import Footprint, sole_boxes
 from pasibot_pin.progress import progress_bar
 from pasibot_pin.viz.animation import write_gif
 from pasibot_pin.viz.plots import GROUND_LINE_COLOUR
 from pasibot_pin.viz.plots_robot3d import LEG_COLOURS, skeleton, sole_corners
-
-if TYPE_CHECKING:
-    from pasibot_pin.dynamics.floor.ground import Ground
 
 HIP_COLOUR = "0.35"
 """Colour of the hip's links."""
@@ -68,7 +65,7 @@ class Walk3DScene:
     footprint: Footprint
     times: np.ndarray
     title: str = ""
-    ground: Ground | None = None
+    ground: Ground = field(default_factory=Ground)
     dpi: int = 100
     links: dict = field(default_factory=dict, init=False)
     soles: dict = field(default_factory=dict, init=False)
@@ -113,28 +110,20 @@ class Walk3DScene:
         self.behind.set_xlabel("y, left [m]")
         self.side.set_title("side view", fontsize=9)
         self.behind.set_title("from behind", fontsize=9)
-        low = self._ground_z(float(self.q[:, 0].min()) - SIDE_HALF_WIDTH)
-        high = self._ground_z(float(self.q[:, 0].max()) + SIDE_HALF_WIDTH)
+        low = self.ground.height(float(self.q[:, 0].min()) - SIDE_HALF_WIDTH)
+        high = self.ground.height(float(self.q[:, 0].max()) + SIDE_HALF_WIDTH)
         bottom = min(low, high, 0.0) - 0.05
         for ax in (self.side, self.behind):
             ax.set_ylim(bottom, max(top, bottom + 0.5))
         self.behind.set_xlim(BEHIND_HALF_WIDTH, -BEHIND_HALF_WIDTH)  # y to the left: seen from behind
         xs = self.q[:, 0]
-        surface = self._surface(float(xs.min()) - 2 * SIDE_HALF_WIDTH, float(xs.max()) + 2 * SIDE_HALF_WIDTH)
+        surface = self.ground.surface(float(xs.min()) - 2 * SIDE_HALF_WIDTH, float(xs.max()) + 2 * SIDE_HALF_WIDTH)
         self.side.plot(surface[:, 0], surface[:, 1], color=GROUND_LINE_COLOUR, lw=1.2)
         (self.floor_behind,) = self.behind.plot([], [], color=GROUND_LINE_COLOUR, lw=1.2, zorder=MOVING)
         (self.hip_path,) = self.side.plot([], [], color="k", lw=0.8, label="hip path", zorder=MOVING)
         self.clock = self.side.text(0.02, 0.96, "", transform=self.side.transAxes, va="top", family="monospace")
         self.clock.set_fontsize(8)
         self.figure.suptitle(self.title, fontsize=10)
-
-    def _surface(self, x0: float, x1: float) -> np.ndarray:
-        return np.array([[x0, 0.0], [x1, 0.0]]) if self.ground is None else self.ground.surface(x0, x1)
-
-    def _ground_z(self, x: float) -> float:
-        """The ground's height [m] under the world's ``x`` (the first tread's, at a riser)."""
-        line = self._surface(x - 1e-3, x + 1e-3)
-        return float(line[0, 1])
 
     def draw(self, k: int) -> None:
         """Pose both views at frame ``k``."""
@@ -148,7 +137,7 @@ class Walk3DScene:
         centre = round(x / CAMERA_STEP) * CAMERA_STEP  # the camera moves in steps: the still part is redrawn at each
         self.side.set_xlim(centre - SIDE_HALF_WIDTH, centre + SIDE_HALF_WIDTH)
         self.hip_path.set_data(self.q[: k + 1, 0], self.q[: k + 1, 2])
-        self.floor_behind.set_data([BEHIND_HALF_WIDTH, -BEHIND_HALF_WIDTH], [self._ground_z(x)] * 2)
+        self.floor_behind.set_data([BEHIND_HALF_WIDTH, -BEHIND_HALF_WIDTH], [self.ground.height(x)] * 2)
         roll = math.degrees(hip_roll(q))
         self.clock.set_text(f"t = {self.times[k]:5.2f} s   hip roll {roll:+6.2f} deg")
 
@@ -228,5 +217,5 @@ def save_walk3d_gif(
         raise ParameterError(f"parameter 'fps' must be a positive frame rate [1/s], got {fps!r}")
     q = np.atleast_2d(np.asarray(q, dtype=float))
     times = np.arange(len(q)) / fps if times is None else np.asarray(times, dtype=float)
-    scene = Walk3DScene(model, q, footprint, times, title, ground, dpi)
+    scene = Walk3DScene(model, q, footprint, times, title, Ground() if ground is None else ground, dpi)
     return write_gif(scene.frames(progress=progress), Path(out), fps)

@@ -118,16 +118,20 @@ class Ground:
         """
         if not (math.isfinite(x_start) and math.isfinite(x_end) and x_end > x_start):
             raise ParameterError(f"parameters 'x_start', 'x_end' must be finite and increasing, got {x_start}, {x_end}")
-        c, s = math.cos(self.angle), math.sin(self.angle)
-
-        def along(x: float) -> float:  # on the tread it is over: x = a c - rise(a) s
-            a = x / c
-            return (x + self.rise(a) * s) / c
-
-        start, end = along(x_start), along(x_end)
+        start, end = self._along(x_start), self._along(x_end)
         if self.has_step and start < self.step_at < end:
             return [(start, self.step_at, 0.0), (self.step_at, end, self.step_height)]
         return [(start, end, self.rise(start))]
+
+    def _along(self, x: float) -> float:
+        """Where the tread under the world's ``x`` [m] is, along the ground [m] (x = a cos - rise(a) sin)."""
+        c, s = math.cos(self.angle), math.sin(self.angle)
+        return (x + self.rise(x / c) * s) / c
+
+    def height(self, x: float) -> float:
+        """The ground's height z [m] under the world's ``x`` [m] (the tread it is over)."""
+        along = self._along(x)
+        return self.world(along, self.rise(along))[1]
 
     def surface(self, x_start: float, x_end: float) -> np.ndarray:
         """The ground's line in the x-z plane under the world's ``x_start`` to ``x_end`` [m]: (k, 2) (x, z) [m].
